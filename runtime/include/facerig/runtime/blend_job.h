@@ -1,0 +1,54 @@
+// Per-frame sparse blend-shape evaluation:
+//   positions = neutral + sum_i w_i * delta_i   over the shapes with w_i != 0.
+//
+// The job owns no memory: the caller sizes the outputs once (vertex_count()
+// elements each). Run() allocates nothing, throws nothing and takes no lock,
+// so one job per character may run on many threads at once over one shared Rig.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include <glm/vec3.hpp>
+
+#include "facerig/runtime/rig.h"
+
+namespace facerig {
+
+enum class NormalMode : std::uint8_t {
+  kNone,           // positions only; out_normals is ignored (may be empty)
+  kBlendDeltas,    // neutral normal + sum_i w_i * normal_delta_i, renormalised
+                   // (needs rig.has_normal_deltas())
+  kRecompute,      // area-weighted normals recomputed from the blended positions
+};
+
+enum class BlendJobError : std::uint8_t {
+  kNone,
+  kNoRig,
+  kWeightCountMismatch,  // weights.size() != rig->shape_count()
+  kNonFiniteWeight,
+  kPositionsTooSmall,    // out_positions.size() != vertex_count()
+  kNormalsTooSmall,      // out_normals.size() != vertex_count() with a normal mode
+  kRigHasNoNormalDeltas, // kBlendDeltas on a rig without normal deltas
+};
+
+const char* ToString(BlendJobError error);
+
+struct BlendJob {
+  const Rig* rig = nullptr;
+  // One weight per rig shape (dense, indexed like rig->shape(i)); zeros are
+  // skipped, so a speech frame with 12 of 53 active pays for 12. Usually in
+  // [0,1]; any finite value is accepted (negative and >1 extrapolate).
+  std::span<const float> weights;
+  NormalMode normal_mode = NormalMode::kNone;
+  std::span<glm::vec3> out_positions;
+  std::span<glm::vec3> out_normals;
+
+  // Checks the inputs without touching the outputs.
+  BlendJobError Validate() const;
+  // Validates, then evaluates. Returns kNone on success; on error the
+  // outputs are left untouched.
+  BlendJobError Run() const;
+};
+
+}  // namespace facerig

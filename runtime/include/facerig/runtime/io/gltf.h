@@ -1,0 +1,25 @@
+// glTF 2.0 reading and writing (.glb binary and .gltf text with an embedded
+// buffer), through tinygltf.
+//
+// Writing: one mesh, one primitive per rig part (sharing the vertex accessors),
+// one morph target per blend shape with POSITION (and NORMAL, when the rig has
+// normal deltas) deltas stored as sparse accessors, target names in
+// mesh.extras.targetNames (read by Blender and three.js), default weights 0.
+// The node carries the scale to metres and, for Z-up rigs, the rotation to
+// glTF's +Y up; units and up axis are also kept in mesh.extras.facerig.
+// Reading accepts dense or sparse target accessors, any primitive layout whose
+// primitives share one vertex set, and triangle-list primitives.
+#pragma once
+
+#include <filesystem>
+
+#include "facerig/runtime/rig.h"
+
+namespace facerig {
+
+// Throws IoError naming the path (and byte offset where known).
+Rig ReadGltf(const std::filesystem::path& path);
+// Format from the extension (.glb or .gltf). Atomic (temporary file + rename).
+void WriteGltf(const std::filesystem::path& path, const Rig& rig);
+
+}  // namespace facerig

@@ -1,0 +1,325 @@
+#include "facerig/runtime/io/obj.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
+
+namespace facerig {
+namespace {
+
+constexpr std::uint32_t kUnset = UINT32_MAX;
+
+// Parses one OBJ file; keeps the line number for error messages.
+class ObjParser {
+ public:
+  ObjParser(std::string_view text, const std::string& path) : text_(text), path_(path) {}
+
+  ObjMesh Parse() {
+    std::size_t pos = 0;
+    while (pos < text_.size()) {
+      std::size_t end = text_.find('\n', pos);
+      if (end == std::string_view::npos) end = text_.size();
+      ++line_;
+      ParseLine(text_.substr(pos, end - pos));
+      pos = end + 1;
+    }
+    return Finish();
+  }
+
+ private:
+  [[noreturn]] void Fail(IoErrorKind kind, const std::string& message) const {
+    throw IoError(kind, path_, message, line_);
+  }
+
+  static bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+  // Next whitespace-separated token of `rest` (advancing it); empty at the end.
+  static std::string_view NextToken(std::string_view& rest) {
+    std::size_t begin = 0;
+    while (begin < rest.size() && IsSpace(rest[begin])) ++begin;
+    std::size_t end = begin;
+    while (end < rest.size() && !IsSpace(rest[end])) ++end;
+    const std::string_view token = rest.substr(begin, end - begin);
+    rest.remove_prefix(end);
+    return token;
+  }
+
+  float ParseFloat(std::string_view token) const {
+    float value = 0.0f;
+    const char* first = token.data();
+    if (!token.empty() && token.front() == '+') ++first;
+    const auto [ptr, ec] = std::from_chars(first, token.data() + token.size(), value);
+    if (ec == std::errc::result_out_of_range) {
+      Fail(IoErrorKind::kNonFinite, "number '" + std::string(token) + "' is out of float range");
+    }
+    if (ec != std::errc() || ptr != token.data() + token.size()) {
+      Fail(IoErrorKind::kParse, "expected a number, found '" + std::string(token) + "'");
+    }
+    if (!std::isfinite(value)) {
+      Fail(IoErrorKind::kNonFinite, "non-finite number '" + std::string(token) + "'");
+    }
+    return value;
+  }
+
+  template <int N>
+  void ParseVector(std::string_view rest, float* out, const char* what) {
+    for (int i = 0; i < N; ++i) {
+      const std::string_view token = NextToken(rest);
+      if (token.empty()) Fail(IoErrorKind::kParse, std::string(what) + " needs " + std::to_string(N) + " numbers");
+      out[i] = ParseFloat(token);
+    }
+  }
+
+  // Resolves a 1-based (or negative, relative) OBJ index into [0, count).
+  std::uint32_t ResolveIndex(std::string_view token, std::size_t count, const char* what) const {
+    long long value = 0;
+    const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc() || ptr != token.data() + token.size() || value == 0) {
+      Fail(IoErrorKind::kParse, std::string("bad ") + what + " index '" + std::string(token) + "'");
+    }
+    const long long resolved = value > 0 ? value - 1 : static_cast<long long>(count) + value;
+    if (resolved < 0 || resolved >= static_cast<long long>(count)) {
+      Fail(IoErrorKind::kIndexOutOfRange, std::string(what) + " index " + std::string(token) +
+                                              " is outside the " + std::to_string(count) +
+                                              " defined so far");
+    }
+    return static_cast<std::uint32_t>(resolved);
+  }
+
+  struct Corner {
+    std::uint32_t v, vt, vn;
+  };
+
+  Corner ParseCorner(std::string_view token) const {
+    Corner corner{kUnset, kUnset, kUnset};
+    const std::size_t slash1 = token.find('/');
+    corner.v = ResolveIndex(token.substr(0, slash1), positions_.size(), "vertex");
+    if (slash1 == std::string_view::npos) return corner;
+    const std::string_view rest = token.substr(slash1 + 1);
+    const std::size_t slash2 = rest.find('/');
+    const std::string_view vt = rest.substr(0, slash2);
+    if (!vt.empty()) corner.vt = ResolveIndex(vt, uvs_.size(), "texture coordinate");
+    if (slash2 != std::string_view::npos) {
+      const std::string_view vn = rest.substr(slash2 + 1);
+      if (!vn.empty()) corner.vn = ResolveIndex(vn, normals_.size(), "normal");
+    }
+    return corner;
+  }
+
+  void AttachAttribute(std::vector<std::uint32_t>& chosen, std::uint32_t vertex, std::uint32_t attribute,
+                       std::vector<bool>& seam) {
+    if (attribute == kUnset) return;
+    if (chosen.size() <= vertex) chosen.resize(positions_.size(), kUnset);
+    if (chosen[vertex] == kUnset) {
+      chosen[vertex] = attribute;
+    } else if (chosen[vertex] != attribute) {
+      if (seam.size() <= vertex) seam.resize(positions_.size(), false);
+      seam[vertex] = true;
+    }
+  }
+
+  void ParseFace(std::string_view rest) {
+    corners_.clear();
+    for (std::string_view token = NextToken(rest); !token.empty(); token = NextToken(rest)) {
+      corners_.push_back(ParseCorner(token));
+    }
+    if (corners_.size() < 3) Fail(IoErrorKind::kParse, "a face needs at least 3 vertices");
+    ++polygon_count_;
+    for (const Corner& c : corners_) {
+      AttachAttribute(vertex_uv_, c.v, c.vt, uv_seam_);
+      AttachAttribute(vertex_normal_, c.v, c.vn, normal_seam_);
+    }
+    // Fan triangulation: exact for the convex polygons OBJ exporters write.
+    for (std::size_t i = 1; i + 1 < corners_.size(); ++i) {
+      triangles_.push_back({corners_[0].v, corners_[i].v, corners_[i + 1].v});
+      triangle_group_.push_back(current_group_);
+      triangle_material_.push_back(current_material_);
+    }
+  }
+
+  std::uint32_t Intern(std::vector<std::string>& names, std::string_view name) {
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (names[i] == name) return static_cast<std::uint32_t>(i);
+    }
+    names.emplace_back(name);
+    return static_cast<std::uint32_t>(names.size() - 1);
+  }
+
+  void ParseLine(std::string_view line) {
+    std::string_view rest = line;
+    const std::string_view keyword = NextToken(rest);
+    if (keyword.empty() || keyword.front() == '#') return;
+    if (keyword == "v") {
+      glm::vec3 p;
+      ParseVector<3>(rest, &p.x, "a vertex");
+      positions_.push_back(p);
+    } else if (keyword == "vt") {
+      glm::vec2 uv;
+      ParseVector<2>(rest, &uv.x, "a texture coordinate");
+      uvs_.push_back(uv);
+    } else if (keyword == "vn") {
+      glm::vec3 n;
+      ParseVector<3>(rest, &n.x, "a normal");
+      normals_.push_back(n);
+    } else if (keyword == "f") {
+      ParseFace(rest);
+    } else if (keyword == "g" || keyword == "o") {
+      const std::string_view name = NextToken(rest);
+      current_group_ = Intern(group_names_, name.empty() ? "default" : name);
+    } else if (keyword == "usemtl") {
+      const std::string_view name = NextToken(rest);
+      current_material_ = Intern(material_names_, name.empty() ? "default" : name);
+      any_material_ = true;
+    }
+    // Other statements (mtllib, s, l, p, vp, curves) do not affect a triangle mesh.
+  }
+
+  ObjMesh Finish() {
+    if (positions_.empty()) Fail(IoErrorKind::kEmpty, "no vertices");
+    if (triangles_.empty()) Fail(IoErrorKind::kEmpty, "no faces");
+    ObjMesh mesh;
+    mesh.positions = std::move(positions_);
+    mesh.polygon_count = polygon_count_;
+    const std::size_t n = mesh.positions.size();
+
+    // Per-vertex attributes; vertices without one get zeros.
+    if (!vertex_uv_.empty()) {
+      mesh.uvs.assign(n, glm::vec2(0.0f));
+      for (std::size_t v = 0; v < vertex_uv_.size(); ++v) {
+        if (vertex_uv_[v] != kUnset) mesh.uvs[v] = uvs_[vertex_uv_[v]];
+      }
+    }
+    if (!vertex_normal_.empty()) {
+      mesh.normals.assign(n, glm::vec3(0.0f));
+      for (std::size_t v = 0; v < vertex_normal_.size(); ++v) {
+        if (vertex_normal_[v] != kUnset) mesh.normals[v] = normals_[vertex_normal_[v]];
+      }
+    }
+    for (bool seam : uv_seam_) mesh.uv_seam_vertices += seam ? 1 : 0;
+    for (bool seam : normal_seam_) mesh.normal_seam_vertices += seam ? 1 : 0;
+
+    // Parts by material when the file names any, else by group; stable order.
+    const std::vector<std::uint32_t>& keys = any_material_ ? triangle_material_ : triangle_group_;
+    const std::vector<std::string>& names = any_material_ ? material_names_ : group_names_;
+    std::vector<std::uint32_t> key_order;  // part keys in order of first appearance
+    std::unordered_map<std::uint32_t, std::size_t> key_rank;
+    for (std::uint32_t key : keys) {
+      if (key_rank.emplace(key, key_order.size()).second) key_order.push_back(key);
+    }
+    std::vector<std::vector<std::uint32_t>> buckets(key_order.size());
+    for (std::size_t t = 0; t < triangles_.size(); ++t) {
+      buckets[key_rank[keys[t]]].push_back(static_cast<std::uint32_t>(t));
+    }
+    mesh.triangles.reserve(triangles_.size());
+    for (std::size_t b = 0; b < buckets.size(); ++b) {
+      const std::uint32_t key = key_order[b];
+      RawPart part;
+      part.name = key == kUnset ? "default" : names[key];
+      part.first_triangle = static_cast<std::uint32_t>(mesh.triangles.size());
+      part.triangle_count = static_cast<std::uint32_t>(buckets[b].size());
+      for (std::uint32_t t : buckets[b]) mesh.triangles.push_back(triangles_[t]);
+      mesh.parts.push_back(std::move(part));
+    }
+    return mesh;
+  }
+
+  std::string_view text_;
+  const std::string& path_;
+  std::int64_t line_ = 0;
+  std::vector<glm::vec3> positions_;
+  std::vector<glm::vec2> uvs_;
+  std::vector<glm::vec3> normals_;
+  std::vector<Triangle> triangles_;
+  std::vector<std::uint32_t> triangle_group_;
+  std::vector<std::uint32_t> triangle_material_;
+  std::vector<std::string> group_names_;
+  std::vector<std::string> material_names_;
+  std::uint32_t current_group_ = kUnset;
+  std::uint32_t current_material_ = kUnset;
+  bool any_material_ = false;
+  std::vector<std::uint32_t> vertex_uv_;
+  std::vector<std::uint32_t> vertex_normal_;
+  std::vector<bool> uv_seam_;
+  std::vector<bool> normal_seam_;
+  std::vector<Corner> corners_;
+  std::size_t polygon_count_ = 0;
+};
+
+void AppendFloat(std::string& out, float value) {
+  char buffer[32];
+  // Shortest representation that reads back to the same float.
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  out.append(buffer, result.ptr);
+}
+
+}  // namespace
+
+ObjMesh ParseObj(std::string_view text, const std::string& path_for_errors) {
+  if (text.empty()) throw IoError(IoErrorKind::kEmpty, path_for_errors, "the file is empty");
+  return ObjParser(text, path_for_errors).Parse();
+}
+
+ObjMesh ReadObj(const std::filesystem::path& path) {
+  const std::string text = ReadFileText(path);
+  return ParseObj(text, path.string());
+}
+
+void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
+              std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
+              std::span<const Triangle> triangles, std::span<const Part> parts) {
+  std::string out;
+  out.reserve(positions.size() * 64 + triangles.size() * 40);
+  out += "# written by facerig\n";
+  auto append_line = [&out](const char* keyword, const float* values, int count) {
+    out += keyword;
+    for (int i = 0; i < count; ++i) {
+      out += ' ';
+      AppendFloat(out, values[i]);
+    }
+    out += '\n';
+  };
+  for (const glm::vec3& p : positions) append_line("v", &p.x, 3);
+  for (const glm::vec2& uv : uvs) append_line("vt", &uv.x, 2);
+  for (const glm::vec3& n : normals) append_line("vn", &n.x, 3);
+  const bool with_uv = !uvs.empty();
+  const bool with_normal = !normals.empty();
+  auto append_corner = [&](std::uint32_t v) {
+    const std::string index = std::to_string(v + 1);
+    out += ' ';
+    out += index;
+    if (with_uv || with_normal) {
+      out += '/';
+      if (with_uv) out += index;
+      if (with_normal) {
+        out += '/';
+        out += index;
+      }
+    }
+  };
+  auto append_triangles = [&](std::size_t first, std::size_t count) {
+    for (std::size_t t = first; t < first + count; ++t) {
+      out += 'f';
+      for (std::uint32_t v : triangles[t]) append_corner(v);
+      out += '\n';
+    }
+  };
+  if (parts.empty()) {
+    append_triangles(0, triangles.size());
+  } else {
+    for (const Part& part : parts) {
+      out += "usemtl " + part.name + "\n";
+      append_triangles(part.first_triangle, part.triangle_count);
+    }
+  }
+  WriteFileAtomically(path, out);
+}
+
+void WriteObj(const std::filesystem::path& path, const Rig& rig) {
+  WriteObj(path, rig.positions(), rig.normals(), rig.uvs(), rig.triangles(), rig.parts());
+}
+
+}  // namespace facerig

@@ -1,0 +1,63 @@
+#include "facerig/runtime/io/rig_file.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/frig.h"
+#include "facerig/runtime/io/gltf.h"
+#include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+namespace {
+
+std::string LowerExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+Rig LoadRig(const std::filesystem::path& path, const TemplateImportOptions& folder_options) {
+  if (std::filesystem::is_directory(path)) return ImportTemplateFolder(path, folder_options);
+  const std::string ext = LowerExtension(path);
+  if (ext == ".frig") return ReadFrig(path);
+  if (ext == ".glb" || ext == ".gltf") return ReadGltf(path);
+  if (ext == ".obj") {
+    ObjMesh mesh = ReadObj(path);
+    RawRig raw;
+    raw.positions = std::move(mesh.positions);
+    raw.normals = std::move(mesh.normals);
+    raw.uvs = std::move(mesh.uvs);
+    raw.triangles = std::move(mesh.triangles);
+    raw.parts = std::move(mesh.parts);
+    raw.units = folder_options.units;
+    raw.up_axis = folder_options.up_axis;
+    // A file that leaves some vertex without a normal gets all normals
+    // recomputed: mixing given and computed normals would show seams.
+    if (std::any_of(raw.normals.begin(), raw.normals.end(),
+                    [](const glm::vec3& n) { return n == glm::vec3(0.0f); })) {
+      raw.normals.clear();
+    }
+    std::string problem;
+    std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+    if (!rig) throw IoError(IoErrorKind::kInvalidRig, path.string(), problem);
+    return std::move(*rig);
+  }
+  throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
+                "unknown extension '" + ext + "' (expected a folder, .obj, .glb, .gltf or .frig)");
+}
+
+void SaveRig(const std::filesystem::path& path, const Rig& rig) {
+  const std::string ext = LowerExtension(path);
+  if (ext == ".frig") return WriteFrig(path, rig);
+  if (ext == ".glb" || ext == ".gltf") return WriteGltf(path, rig);
+  if (ext == ".obj") return WriteObj(path, rig);
+  throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
+                "unknown extension '" + ext + "' (expected .obj, .glb, .gltf or .frig)");
+}
+
+}  // namespace facerig

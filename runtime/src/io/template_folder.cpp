@@ -1,0 +1,195 @@
+#include "facerig/runtime/io/template_folder.h"
+
+#include <algorithm>
+#include <thread>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string FindNeutral(const fs::path& folder, const TemplateImportOptions& options) {
+  if (!options.neutral_file.empty()) return options.neutral_file;
+  for (const char* candidate : {"generic_neutral_mesh.obj", "neutral.obj", "base.obj"}) {
+    if (fs::exists(folder / candidate)) return candidate;
+  }
+  throw IoError(IoErrorKind::kOpenFailed, folder.string(),
+                "no neutral mesh found (looked for generic_neutral_mesh.obj, neutral.obj, base.obj)");
+}
+
+// ICT-FaceKit lists its expressions in vertex_indices.json; the folder also
+// holds identity meshes, which are not expressions.
+std::vector<std::string> ShapeNamesFromJson(const fs::path& json_path) {
+  const std::string text = ReadFileText(json_path, 64u << 20);
+  nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
+  if (json.is_discarded() || !json.is_object()) {
+    throw IoError(IoErrorKind::kParse, json_path.string(), "not a JSON object");
+  }
+  const auto it = json.find("expressions");
+  if (it == json.end() || !it->is_array()) {
+    throw IoError(IoErrorKind::kParse, json_path.string(), "no \"expressions\" array");
+  }
+  std::vector<std::string> names;
+  for (const auto& item : *it) {
+    if (!item.is_string()) throw IoError(IoErrorKind::kParse, json_path.string(), "an expression name is not a string");
+    names.push_back(item.get<std::string>());
+  }
+  return names;
+}
+
+std::vector<std::string> ShapeNames(const fs::path& folder, const std::string& neutral,
+                                    const TemplateImportOptions& options) {
+  if (!options.shape_names.empty()) return options.shape_names;
+  if (fs::exists(folder / "vertex_indices.json")) return ShapeNamesFromJson(folder / "vertex_indices.json");
+  std::vector<std::string> names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    const std::string file = entry.path().filename().string();
+    if (!entry.is_regular_file() || file == neutral || !GlobMatch(options.glob, file)) continue;
+    if (entry.path().extension() != ".obj") continue;
+    names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace
+
+bool GlobMatch(std::string_view pattern, std::string_view name) {
+  // Iterative matcher with backtracking to the last '*'.
+  std::size_t p = 0, n = 0, star = std::string_view::npos, star_n = 0;
+  while (n < name.size()) {
+    if (p < pattern.size() && (pattern[p] == '?' || pattern[p] == name[n])) {
+      ++p;
+      ++n;
+    } else if (p < pattern.size() && pattern[p] == '*') {
+      star = p++;
+      star_n = n;
+    } else if (star != std::string_view::npos) {
+      p = star + 1;
+      n = ++star_n;
+    } else {
+      return false;
+    }
+  }
+  while (p < pattern.size() && pattern[p] == '*') ++p;
+  return p == pattern.size();
+}
+
+Units GuessHeadUnits(float bounding_diagonal) {
+  // A head (with or without neck) has a bounding-box diagonal of 0.1 - 1 m.
+  if (bounding_diagonal >= 0.1f && bounding_diagonal <= 1.0f) return Units::kMetres;
+  if (bounding_diagonal >= 10.0f && bounding_diagonal <= 100.0f) return Units::kCentimetres;
+  if (bounding_diagonal >= 100.0f && bounding_diagonal <= 1000.0f) return Units::kMillimetres;
+  return Units::kUnknown;
+}
+
+Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& options,
+                         TemplateImportReport* report) {
+  if (!fs::is_directory(folder)) {
+    throw IoError(IoErrorKind::kOpenFailed, folder.string(), "not a directory");
+  }
+  const std::string neutral_name = FindNeutral(folder, options);
+  const fs::path neutral_path = folder / neutral_name;
+  ObjMesh neutral = ReadObj(neutral_path);
+  const std::vector<std::string> names = ShapeNames(folder, neutral_name, options);
+
+  // Parse the expression meshes on all cores; each is independent.
+  std::vector<ObjMesh> meshes(names.size());
+  std::vector<std::exception_ptr> errors(names.size());
+  const unsigned workers = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(),
+                                                           static_cast<unsigned>(names.size())));
+  std::vector<std::thread> threads;
+  for (unsigned w = 0; w < workers; ++w) {
+    threads.emplace_back([&, w] {
+      for (std::size_t i = w; i < names.size(); i += workers) {
+        try {
+          meshes[i] = ReadObj(folder / (names[i] + ".obj"));
+        } catch (...) {
+          errors[i] = std::current_exception();
+        }
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+
+  RawRig raw;
+  raw.positions = std::move(neutral.positions);
+  raw.uvs = std::move(neutral.uvs);
+  raw.triangles = std::move(neutral.triangles);
+  raw.parts = std::move(neutral.parts);
+  raw.up_axis = options.up_axis;
+
+  glm::vec3 lo = raw.positions.front(), hi = lo;
+  for (const glm::vec3& p : raw.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float diagonal = glm::length(hi - lo);
+  raw.units = options.units != Units::kUnknown ? options.units : GuessHeadUnits(diagonal);
+
+  TemplateImportReport local;
+  local.neutral_path = neutral_path.string();
+  local.drop_threshold = options.relative_drop_threshold * diagonal;
+  local.units = raw.units;
+  local.units_guessed = options.units == Units::kUnknown;
+  local.uv_seam_vertices = neutral.uv_seam_vertices;
+
+  std::vector<glm::vec3> deltas(raw.positions.size());
+  std::vector<glm::vec3> neutral_normals, shape_normals, normal_deltas;
+  if (options.with_normal_deltas) {
+    neutral_normals.resize(raw.positions.size());
+    shape_normals.resize(raw.positions.size());
+    normal_deltas.resize(raw.positions.size());
+    ComputeVertexNormals(raw.positions, raw.triangles, neutral_normals);
+    raw.normals = neutral_normals;
+  }
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const fs::path path = folder / (names[i] + ".obj");
+    const ObjMesh& mesh = meshes[i];
+    if (mesh.positions.size() != raw.positions.size()) {
+      throw IoError(IoErrorKind::kTopologyMismatch, path.string(),
+                    std::to_string(mesh.positions.size()) + " vertices, the neutral " + neutral_name +
+                        " has " + std::to_string(raw.positions.size()));
+    }
+    if (mesh.triangles != raw.triangles) {
+      throw IoError(IoErrorKind::kTopologyMismatch, path.string(),
+                    "faces differ from the neutral " + neutral_name);
+    }
+    for (std::size_t v = 0; v < deltas.size(); ++v) {
+      deltas[v] = mesh.positions[v] - raw.positions[v];
+      const float length = glm::length(deltas[v]);
+      if (length > 0.0f && length <= local.drop_threshold) {
+        ++local.dropped_entries;
+        local.largest_dropped = std::max(local.largest_dropped, length);
+      }
+    }
+    if (options.with_normal_deltas) {
+      ComputeVertexNormals(mesh.positions, raw.triangles, shape_normals);
+      for (std::size_t v = 0; v < normal_deltas.size(); ++v) {
+        normal_deltas[v] = shape_normals[v] - neutral_normals[v];
+      }
+    }
+    raw.shapes.push_back(MakeSparseShape(names[i], deltas, normal_deltas, local.drop_threshold));
+    local.kept_entries += raw.shapes.back().vertex_indices.size();
+    meshes[i] = ObjMesh();  // release early: 53 meshes of ICT size are ~100 MB
+  }
+
+  std::string problem;
+  std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+  if (!rig) throw IoError(IoErrorKind::kInvalidRig, folder.string(), problem);
+  if (report) *report = local;
+  return std::move(*rig);
+}
+
+}  // namespace facerig

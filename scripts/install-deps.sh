@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages facerig needs that are missing, and the
+# Khronos glTF validator (npm) used by the tests. Safe to run repeatedly.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libglm-dev libtinygltf-dev nlohmann-json3-dev   # runtime
+  libeigen3-dev                                    # offline
+  catch2                                           # tests
+  nodejs npm                                       # glTF validator in the tests
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  # nodejs from another source (e.g. NodeSource) is fine too.
+  if [[ $package == nodejs || $package == npm ]] && command -v "${package/nodejs/node}" >/dev/null; then
+    continue
+  fi
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+
+if ((${#missing[@]})); then
+  echo "facerig: installing missing Debian packages: ${missing[*]}"
+  sudo_cmd=()
+  [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+validator=tests/runtime/io/gltf_validator
+if [[ ! -d $validator/node_modules/gltf-validator ]]; then
+  echo "facerig: installing the Khronos glTF validator (npm ci in $validator)"
+  npm ci --prefix "$validator" --no-audit --no-fund --loglevel=error
+fi

@@ -1,0 +1,31 @@
+// Small meshes and shared fixtures for the tests.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig::test {
+
+// An n x n vertex grid in the XY plane (unit spacing), two parts ("left",
+// "right" halves of the triangles), UVs, and `shape_count` sparse shapes, each
+// moving a different subset of vertices (deterministic). With normal deltas
+// when `with_normal_deltas`.
+RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas = false);
+Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);
+
+// ../shared/data/ict-facekit (compile-time path).
+std::filesystem::path IctDir();
+// The ICT-FaceKit rig imported once per test binary (53 shapes).
+const Rig& IctRig();
+
+// A fresh path under the build's test output folder.
+std::filesystem::path OutputPath(const std::string& file_name);
+
+// True when two rigs have the same topology, parts, names, units and deltas
+// (positions and deltas within `tolerance`).
+bool RigsEqual(const Rig& a, const Rig& b, float tolerance, std::string* difference = nullptr);
+
+}  // namespace facerig::test
