@@ -56,10 +56,15 @@ BlendJobError BlendJob::Run() const {
     const std::uint32_t* indices = shape.vertex_indices.data();
     const glm::vec3* deltas = shape.position_deltas.data();
     const std::size_t count = shape.vertex_indices.size();
-    for (std::size_t i = 0; i < count; ++i) positions[indices[i]] += w * deltas[i];
     if (blend_normals) {
+      // One pass over the entries for both, so each index is read once.
       const glm::vec3* normal_deltas = shape.normal_deltas.data();
-      for (std::size_t i = 0; i < count; ++i) normals[indices[i]] += w * normal_deltas[i];
+      for (std::size_t i = 0; i < count; ++i) {
+        positions[indices[i]] += w * deltas[i];
+        normals[indices[i]] += w * normal_deltas[i];
+      }
+    } else {
+      for (std::size_t i = 0; i < count; ++i) positions[indices[i]] += w * deltas[i];
     }
   }
 

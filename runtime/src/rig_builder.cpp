@@ -30,6 +30,14 @@ bool AllFinite(const std::vector<Vec>& values, const char* what, std::string* pr
   return true;
 }
 
+// True when any shape carries normal deltas (then every non-empty one must).
+bool HasNormalDeltas(const std::vector<RawBlendShape>& shapes) {
+  for (const RawBlendShape& shape : shapes) {
+    if (!shape.normal_deltas.empty()) return true;
+  }
+  return false;
+}
+
 bool ValidateShape(const RawBlendShape& shape, std::size_t vertex_count, bool expect_normals,
                    std::string* problem) {
   const std::string where = "shape '" + shape.name + "': ";
@@ -38,8 +46,10 @@ bool ValidateShape(const RawBlendShape& shape, std::size_t vertex_count, bool ex
     return Fail(problem, where + std::to_string(shape.vertex_indices.size()) + " indices but " +
                              std::to_string(shape.position_deltas.size()) + " position deltas");
   }
-  if (expect_normals != !shape.normal_deltas.empty() ||
-      (expect_normals && shape.normal_deltas.size() != shape.vertex_indices.size())) {
+  // An empty shape is valid in any rig; otherwise all shapes have normal deltas or none.
+  const bool has_normals = !shape.normal_deltas.empty();
+  if ((expect_normals && shape.normal_deltas.size() != shape.vertex_indices.size()) ||
+      (!expect_normals && has_normals)) {
     return Fail(problem, where + "normal deltas must be given for every entry of every shape, or none");
   }
   std::vector<std::uint32_t> sorted = shape.vertex_indices;
@@ -102,7 +112,7 @@ bool RawRig::Validate(std::string* problem) const {
     return Fail(problem, "parts cover " + std::to_string(next_triangle) + " of " +
                              std::to_string(triangles.size()) + " triangles");
   }
-  const bool expect_normals = !shapes.empty() && !shapes.front().normal_deltas.empty();
+  const bool expect_normals = HasNormalDeltas(shapes);
   std::unordered_set<std::string> names;
   for (const RawBlendShape& shape : shapes) {
     if (!ValidateShape(shape, n, expect_normals, problem)) return false;
@@ -196,7 +206,7 @@ std::optional<Rig> RigBuilder::Build(RawRig raw, std::string* problem) {
     rig.parts_.push_back(std::move(part));
   }
 
-  rig.has_normal_deltas_ = !raw.shapes.empty() && !raw.shapes.front().normal_deltas.empty();
+  rig.has_normal_deltas_ = HasNormalDeltas(raw.shapes);
   std::size_t total = 0;
   for (const RawBlendShape& shape : raw.shapes) total += shape.vertex_indices.size();
   rig.shape_vertex_indices_.reserve(total);

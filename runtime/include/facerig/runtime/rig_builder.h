@@ -41,7 +41,7 @@ struct RawRig {
   std::vector<RawPart> parts;
   Units units = Units::kUnknown;
   UpAxis up_axis = UpAxis::kY;
-  // Either every shape has normal deltas or none has.
+  // Either every non-empty shape has normal deltas or none has.
   std::vector<RawBlendShape> shapes;
 
   // True when the data can be built. On failure, `problem` (if given) names

@@ -1,0 +1,982 @@
+#include "facerig/runtime/io/gltf.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <tiny_gltf.h>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+namespace {
+
+constexpr char kGenerator[] = "facerig";
+constexpr std::uint32_t kGlbJsonChunk = 0x4E4F534A;  // "JSON"
+constexpr std::uint32_t kGlbBinChunk = 0x004E4942;   // "BIN\0"
+constexpr std::size_t kGlbHeaderSize = 12;
+constexpr std::size_t kGlbChunkHeaderSize = 8;
+
+enum class Format { kBinary, kText };
+
+std::string Lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+Format FormatFromExtension(const std::filesystem::path& path) {
+  const std::string extension = Lowercase(path.extension().string());
+  if (extension == ".glb") return Format::kBinary;
+  if (extension == ".gltf") return Format::kText;
+  throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
+                "expected a .glb or .gltf extension, got '" + path.extension().string() + "'");
+}
+
+// Images are never needed for a rig; this keeps tinygltf from decoding any.
+bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+               void*) {
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// Writing
+
+// Appends data to the single buffer, each view starting 4-byte aligned as
+// glTF requires for float and uint32 accessors.
+class BufferBuilder {
+ public:
+  explicit BufferBuilder(tinygltf::Model* model) : model_(model) {}
+
+  int AddView(const void* data, std::size_t size, int target) {
+    std::vector<unsigned char>& bytes = Bytes();
+    bytes.resize((bytes.size() + 3) & ~std::size_t{3}, 0);
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = bytes.size();
+    view.byteLength = size;
+    view.target = target;
+    const auto* begin = static_cast<const unsigned char*>(data);
+    bytes.insert(bytes.end(), begin, begin + size);
+    model_->bufferViews.push_back(std::move(view));
+    return static_cast<int>(model_->bufferViews.size()) - 1;
+  }
+
+ private:
+  std::vector<unsigned char>& Bytes() {
+    if (model_->buffers.empty()) model_->buffers.emplace_back();
+    return model_->buffers.front().data;
+  }
+  tinygltf::Model* model_;
+};
+
+int AddAccessor(tinygltf::Model* model, tinygltf::Accessor accessor) {
+  model->accessors.push_back(std::move(accessor));
+  return static_cast<int>(model->accessors.size()) - 1;
+}
+
+tinygltf::Accessor FloatAccessor(int view, std::size_t count, int type) {
+  tinygltf::Accessor accessor;
+  accessor.bufferView = view;
+  accessor.byteOffset = 0;
+  accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  accessor.count = count;
+  accessor.type = type;
+  return accessor;
+}
+
+void SetMinMax(std::span<const glm::vec3> values, bool include_zero, tinygltf::Accessor* accessor) {
+  glm::vec3 lo(std::numeric_limits<float>::max());
+  glm::vec3 hi(std::numeric_limits<float>::lowest());
+  for (const glm::vec3& v : values) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  // Elements a sparse accessor does not set are zero and count towards min/max.
+  if (include_zero || values.empty()) {
+    lo = glm::min(lo, glm::vec3(0.0f));
+    hi = glm::max(hi, glm::vec3(0.0f));
+  }
+  accessor->minValues = {lo.x, lo.y, lo.z};
+  accessor->maxValues = {hi.x, hi.y, hi.z};
+}
+
+tinygltf::Value StringArray(const std::vector<std::string>& strings) {
+  tinygltf::Value::Array array;
+  array.reserve(strings.size());
+  for (const std::string& s : strings) array.emplace_back(s);
+  return tinygltf::Value(std::move(array));
+}
+
+tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = kGenerator;
+  BufferBuilder buffer(&model);
+  const std::size_t vertex_count = rig.vertex_count();
+
+  std::map<std::string, int> attributes;
+  {
+    tinygltf::Accessor positions = FloatAccessor(
+        buffer.AddView(rig.positions().data(), rig.positions().size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
+        vertex_count, TINYGLTF_TYPE_VEC3);
+    SetMinMax(rig.positions(), false, &positions);
+    attributes["POSITION"] = AddAccessor(&model, std::move(positions));
+    attributes["NORMAL"] =
+        AddAccessor(&model, FloatAccessor(buffer.AddView(rig.normals().data(), rig.normals().size_bytes(),
+                                                         TINYGLTF_TARGET_ARRAY_BUFFER),
+                                          vertex_count, TINYGLTF_TYPE_VEC3));
+  }
+  if (!rig.uvs().empty()) {
+    // glTF's UV origin is the top-left corner, OBJ's (and the rig's) bottom-left.
+    std::vector<glm::vec2> flipped(rig.uvs().begin(), rig.uvs().end());
+    for (glm::vec2& uv : flipped) uv.y = 1.0f - uv.y;
+    attributes["TEXCOORD_0"] =
+        AddAccessor(&model, FloatAccessor(buffer.AddView(flipped.data(), flipped.size() * sizeof(glm::vec2),
+                                                         TINYGLTF_TARGET_ARRAY_BUFFER),
+                                          vertex_count, TINYGLTF_TYPE_VEC2));
+  }
+
+  // Morph targets: every shape's entries live in three shared views, each
+  // shape's sparse accessor pointing at its own range.
+  std::vector<std::map<std::string, int>> targets;
+  if (rig.shape_count() > 0) {
+    const int index_view =
+        buffer.AddView(rig.all_shape_vertex_indices().data(), rig.all_shape_vertex_indices().size_bytes(), 0);
+    const int position_view = buffer.AddView(rig.all_shape_position_deltas().data(),
+                                             rig.all_shape_position_deltas().size_bytes(), 0);
+    const int normal_view = rig.has_normal_deltas()
+                                ? buffer.AddView(rig.all_shape_normal_deltas().data(),
+                                                 rig.all_shape_normal_deltas().size_bytes(), 0)
+                                : -1;
+    auto sparse_accessor = [&](const ShapeRange& range, int values_view) {
+      // No bufferView: elements default to zero and the sparse entries set the
+      // rest. A shape without entries stays all zero, which needs no sparse
+      // part at all (sparse.count must be >= 1).
+      tinygltf::Accessor accessor = FloatAccessor(-1, vertex_count, TINYGLTF_TYPE_VEC3);
+      if (range.count > 0) {
+        accessor.sparse.isSparse = true;
+        accessor.sparse.count = static_cast<int>(range.count);
+        accessor.sparse.indices.bufferView = index_view;
+        accessor.sparse.indices.byteOffset = static_cast<int>(range.offset * sizeof(std::uint32_t));
+        accessor.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+        accessor.sparse.values.bufferView = values_view;
+        accessor.sparse.values.byteOffset = static_cast<int>(range.offset * sizeof(glm::vec3));
+      }
+      return accessor;
+    };
+    for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+      const ShapeRange& range = rig.shape_ranges()[s];
+      std::map<std::string, int> target;
+      tinygltf::Accessor position = sparse_accessor(range, position_view);
+      SetMinMax(rig.shape(s).position_deltas, range.count < vertex_count, &position);
+      target["POSITION"] = AddAccessor(&model, std::move(position));
+      if (normal_view >= 0) target["NORMAL"] = AddAccessor(&model, sparse_accessor(range, normal_view));
+      targets.push_back(std::move(target));
+    }
+  }
+
+  // Indices: one view, one accessor per part (a byte range of it).
+  const bool short_indices = vertex_count <= 0xFFFF;  // 0xFFFF is the restart value, never used
+  int index_view = -1;
+  if (short_indices) {
+    std::vector<std::uint16_t> indices;
+    indices.reserve(rig.triangle_count() * 3);
+    for (const Triangle& t : rig.triangles()) {
+      for (std::uint32_t v : t) indices.push_back(static_cast<std::uint16_t>(v));
+    }
+    index_view = buffer.AddView(indices.data(), indices.size() * sizeof(std::uint16_t),
+                                TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  } else {
+    index_view = buffer.AddView(rig.triangles().data(), rig.triangles().size_bytes(),
+                                TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  }
+  const std::size_t index_size = short_indices ? 2 : 4;
+
+  tinygltf::Mesh mesh;
+  mesh.name = name;
+  std::vector<std::string> part_names;
+  for (const Part& part : rig.parts()) {
+    tinygltf::Accessor indices;
+    indices.bufferView = index_view;
+    indices.byteOffset = std::size_t{part.first_triangle} * 3 * index_size;
+    indices.componentType =
+        short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    indices.count = std::size_t{part.triangle_count} * 3;
+    indices.type = TINYGLTF_TYPE_SCALAR;
+    tinygltf::Primitive primitive;
+    primitive.attributes = attributes;
+    primitive.indices = AddAccessor(&model, std::move(indices));
+    primitive.mode = TINYGLTF_MODE_TRIANGLES;
+    primitive.targets = targets;
+    mesh.primitives.push_back(std::move(primitive));
+    part_names.push_back(part.name);
+  }
+
+  tinygltf::Value::Object facerig;
+  facerig["units"] = tinygltf::Value(std::string(ToString(rig.units())));
+  facerig["up"] = tinygltf::Value(std::string(rig.up_axis() == UpAxis::kZ ? "Z" : "Y"));
+  facerig["parts"] = StringArray(part_names);
+  tinygltf::Value::Object extras;
+  extras["facerig"] = tinygltf::Value(std::move(facerig));
+  if (rig.shape_count() > 0) {
+    std::vector<std::string> shape_names;
+    for (std::size_t s = 0; s < rig.shape_count(); ++s) shape_names.emplace_back(rig.shape_name(s));
+    extras["targetNames"] = StringArray(shape_names);
+    mesh.weights.assign(rig.shape_count(), 0.0);
+  }
+  mesh.extras = tinygltf::Value(std::move(extras));
+  model.meshes.push_back(std::move(mesh));
+
+  tinygltf::Node node;
+  node.name = name;
+  node.mesh = 0;
+  const double scale = MetresPerUnit(rig.units());
+  if (scale != 1.0) node.scale = {scale, scale, scale};
+  if (rig.up_axis() == UpAxis::kZ) {
+    // -90 degrees about X: +Z becomes +Y and +Y becomes -Z.
+    const double half = std::sqrt(0.5);
+    node.rotation = {-half, 0.0, 0.0, half};
+  }
+  model.nodes.push_back(std::move(node));
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  model.scenes.push_back(std::move(scene));
+  model.defaultScene = 0;
+  return model;
+}
+
+// ---------------------------------------------------------------------------
+// Reading
+
+std::uint32_t LoadU32(const unsigned char* p) {
+  // GLB is little-endian, as is every platform facerig builds on.
+  std::uint32_t value;
+  std::memcpy(&value, p, sizeof(value));
+  return value;
+}
+
+// Checks the GLB container before tinygltf sees it, so that truncation and a
+// wrong magic get their own error kinds (tinygltf reports both as "invalid").
+// Returns the declared length (bytes after it are ignored).
+std::size_t CheckGlbHeader(std::span<const unsigned char> bytes, const std::string& path) {
+  static constexpr unsigned char kMagic[4] = {'g', 'l', 'T', 'F'};
+  const std::size_t size = bytes.size();
+  if (std::memcmp(bytes.data(), kMagic, std::min<std::size_t>(size, 4)) != 0) {
+    throw IoError(IoErrorKind::kBadMagic, path, "not a binary glTF (no 'glTF' magic)", 0, 0);
+  }
+  if (size < kGlbHeaderSize + kGlbChunkHeaderSize) {
+    throw IoError(IoErrorKind::kTruncated, path,
+                  "the file ends inside the GLB header (" + std::to_string(size) + " bytes)", 0,
+                  static_cast<std::int64_t>(size));
+  }
+  const std::uint32_t version = LoadU32(bytes.data() + 4);
+  if (version != 2) {
+    throw IoError(IoErrorKind::kUnsupportedVersion, path,
+                  "GLB version " + std::to_string(version) + " (only 2 is supported)", 0, 4);
+  }
+  const std::uint32_t length = LoadU32(bytes.data() + 8);
+  if (length > size) {
+    throw IoError(IoErrorKind::kTruncated, path,
+                  "the GLB header declares " + std::to_string(length) + " bytes but the file has " +
+                      std::to_string(size),
+                  0, static_cast<std::int64_t>(size));
+  }
+  const std::uint64_t json_length = LoadU32(bytes.data() + 12);
+  const std::uint64_t json_end = kGlbHeaderSize + kGlbChunkHeaderSize + json_length;
+  if (json_end > length) {
+    throw IoError(IoErrorKind::kTruncated, path,
+                  "the JSON chunk (" + std::to_string(json_length) + " bytes) runs past the end of the data",
+                  0, 12);
+  }
+  if (LoadU32(bytes.data() + 16) != kGlbJsonChunk) {
+    throw IoError(IoErrorKind::kParse, path, "the first GLB chunk is not JSON", 0, 16);
+  }
+  if (json_end < length) {
+    if (json_end + kGlbChunkHeaderSize > length) {
+      throw IoError(IoErrorKind::kTruncated, path, "the file ends inside the BIN chunk header", 0,
+                    static_cast<std::int64_t>(json_end));
+    }
+    const std::uint64_t bin_length = LoadU32(bytes.data() + json_end);
+    if (json_end + kGlbChunkHeaderSize + bin_length > length) {
+      throw IoError(IoErrorKind::kTruncated, path,
+                    "the BIN chunk (" + std::to_string(bin_length) + " bytes) runs past the end of the data",
+                    0, static_cast<std::int64_t>(json_end));
+    }
+    if (LoadU32(bytes.data() + json_end + 4) != kGlbBinChunk) {
+      throw IoError(IoErrorKind::kParse, path, "the second GLB chunk is not BIN", 0,
+                    static_cast<std::int64_t>(json_end + 4));
+    }
+  }
+  return length;
+}
+
+tinygltf::Model ParseModel(const std::filesystem::path& path, Format format, std::uint64_t* file_size) {
+  const std::string where = path.string();
+  // tinygltf takes 32-bit lengths; GLB cannot exceed 4 GiB anyway.
+  const std::vector<std::byte> file = ReadFileBytes(path, std::numeric_limits<std::uint32_t>::max());
+  if (file.empty()) throw IoError(IoErrorKind::kEmpty, where, "the file is empty");
+  *file_size = file.size();
+  std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(file.data()), file.size());
+
+  // A .gltf that is really binary is read as such; the converse is a wrong magic.
+  if (format == Format::kText && bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    format = Format::kBinary;
+  }
+  if (format == Format::kBinary) {
+    bytes = bytes.first(CheckGlbHeader(bytes, where));
+  } else {
+    std::size_t first = 0;
+    if (bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF) first = 3;
+    while (first < bytes.size() && std::isspace(bytes[first])) ++first;
+    if (first == bytes.size() || bytes[first] != '{') {
+      throw IoError(IoErrorKind::kBadMagic, where, "not glTF JSON (it does not start with '{')", 0,
+                    static_cast<std::int64_t>(first));
+    }
+  }
+
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(&SkipImage, nullptr);
+  tinygltf::Model model;
+  std::string error, warning;
+  const std::string base_dir = path.parent_path().string();
+  bool loaded = false;
+  try {
+    const auto size = static_cast<unsigned int>(bytes.size());
+    if (format == Format::kBinary) {
+      loaded = loader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), size, base_dir);
+    } else {
+      loaded = loader.LoadASCIIFromString(&model, &error, &warning,
+                                          reinterpret_cast<const char*>(bytes.data()), size, base_dir);
+    }
+  } catch (const std::exception& e) {
+    // tinygltf throws on a few malformed inputs (e.g. a zero-length GLB buffer).
+    error = e.what();
+    loaded = false;
+  }
+  if (!loaded) {
+    while (!error.empty() && std::isspace(static_cast<unsigned char>(error.back()))) error.pop_back();
+    throw IoError(IoErrorKind::kParse, where, "tinygltf: " + (error.empty() ? "cannot parse" : error));
+  }
+  return model;
+}
+
+std::size_t ComponentSize(int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+const char* TypeName(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    default:
+      return "a matrix";
+  }
+}
+
+int ComponentsOf(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+// Float attributes may also be (normalized) integers (KHR_mesh_quantization).
+float LoadAsFloat(const unsigned char* p, int component_type, bool normalized) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float value;
+      std::memcpy(&value, p, sizeof(value));
+      return value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const auto value = static_cast<float>(static_cast<std::int8_t>(*p));
+      return normalized ? std::max(value / 127.0f, -1.0f) : value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+      const auto value = static_cast<float>(*p);
+      return normalized ? value / 255.0f : value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      std::int16_t raw;
+      std::memcpy(&raw, p, sizeof(raw));
+      const auto value = static_cast<float>(raw);
+      return normalized ? std::max(value / 32767.0f, -1.0f) : value;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      std::uint16_t raw;
+      std::memcpy(&raw, p, sizeof(raw));
+      const auto value = static_cast<float>(raw);
+      return normalized ? value / 65535.0f : value;
+    }
+    default:
+      return 0.0f;
+  }
+}
+
+std::uint32_t LoadIndex(const unsigned char* p, int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return *p;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      std::uint16_t value;
+      std::memcpy(&value, p, sizeof(value));
+      return value;
+    }
+    default:
+      return LoadU32(p);
+  }
+}
+
+bool IsIndexType(int component_type) {
+  return component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+         component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+         component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+}
+
+// One vec2/vec3 accessor as read. Dense: `values` has count elements. An
+// accessor without a bufferView is zero except its sparse entries; when asked,
+// those are kept as they are (`sparse_only`) instead of being expanded.
+template <typename Vec>
+struct VecData {
+  std::vector<Vec> values;
+  bool sparse_only = false;
+  std::vector<std::uint32_t> sparse_indices;  // sparse_only: strictly increasing
+};
+
+// Where a run of elements lies: a validated pointer and the stride between them.
+struct Elements {
+  const unsigned char* data = nullptr;
+  std::size_t stride = 0;
+};
+
+class GltfReader {
+ public:
+  GltfReader(std::string path, tinygltf::Model model, std::uint64_t file_size)
+      : path_(std::move(path)), model_(std::move(model)), file_size_(file_size) {}
+
+  Rig Read();
+
+ private:
+  // Vertices that primitives share through one POSITION accessor.
+  struct VertexBlock {
+    int position_accessor = -1;
+    const tinygltf::Primitive* primitive = nullptr;  // the first that uses it
+    std::uint32_t first_vertex = 0;
+    std::uint32_t vertex_count = 0;
+  };
+
+  [[noreturn]] void Fail(IoErrorKind kind, const std::string& message) const {
+    throw IoError(kind, path_, message);
+  }
+
+  const tinygltf::Mesh& ChooseMesh() const;
+  const tinygltf::Accessor& GetAccessor(int index, const std::string& what) const;
+  Elements ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
+                        std::uint64_t element_size, bool allow_stride, const std::string& what) const;
+  template <typename Vec>
+  VecData<Vec> ReadVectors(int accessor_index, std::optional<std::size_t> expected_count, bool keep_sparse,
+                           const std::string& what) const;
+  std::vector<std::uint32_t> ReadIndices(const tinygltf::Primitive& primitive, const VertexBlock& block,
+                                         const std::string& what) const;
+  std::vector<std::uint32_t> ReadSparseIndices(const tinygltf::Accessor& accessor,
+                                               const std::string& what) const;
+  RawBlendShape ReadShape(const std::vector<VertexBlock>& blocks, std::size_t target, std::string name,
+                          bool with_normals) const;
+
+  std::string path_;
+  tinygltf::Model model_;
+  std::uint64_t file_size_;
+};
+
+const tinygltf::Mesh& GltfReader::ChooseMesh() const {
+  if (model_.meshes.empty()) Fail(IoErrorKind::kEmpty, "the file has no mesh");
+  // The mesh of the first node (depth first) of the default scene that has one.
+  int scene = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+  if (scene < static_cast<int>(model_.scenes.size())) {
+    std::vector<int> stack(model_.scenes[scene].nodes.rbegin(), model_.scenes[scene].nodes.rend());
+    std::vector<bool> visited(model_.nodes.size(), false);  // a malformed file may loop
+    while (!stack.empty()) {
+      const int index = stack.back();
+      stack.pop_back();
+      if (index < 0 || index >= static_cast<int>(model_.nodes.size()) || visited[index]) continue;
+      visited[index] = true;
+      const tinygltf::Node& node = model_.nodes[index];
+      if (node.mesh >= 0 && node.mesh < static_cast<int>(model_.meshes.size())) {
+        return model_.meshes[node.mesh];
+      }
+      stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
+    }
+  }
+  return model_.meshes.front();
+}
+
+const tinygltf::Accessor& GltfReader::GetAccessor(int index, const std::string& what) const {
+  if (index < 0 || index >= static_cast<int>(model_.accessors.size())) {
+    Fail(IoErrorKind::kIndexOutOfRange, what + ": accessor " + std::to_string(index) + " does not exist (" +
+                                            std::to_string(model_.accessors.size()) + " accessors)");
+  }
+  return model_.accessors[index];
+}
+
+Elements GltfReader::ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
+                                  std::uint64_t element_size, bool allow_stride,
+                                  const std::string& what) const {
+  if (view_index < 0 || view_index >= static_cast<int>(model_.bufferViews.size())) {
+    Fail(IoErrorKind::kIndexOutOfRange,
+         what + ": bufferView " + std::to_string(view_index) + " does not exist");
+  }
+  const tinygltf::BufferView& view = model_.bufferViews[view_index];
+  if (view.buffer < 0 || view.buffer >= static_cast<int>(model_.buffers.size())) {
+    Fail(IoErrorKind::kIndexOutOfRange, what + ": bufferView " + std::to_string(view_index) +
+                                            " names buffer " + std::to_string(view.buffer) +
+                                            ", which does not exist");
+  }
+  const std::vector<unsigned char>& buffer = model_.buffers[view.buffer].data;
+  if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset) {
+    Fail(IoErrorKind::kIndexOutOfRange,
+         what + ": bufferView " + std::to_string(view_index) + " (bytes " + std::to_string(view.byteOffset) +
+             " + " + std::to_string(view.byteLength) + ") lies outside its buffer of " +
+             std::to_string(buffer.size()) + " bytes");
+  }
+  // Checked before anything is allocated from `count`: a count whose elements
+  // could not fit in the whole buffer is absurd, not merely out of range.
+  if (count > buffer.size() / element_size) {
+    Fail(IoErrorKind::kAbsurdCount, what + ": " + std::to_string(count) + " elements of " +
+                                        std::to_string(element_size) + " bytes cannot fit in a buffer of " +
+                                        std::to_string(buffer.size()) + " bytes");
+  }
+  std::uint64_t stride = element_size;
+  if (allow_stride && view.byteStride != 0) {
+    if (view.byteStride < element_size || view.byteStride > 252) {
+      Fail(IoErrorKind::kParse, what + ": byteStride " + std::to_string(view.byteStride) +
+                                    " is invalid for elements of " + std::to_string(element_size) + " bytes");
+    }
+    stride = view.byteStride;
+  }
+  if (count > 0 && (byte_offset > view.byteLength ||
+                    (count - 1) * stride + element_size > view.byteLength - byte_offset)) {
+    Fail(IoErrorKind::kIndexOutOfRange, what + ": " + std::to_string(count) + " elements at offset " +
+                                            std::to_string(byte_offset) + " run past the end of bufferView " +
+                                            std::to_string(view_index) + " (" +
+                                            std::to_string(view.byteLength) + " bytes)");
+  }
+  return {buffer.data() + view.byteOffset + byte_offset, static_cast<std::size_t>(stride)};
+}
+
+std::vector<std::uint32_t> GltfReader::ReadSparseIndices(const tinygltf::Accessor& accessor,
+                                                         const std::string& what) const {
+  const auto& sparse = accessor.sparse;
+  if (sparse.count < 0) Fail(IoErrorKind::kParse, what + ": negative sparse count");
+  if (static_cast<std::uint64_t>(sparse.count) > accessor.count) {
+    Fail(IoErrorKind::kAbsurdCount, what + ": sparse count " + std::to_string(sparse.count) +
+                                        " exceeds the accessor's count " + std::to_string(accessor.count));
+  }
+  if (!IsIndexType(sparse.indices.componentType)) {
+    Fail(IoErrorKind::kParse, what + ": sparse indices must be UNSIGNED_BYTE, _SHORT or _INT");
+  }
+  if (sparse.indices.byteOffset < 0)
+    Fail(IoErrorKind::kIndexOutOfRange, what + ": negative sparse byteOffset");
+  const std::size_t index_size = ComponentSize(sparse.indices.componentType);
+  const Elements elements =
+      ViewElements(sparse.indices.bufferView, static_cast<std::uint64_t>(sparse.indices.byteOffset),
+                   static_cast<std::uint64_t>(sparse.count), index_size, false, what + " sparse indices");
+  std::vector<std::uint32_t> indices(static_cast<std::size_t>(sparse.count));
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    indices[i] = LoadIndex(elements.data + i * elements.stride, sparse.indices.componentType);
+    if (indices[i] >= accessor.count) {
+      Fail(IoErrorKind::kIndexOutOfRange, what + ": sparse index " + std::to_string(indices[i]) +
+                                              " >= count " + std::to_string(accessor.count));
+    }
+    if (i > 0 && indices[i] <= indices[i - 1]) {
+      Fail(IoErrorKind::kParse, what + ": sparse indices are not strictly increasing");
+    }
+  }
+  return indices;
+}
+
+template <typename Vec>
+VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size_t> expected_count,
+                                     bool keep_sparse, const std::string& what) const {
+  constexpr int kComponents = static_cast<int>(Vec::length());
+  const tinygltf::Accessor& accessor = GetAccessor(accessor_index, what);
+  if (ComponentsOf(accessor.type) != kComponents) {
+    Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " is " +
+                                  TypeName(accessor.type) + ", expected VEC" + std::to_string(kComponents));
+  }
+  const int component_type = accessor.componentType;
+  const std::size_t component_size = ComponentSize(component_type);
+  if (component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && (component_size == 0 || component_size > 2)) {
+    Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) +
+                                  " has an unsupported component type " + std::to_string(component_type));
+  }
+  if (expected_count && accessor.count != *expected_count) {
+    Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " has " +
+                                  std::to_string(accessor.count) + " elements, expected " +
+                                  std::to_string(*expected_count));
+  }
+  // Elements without data (no bufferView) cost memory but no file bytes, so a
+  // tiny file must not be able to ask for billions of them.
+  if (accessor.bufferView < 0 && accessor.count > file_size_) {
+    Fail(IoErrorKind::kAbsurdCount, what + ": accessor " + std::to_string(accessor_index) + " declares " +
+                                        std::to_string(accessor.count) +
+                                        " elements without data in a file of " + std::to_string(file_size_) +
+                                        " bytes");
+  }
+  const std::size_t element_size = component_size * kComponents;
+  auto load = [&](const unsigned char* p, std::size_t element) {
+    Vec v;
+    for (int c = 0; c < kComponents; ++c) {
+      v[c] =
+          LoadAsFloat(p + static_cast<std::size_t>(c) * component_size, component_type, accessor.normalized);
+      if (!std::isfinite(v[c])) {
+        Fail(IoErrorKind::kNonFinite, what + ": element " + std::to_string(element) + " of accessor " +
+                                          std::to_string(accessor_index) + " is not finite");
+      }
+    }
+    return v;
+  };
+
+  VecData<Vec> result;
+  if (accessor.bufferView >= 0) {
+    const Elements elements =
+        ViewElements(accessor.bufferView, accessor.byteOffset, accessor.count, element_size, true, what);
+    result.values.resize(accessor.count);
+    for (std::size_t i = 0; i < accessor.count; ++i)
+      result.values[i] = load(elements.data + i * elements.stride, i);
+  }
+  if (!accessor.sparse.isSparse) {
+    if (accessor.bufferView < 0) result.values.assign(accessor.count, Vec(0.0f));
+    return result;
+  }
+  const std::vector<std::uint32_t> indices = ReadSparseIndices(accessor, what);
+  if (accessor.sparse.values.byteOffset < 0) {
+    Fail(IoErrorKind::kIndexOutOfRange, what + ": negative sparse byteOffset");
+  }
+  const Elements values = ViewElements(accessor.sparse.values.bufferView,
+                                       static_cast<std::uint64_t>(accessor.sparse.values.byteOffset),
+                                       indices.size(), element_size, false, what + " sparse values");
+  if (accessor.bufferView < 0 && keep_sparse) {
+    result.sparse_only = true;
+    result.values.resize(indices.size());
+    for (std::size_t i = 0; i < indices.size(); ++i)
+      result.values[i] = load(values.data + i * values.stride, indices[i]);
+    result.sparse_indices = indices;
+    return result;
+  }
+  if (accessor.bufferView < 0) result.values.assign(accessor.count, Vec(0.0f));
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    result.values[indices[i]] = load(values.data + i * values.stride, indices[i]);
+  }
+  return result;
+}
+
+std::vector<std::uint32_t> GltfReader::ReadIndices(const tinygltf::Primitive& primitive,
+                                                   const VertexBlock& block, const std::string& what) const {
+  std::vector<std::uint32_t> indices;
+  if (primitive.indices < 0) {
+    // Not indexed: consecutive vertices form the triangles.
+    indices.resize(block.vertex_count);
+    for (std::uint32_t i = 0; i < block.vertex_count; ++i) indices[i] = block.first_vertex + i;
+  } else {
+    const tinygltf::Accessor& accessor = GetAccessor(primitive.indices, what);
+    if (accessor.type != TINYGLTF_TYPE_SCALAR || !IsIndexType(accessor.componentType)) {
+      Fail(IoErrorKind::kParse, what + ": indices must be SCALAR UNSIGNED_BYTE, _SHORT or _INT");
+    }
+    if (accessor.bufferView < 0) Fail(IoErrorKind::kParse, what + ": the indices accessor has no bufferView");
+    if (accessor.sparse.isSparse) Fail(IoErrorKind::kParse, what + ": sparse indices are not supported");
+    const Elements elements = ViewElements(accessor.bufferView, accessor.byteOffset, accessor.count,
+                                           ComponentSize(accessor.componentType), false, what + " indices");
+    indices.resize(accessor.count);
+    for (std::size_t i = 0; i < accessor.count; ++i) {
+      const std::uint32_t index = LoadIndex(elements.data + i * elements.stride, accessor.componentType);
+      if (index >= block.vertex_count) {
+        Fail(IoErrorKind::kIndexOutOfRange, what + ": index " + std::to_string(i) + " is " +
+                                                std::to_string(index) + ", but POSITION has " +
+                                                std::to_string(block.vertex_count) + " vertices");
+      }
+      indices[i] = block.first_vertex + index;
+    }
+  }
+  if (indices.size() % 3 != 0) {
+    Fail(IoErrorKind::kParse,
+         what + ": " + std::to_string(indices.size()) + " indices is not a whole number of triangles");
+  }
+  return indices;
+}
+
+RawBlendShape GltfReader::ReadShape(const std::vector<VertexBlock>& blocks, std::size_t target,
+                                    std::string name, bool with_normals) const {
+  RawBlendShape shape;
+  shape.name = std::move(name);
+  const std::string what = "morph target " + std::to_string(target) + " ('" + shape.name + "')";
+  for (const VertexBlock& block : blocks) {
+    const std::map<std::string, int>& attributes = block.primitive->targets[target];
+    const auto position_it = attributes.find("POSITION");
+    if (position_it == attributes.end()) {
+      Fail(IoErrorKind::kParse, what + " has no POSITION deltas");
+    }
+    VecData<glm::vec3> positions =
+        ReadVectors<glm::vec3>(position_it->second, block.vertex_count, true, what);
+    VecData<glm::vec3> normals;
+    if (with_normals)
+      normals = ReadVectors<glm::vec3>(attributes.at("NORMAL"), block.vertex_count, true, what);
+
+    // Which vertices the shape moves: the entries a sparse-only accessor lists
+    // (kept even when zero, so sparse files round-trip exactly), and the
+    // non-zero elements of a dense one (as MakeSparseShape with threshold 0).
+    std::vector<std::uint32_t> kept;
+    auto add_kept = [&kept, &block](const VecData<glm::vec3>& data) {
+      std::vector<std::uint32_t> mine;
+      if (data.sparse_only) {
+        mine = data.sparse_indices;
+      } else {
+        for (std::uint32_t v = 0; v < block.vertex_count; ++v) {
+          if (data.values[v] != glm::vec3(0.0f)) mine.push_back(v);
+        }
+      }
+      std::vector<std::uint32_t> merged;
+      merged.reserve(kept.size() + mine.size());
+      std::set_union(kept.begin(), kept.end(), mine.begin(), mine.end(), std::back_inserter(merged));
+      kept = std::move(merged);
+    };
+    add_kept(positions);
+    if (with_normals) add_kept(normals);
+
+    auto value_at = [](const VecData<glm::vec3>& data, std::uint32_t v) {
+      if (!data.sparse_only) return data.values[v];
+      const auto it = std::lower_bound(data.sparse_indices.begin(), data.sparse_indices.end(), v);
+      if (it == data.sparse_indices.end() || *it != v) return glm::vec3(0.0f);
+      return data.values[static_cast<std::size_t>(it - data.sparse_indices.begin())];
+    };
+    for (std::uint32_t v : kept) {
+      shape.vertex_indices.push_back(block.first_vertex + v);
+      shape.position_deltas.push_back(value_at(positions, v));
+      if (with_normals) shape.normal_deltas.push_back(value_at(normals, v));
+    }
+  }
+  return shape;
+}
+
+// tinygltf's Value::Get(key) asserts that the value is an object; extras may be anything.
+const tinygltf::Value& Member(const tinygltf::Value& object, const char* key) {
+  static const tinygltf::Value kNull;
+  return object.Has(key) ? object.Get(key) : kNull;
+}
+
+std::string StringOr(const tinygltf::Value& array, std::size_t index, std::string fallback) {
+  if (array.IsArray() && index < array.ArrayLen()) {
+    const tinygltf::Value& value = array.Get(static_cast<int>(index));
+    if (value.IsString() && !value.Get<std::string>().empty()) return value.Get<std::string>();
+  }
+  return fallback;
+}
+
+Rig GltfReader::Read() {
+  const tinygltf::Mesh& mesh = ChooseMesh();
+
+  // Triangle-list primitives, grouped by the vertex set (POSITION accessor) they use.
+  std::vector<std::size_t> primitive_indices;
+  std::vector<VertexBlock> blocks;
+  std::map<int, std::size_t> block_of_accessor;
+  std::uint64_t vertex_count = 0;
+  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+    const tinygltf::Primitive& primitive = mesh.primitives[p];
+    if (primitive.mode != TINYGLTF_MODE_TRIANGLES) continue;
+    const std::string what = "primitive " + std::to_string(p);
+    const auto position = primitive.attributes.find("POSITION");
+    if (position == primitive.attributes.end()) Fail(IoErrorKind::kParse, what + " has no POSITION");
+    primitive_indices.push_back(p);
+    const auto [it, inserted] = block_of_accessor.emplace(position->second, blocks.size());
+    if (!inserted) {
+      // Sharing vertices means sharing everything attached to them.
+      const tinygltf::Primitive& first = *blocks[it->second].primitive;
+      auto attribute = [](const tinygltf::Primitive& q, const char* name) {
+        const auto found = q.attributes.find(name);
+        return found == q.attributes.end() ? -1 : found->second;
+      };
+      if (attribute(first, "NORMAL") != attribute(primitive, "NORMAL") ||
+          attribute(first, "TEXCOORD_0") != attribute(primitive, "TEXCOORD_0") ||
+          first.targets != primitive.targets) {
+        Fail(IoErrorKind::kParse, what +
+                                      " shares its POSITION accessor with another primitive but not its "
+                                      "NORMAL, TEXCOORD_0 or morph targets, which a rig cannot represent");
+      }
+      continue;
+    }
+    VertexBlock block;
+    block.position_accessor = position->second;
+    block.primitive = &primitive;
+    block.first_vertex = static_cast<std::uint32_t>(vertex_count);
+    const tinygltf::Accessor& accessor = GetAccessor(position->second, what + " POSITION");
+    if (accessor.bufferView < 0 && accessor.count > file_size_) {
+      Fail(IoErrorKind::kAbsurdCount, what + " POSITION: " + std::to_string(accessor.count) +
+                                          " vertices without data in a file of " +
+                                          std::to_string(file_size_) + " bytes");
+    }
+    vertex_count += accessor.count;
+    if (vertex_count > 0xFFFFFFF0u) Fail(IoErrorKind::kAbsurdCount, "more than 2^32 vertices");
+    block.vertex_count = static_cast<std::uint32_t>(accessor.count);
+    blocks.push_back(block);
+  }
+  if (primitive_indices.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no triangle-list primitive");
+
+  RawRig raw;
+  bool all_normals = true, all_uvs = true;
+  for (const VertexBlock& block : blocks) {
+    all_normals = all_normals && block.primitive->attributes.count("NORMAL") > 0;
+    all_uvs = all_uvs && block.primitive->attributes.count("TEXCOORD_0") > 0;
+  }
+  for (const VertexBlock& block : blocks) {
+    const std::string what = "accessor " + std::to_string(block.position_accessor) + " (POSITION)";
+    VecData<glm::vec3> positions = ReadVectors<glm::vec3>(block.position_accessor, std::nullopt, false, what);
+    raw.positions.insert(raw.positions.end(), positions.values.begin(), positions.values.end());
+    if (all_normals) {
+      VecData<glm::vec3> normals = ReadVectors<glm::vec3>(block.primitive->attributes.at("NORMAL"),
+                                                          block.vertex_count, false, "NORMAL");
+      raw.normals.insert(raw.normals.end(), normals.values.begin(), normals.values.end());
+    }
+    if (all_uvs) {
+      VecData<glm::vec2> uvs = ReadVectors<glm::vec2>(block.primitive->attributes.at("TEXCOORD_0"),
+                                                      block.vertex_count, false, "TEXCOORD_0");
+      for (glm::vec2& uv : uvs.values) uv.y = 1.0f - uv.y;
+      raw.uvs.insert(raw.uvs.end(), uvs.values.begin(), uvs.values.end());
+    }
+  }
+  if (raw.positions.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no vertices");
+
+  // Parts: one per primitive, named from extras.facerig.parts when present.
+  const tinygltf::Value& facerig = Member(mesh.extras, "facerig");
+  const tinygltf::Value& part_names = Member(facerig, "parts");
+  for (std::size_t p : primitive_indices) {
+    const tinygltf::Primitive& primitive = mesh.primitives[p];
+    const VertexBlock& block = blocks[block_of_accessor.at(primitive.attributes.at("POSITION"))];
+    const std::string what = "primitive " + std::to_string(p);
+    const std::vector<std::uint32_t> indices = ReadIndices(primitive, block, what);
+    if (indices.empty()) continue;  // a part needs at least one triangle
+    RawPart part;
+    part.name = StringOr(part_names, p, "primitive" + std::to_string(p));
+    part.first_triangle = static_cast<std::uint32_t>(raw.triangles.size());
+    part.triangle_count = static_cast<std::uint32_t>(indices.size() / 3);
+    for (std::size_t i = 0; i < indices.size(); i += 3) {
+      raw.triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
+    }
+    raw.parts.push_back(std::move(part));
+  }
+  if (raw.triangles.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no triangles");
+
+  // Morph targets: glTF requires the same number on every primitive.
+  const std::size_t target_count = blocks.front().primitive->targets.size();
+  bool normal_deltas = target_count > 0;
+  for (const VertexBlock& block : blocks) {
+    if (block.primitive->targets.size() != target_count) {
+      Fail(IoErrorKind::kParse, "primitives have different numbers of morph targets");
+    }
+    for (const auto& target : block.primitive->targets)
+      normal_deltas = normal_deltas && target.count("NORMAL") > 0;
+  }
+  const tinygltf::Value& target_names = Member(mesh.extras, "targetNames");
+  for (std::size_t t = 0; t < target_count; ++t) {
+    raw.shapes.push_back(
+        ReadShape(blocks, t, StringOr(target_names, t, "target" + std::to_string(t)), normal_deltas));
+  }
+
+  // Units and up axis: ours when written by facerig, else glTF's metres and +Y.
+  raw.units = Units::kMetres;
+  raw.up_axis = UpAxis::kY;
+  const tinygltf::Value& units = Member(facerig, "units");
+  if (units.IsString()) {
+    const std::optional<Units> parsed = ParseUnits(units.Get<std::string>());
+    if (!parsed)
+      Fail(IoErrorKind::kParse, "unknown units '" + units.Get<std::string>() + "' in extras.facerig");
+    raw.units = *parsed;
+  }
+  const tinygltf::Value& up = Member(facerig, "up");
+  if (up.IsString()) {
+    const std::string axis = up.Get<std::string>();
+    if (axis == "Z" || axis == "+Z") {
+      raw.up_axis = UpAxis::kZ;
+    } else if (axis != "Y" && axis != "+Y") {
+      Fail(IoErrorKind::kParse, "unknown up axis '" + axis + "' in extras.facerig");
+    }
+  }
+
+  std::string problem;
+  std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+  if (!rig) Fail(IoErrorKind::kInvalidRig, problem);
+  return std::move(*rig);
+}
+
+}  // namespace
+
+Rig ReadGltf(const std::filesystem::path& path) {
+  const Format format = FormatFromExtension(path);
+  std::uint64_t file_size = 0;
+  tinygltf::Model model = ParseModel(path, format, &file_size);
+  GltfReader reader(path.string(), std::move(model), file_size);
+  return reader.Read();
+}
+
+void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
+  const Format format = FormatFromExtension(path);
+  if (rig.vertex_count() == 0 || rig.triangle_count() == 0) {
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "the rig is empty (no vertices or triangles)");
+  }
+  const tinygltf::Model model = BuildModel(rig, path.stem().string());
+  // GLB stores 32-bit lengths; base64 text grows by 4/3.
+  const std::size_t buffer_size = model.buffers.empty() ? 0 : model.buffers.front().data.size();
+  if (buffer_size > std::numeric_limits<std::uint32_t>::max() / 2) {
+    throw IoError(IoErrorKind::kWriteFailed, path.string(),
+                  "the rig's data (" + std::to_string(buffer_size) + " bytes) is too large for glTF");
+  }
+  tinygltf::TinyGLTF writer;
+  std::ostringstream stream;
+  const bool binary = format == Format::kBinary;
+  if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!binary, binary) || !stream) {
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "tinygltf could not serialise the rig");
+  }
+  WriteFileAtomically(path, stream.view());
+}
+
+}  // namespace facerig
