@@ -8,6 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libglm-dev libtinygltf-dev nlohmann-json3-dev   # runtime
   libeigen3-dev                                    # offline
+  libopencv-dev libdlib-dev libdlib-data           # offline: rasterizer PNGs, default-head face test
+  libespeak-ng-dev espeak-ng-data                  # facerig::espeak (phoneme source)
   catch2                                           # tests
   nodejs npm                                       # glTF validator in the tests
 )

@@ -177,8 +177,14 @@ std::optional<Rig> RigBuilder::Build(RawRig raw, std::string* problem) {
     ComputeVertexNormals(rig.positions_, rig.triangles_, rig.normals_);
   } else {
     for (std::size_t i = 0; i < n; ++i) {
+      // Unit normals are kept bit for bit (renormalising is not idempotent in
+      // float), so a rig survives any number of save/load round trips exactly.
       const float length = glm::length(raw.normals[i]);
-      rig.normals_[i] = length > 0.0f ? raw.normals[i] / length : glm::vec3(0.0f, 0.0f, 1.0f);
+      if (std::abs(length - 1.0f) <= 1e-6f) {
+        rig.normals_[i] = raw.normals[i];
+      } else {
+        rig.normals_[i] = length > 0.0f ? raw.normals[i] / length : glm::vec3(0.0f, 0.0f, 1.0f);
+      }
     }
   }
 

@@ -74,9 +74,12 @@ namespace facerig {
 
 inline constexpr std::uint32_t kFrigVersion = 1;
 
-// Throws IoError: kBadMagic, kUnsupportedVersion, kChecksumMismatch,
-// kTruncated, kAbsurdCount, kIndexOutOfRange, kNonFinite, with the byte offset.
+// Throws IoError: kEmpty, kTruncated, kBadMagic, kUnsupportedVersion,
+// kChecksumMismatch, kAbsurdCount, kParse, kIndexOutOfRange, kNonFinite,
+// kInvalidRig, with the byte offset (see the order above). Normals go through
+// RigBuilder::Build, which renormalises them (may change them by an ulp or two).
 Rig ParseFrig(std::span<const std::byte> bytes, const std::string& path_for_errors);
+// One read of the whole file, then ParseFrig. Also kOpenFailed.
 Rig ReadFrig(const std::filesystem::path& path);
 
 // Deterministic: the same rig always gives the same bytes. Throws
@@ -84,7 +87,8 @@ Rig ReadFrig(const std::filesystem::path& path);
 // default-constructed or moved-from Rig).
 std::vector<std::byte> SerializeFrig(const Rig& rig);
 // Atomic (temporary file + rename): on any failure the previous file, if any,
-// is left as it was. Throws IoError(kWriteFailed) naming the path.
+// is left as it was. Throws IoError naming the path: kInvalidRig as
+// SerializeFrig, kWriteFailed when the file cannot be written.
 void WriteFrig(const std::filesystem::path& path, const Rig& rig);
 
 // CRC-32 (IEEE 802.3, as zlib).

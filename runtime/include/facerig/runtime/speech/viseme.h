@@ -1,0 +1,49 @@
+// The 15 visemes of the Oculus / MPEG-4 set.
+#pragma once
+
+#include <cstdint>
+#include <cstddef>
+#include <optional>
+#include <string_view>
+
+namespace facerig {
+
+enum class Viseme : std::uint8_t {
+  kSil,  // silence, mouth at rest
+  kPP,   // p b m: lips closed
+  kFF,   // f v: lower lip to upper teeth
+  kTH,   // th: tongue between the teeth
+  kDD,   // t d
+  kKK,   // k g
+  kCH,   // tS dZ S Z
+  kSS,   // s z
+  kNN,   // n l
+  kRR,   // r
+  kAA,   // a
+  kE,    // e
+  kIH,   // i
+  kOH,   // o
+  kOU,   // u
+};
+
+inline constexpr std::size_t kVisemeCount = 15;
+
+// "sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou".
+std::string_view ToString(Viseme viseme);
+std::optional<Viseme> ParseViseme(std::string_view name);
+
+}  // namespace facerig
+
+namespace facerig {
+
+// One viseme target in time, made from one phoneme (or half of a diphthong).
+struct VisemeKey {
+  double start = 0.0;  // seconds
+  double end = 0.0;    // seconds; end >= start (end == start for zero-length events)
+  Viseme viseme = Viseme::kSil;
+  // Stress / emphasis in [0,1] (1 = full articulation), e.g. lower for
+  // unstressed function-word vowels.
+  float strength = 1.0f;
+};
+
+}  // namespace facerig

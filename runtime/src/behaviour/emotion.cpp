@@ -1,0 +1,313 @@
+#include "facerig/runtime/behaviour/emotion.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/speech/viseme_mapping.h"
+
+namespace facerig {
+namespace {
+
+constexpr std::array<std::string_view, kEmotionCount> kNames = {"joy",   "sadness",  "fear",
+                                                                 "anger", "surprise", "disgust"};
+
+struct RecipeEntry {
+  Emotion emotion;
+  const char* shape;
+  float weight;
+};
+
+// Built-in ARKit recipes from the FACS action units of each basic emotion
+// (Ekman & Friesen), AU -> ARKit shape:
+//   joy      AU6 cheek raiser + AU12 lip corner puller (Duchenne smile)
+//   sadness  AU1 inner brow raiser + AU4 brow lowerer + AU15 lip corner depressor (+AU17)
+//   fear     AU1+2 brows up + AU4 + AU5 upper lid raiser + AU20 lip stretcher + AU26 jaw drop
+//   anger    AU4 brow lowerer + AU5/7 lids + AU23/24 lip tightener/presser
+//   surprise AU1+2 brows up + AU5 upper lid raiser + AU26 jaw drop
+//   disgust  AU9 nose wrinkler + AU10 upper lip raiser + AU15 + AU17
+// Weights stay below 1 so that emotions combine and speech adds on top before
+// the [0,1] clamp. Shapes named with _L also mean _R (added automatically);
+// browInnerUp resolves to both sides on rigs that split it (ICT-FaceKit).
+constexpr RecipeEntry kRecipes[] = {
+    {Emotion::kJoy, "mouthSmile_L", 0.80f},
+    {Emotion::kJoy, "cheekSquint_L", 0.60f},
+    {Emotion::kJoy, "eyeSquint_L", 0.40f},
+    {Emotion::kJoy, "mouthDimple_L", 0.20f},
+    {Emotion::kJoy, "mouthUpperUp_L", 0.15f},
+    {Emotion::kSadness, "browInnerUp", 0.80f},
+    {Emotion::kSadness, "browDown_L", 0.20f},
+    {Emotion::kSadness, "mouthFrown_L", 0.70f},
+    {Emotion::kSadness, "mouthShrugLower", 0.30f},
+    {Emotion::kSadness, "mouthPress_L", 0.20f},
+    {Emotion::kSadness, "eyeSquint_L", 0.10f},
+    {Emotion::kFear, "browInnerUp", 0.80f},
+    {Emotion::kFear, "browOuterUp_L", 0.40f},
+    {Emotion::kFear, "eyeWide_L", 0.80f},
+    {Emotion::kFear, "mouthStretch_L", 0.60f},
+    {Emotion::kFear, "mouthLowerDown_L", 0.20f},
+    {Emotion::kFear, "jawOpen", 0.15f},
+    {Emotion::kAnger, "browDown_L", 0.90f},
+    {Emotion::kAnger, "eyeSquint_L", 0.50f},
+    {Emotion::kAnger, "eyeWide_L", 0.20f},
+    {Emotion::kAnger, "mouthPress_L", 0.50f},
+    {Emotion::kAnger, "mouthFrown_L", 0.30f},
+    {Emotion::kAnger, "noseSneer_L", 0.30f},
+    {Emotion::kSurprise, "browInnerUp", 0.80f},
+    {Emotion::kSurprise, "browOuterUp_L", 0.80f},
+    {Emotion::kSurprise, "eyeWide_L", 0.80f},
+    {Emotion::kSurprise, "jawOpen", 0.25f},
+    {Emotion::kDisgust, "noseSneer_L", 0.80f},
+    {Emotion::kDisgust, "mouthUpperUp_L", 0.50f},
+    {Emotion::kDisgust, "browDown_L", 0.40f},
+    {Emotion::kDisgust, "mouthFrown_L", 0.40f},
+    {Emotion::kDisgust, "cheekSquint_L", 0.30f},
+    {Emotion::kDisgust, "mouthShrugLower", 0.30f},
+    {Emotion::kDisgust, "eyeSquint_L", 0.30f},
+};
+
+// Measured on ICT-FaceKit: each opens the inner lips of a closed PP pose by
+// 2.5 mm or more at weight 1 (see emotion.h). mouthPress is here too: added
+// to the PP press it pushes the lips through each other (2.6 mm at 1.0), so
+// during contact the speech alone owns the press.
+constexpr std::string_view kLipOpeners[] = {
+    "jawopen",        "jawforward",      "jaw_l",          "jaw_r",         "mouthclose",
+    "mouthfunnel",    "mouthpucker",     "mouthrolllower", "mouthrollupper", "mouthshruglower",
+    "mouthshrugupper", "mouthupperup",   "mouthlowerdown", "nosesneer",     "mouthpress",
+};
+
+std::string Lower(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// Lower case, side suffix and namespace prefix removed; jawLeft/jawRight are
+// shapes of their own, not sides, and become "jaw_l"/"jaw_r".
+std::string OpenerKey(std::string_view name) {
+  std::string s = Lower(name);
+  char side = 0;
+  for (const auto& [suffix, which] : {std::pair<std::string_view, char>{"left", 'l'}, {"right", 'r'},
+                                      {"_l", 'l'}, {"_r", 'r'}, {".l", 'l'}, {".r", 'r'}}) {
+    if (s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      s.resize(s.size() - suffix.size());
+      while (!s.empty() && (s.back() == '_' || s.back() == '.')) s.pop_back();
+      side = which;
+      break;
+    }
+  }
+  if (const std::size_t dot = s.rfind('.'); dot != std::string::npos) s.erase(0, dot + 1);
+  if (s == "jaw" && side != 0) return side == 'l' ? "jaw_l" : "jaw_r";
+  return s;
+}
+
+[[noreturn]] void Fail(const std::string& source, const std::string& field, const std::string& what) {
+  throw IoError(IoErrorKind::kParse, source, field + ": " + what);
+}
+
+}  // namespace
+
+struct EmotionRigBuilder {
+  std::array<std::vector<EmotionContribution>, kEmotionCount> lists;
+
+  void Add(Emotion e, std::size_t shape, float weight, bool opens_lips) {
+    auto& list = lists[static_cast<std::size_t>(e)];
+    for (EmotionContribution& c : list) {
+      if (c.shape == shape) {
+        c.weight = std::max(c.weight, weight);
+        c.opens_lips = c.opens_lips || opens_lips;
+        return;
+      }
+    }
+    list.push_back({static_cast<std::uint32_t>(shape), weight, opens_lips});
+  }
+
+  EmotionRig Finish(std::size_t rig_shape_count) {
+    EmotionRig rig;
+    rig.rig_shape_count_ = rig_shape_count;
+    for (std::size_t e = 0; e < kEmotionCount; ++e) {
+      rig.offsets_[e] = static_cast<std::uint32_t>(rig.entries_.size());
+      rig.entries_.insert(rig.entries_.end(), lists[e].begin(), lists[e].end());
+    }
+    rig.offsets_[kEmotionCount] = static_cast<std::uint32_t>(rig.entries_.size());
+    return rig;
+  }
+};
+
+std::string_view ToString(Emotion emotion) {
+  const auto index = static_cast<std::size_t>(emotion);
+  return index < kNames.size() ? kNames[index] : std::string_view("?");
+}
+
+std::optional<Emotion> ParseEmotion(std::string_view name) {
+  for (std::size_t i = 0; i < kNames.size(); ++i) {
+    if (kNames[i] == name) return static_cast<Emotion>(i);
+  }
+  return std::nullopt;
+}
+
+bool OpensLips(std::string_view arkit_name) {
+  const std::string key = OpenerKey(arkit_name);
+  return std::find(std::begin(kLipOpeners), std::end(kLipOpeners), key) != std::end(kLipOpeners);
+}
+
+std::span<const EmotionContribution> EmotionRig::contributions(Emotion emotion) const {
+  const auto e = static_cast<std::size_t>(emotion);
+  if (e >= kEmotionCount) return {};
+  return std::span<const EmotionContribution>(entries_).subspan(offsets_[e], offsets_[e + 1] - offsets_[e]);
+}
+
+EmotionOverrides ParseEmotionJson(std::string_view text, const std::string& source) {
+  const nlohmann::json json = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
+  if (json.is_discarded()) throw IoError(IoErrorKind::kParse, source, "not valid JSON");
+  if (!json.is_object()) throw IoError(IoErrorKind::kParse, source, "expected an object keyed by emotion name");
+  EmotionOverrides overrides;
+  for (const auto& [key, shapes] : json.items()) {
+    const std::optional<Emotion> emotion = ParseEmotion(key);
+    if (!emotion) Fail(source, key, "unknown emotion (expected joy, sadness, fear, anger, surprise, disgust)");
+    if (!shapes.is_object()) Fail(source, key, "expected an object of shape name -> weight");
+    std::vector<NamedEmotionWeight> list;
+    for (const auto& [shape, value] : shapes.items()) {
+      const std::string field = key + "." + shape;
+      NamedEmotionWeight entry;
+      entry.shape = shape;
+      const nlohmann::json* weight = &value;
+      if (value.is_object()) {
+        const auto w = value.find("weight");
+        if (w == value.end()) Fail(source, field, "missing \"weight\"");
+        weight = &*w;
+        if (const auto o = value.find("opens_lips"); o != value.end()) {
+          if (!o->is_boolean()) Fail(source, field + ".opens_lips", "expected true or false");
+          entry.opens_lips = o->get<bool>();
+        }
+      }
+      if (!weight->is_number()) Fail(source, field, "weight is not a number");
+      const double w = weight->get<double>();
+      if (!std::isfinite(w) || w < 0.0 || w > 1.0) Fail(source, field, "weight outside [0,1]");
+      entry.weight = static_cast<float>(w);
+      list.push_back(std::move(entry));
+    }
+    overrides.emotions[static_cast<std::size_t>(*emotion)] = std::move(list);
+  }
+  return overrides;
+}
+
+EmotionOverrides ReadEmotionFile(const std::filesystem::path& path) {
+  return ParseEmotionJson(ReadFileText(path, 16u << 20), path.string());
+}
+
+EmotionRigResult BuildEmotionRig(const Rig& rig, const EmotionOverrides* overrides) {
+  EmotionRigResult result;
+  EmotionRigBuilder builder;
+  std::vector<std::string> missing;
+  auto add = [&](Emotion e, const std::string& name, float weight, std::optional<bool> opens_lips) {
+    const std::vector<std::size_t> found = FindShapesByArkitName(rig, name);
+    if (found.empty() && std::find(missing.begin(), missing.end(), name) == missing.end()) {
+      missing.push_back(name);
+    }
+    for (std::size_t s : found) builder.Add(e, s, weight, opens_lips.value_or(OpensLips(name)));
+  };
+  for (const RecipeEntry& r : kRecipes) {
+    const auto e = static_cast<std::size_t>(r.emotion);
+    if (overrides != nullptr && overrides->emotions[e]) continue;
+    const std::string_view shape = r.shape;
+    add(r.emotion, std::string(shape), r.weight, std::nullopt);
+    if (shape.size() > 2 && shape.substr(shape.size() - 2) == "_L") {
+      add(r.emotion, std::string(shape.substr(0, shape.size() - 2)) + "_R", r.weight, std::nullopt);
+    }
+  }
+  if (overrides != nullptr) {
+    for (std::size_t e = 0; e < kEmotionCount; ++e) {
+      if (!overrides->emotions[e]) continue;
+      for (const NamedEmotionWeight& entry : *overrides->emotions[e]) {
+        add(static_cast<Emotion>(e), entry.shape, entry.weight, entry.opens_lips);
+      }
+    }
+  }
+  for (const std::string& name : missing) result.warnings.push_back("emotions: rig has no shape " + name);
+  for (std::size_t e = 0; e < kEmotionCount; ++e) {
+    const bool replaced = overrides != nullptr && overrides->emotions[e].has_value();
+    if (builder.lists[e].empty() && !replaced) {
+      result.warnings.push_back("emotion " + std::string(kNames[e]) + " moves no shape on this rig");
+    }
+  }
+  result.emotions = builder.Finish(rig.shape_count());
+  return result;
+}
+
+void EmotionState::SetTarget(Emotion emotion, float value) {
+  const auto e = static_cast<std::size_t>(emotion);
+  if (e >= kEmotionCount || std::isnan(value)) return;
+  target[e] = std::clamp(value, 0.0f, 1.0f);
+}
+
+bool EmotionState::Advance(double dt) {
+  if (!(dt >= 0.0 && std::isfinite(dt))) return false;
+  for (std::size_t e = 0; e < kEmotionCount; ++e) {
+    if (!(attack[e] > 0.0f && std::isfinite(attack[e]) && release[e] > 0.0f && std::isfinite(release[e]))) {
+      return false;
+    }
+  }
+  for (std::size_t e = 0; e < kEmotionCount; ++e) {
+    const double current = std::clamp(static_cast<double>(intensity[e]), 0.0, 1.0);
+    const double goal = std::clamp(static_cast<double>(target[e]), 0.0, 1.0);
+    double next = goal;
+    if (goal > current) {
+      next = std::min(goal, current + dt / static_cast<double>(attack[e]));
+    } else if (goal < current) {
+      next = std::max(goal, current - dt / static_cast<double>(release[e]));
+    }
+    intensity[e] = static_cast<float>(next);
+  }
+  return true;
+}
+
+const char* ToString(EmotionLayerJobError error) {
+  switch (error) {
+    case EmotionLayerJobError::kNone: return "no error";
+    case EmotionLayerJobError::kNoEmotions: return "no emotion rig";
+    case EmotionLayerJobError::kIntensityCountMismatch: return "intensity count is not 6";
+    case EmotionLayerJobError::kInvalidIntensity: return "an intensity or lip_contact is NaN, infinite or outside [0,1]";
+    case EmotionLayerJobError::kWeightCountMismatch: return "weight span size differs from the rig's shape count";
+    case EmotionLayerJobError::kNonFiniteWeight: return "a speech weight is NaN or infinite";
+  }
+  return "unknown error";
+}
+
+EmotionLayerJobError EmotionLayerJob::Validate() const {
+  if (emotions == nullptr) return EmotionLayerJobError::kNoEmotions;
+  if (intensities.size() != kEmotionCount) return EmotionLayerJobError::kIntensityCountMismatch;
+  for (float i : intensities) {
+    if (!(i >= 0.0f && i <= 1.0f)) return EmotionLayerJobError::kInvalidIntensity;
+  }
+  if (!(lip_contact >= 0.0f && lip_contact <= 1.0f)) return EmotionLayerJobError::kInvalidIntensity;
+  const std::size_t n = emotions->rig_shape_count();
+  if (speech_weights.size() != n || out_weights.size() != n) return EmotionLayerJobError::kWeightCountMismatch;
+  for (float w : speech_weights) {
+    if (!std::isfinite(w)) return EmotionLayerJobError::kNonFiniteWeight;
+  }
+  return EmotionLayerJobError::kNone;
+}
+
+EmotionLayerJobError EmotionLayerJob::Run() const {
+  if (const EmotionLayerJobError e = Validate(); e != EmotionLayerJobError::kNone) return e;
+  if (speech_weights.data() != out_weights.data()) {
+    std::copy(speech_weights.begin(), speech_weights.end(), out_weights.begin());
+  }
+  const float keep_opening = 1.0f - lip_contact;
+  for (std::size_t e = 0; e < kEmotionCount; ++e) {
+    const float intensity = intensities[e];
+    if (intensity == 0.0f) continue;
+    for (const EmotionContribution& c : emotions->contributions(static_cast<Emotion>(e))) {
+      out_weights[c.shape] += intensity * c.weight * (c.opens_lips ? keep_opening : 1.0f);
+    }
+  }
+  for (float& w : out_weights) w = std::clamp(w, 0.0f, 1.0f);
+  return EmotionLayerJobError::kNone;
+}
+
+}  // namespace facerig

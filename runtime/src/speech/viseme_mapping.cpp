@@ -1,0 +1,394 @@
+#include "facerig/runtime/speech/viseme_mapping.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
+
+namespace facerig {
+namespace {
+
+struct ArkitEntry {
+  Viseme viseme;
+  const char* shape;
+  float weight;
+};
+
+// The built-in ARKit mapping. Values measured on ICT-FaceKit (cm; inner-lip gap
+// = closest distance between the upper and lower inner-lip midline vertices):
+// neutral 0.8 mm, PP 0.1 mm, aa 24.9 mm, oh 22.7 mm, E 14.7 mm, ou 8.7 mm.
+// - PP uses only mouthPress: the neutral already has the lips together and any
+//   jawOpen would have to be cancelled by mouthClose, which overshoots (the
+//   lips pass through each other on ICT at equal weights).
+// - FF: mouthRollLower 0.2 + jawOpen 0.05 put the lower lip's contact line
+//   on the upper incisor edge (0.07 mm away); mouthUpperUp shows the teeth.
+//   FF is sensitive to jawOpen (0.1 moves the lip 1.8 mm away), which is why
+//   PP and FF are exempt from the jaw/lip intensities.
+// - Vowels: jawOpen carries the opening (aa > oh > E > ih), lips add spread
+//   (mouthStretch, mouthSmile) or rounding (mouthFunnel, mouthPucker).
+// Shapes named with _L also mean _R (added automatically).
+constexpr ArkitEntry kArkitMapping[] = {
+    {Viseme::kPP, "mouthPress_L", 0.30f},
+    {Viseme::kFF, "mouthRollLower", 0.20f},
+    {Viseme::kFF, "mouthUpperUp_L", 0.20f},
+    {Viseme::kFF, "jawOpen", 0.05f},
+    {Viseme::kTH, "jawOpen", 0.12f},
+    {Viseme::kTH, "mouthUpperUp_L", 0.10f},
+    {Viseme::kTH, "mouthLowerDown_L", 0.10f},
+    {Viseme::kDD, "jawOpen", 0.15f},
+    {Viseme::kDD, "mouthStretch_L", 0.15f},
+    {Viseme::kDD, "mouthUpperUp_L", 0.05f},
+    {Viseme::kKK, "jawOpen", 0.20f},
+    {Viseme::kKK, "mouthStretch_L", 0.15f},
+    {Viseme::kCH, "jawOpen", 0.10f},
+    {Viseme::kCH, "mouthFunnel", 0.50f},
+    {Viseme::kCH, "mouthPucker", 0.20f},
+    {Viseme::kCH, "mouthUpperUp_L", 0.10f},
+    {Viseme::kSS, "jawOpen", 0.05f},
+    {Viseme::kSS, "mouthStretch_L", 0.35f},
+    {Viseme::kSS, "mouthSmile_L", 0.10f},
+    {Viseme::kSS, "mouthUpperUp_L", 0.10f},
+    {Viseme::kNN, "jawOpen", 0.12f},
+    {Viseme::kNN, "mouthStretch_L", 0.10f},
+    {Viseme::kRR, "jawOpen", 0.10f},
+    {Viseme::kRR, "mouthFunnel", 0.30f},
+    {Viseme::kRR, "mouthPucker", 0.30f},
+    {Viseme::kAA, "jawOpen", 0.60f},
+    {Viseme::kAA, "mouthLowerDown_L", 0.20f},
+    {Viseme::kAA, "mouthUpperUp_L", 0.10f},
+    {Viseme::kE, "jawOpen", 0.35f},
+    {Viseme::kE, "mouthStretch_L", 0.30f},
+    {Viseme::kE, "mouthLowerDown_L", 0.20f},
+    {Viseme::kE, "mouthSmile_L", 0.10f},
+    {Viseme::kIH, "jawOpen", 0.20f},
+    {Viseme::kIH, "mouthStretch_L", 0.40f},
+    {Viseme::kIH, "mouthSmile_L", 0.20f},
+    {Viseme::kOH, "jawOpen", 0.40f},
+    {Viseme::kOH, "mouthFunnel", 0.60f},
+    {Viseme::kOU, "jawOpen", 0.15f},
+    {Viseme::kOU, "mouthPucker", 0.80f},
+    {Viseme::kOU, "mouthFunnel", 0.30f},
+};
+
+std::string Lower(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+bool EndsWith(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+// Lower case, side suffix as "_l"/"_r", namespace prefix ("blendShape1.") removed.
+struct CanonicalName {
+  std::string base;
+  char side = 0;  // 'l', 'r' or 0
+  std::string full() const { return side ? base + '_' + side : base; }
+};
+
+CanonicalName Canonical(std::string_view name) {
+  std::string s = Lower(name);
+  CanonicalName out;
+  for (const auto& [suffix, side] : {std::pair<std::string_view, char>{"left", 'l'}, {"right", 'r'},
+                                     {"_l", 'l'}, {"_r", 'r'}, {".l", 'l'}, {".r", 'r'}}) {
+    if (s.size() > suffix.size() && EndsWith(s, suffix)) {
+      s.resize(s.size() - suffix.size());
+      while (!s.empty() && (s.back() == '_' || s.back() == '.')) s.pop_back();
+      out.side = side;
+      break;
+    }
+  }
+  if (const std::size_t dot = s.rfind('.'); dot != std::string::npos) s.erase(0, dot + 1);
+  out.base = std::move(s);
+  return out;
+}
+
+// The per-viseme target names a rig may use for viseme v (lower case, no prefix).
+bool MatchesVisemeTarget(std::string_view canonical, Viseme v) {
+  const std::string own = Lower(ToString(v));
+  if (canonical == own) return true;
+  switch (v) {
+    case Viseme::kIH: return canonical == "i";
+    case Viseme::kOH: return canonical == "o";
+    case Viseme::kOU: return canonical == "u";
+    default: return false;
+  }
+}
+
+std::optional<std::size_t> FindVisemeTarget(const Rig& rig, Viseme v) {
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+    std::string name = Lower(rig.shape_name(s));
+    if (const std::size_t dot = name.rfind('.'); dot != std::string::npos) name.erase(0, dot + 1);
+    if (name.rfind("viseme_", 0) == 0) {
+      name.erase(0, 7);
+    } else if (name.rfind("viseme", 0) == 0 && name.size() > 6) {
+      name.erase(0, 6);
+    }
+    if (MatchesVisemeTarget(name, v)) return s;
+  }
+  return std::nullopt;
+}
+
+[[noreturn]] void Fail(const std::string& source, const std::string& field, const std::string& what) {
+  throw IoError(IoErrorKind::kParse, source, field + ": " + what);
+}
+
+}  // namespace
+
+// Accumulates contributions per viseme, then freezes them into a mapping.
+struct VisemeMappingBuilder {
+  std::array<std::vector<ShapeContribution>, kVisemeCount> lists;
+
+  void Add(Viseme v, std::size_t shape, float weight, MappingChannel channel) {
+    auto& list = lists[static_cast<std::size_t>(v)];
+    for (ShapeContribution& c : list) {
+      if (c.shape == shape) {  // e.g. "_L" and "_R" that resolve to one unsided shape
+        c.weight = std::max(c.weight, weight);
+        return;
+      }
+    }
+    list.push_back({static_cast<std::uint32_t>(shape), weight, channel});
+  }
+
+  VisemeMapping Finish(std::size_t rig_shape_count, VisemeMappingStyle style) {
+    VisemeMapping m;
+    m.rig_shape_count_ = rig_shape_count;
+    m.style_ = style;
+    for (std::size_t v = 0; v < kVisemeCount; ++v) {
+      m.offsets_[v] = static_cast<std::uint32_t>(m.entries_.size());
+      m.entries_.insert(m.entries_.end(), lists[v].begin(), lists[v].end());
+    }
+    m.offsets_[kVisemeCount] = static_cast<std::uint32_t>(m.entries_.size());
+    return m;
+  }
+};
+
+std::span<const ShapeContribution> VisemeMapping::contributions(Viseme viseme) const {
+  const auto v = static_cast<std::size_t>(viseme);
+  if (v >= kVisemeCount) return {};
+  return std::span<const ShapeContribution>(entries_).subspan(offsets_[v], offsets_[v + 1] - offsets_[v]);
+}
+
+bool IsJawShapeName(std::string_view name) {
+  const std::string c = Canonical(name).full();
+  return c == "jawopen" || c == "mouthclose" || c == "jawforward";
+}
+
+std::vector<std::size_t> FindShapesByArkitName(const Rig& rig, std::string_view name) {
+  if (const auto exact = rig.FindShape(name)) return {*exact};
+  const CanonicalName want = Canonical(name);
+  std::vector<CanonicalName> names;
+  names.reserve(rig.shape_count());
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) names.push_back(Canonical(rig.shape_name(s)));
+  auto find = [&](const std::string& base, char side) -> std::optional<std::size_t> {
+    for (std::size_t s = 0; s < names.size(); ++s) {
+      if (names[s].base == base && names[s].side == side) return s;
+    }
+    return std::nullopt;
+  };
+  if (const auto same = find(want.base, want.side)) return {*same};
+  std::vector<std::size_t> found;
+  if (want.side == 0) {
+    // "browInnerUp" on a rig that has it per side.
+    if (const auto l = find(want.base, 'l')) found.push_back(*l);
+    if (const auto r = find(want.base, 'r')) found.push_back(*r);
+  } else if (const auto unsided = find(want.base, 0)) {
+    found.push_back(*unsided);
+  }
+  return found;
+}
+
+VisemeMappingOverrides ParseVisemeMappingJson(std::string_view text, const std::string& source) {
+  const nlohmann::json json = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
+  if (json.is_discarded()) throw IoError(IoErrorKind::kParse, source, "not valid JSON");
+  if (!json.is_object()) throw IoError(IoErrorKind::kParse, source, "expected an object keyed by viseme name");
+  VisemeMappingOverrides overrides;
+  for (const auto& [key, shapes] : json.items()) {
+    const std::optional<Viseme> viseme = ParseViseme(key);
+    if (!viseme) {
+      Fail(source, key, "unknown viseme (expected sil, PP, FF, TH, DD, kk, CH, SS, nn, RR, aa, E, ih, oh, ou)");
+    }
+    if (!shapes.is_object()) Fail(source, key, "expected an object of shape name -> weight");
+    std::vector<NamedShapeWeight> list;
+    for (const auto& [shape, value] : shapes.items()) {
+      const std::string field = key + "." + shape;
+      NamedShapeWeight entry;
+      entry.shape = shape;
+      const nlohmann::json* weight = &value;
+      if (value.is_object()) {
+        const auto w = value.find("weight");
+        if (w == value.end()) Fail(source, field, "missing \"weight\"");
+        weight = &*w;
+        if (const auto ch = value.find("channel"); ch != value.end()) {
+          if (!ch->is_string()) Fail(source, field + ".channel", "expected \"jaw\" or \"lip\"");
+          const std::string name = ch->get<std::string>();
+          if (name == "jaw") {
+            entry.channel = MappingChannel::kJaw;
+          } else if (name == "lip") {
+            entry.channel = MappingChannel::kLip;
+          } else {
+            Fail(source, field + ".channel", "expected \"jaw\" or \"lip\", got \"" + name + "\"");
+          }
+        }
+      }
+      if (!weight->is_number()) Fail(source, field, "weight is not a number");
+      const double w = weight->get<double>();
+      if (!std::isfinite(w) || w < 0.0 || w > 1.0) Fail(source, field, "weight outside [0,1]");
+      entry.weight = static_cast<float>(w);
+      list.push_back(std::move(entry));
+    }
+    overrides.visemes[static_cast<std::size_t>(*viseme)] = std::move(list);
+  }
+  return overrides;
+}
+
+VisemeMappingOverrides ReadVisemeMappingFile(const std::filesystem::path& path) {
+  // Mapping files are a few kilobytes; refuse anything absurd before parsing.
+  return ParseVisemeMappingJson(ReadFileText(path, 16u << 20), path.string());
+}
+
+VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOptions& options) {
+  VisemeMappingResult result;
+  VisemeMappingBuilder builder;
+
+  std::array<std::optional<std::size_t>, kVisemeCount> targets;
+  std::size_t target_count = 0;
+  for (std::size_t v = 0; v < kVisemeCount; ++v) {
+    targets[v] = FindVisemeTarget(rig, static_cast<Viseme>(v));
+    if (targets[v] && v != static_cast<std::size_t>(Viseme::kSil)) ++target_count;
+  }
+  bool any_arkit = false;
+  for (const ArkitEntry& e : kArkitMapping) {
+    if (!FindShapesByArkitName(rig, e.shape).empty()) any_arkit = true;
+  }
+  VisemeMappingStyle style = options.style;
+  if (style == VisemeMappingStyle::kAuto) {
+    style = (target_count >= (kVisemeCount - 1) / 2 || (target_count > 0 && !any_arkit))
+                ? VisemeMappingStyle::kPerViseme
+                : VisemeMappingStyle::kArkit;
+  }
+
+  if (style == VisemeMappingStyle::kPerViseme) {
+    for (std::size_t v = 0; v < kVisemeCount; ++v) {
+      const auto viseme = static_cast<Viseme>(v);
+      if (targets[v]) {
+        // Open vowels are carried by the jaw; everything else by the lips.
+        const bool jaw = viseme == Viseme::kAA || viseme == Viseme::kE || viseme == Viseme::kIH ||
+                         viseme == Viseme::kOH;
+        builder.Add(viseme, *targets[v], 1.0f, jaw ? MappingChannel::kJaw : MappingChannel::kLip);
+      } else if (viseme != Viseme::kSil) {
+        result.warnings.push_back("rig has no target for viseme " + std::string(ToString(viseme)) +
+                                  " (looked for viseme_" + std::string(ToString(viseme)) + " or " +
+                                  std::string(ToString(viseme)) + ", any case)");
+      }
+    }
+  } else {
+    std::vector<std::string> missing;
+    for (const ArkitEntry& e : kArkitMapping) {
+      std::vector<std::string> names = {e.shape};
+      const std::string_view shape = e.shape;
+      if (EndsWith(shape, "_L")) names.push_back(std::string(shape.substr(0, shape.size() - 2)) + "_R");
+      for (const std::string& name : names) {
+        const std::vector<std::size_t> found = FindShapesByArkitName(rig, name);
+        if (found.empty() && std::find(missing.begin(), missing.end(), name) == missing.end()) {
+          missing.push_back(name);
+        }
+        const MappingChannel channel = IsJawShapeName(name) ? MappingChannel::kJaw : MappingChannel::kLip;
+        for (std::size_t s : found) builder.Add(e.viseme, s, e.weight, channel);
+      }
+    }
+    for (const std::string& name : missing) {
+      result.warnings.push_back("ARKit viseme mapping: rig has no shape " + name);
+    }
+  }
+
+  if (options.overrides != nullptr) {
+    for (std::size_t v = 0; v < kVisemeCount; ++v) {
+      const auto& list = options.overrides->visemes[v];
+      if (!list) continue;
+      const auto viseme = static_cast<Viseme>(v);
+      builder.lists[v].clear();
+      for (const NamedShapeWeight& entry : *list) {
+        const std::vector<std::size_t> found = FindShapesByArkitName(rig, entry.shape);
+        if (found.empty()) {
+          result.warnings.push_back("mapping for viseme " + std::string(ToString(viseme)) +
+                                    ": rig has no shape " + entry.shape);
+        }
+        const MappingChannel channel = entry.channel.value_or(
+            IsJawShapeName(entry.shape) ? MappingChannel::kJaw : MappingChannel::kLip);
+        for (std::size_t s : found) builder.Add(viseme, s, entry.weight, channel);
+      }
+    }
+  }
+
+  for (std::size_t v = 1; v < kVisemeCount; ++v) {
+    const auto viseme = static_cast<Viseme>(v);
+    const bool replaced = options.overrides != nullptr && options.overrides->visemes[v].has_value();
+    if (builder.lists[v].empty() && !replaced) {
+      // PP still closes on a rig whose neutral is closed: the contact pass
+      // zeroes every other viseme.
+      result.warnings.push_back("viseme " + std::string(ToString(viseme)) +
+                                " moves no shape on this rig");
+    }
+  }
+  result.mapping = builder.Finish(rig.shape_count(), style);
+  if (result.mapping.empty()) {
+    result.warnings.push_back("no viseme moves any shape: the rig has neither ARKit mouth shapes "
+                              "nor per-viseme targets, so speech leaves the face at rest");
+  }
+  return result;
+}
+
+const char* ToString(VisemeWeightsJobError error) {
+  switch (error) {
+    case VisemeWeightsJobError::kNone: return "no error";
+    case VisemeWeightsJobError::kNoMapping: return "no mapping";
+    case VisemeWeightsJobError::kVisemeCountMismatch: return "viseme weight count is not 15";
+    case VisemeWeightsJobError::kNonFiniteViseme: return "a viseme weight is NaN, infinite or outside [0,1]";
+    case VisemeWeightsJobError::kInvalidIntensity: return "jaw or lip intensity is NaN, infinite or outside [0,4]";
+    case VisemeWeightsJobError::kWeightCountMismatch: return "out_weights size differs from the rig's shape count";
+  }
+  return "unknown error";
+}
+
+VisemeWeightsJobError VisemeWeightsJob::Validate() const {
+  if (mapping == nullptr) return VisemeWeightsJobError::kNoMapping;
+  if (viseme_weights.size() != kVisemeCount) return VisemeWeightsJobError::kVisemeCountMismatch;
+  for (float w : viseme_weights) {
+    if (!(w >= 0.0f && w <= 1.0f)) return VisemeWeightsJobError::kNonFiniteViseme;
+  }
+  for (float k : {jaw_intensity, lip_intensity}) {
+    if (!(k >= 0.0f && k <= 4.0f)) return VisemeWeightsJobError::kInvalidIntensity;
+  }
+  if (out_weights.size() != mapping->rig_shape_count()) return VisemeWeightsJobError::kWeightCountMismatch;
+  return VisemeWeightsJobError::kNone;
+}
+
+VisemeWeightsJobError VisemeWeightsJob::Run() const {
+  if (const VisemeWeightsJobError e = Validate(); e != VisemeWeightsJobError::kNone) return e;
+  if (!accumulate) std::fill(out_weights.begin(), out_weights.end(), 0.0f);
+  for (std::size_t v = 0; v < kVisemeCount; ++v) {
+    const float w = viseme_weights[v];
+    if (w == 0.0f) continue;
+    const auto viseme = static_cast<Viseme>(v);
+    const bool contact = viseme == Viseme::kPP || viseme == Viseme::kFF;
+    for (const ShapeContribution& c : mapping->contributions(viseme)) {
+      const float k = contact ? 1.0f : (c.channel == MappingChannel::kJaw ? jaw_intensity : lip_intensity);
+      out_weights[c.shape] += w * c.weight * k;
+    }
+  }
+  // Clamp only what this job touched, so other layers' weights stay as they were.
+  for (std::size_t v = 0; v < kVisemeCount; ++v) {
+    for (const ShapeContribution& c : mapping->contributions(static_cast<Viseme>(v))) {
+      out_weights[c.shape] = std::clamp(out_weights[c.shape], 0.0f, 1.0f);
+    }
+  }
+  return VisemeWeightsJobError::kNone;
+}
+
+}  // namespace facerig
