@@ -1,0 +1,182 @@
+// A talking character: phonemes -> coarticulated visemes -> rig weights, with
+// emotions layered on speech and blinks on top, driven by an animation clock
+// (the audio playback position; see audio_clock.h).
+//
+// CharacterRig holds what is built once per rig (viseme and emotion mappings,
+// blink shapes); many Characters may share one. A Character is the
+// per-character context: every buffer is sized in its constructor, and
+// Speak(), Update() and the streaming calls allocate nothing, throw nothing
+// and take no lock (a test counts operator new). Results are deterministic
+// for a given phoneme track, sequence of times and seed.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "facerig/runtime/behaviour/blink.h"
+#include "facerig/runtime/behaviour/emotion.h"
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/speech/coarticulation.h"
+#include "facerig/runtime/speech/phoneme.h"
+#include "facerig/runtime/speech/phoneme_visemes.h"
+#include "facerig/runtime/speech/viseme.h"
+#include "facerig/runtime/speech/viseme_mapping.h"
+
+namespace facerig {
+
+struct CharacterRigOptions {
+  VisemeMappingOptions visemes;
+  const EmotionOverrides* emotions = nullptr;  // optional user recipes
+};
+
+// Immutable per-rig data shared by all characters on that rig.
+class CharacterRig {
+ public:
+  // Never throws for a rig that lacks shapes: speech, emotions or blinks that
+  // cannot be shown are left out and reported in warnings(). `rig` must
+  // outlive the CharacterRig.
+  static CharacterRig Build(const Rig& rig, const CharacterRigOptions& options = {});
+
+  const Rig& rig() const { return *rig_; }
+  const VisemeMapping& visemes() const { return visemes_; }
+  const EmotionRig& emotions() const { return emotions_; }
+  // eyeBlink_L / eyeBlink_R shape indices, when the rig has them.
+  std::optional<std::size_t> blink_left() const { return blink_left_; }
+  std::optional<std::size_t> blink_right() const { return blink_right_; }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+ private:
+  const Rig* rig_ = nullptr;
+  VisemeMapping visemes_;
+  EmotionRig emotions_;
+  std::optional<std::size_t> blink_left_, blink_right_;
+  std::vector<std::string> warnings_;
+};
+
+struct CharacterParams {
+  CoarticulationParams coarticulation;
+  VisemeTimingParams timing;
+  BlinkParams blink;
+  float jaw_intensity = 1.0f;  // JALI jaw, [0, 4]
+  float lip_intensity = 1.0f;  // JALI lip, [0, 4]
+  std::uint64_t seed = 0;      // blinks
+  // Viseme keys held at once. A key is ~24 bytes; 8192 covers a line of
+  // about 4000 phonemes (several minutes of speech). Longer streams recycle
+  // keys that are behind the clock.
+  std::size_t key_capacity = 8192;
+  // Phonemes in flight between a streaming source's thread and Update().
+  std::size_t stream_capacity = 1024;
+  // A silence between keys longer than this is a pause (blinks favour pauses).
+  double pause_gap = 0.12;
+};
+
+enum class CharacterError : std::uint8_t {
+  kNone,
+  kNonFiniteTime,
+  kInvalidPhoneme,  // non-finite or negative start/duration, or starts going backwards
+  kTooManyKeys,     // the line needs more than key_capacity keys; nothing changed
+  kStreamFull,      // PushPhoneme: the ring is full (Update() has not drained it)
+  kNotStreaming,    // PushPhoneme / EndStream without BeginStream
+};
+
+const char* ToString(CharacterError error);
+
+class Character {
+ public:
+  explicit Character(const CharacterRig& rig, const CharacterParams& params = {});
+  Character(const Character&) = delete;
+  Character& operator=(const Character&) = delete;
+
+  // Schedule-ahead mode: replaces what is being said by a whole line whose
+  // time 0 is `start_time` on the animation clock (seconds). On error nothing
+  // changes. Call from the thread that calls Update().
+  CharacterError Speak(std::span<const Phoneme> phonemes, double start_time);
+
+  // Streaming mode: BeginStream (Update's thread) clears the current line and
+  // sets its start on the animation clock; then a producer thread (e.g. the
+  // TTS callback) calls PushPhoneme for each phoneme in time order and
+  // EndStream at the end. The hand-over is a lock-free single-producer,
+  // single-consumer ring; Update() drains it. Call BeginStream before the
+  // producer starts and not while it is still pushing the previous stream.
+  void BeginStream(double start_time);
+  CharacterError PushPhoneme(const Phoneme& phoneme);
+  CharacterError EndStream();
+
+  // Stops speaking at once (the mouth relaxes over the next frames).
+  void StopSpeaking();
+
+  // Emotion target in [0,1] (clamped); reached with the emotion's attack or
+  // release time. Several may be active.
+  void SetEmotion(Emotion emotion, float target);
+  EmotionState& emotion_state() { return emotion_state_; }
+
+  // Per frame: computes the rig weights at animation time `time` (seconds).
+  // Times may go backwards (a seek or restart): speech follows the time,
+  // blinks restart their clock. A non-finite time is refused and the previous
+  // weights are kept.
+  CharacterError Update(double time);
+
+  // The rig weights of the last Update, one per rig shape, in [0,1].
+  std::span<const float> weights() const { return weights_; }
+  const VisemeWeights& viseme_weights() const { return viseme_weights_; }
+  // The viseme with the largest weight (kSil when the mouth rests).
+  Viseme dominant_viseme() const;
+  // The phoneme under the clock at the last Update, if any.
+  const Phoneme* current_phoneme() const { return current_phoneme_; }
+  // True between the first and last key of the current line (with the
+  // coarticulation window), and while a stream is open.
+  bool talking() const { return talking_; }
+  bool at_pause() const { return at_pause_; }
+  float blink_left() const { return blink_left_; }
+  float blink_right() const { return blink_right_; }
+  // Keys of the current line (line time), for tools and tests.
+  std::span<const VisemeKey> keys() const { return std::span(keys_).first(key_count_); }
+
+ private:
+  bool AppendPhoneme(const Phoneme& phoneme);
+  void DrainStream();
+  void RecycleKeysBefore(double line_time);
+  void UpdateTalkingState(double line_time);
+
+  const CharacterRig* rig_;
+  CharacterParams params_;
+
+  // Current line, in line time (0 = its start on the animation clock).
+  double line_start_ = 0.0;
+  std::vector<VisemeKey> keys_;        // capacity params_.key_capacity, first key_count_ used
+  std::size_t key_count_ = 0;
+  std::vector<Phoneme> phonemes_;      // same capacity, for current_phoneme()
+  std::size_t phoneme_count_ = 0;
+  VisemeKeyStream key_stream_;
+
+  // Streaming ring (single producer, single consumer).
+  std::unique_ptr<Phoneme[]> ring_;
+  std::size_t ring_capacity_ = 0;
+  std::atomic<std::size_t> ring_head_{0};  // next slot the producer writes
+  std::atomic<std::size_t> ring_tail_{0};  // next slot the consumer reads
+  std::atomic<bool> stream_open_{false};
+  std::atomic<bool> stream_ended_{false};
+  bool stream_finished_ = true;  // consumer side: Finish() done for this stream
+
+  // Per-frame state and outputs.
+  bool has_time_ = false;
+  double last_time_ = 0.0;
+  EmotionState emotion_state_;
+  BlinkState blink_state_;
+  VisemeWeights viseme_weights_{};
+  std::vector<float> speech_weights_;
+  std::vector<float> weights_;
+  const Phoneme* current_phoneme_ = nullptr;
+  bool talking_ = false;
+  bool at_pause_ = false;
+  float blink_left_ = 0.0f;
+  float blink_right_ = 0.0f;
+};
+
+}  // namespace facerig

@@ -1,0 +1,262 @@
+#include "facerig/runtime/character.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace facerig {
+namespace {
+
+std::optional<std::size_t> FirstShape(const Rig& rig, std::string_view name) {
+  const std::vector<std::size_t> found = FindShapesByArkitName(rig, name);
+  if (found.empty()) return std::nullopt;
+  return found.front();
+}
+
+bool ValidPhoneme(const Phoneme& phoneme) {
+  return std::isfinite(phoneme.start) && std::isfinite(phoneme.duration) && phoneme.start >= 0.0 &&
+         phoneme.duration >= 0.0;
+}
+
+}  // namespace
+
+const char* ToString(CharacterError error) {
+  switch (error) {
+    case CharacterError::kNone: return "no error";
+    case CharacterError::kNonFiniteTime: return "time is NaN or infinite";
+    case CharacterError::kInvalidPhoneme: return "phoneme with a non-finite, negative or backwards time";
+    case CharacterError::kTooManyKeys: return "line longer than the character's key capacity";
+    case CharacterError::kStreamFull: return "phoneme stream ring is full";
+    case CharacterError::kNotStreaming: return "no stream is open";
+  }
+  return "unknown error";
+}
+
+CharacterRig CharacterRig::Build(const Rig& rig, const CharacterRigOptions& options) {
+  CharacterRig result;
+  result.rig_ = &rig;
+  VisemeMappingResult visemes = BuildVisemeMapping(rig, options.visemes);
+  result.visemes_ = std::move(visemes.mapping);
+  result.warnings_ = std::move(visemes.warnings);
+  EmotionRigResult emotions = BuildEmotionRig(rig, options.emotions);
+  result.emotions_ = std::move(emotions.emotions);
+  result.warnings_.insert(result.warnings_.end(), emotions.warnings.begin(), emotions.warnings.end());
+  result.blink_left_ = FirstShape(rig, "eyeBlink_L");
+  result.blink_right_ = FirstShape(rig, "eyeBlink_R");
+  if (!result.blink_left_ || !result.blink_right_) {
+    result.warnings_.push_back("no eyeBlink_L / eyeBlink_R shapes: the character will not blink");
+  }
+  return result;
+}
+
+Character::Character(const CharacterRig& rig, const CharacterParams& params)
+    : rig_(&rig),
+      params_(params),
+      keys_(std::max<std::size_t>(params.key_capacity, 2 * kMaxVisemeKeysPerPhoneme)),
+      phonemes_(std::max<std::size_t>(params.key_capacity, 1)),
+      key_stream_(params.timing),
+      ring_(new Phoneme[std::max<std::size_t>(params.stream_capacity, 2)]),
+      ring_capacity_(std::max<std::size_t>(params.stream_capacity, 2)),
+      blink_state_(params.seed),
+      speech_weights_(rig.rig().shape_count(), 0.0f),
+      weights_(rig.rig().shape_count(), 0.0f) {}
+
+bool Character::AppendPhoneme(const Phoneme& phoneme) {
+  if (key_count_ + kMaxVisemeKeysPerPhoneme > keys_.size() || phoneme_count_ >= phonemes_.size()) {
+    return false;
+  }
+  const std::optional<std::size_t> written =
+      key_stream_.Push(phoneme, std::span(keys_).subspan(key_count_));
+  if (!written) return false;
+  key_count_ += *written;
+  phonemes_[phoneme_count_++] = phoneme;
+  return true;
+}
+
+CharacterError Character::Speak(std::span<const Phoneme> phonemes, double start_time) {
+  if (!std::isfinite(start_time)) return CharacterError::kNonFiniteTime;
+  // Check first so that a refused line changes nothing.
+  double previous_start = 0.0;
+  for (const Phoneme& phoneme : phonemes) {
+    if (!ValidPhoneme(phoneme) || phoneme.start < previous_start) return CharacterError::kInvalidPhoneme;
+    previous_start = phoneme.start;
+  }
+  if (phonemes.size() * kMaxVisemeKeysPerPhoneme + kMaxVisemeKeysPerPhoneme > keys_.size() ||
+      phonemes.size() > phonemes_.size()) {
+    return CharacterError::kTooManyKeys;
+  }
+  stream_open_.store(false, std::memory_order_release);
+  stream_finished_ = true;
+  key_stream_.Reset();
+  key_count_ = 0;
+  phoneme_count_ = 0;
+  line_start_ = start_time;
+  for (const Phoneme& phoneme : phonemes) AppendPhoneme(phoneme);
+  if (const auto written = key_stream_.Finish(std::span(keys_).subspan(key_count_))) key_count_ += *written;
+  return CharacterError::kNone;
+}
+
+void Character::BeginStream(double start_time) {
+  key_stream_.Reset();
+  key_count_ = 0;
+  phoneme_count_ = 0;
+  line_start_ = std::isfinite(start_time) ? start_time : last_time_;
+  ring_head_.store(0, std::memory_order_relaxed);
+  ring_tail_.store(0, std::memory_order_relaxed);
+  stream_ended_.store(false, std::memory_order_relaxed);
+  stream_finished_ = false;
+  stream_open_.store(true, std::memory_order_release);
+}
+
+CharacterError Character::PushPhoneme(const Phoneme& phoneme) {
+  if (!stream_open_.load(std::memory_order_acquire)) return CharacterError::kNotStreaming;
+  if (!ValidPhoneme(phoneme)) return CharacterError::kInvalidPhoneme;
+  const std::size_t head = ring_head_.load(std::memory_order_relaxed);
+  const std::size_t next = (head + 1) % ring_capacity_;
+  if (next == ring_tail_.load(std::memory_order_acquire)) return CharacterError::kStreamFull;
+  ring_[head] = phoneme;
+  ring_head_.store(next, std::memory_order_release);
+  return CharacterError::kNone;
+}
+
+CharacterError Character::EndStream() {
+  if (!stream_open_.load(std::memory_order_acquire)) return CharacterError::kNotStreaming;
+  stream_ended_.store(true, std::memory_order_release);
+  return CharacterError::kNone;
+}
+
+void Character::StopSpeaking() {
+  stream_open_.store(false, std::memory_order_release);
+  stream_finished_ = true;
+  key_stream_.Reset();
+  key_count_ = 0;
+  phoneme_count_ = 0;
+}
+
+void Character::SetEmotion(Emotion emotion, float target) {
+  emotion_state_.SetTarget(emotion, std::clamp(std::isfinite(target) ? target : 0.0f, 0.0f, 1.0f));
+}
+
+void Character::RecycleKeysBefore(double line_time) {
+  // Keys whose end is farther behind than the coarticulation window can no
+  // longer influence the mouth: shift the rest to the front.
+  const double horizon = line_time - params_.coarticulation.window - 0.5;
+  std::size_t drop = 0;
+  while (drop < key_count_ && keys_[drop].end < horizon) ++drop;
+  if (drop > 0) {
+    std::move(keys_.begin() + static_cast<std::ptrdiff_t>(drop),
+              keys_.begin() + static_cast<std::ptrdiff_t>(key_count_), keys_.begin());
+    key_count_ -= drop;
+  }
+  std::size_t drop_phonemes = 0;
+  while (drop_phonemes < phoneme_count_ &&
+         phonemes_[drop_phonemes].start + phonemes_[drop_phonemes].duration < horizon) {
+    ++drop_phonemes;
+  }
+  if (drop_phonemes > 0) {
+    std::move(phonemes_.begin() + static_cast<std::ptrdiff_t>(drop_phonemes),
+              phonemes_.begin() + static_cast<std::ptrdiff_t>(phoneme_count_), phonemes_.begin());
+    phoneme_count_ -= drop_phonemes;
+  }
+}
+
+void Character::DrainStream() {
+  if (stream_finished_) return;
+  const bool ended = stream_ended_.load(std::memory_order_acquire);
+  std::size_t tail = ring_tail_.load(std::memory_order_relaxed);
+  const std::size_t head = ring_head_.load(std::memory_order_acquire);
+  while (tail != head) {
+    if (!AppendPhoneme(ring_[tail])) break;  // full even after recycling: retry next frame
+    tail = (tail + 1) % ring_capacity_;
+  }
+  ring_tail_.store(tail, std::memory_order_release);
+  if (ended && tail == head) {
+    if (const auto written = key_stream_.Finish(std::span(keys_).subspan(key_count_))) {
+      key_count_ += *written;
+      stream_finished_ = true;
+      stream_open_.store(false, std::memory_order_release);
+    }
+  }
+}
+
+void Character::UpdateTalkingState(double line_time) {
+  const std::span<const VisemeKey> keys = this->keys();
+  const bool streaming = !stream_finished_;
+  if (keys.empty()) {
+    talking_ = streaming;
+    at_pause_ = false;
+    current_phoneme_ = nullptr;
+    return;
+  }
+  talking_ = streaming || (line_time >= keys.front().start - params_.coarticulation.contact_anticipation &&
+                           line_time <= keys.back().end + params_.coarticulation.contact_release);
+  // The key under the clock: the last one starting at or before line_time.
+  const auto after = std::upper_bound(keys.begin(), keys.end(), line_time,
+                                      [](double t, const VisemeKey& key) { return t < key.start; });
+  at_pause_ = false;
+  if (talking_ && after != keys.begin()) {
+    const VisemeKey& key = *(after - 1);
+    const bool in_gap = line_time > key.end &&
+                        (after == keys.end() ? streaming : after->start - key.end > params_.pause_gap);
+    at_pause_ = (key.viseme == Viseme::kSil && key.end - key.start > params_.pause_gap &&
+                 line_time <= key.end) ||
+                in_gap;
+  }
+  const std::span<const Phoneme> phonemes = std::span(phonemes_).first(phoneme_count_);
+  const auto next = std::upper_bound(phonemes.begin(), phonemes.end(), line_time,
+                                     [](double t, const Phoneme& p) { return t < p.start; });
+  current_phoneme_ = nullptr;
+  if (next != phonemes.begin()) {
+    const Phoneme& phoneme = *(next - 1);
+    if (line_time <= phoneme.start + std::max(phoneme.duration, 1e-3)) current_phoneme_ = &phoneme;
+  }
+}
+
+CharacterError Character::Update(double time) {
+  if (!std::isfinite(time)) return CharacterError::kNonFiniteTime;
+  double dt = 0.0;
+  if (has_time_) {
+    if (time < last_time_) {
+      blink_state_.ForgetTime();  // a seek: blinks restart rather than refuse
+    } else {
+      dt = time - last_time_;
+    }
+  }
+  has_time_ = true;
+  last_time_ = time;
+  const double line_time = time - line_start_;
+
+  if (key_count_ + 64 > keys_.size()) RecycleKeysBefore(line_time);
+  DrainStream();
+  UpdateTalkingState(line_time);
+
+  CoarticulationJob coarticulation{keys(), line_time, &params_.coarticulation, &viseme_weights_};
+  if (coarticulation.Run() != CoarticulationError::kNone) viseme_weights_.fill(0.0f);
+
+  VisemeWeightsJob to_rig{&rig_->visemes(), viseme_weights_, params_.jaw_intensity,
+                          params_.lip_intensity, false, speech_weights_};
+  if (to_rig.Run() != VisemeWeightsJobError::kNone) std::fill(speech_weights_.begin(), speech_weights_.end(), 0.0f);
+
+  emotion_state_.Advance(dt);
+  EmotionLayerJob layer{&rig_->emotions(), emotion_state_.intensity, LipContactWeight(viseme_weights_),
+                        speech_weights_, weights_};
+  if (layer.Run() != EmotionLayerJobError::kNone) {
+    std::copy(speech_weights_.begin(), speech_weights_.end(), weights_.begin());
+  }
+
+  BlinkJob blink{&params_.blink, &blink_state_, time, talking_, at_pause_, &blink_left_, &blink_right_};
+  if (blink.Run() != BlinkError::kNone) blink_left_ = blink_right_ = 0.0f;
+  // Blinks go on top: a lid closes fully even when an emotion squints or widens.
+  if (const auto left = rig_->blink_left()) weights_[*left] = std::max(weights_[*left], blink_left_);
+  if (const auto right = rig_->blink_right()) weights_[*right] = std::max(weights_[*right], blink_right_);
+  return CharacterError::kNone;
+}
+
+Viseme Character::dominant_viseme() const {
+  std::size_t best = 0;
+  for (std::size_t v = 1; v < kVisemeCount; ++v) {
+    if (viseme_weights_[v] > viseme_weights_[best]) best = v;
+  }
+  return viseme_weights_[best] > 0.05f ? static_cast<Viseme>(best) : Viseme::kSil;
+}
+
+}  // namespace facerig

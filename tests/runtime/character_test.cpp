@@ -1,0 +1,213 @@
+#include "facerig/runtime/character.h"
+
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include <catch2/catch.hpp>
+
+#include "support/allocation_counter.h"
+#include "support/test_meshes.h"
+
+using facerig::Character;
+using facerig::CharacterError;
+using facerig::CharacterRig;
+using facerig::Phoneme;
+using facerig::Viseme;
+
+namespace {
+
+// A small rig whose shapes carry the ARKit names the mappings look for.
+facerig::Rig MakeArkitGridRig() {
+  const std::vector<std::string> names = {
+      "jawOpen",        "mouthClose",     "mouthFunnel",     "mouthPucker",      "mouthPress_L",
+      "mouthPress_R",   "mouthRollLower", "mouthRollUpper",  "mouthSmile_L",     "mouthSmile_R",
+      "mouthStretch_L", "mouthStretch_R", "mouthUpperUp_L",  "mouthUpperUp_R",   "mouthLowerDown_L",
+      "mouthLowerDown_R", "eyeBlink_L",   "eyeBlink_R",      "cheekSquint_L",    "cheekSquint_R",
+      "browInnerUp_L",  "browInnerUp_R",  "eyeWide_L",       "eyeWide_R"};
+  facerig::RawRig raw = facerig::test::MakeGridRawRig(12, static_cast<int>(names.size()));
+  for (std::size_t s = 0; s < names.size(); ++s) raw.shapes[s].name = names[s];
+  return std::move(*facerig::RigBuilder::Build(std::move(raw)));
+}
+
+Phoneme MakePhoneme(double start, double duration, const char* symbol) {
+  Phoneme phoneme;
+  phoneme.start = start;
+  phoneme.duration = duration;
+  phoneme.symbol.assign(symbol);
+  phoneme.language.assign("en-us");
+  return phoneme;
+}
+
+// "a pa ba ma": open vowels around short bilabials (espeak-ng en-us names).
+std::vector<Phoneme> OpenVowelsAroundBilabials() {
+  return {MakePhoneme(0.00, 0.10, "_:"), MakePhoneme(0.10, 0.12, "a#"), MakePhoneme(0.22, 0.04, "p"),
+          MakePhoneme(0.26, 0.12, "A:"), MakePhoneme(0.38, 0.03, "b"), MakePhoneme(0.41, 0.12, "A:"),
+          MakePhoneme(0.53, 0.05, "m"),  MakePhoneme(0.58, 0.15, "A:"), MakePhoneme(0.73, 0.20, "_:")};
+}
+
+float Weight(const facerig::Rig& rig, const Character& character, const char* name) {
+  return character.weights()[*rig.FindShape(name)];
+}
+
+}  // namespace
+
+TEST_CASE("Character: p/b/m close the lips between open vowels", "[character]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  Character character(character_rig);
+  const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
+  REQUIRE(character.Speak(line, 1.0) == CharacterError::kNone);
+
+  // Scan the line at 1 ms: each bilabial's interval (shifted by the stop
+  // closure for p) holds an instant with full PP and no jaw opening.
+  for (std::size_t i : {2u, 4u, 6u}) {
+    float best_pp = 0.0f;
+    float jaw_at_best = 1.0f;
+    for (double t = line[i].start - 0.06; t <= line[i].start + line[i].duration + 1e-9; t += 0.001) {
+      REQUIRE(character.Update(1.0 + t) == CharacterError::kNone);
+      const float pp = character.viseme_weights()[static_cast<std::size_t>(Viseme::kPP)];
+      if (pp > best_pp) {
+        best_pp = pp;
+        jaw_at_best = Weight(rig, character, "jawOpen");
+      }
+    }
+    INFO(line[i].symbol.view());
+    REQUIRE(best_pp == Approx(1.0f));
+    REQUIRE(jaw_at_best < 0.05f);
+  }
+  // The open vowels open the jaw.
+  REQUIRE(character.Update(1.0 + 0.32) == CharacterError::kNone);
+  REQUIRE(Weight(rig, character, "jawOpen") > 0.2f);
+  REQUIRE(character.talking());
+  REQUIRE(character.current_phoneme() != nullptr);
+  REQUIRE(character.current_phoneme()->symbol.view() == "A:");
+  // After the line the mouth rests.
+  REQUIRE(character.Update(1.0 + 2.0) == CharacterError::kNone);
+  REQUIRE(Weight(rig, character, "jawOpen") < 1e-3f);
+  REQUIRE_FALSE(character.talking());
+}
+
+TEST_CASE("Character: smiling does not stop the lips closing on p", "[character]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  Character character(character_rig);
+  character.SetEmotion(facerig::Emotion::kJoy, 1.0f);
+  for (double t = 0.0; t < 2.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
+  REQUIRE(Weight(rig, character, "mouthSmile_L") > 0.3f);
+  const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
+  REQUIRE(character.Speak(line, 2.0) == CharacterError::kNone);
+  float best_pp = 0.0f;
+  for (double t = 0.18; t < 0.27; t += 0.001) {
+    REQUIRE(character.Update(2.0 + t) == CharacterError::kNone);
+    best_pp = std::max(best_pp, character.viseme_weights()[static_cast<std::size_t>(Viseme::kPP)]);
+  }
+  REQUIRE(best_pp == Approx(1.0f));
+  REQUIRE(Weight(rig, character, "mouthSmile_L") > 0.3f);  // still smiling
+}
+
+TEST_CASE("Character: streaming gives the same mouth as schedule-ahead", "[character]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
+  Character ahead(character_rig);
+  REQUIRE(ahead.Speak(line, 0.5) == CharacterError::kNone);
+
+  Character streamed(character_rig);
+  streamed.BeginStream(0.5);
+  std::thread producer([&] {
+    for (const Phoneme& phoneme : line) {
+      while (streamed.PushPhoneme(phoneme) == CharacterError::kStreamFull) std::this_thread::yield();
+    }
+    streamed.EndStream();
+  });
+  producer.join();
+  REQUIRE(streamed.Update(0.5) == CharacterError::kNone);  // drains the ring
+  REQUIRE(streamed.keys().size() == ahead.keys().size());
+  for (double t = 0.5; t < 2.0; t += 1.0 / 60) {
+    REQUIRE(ahead.Update(t) == CharacterError::kNone);
+    REQUIRE(streamed.Update(t) == CharacterError::kNone);
+    for (std::size_t s = 0; s < rig.shape_count(); ++s) REQUIRE(streamed.weights()[s] == ahead.weights()[s]);
+  }
+  REQUIRE(streamed.PushPhoneme(line[0]) == CharacterError::kNotStreaming);
+}
+
+TEST_CASE("Character: Speak, streaming and Update allocate nothing", "[character][allocation]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  Character character(character_rig);
+  const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
+  facerig::test::AllocationCounter counter;
+  REQUIRE(character.Speak(line, 0.0) == CharacterError::kNone);
+  character.SetEmotion(facerig::Emotion::kSurprise, 0.7f);
+  for (double t = 0.0; t < 3.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
+  character.BeginStream(3.0);
+  for (const Phoneme& phoneme : line) REQUIRE(character.PushPhoneme(phoneme) == CharacterError::kNone);
+  REQUIRE(character.EndStream() == CharacterError::kNone);
+  for (double t = 3.0; t < 5.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
+  REQUIRE(counter.count() == 0);
+}
+
+TEST_CASE("Character: deterministic for a seed; blinks at rest", "[character]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  facerig::CharacterParams params;
+  params.seed = 7;
+  Character a(character_rig, params), b(character_rig, params);
+  params.seed = 8;
+  Character c(character_rig, params);
+  bool differs = false;
+  float max_blink = 0.0f;
+  for (double t = 0.0; t < 30.0; t += 1.0 / 60) {
+    REQUIRE(a.Update(t) == CharacterError::kNone);
+    REQUIRE(b.Update(t) == CharacterError::kNone);
+    REQUIRE(c.Update(t) == CharacterError::kNone);
+    REQUIRE(a.blink_left() == b.blink_left());
+    differs = differs || a.blink_left() != c.blink_left();
+    max_blink = std::max(max_blink, Weight(rig, a, "eyeBlink_L"));
+  }
+  REQUIRE(differs);
+  REQUIRE(max_blink > 0.9f);  // ~8 blinks expected in 30 s at rest
+}
+
+TEST_CASE("Character: bad input is refused or safe", "[character][malformed]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  facerig::CharacterParams params;
+  params.key_capacity = 24;  // room for the 9-phoneme line, not for 40
+  Character character(character_rig, params);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  REQUIRE(character.Update(nan) == CharacterError::kNonFiniteTime);
+  REQUIRE(character.Update(std::numeric_limits<double>::infinity()) == CharacterError::kNonFiniteTime);
+  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), nan) == CharacterError::kNonFiniteTime);
+
+  std::vector<Phoneme> bad = OpenVowelsAroundBilabials();
+  bad[3].start = 0.01;  // backwards
+  REQUIRE(character.Speak(bad, 0.0) == CharacterError::kInvalidPhoneme);
+  bad = OpenVowelsAroundBilabials();
+  bad[2].duration = nan;
+  REQUIRE(character.Speak(bad, 0.0) == CharacterError::kInvalidPhoneme);
+
+  std::vector<Phoneme> long_line;
+  for (int i = 0; i < 40; ++i) long_line.push_back(MakePhoneme(0.1 * i, 0.1, i % 2 ? "p" : "a#"));
+  REQUIRE(character.Speak(long_line, 0.0) == CharacterError::kTooManyKeys);
+  REQUIRE(character.keys().empty());  // nothing changed
+
+  // Time going backwards (a seek) is accepted; the character is not stuck.
+  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), 0.0) == CharacterError::kNone);
+  REQUIRE(character.Update(0.5) == CharacterError::kNone);
+  REQUIRE(character.Update(0.2) == CharacterError::kNone);
+  REQUIRE(character.Update(5.0) == CharacterError::kNone);
+  REQUIRE(character.Update(6.0) == CharacterError::kNone);
+  for (float w : character.weights()) REQUIRE(std::isfinite(w));
+}
+
+TEST_CASE("Character: a rig without ARKit shapes degrades with warnings", "[character]") {
+  const facerig::Rig rig = facerig::test::MakeGridRig(4, 2);
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  REQUIRE_FALSE(character_rig.warnings().empty());
+  Character character(character_rig);
+  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), 0.0) == CharacterError::kNone);
+  for (double t = 0.0; t < 1.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
+  for (float w : character.weights()) REQUIRE(w == 0.0f);
+}
