@@ -4,12 +4,20 @@
 #include <string>
 
 #include "bench_blend.h"
+#if FACERIG_BENCH_LIPSYNC
+#include "bench_lipsync.h"
+#endif
 
 int main(int argc, char** argv) {
   const std::string command = argc > 1 ? argv[1] : "";
   if (command == "blend") return RunBlendBenchmark(argc, argv);
+#if FACERIG_BENCH_LIPSYNC
+  if (command == "lipsync") return RunLipsyncBenchmark(argc, argv);
+#endif
   std::fprintf(stderr,
                "usage: facerig-bench blend [--rig PATH] [--json FILE]\n"
-               "  blend: sparse blend job vs dense Eigen reference vs memory roofline\n");
+               "       facerig-bench lipsync [--corpus FILE] [--voice V] [--rig PATH] [--json FILE]\n"
+               "  blend:   sparse blend job vs dense Eigen reference vs memory roofline\n"
+               "  lipsync: closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)\n");
   return 2;
 }
