@@ -5,6 +5,7 @@
 
 #include "bench_blend.h"
 #if FACERIG_BENCH_LIPSYNC
+#include "bench_crowd.h"
 #include "bench_lipsync.h"
 #endif
 
@@ -13,11 +14,14 @@ int main(int argc, char** argv) {
   if (command == "blend") return RunBlendBenchmark(argc, argv);
 #if FACERIG_BENCH_LIPSYNC
   if (command == "lipsync") return RunLipsyncBenchmark(argc, argv);
+  if (command == "crowd") return RunCrowdBenchmark(argc, argv);
 #endif
   std::fprintf(stderr,
                "usage: facerig-bench blend [--rig PATH] [--json FILE]\n"
                "       facerig-bench lipsync [--corpus FILE] [--voice V] [--rig PATH] [--json FILE]\n"
+               "       facerig-bench crowd [N] [--rig PATH] [--normals] [--json FILE]\n"
                "  blend:   sparse blend job vs dense Eigen reference vs memory roofline\n"
-               "  lipsync: closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)\n");
+               "  lipsync: closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)\n"
+               "  crowd:   N characters' update + blend per 60 fps frame on one core (needs espeak-ng)\n");
   return 2;
 }

@@ -248,6 +248,9 @@ CharacterError Character::Update(double time) {
   // Blinks go on top: a lid closes fully even when an emotion squints or widens.
   if (const auto left = rig_->blink_left()) weights_[*left] = std::max(weights_[*left], blink_left_);
   if (const auto right = rig_->blink_right()) weights_[*right] = std::max(weights_[*right], blink_right_);
+  for (float& w : weights_) {
+    if (w < params_.weight_epsilon) w = 0.0f;
+  }
   return CharacterError::kNone;
 }
 

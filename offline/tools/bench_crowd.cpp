@@ -1,0 +1,159 @@
+#include "bench_crowd.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "facerig/espeak/espeak_phoneme_source.h"
+#include "facerig/runtime/blend_job.h"
+#include "facerig/runtime/character.h"
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/rig_file.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kFrameBudgetUs = 1e6 / 60.0;
+
+constexpr const char* kLines[] = {
+    "Bring me the map before the boat leaves the bay.",
+    "Five brave men moved the big piano up the stairs.",
+    "Please pass the bread and the butter, my friend.",
+    "We will meet by the fountain when the bells ring.",
+    "My father bought a purple van at the fair.",
+    "The baby popped the bubble and laughed.",
+    "Maybe the museum opens before nine on Mondays.",
+    "Very few people visit the vast empty beach in winter.",
+};
+
+// One character: its controller plus the output buffers sized once.
+struct CrowdMember {
+  std::unique_ptr<facerig::Character> character;
+  std::vector<glm::vec3> positions, normals;
+  double line_length = 0.0;
+  double offset = 0.0;
+};
+
+}  // namespace
+
+int RunCrowdBenchmark(int argc, char** argv) {
+  std::size_t count = 100;
+  std::string rig_path = std::string(FACERIG_SOURCE_DATA_DIR) + "/default_head.frig";
+  if (!std::filesystem::exists(rig_path)) rig_path = FACERIG_DEFAULT_ICT_DIR;
+  std::string json_path;
+  bool with_normals = false;
+  int frames = 240;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--rig" && i + 1 < argc) {
+      rig_path = argv[++i];
+    } else if (arg == "--json" && i + 1 < argc) {
+      json_path = argv[++i];
+    } else if (arg == "--frames" && i + 1 < argc) {
+      frames = std::max(10, std::atoi(argv[++i]));
+    } else if (arg == "--normals") {
+      with_normals = true;
+    } else if (!arg.empty() && arg[0] != '-') {
+      count = static_cast<std::size_t>(std::max(1L, std::strtol(arg.c_str(), nullptr, 10)));
+    } else {
+      std::fprintf(stderr, "usage: facerig-bench crowd [N] [--rig PATH] [--normals] [--frames F] [--json FILE]\n");
+      return 2;
+    }
+  }
+
+  facerig::Rig rig;
+  try {
+    rig = facerig::LoadRig(rig_path);
+  } catch (const facerig::IoError& error) {
+    std::fprintf(stderr, "facerig-bench: %s\n", error.what());
+    return 1;
+  }
+  const facerig::CharacterRig character_rig = facerig::CharacterRig::Build(rig);
+  facerig::EspeakPhonemeSource source;
+  std::vector<facerig::SpeechLine> lines;
+  for (const char* text : kLines) lines.push_back(source.Synthesize(text, "en-us"));
+
+  std::vector<CrowdMember> crowd(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    facerig::CharacterParams params;
+    params.seed = i;
+    CrowdMember& member = crowd[i];
+    member.character = std::make_unique<facerig::Character>(character_rig, params);
+    const facerig::SpeechLine& line = lines[i % lines.size()];
+    member.offset = 0.37 * static_cast<double>(i % 11);  // characters start at different times
+    member.line_length = line.audio_duration();
+    (void)member.character->Speak(line.phonemes, member.offset);
+    member.character->SetEmotion(static_cast<facerig::Emotion>(i % facerig::kEmotionCount), 0.5f);
+    member.positions.resize(rig.vertex_count());
+    member.normals.resize(rig.vertex_count());
+  }
+
+  // One core: the frame loop runs on this thread only.
+  std::vector<double> frame_us, update_us_total, blend_us_total;
+  for (int frame = 0; frame < frames; ++frame) {
+    const double time = 0.5 + static_cast<double>(frame) / 60.0;
+    double update_us = 0.0, blend_us = 0.0;
+    const auto frame_start = Clock::now();
+    for (CrowdMember& member : crowd) {
+      const auto t0 = Clock::now();
+      (void)member.character->Update(time);
+      const auto t1 = Clock::now();
+      const facerig::BlendJob job{&rig, member.character->weights(),
+                                  with_normals ? facerig::NormalMode::kRecompute : facerig::NormalMode::kNone,
+                                  member.positions, member.normals};
+      (void)job.Run();
+      const auto t2 = Clock::now();
+      update_us += std::chrono::duration<double, std::micro>(t1 - t0).count();
+      blend_us += std::chrono::duration<double, std::micro>(t2 - t1).count();
+    }
+    frame_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - frame_start).count());
+    update_us_total.push_back(update_us);
+    blend_us_total.push_back(blend_us);
+  }
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  auto p99 = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[static_cast<std::size_t>(0.99 * static_cast<double>(v.size() - 1))];
+  };
+  const double frame_median = median(frame_us);
+  const double per_character_us = frame_median / static_cast<double>(count);
+  const auto max_characters = static_cast<std::size_t>(kFrameBudgetUs / per_character_us);
+  std::printf("crowd: %zu characters on %s (%zu vertices, %zu shapes), %s, %d frames, one core\n", count,
+              rig_path.c_str(), rig.vertex_count(), rig.shape_count(),
+              with_normals ? "positions + recomputed normals" : "positions", frames);
+  std::printf("| frame (all characters) median / p99 | %.0f / %.0f us (budget %.0f us at 60 fps) |\n",
+              frame_median, p99(frame_us), kFrameBudgetUs);
+  std::printf("| per character: update / blend / total | %.2f / %.2f / %.2f us |\n",
+              median(update_us_total) / static_cast<double>(count),
+              median(blend_us_total) / static_cast<double>(count), per_character_us);
+  std::printf("| largest N within one 60 fps frame | %zu |\n", max_characters);
+  if (!json_path.empty()) {
+    const nlohmann::json report = {{"rig", rig_path},
+                                   {"characters", count},
+                                   {"normals", with_normals},
+                                   {"frame_us_median", frame_median},
+                                   {"frame_us_p99", p99(frame_us)},
+                                   {"update_us_per_character", median(update_us_total) / static_cast<double>(count)},
+                                   {"blend_us_per_character", median(blend_us_total) / static_cast<double>(count)},
+                                   {"per_character_us", per_character_us},
+                                   {"max_characters_60fps", max_characters}};
+    try {
+      facerig::WriteFileAtomically(json_path, report.dump(2) + "\n");
+    } catch (const facerig::IoError& error) {
+      std::fprintf(stderr, "facerig-bench: %s\n", error.what());
+      return 1;
+    }
+    std::printf("wrote %s\n", json_path.c_str());
+  }
+  return 0;
+}
