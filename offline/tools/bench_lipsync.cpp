@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "facerig/espeak/espeak_phoneme_source.h"
+#include "facerig/offline/lip_probe.h"
 #include "facerig/runtime/behaviour/blink.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
@@ -30,49 +31,6 @@ using Clock = std::chrono::steady_clock;
 constexpr double kSampleStep = 0.001;  // 1 kHz aperture sampling for closure and lag
 constexpr double kFrameStep = 1.0 / 60.0;
 constexpr double kEnvelopeHop = 0.005;  // lag resolution
-
-// The two inner-lip midline vertices of a rig, and their blended positions
-// computed directly from the weights (two vertices, not the whole mesh).
-struct LipProbe {
-  std::array<std::uint32_t, 2> vertices{};             // upper, lower
-  std::array<glm::vec3, 2> neutral{};
-  std::vector<std::array<glm::vec3, 2>> shape_deltas;  // per shape
-
-  LipProbe(const facerig::Rig& rig, std::uint32_t upper, std::uint32_t lower) : vertices{upper, lower} {
-    neutral = {rig.positions()[upper], rig.positions()[lower]};
-    shape_deltas.assign(rig.shape_count(), {glm::vec3(0.0f), glm::vec3(0.0f)});
-    for (std::size_t s = 0; s < rig.shape_count(); ++s) {
-      const facerig::BlendShapeView shape = rig.shape(s);
-      for (int k = 0; k < 2; ++k) {
-        const auto it = std::lower_bound(shape.vertex_indices.begin(), shape.vertex_indices.end(), vertices[k]);
-        if (it != shape.vertex_indices.end() && *it == vertices[k]) {
-          shape_deltas[s][k] = shape.position_deltas[static_cast<std::size_t>(it - shape.vertex_indices.begin())];
-        }
-      }
-    }
-  }
-
-  float Aperture(std::span<const float> weights) const {
-    std::array<glm::vec3, 2> p = neutral;
-    for (std::size_t s = 0; s < weights.size(); ++s) {
-      if (weights[s] == 0.0f) continue;
-      p[0] += weights[s] * shape_deltas[s][0];
-      p[1] += weights[s] * shape_deltas[s][1];
-    }
-    return glm::length(p[0] - p[1]);
-  }
-};
-
-// ICT-FaceKit's 68 landmark vertices (dlib order): 62 / 66 are the inner-lip centres.
-std::optional<std::array<std::uint32_t, 2>> IctInnerLipVertices(const fs::path& rig_dir) {
-  const fs::path json_path = rig_dir / "vertex_indices.json";
-  if (!fs::exists(json_path)) return std::nullopt;
-  const nlohmann::json json = nlohmann::json::parse(facerig::ReadFileText(json_path), nullptr, false);
-  if (json.is_discarded() || !json.contains("idx_to_landmark_verts")) return std::nullopt;
-  const auto& landmarks = json["idx_to_landmark_verts"];
-  if (!landmarks.is_array() || landmarks.size() != 68) return std::nullopt;
-  return std::array<std::uint32_t, 2>{landmarks[62].get<std::uint32_t>(), landmarks[66].get<std::uint32_t>()};
-}
 
 std::vector<std::string> ReadLines(const fs::path& path) {
   std::vector<std::string> lines;
@@ -196,9 +154,11 @@ int RunLipsyncBenchmark(int argc, char** argv) {
 
   facerig::Rig rig;
   std::vector<std::string> lines;
+  std::optional<std::array<std::uint32_t, 2>> lip_vertices;
   try {
     rig = facerig::LoadRig(rig_path);
     lines = ReadLines(corpus_path);
+    lip_vertices = facerig::IctInnerLipVertices(rig_path);
   } catch (const facerig::IoError& error) {
     std::fprintf(stderr, "facerig-bench: %s\n", error.what());
     return 1;
@@ -208,13 +168,12 @@ int RunLipsyncBenchmark(int argc, char** argv) {
     return 1;
   }
   if (max_lines > 0 && lines.size() > max_lines) lines.resize(max_lines);
-  const auto lip_vertices = IctInnerLipVertices(rig_path);
   if (!lip_vertices) {
     std::fprintf(stderr, "facerig-bench: lipsync needs the ICT-FaceKit landmark list "
                          "(vertex_indices.json) to find the lip midline vertices\n");
     return 1;
   }
-  const LipProbe probe(rig, (*lip_vertices)[0], (*lip_vertices)[1]);
+  const facerig::LipProbe probe(rig, (*lip_vertices)[0], (*lip_vertices)[1]);
   const facerig::CharacterRig character_rig = facerig::CharacterRig::Build(rig);
   for (const std::string& warning : character_rig.warnings()) std::printf("rig warning: %s\n", warning.c_str());
   facerig::CharacterParams params;
