@@ -18,7 +18,8 @@ Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);
 
 // ../shared/data/ict-facekit (compile-time path).
 std::filesystem::path IctDir();
-// The ICT-FaceKit rig imported once per test binary (53 shapes).
+// The ICT-FaceKit rig (53 shapes), imported once and cached as a .frig in the
+// test output folder for the other test processes of the same build.
 const Rig& IctRig();
 
 // A fresh path under the build's test output folder.
