@@ -10,6 +10,10 @@ packages=(
   libeigen3-dev                                    # offline
   libopencv-dev libdlib-dev libdlib-data           # offline: rasterizer PNGs, default-head face test
   libespeak-ng-dev espeak-ng-data                  # facerig::espeak (phoneme source)
+  # facerig-player: SDL2 window + audio; libepoxy loads GL for GLX/SDL and EGL
+  # contexts alike, so the windowed and headless paths share one loader;
+  # EGL + Mesa (llvmpipe) render headless without a display or GPU.
+  libsdl2-dev libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0
   catch2                                           # tests
   nodejs npm                                       # glTF validator in the tests
 )

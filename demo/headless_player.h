@@ -1,0 +1,42 @@
+// --headless: offscreen frames at a fixed frame rate (animation time =
+// frame / fps, so the output is deterministic), the speech as a WAV, and
+// optionally an MP4 through ffmpeg. No window, no sound card.
+#pragma once
+
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/speech/phoneme.h"
+#include "frame_timing.h"
+#include "media_writer.h"
+#include "player_options.h"
+
+namespace facerig::player {
+
+struct HeadlessResult {
+  std::string gl_description;
+  std::vector<std::filesystem::path> frames;  // frame i at time i / fps
+  SpeechLine speech;                          // what was said (audio and phonemes); empty without --say
+  double speech_start = 0.0;                  // animation time of the speech's first sample (lead-in)
+  std::vector<float> lip_aperture;            // per frame, rig units (FaceAnimator::LipAperture)
+  bool has_mouth = false;
+  glm::vec2 mouth_pixel{0.0f};                // neutral mouth centre in the frames (x right, y down)
+  float mouth_radius_pixels = 0.0f;           // about half the mouth width in pixels
+  TimingSummary timing;
+  std::vector<FrameSample> samples;
+};
+
+// Synthesizes options.say (espeak-ng; SpeechError on a bad voice), renders
+// the frames into options.frames_dir, writes options.wav / .mp4 / .timing_json.
+// Progress and warnings go to `log`. Throws std::runtime_error (and subclasses).
+HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::ostream& log);
+
+// One frame of the rig at rest (all weights 0, no head motion), for tests.
+Image RenderNeutral(const Rig& rig, int width, int height);
+
+}  // namespace facerig::player

@@ -1,0 +1,72 @@
+// facerig-player: type text, the face speaks. See player_options.cpp for the
+// command line. Links espeak-ng through facerig::espeak, so this program is GPL-3.
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/speech/phoneme_source.h"
+#include "headless_player.h"
+#include "player_options.h"
+#include "window_player.h"
+
+int main(int argc, char** argv) {
+  using namespace facerig::player;
+  PlayerOptions options;
+  try {
+    options = ParseOptions(std::vector<std::string>(argv + 1, argv + argc));
+  } catch (const UsageError& e) {
+    std::cerr << "facerig-player: " << e.what() << "\n\n" << UsageText();
+    return 2;
+  }
+  if (options.help) {
+    std::cout << UsageText();
+    return 0;
+  }
+  // Before loading anything: without a display the answer is immediate.
+  if (!options.headless) {
+    if (const std::optional<std::string> message = NoDisplayMessage()) {
+      std::cerr << *message << '\n';
+      return 1;
+    }
+  }
+
+  const std::filesystem::path rig_path = options.rig.empty() ? DefaultRigPath() : options.rig;
+  std::optional<facerig::Rig> rig;
+  try {
+    rig = facerig::LoadRig(rig_path);
+  } catch (const std::exception& e) {
+    std::cerr << "facerig-player: cannot load the rig " << rig_path.string() << ": " << e.what() << '\n';
+    return 1;
+  }
+  const std::string rig_name = rig_path.filename().string();
+  std::cout << "rig " << rig_path.string() << ": " << rig->vertex_count() << " vertices, " << rig->shape_count()
+            << " shapes, " << rig->parts().size() << " parts\n";
+
+  try {
+    if (!options.headless) return RunWindow(*rig, rig_name, options);
+    const HeadlessResult result = RunHeadless(*rig, options, std::cout);
+    std::cout << "OpenGL: " << result.gl_description << '\n';
+    std::cout << "wrote " << result.frames.size() << " frames (" << options.width << "x" << options.height << ", "
+              << options.fps << " fps) to " << options.frames_dir.string() << '\n';
+    if (!options.wav.empty()) {
+      std::cout << "wrote " << options.wav.string() << " (" << result.speech.audio.size() << " samples, "
+                << result.speech.audio_duration() << " s)\n";
+    }
+    std::cout << FormatSummary(result.timing, "facerig-player --headless " + rig_name);
+    if (!options.timing_json.empty()) {
+      WriteTimingJson(options.timing_json, result.timing, result.samples, rig_name, rig->vertex_count(),
+                      rig->shape_count());
+      std::cout << "wrote " << options.timing_json.string() << '\n';
+    }
+    return 0;
+  } catch (const facerig::SpeechError& e) {
+    std::cerr << "facerig-player: speech: " << e.what() << '\n';
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "facerig-player: " << e.what() << '\n';
+    return 1;
+  }
+}

@@ -1,0 +1,29 @@
+// Writing the headless player's output: 16-bit mono WAV and PNG frames.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <vector>
+
+namespace facerig::player {
+
+// An 8-bit RGBA image, rows top to bottom.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;  // width * height * 4
+};
+
+// Writes exactly `samples` as a 16-bit PCM mono WAV. Throws std::runtime_error with the path.
+void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> samples,
+              int sample_rate);
+// Reads a 16-bit PCM mono WAV written by WriteWav (for tests). Throws std::runtime_error.
+std::vector<std::int16_t> ReadWav(const std::filesystem::path& path, int* sample_rate);
+
+// Writes the image as an RGB PNG (OpenCV imgcodecs). Throws std::runtime_error with the path.
+void WritePng(const std::filesystem::path& path, const Image& image);
+// Reads a PNG into RGBA. Throws std::runtime_error with the path.
+Image ReadPng(const std::filesystem::path& path);
+
+}  // namespace facerig::player

@@ -1,0 +1,224 @@
+// The player's headless path end to end: "Hello world" rendered offscreen
+// (EGL, Mesa llvmpipe on CI), checked against the neutral face, the speech
+// audio and the evaluated mesh.
+#include "headless_player.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "facerig/runtime/io/rig_file.h"
+#include "media_writer.h"
+#include "player_options.h"
+
+namespace {
+
+using facerig::player::HeadlessResult;
+using facerig::player::Image;
+using facerig::player::PlayerOptions;
+
+constexpr int kWidth = 160, kHeight = 120;
+constexpr double kFps = 15.0;
+
+// Mean absolute channel difference (0..255) over a box (clipped to the image).
+double MeanDifference(const Image& a, const Image& b, int x0, int y0, int x1, int y1) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, a.width), y1 = std::min(y1, a.height);
+  double sum = 0.0;
+  int count = 0;
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t i = (static_cast<std::size_t>(y) * a.width + x) * 4 + c;
+        sum += std::abs(static_cast<int>(a.rgba[i]) - static_cast<int>(b.rgba[i]));
+        ++count;
+      }
+    }
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
+// RMS of the audio (full scale 1) over [t0, t1] seconds.
+double Rms(const facerig::SpeechLine& line, double t0, double t1) {
+  const auto first = static_cast<std::size_t>(std::clamp(t0, 0.0, line.audio_duration()) * line.sample_rate);
+  const auto last = static_cast<std::size_t>(std::clamp(t1, 0.0, line.audio_duration()) * line.sample_rate);
+  if (last <= first) return 0.0;
+  double sum = 0.0;
+  for (std::size_t i = first; i < last; ++i) sum += std::pow(line.audio[i] / 32768.0, 2);
+  return std::sqrt(sum / static_cast<double>(last - first));
+}
+
+void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& name) {
+  const facerig::Rig rig = facerig::LoadRig(rig_path);
+  const std::filesystem::path out = std::filesystem::path(FACERIG_TEST_OUTPUT_DIR) / ("player_" + name);
+  std::filesystem::remove_all(out);
+  PlayerOptions options;
+  options.headless = true;
+  options.say = "Hello world";
+  options.frames_dir = out / "frames";
+  options.wav = out / "hello.wav";
+  options.fps = kFps;
+  options.width = kWidth;
+  options.height = kHeight;
+  options.still = true;  // no head motion or saccades: the mouth region changes only by speech
+  std::ostringstream log;
+  const HeadlessResult result = facerig::player::RunHeadless(rig, options, log);
+  const facerig::SpeechLine& speech = result.speech;
+  INFO(name << ": " << result.gl_description << "; " << log.str());
+  REQUIRE(speech.sample_rate > 0);
+  REQUIRE(!speech.audio.empty());
+  // The default duration covers the lead-in, the speech and 0.6 s of rest after it.
+  const double start = result.speech_start;
+  REQUIRE(result.frames.size() ==
+          static_cast<std::size_t>(std::ceil((start + speech.audio_duration() + 0.6) * kFps - 1e-9)));
+
+  // The WAV is exactly the synthesized speech.
+  int wav_rate = 0;
+  const std::vector<std::int16_t> wav = facerig::player::ReadWav(options.wav, &wav_rate);
+  CHECK(wav_rate == speech.sample_rate);
+  REQUIRE(wav.size() == speech.audio.size());
+  CHECK(wav == speech.audio);
+
+  // The first frame is the neutral face.
+  const Image neutral = facerig::player::RenderNeutral(rig, kWidth, kHeight);
+  const Image first = facerig::player::ReadPng(result.frames.front());
+  REQUIRE(first.width == kWidth);
+  REQUIRE(first.height == kHeight);
+  CHECK(MeanDifference(first, neutral, 0, 0, kWidth, kHeight) < 0.25);
+
+  // The mouth region (around the projected mouth centre) moves while the
+  // audio is voiced and is back at rest after it.
+  REQUIRE(result.has_mouth);
+  const int mx = static_cast<int>(result.mouth_pixel.x), my = static_cast<int>(result.mouth_pixel.y);
+  const int r = std::max(4, static_cast<int>(std::ceil(result.mouth_radius_pixels)));
+  INFO("mouth at " << mx << "," << my << " radius " << r << " px");
+  REQUIRE(mx > 0);
+  REQUIRE(mx < kWidth);
+  REQUIRE(my > kHeight / 3);
+  REQUIRE(my < kHeight);
+  double peak_rms = 0.0;
+  for (double t = 0.0; t < speech.audio_duration(); t += 0.01) peak_rms = std::max(peak_rms, Rms(speech, t, t + 0.02));
+  const double voiced_threshold = 0.2 * peak_rms;
+  double voiced_change = 0.0, rest_change = 0.0;
+  for (std::size_t i = 0; i < result.frames.size(); ++i) {
+    const double t = static_cast<double>(i) / kFps - start;  // audio time
+    const bool voiced = Rms(speech, t - 0.02, t + 0.02) > voiced_threshold;
+    const bool after = t > speech.audio_duration() + 0.4;
+    if (!voiced && !after) continue;
+    const Image frame = facerig::player::ReadPng(result.frames[i]);
+    const double change = MeanDifference(frame, neutral, mx - r, my - r, mx + r + 1, my + r + 1);
+    if (voiced) voiced_change = std::max(voiced_change, change);
+    if (after) rest_change = std::max(rest_change, change);
+  }
+  CHECK(voiced_change > 4.0);
+  CHECK(rest_change < 0.5);
+
+  // The widest lip opening (from the evaluated mesh) falls where the audio is voiced.
+  const auto widest = static_cast<std::size_t>(
+      std::max_element(result.lip_aperture.begin(), result.lip_aperture.end()) - result.lip_aperture.begin());
+  const double widest_time = static_cast<double>(widest) / kFps - start;
+  INFO("widest opening at frame " << widest << " (" << widest_time << " s), aperture "
+                                  << result.lip_aperture[widest]);
+  CHECK(result.lip_aperture[widest] > 0.0f);
+  CHECK(Rms(speech, widest_time - 0.04, widest_time + 0.04) > voiced_threshold);
+}
+
+// Runs a command, returns its exit code and its output (stdout + stderr).
+int Run(const std::string& command, std::string* output) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  char buffer[512];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) *output += buffer;
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST_CASE("Player: headless Hello world on ICT-FaceKit (shared data)", "[demo][shared-data]") {
+  CheckHelloWorld(FACERIG_ICT_DIR, "ict");
+}
+
+TEST_CASE("Player: headless Hello world on the default head", "[demo]") {
+  const std::filesystem::path rig = std::filesystem::path(FACERIG_SOURCE_DIR) / "data/default_head.frig";
+  if (!std::filesystem::exists(rig)) {
+    WARN("data/default_head.frig not found: skipping the default-head part");
+    return;
+  }
+  CheckHelloWorld(rig, "default_head");
+}
+
+TEST_CASE("Player: without a display and without --headless, suggests --headless", "[demo]") {
+  std::string output;
+  const int code = Run("env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER '" FACERIG_PLAYER_EXE "' --say hi", &output);
+  INFO(output);
+  CHECK(code == 1);
+  CHECK(output.find("no display") != std::string::npos);
+  CHECK(output.find("--headless") != std::string::npos);
+}
+
+TEST_CASE("Player: a bad rig path or voice is a clear error", "[demo]") {
+  const std::string exe = "'" FACERIG_PLAYER_EXE "'";
+  const std::string frames = std::string(FACERIG_TEST_OUTPUT_DIR) + "/player_errors";
+  std::string output;
+  CHECK(Run(exe + " --headless --frames " + frames + " --rig /nonexistent/head.frig", &output) == 1);
+  CHECK(output.find("/nonexistent/head.frig") != std::string::npos);
+
+  output.clear();
+  const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/io/data/reference_v1.frig";
+  CHECK(Run(exe + " --headless --frames " + frames + " --rig " + rig + " --voice no-such-voice --say hi", &output) == 1);
+  INFO(output);
+  CHECK(output.find("no-such-voice") != std::string::npos);
+  CHECK(output.find("en-us") != std::string::npos);  // the list of voices
+}
+
+TEST_CASE("Player: command line", "[demo]") {
+  using facerig::player::ParseOptions;
+  using facerig::player::UsageError;
+  const PlayerOptions options = ParseOptions({"--headless", "--frames", "out", "--size", "320x240", "--fps", "24",
+                                              "--emotion", "joy:0.5", "--say", "hi there"});
+  CHECK(options.headless);
+  CHECK(options.width == 320);
+  CHECK(options.height == 240);
+  CHECK(options.fps == 24.0);
+  REQUIRE(options.emotions.size() == 1);
+  CHECK(options.emotions[0].second == 0.5f);
+  CHECK(options.say == "hi there");
+  CHECK_THROWS_AS(ParseOptions({"--headless"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--size", "12"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--frames", "x"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--emotion", "boredom"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--bogus"}), UsageError);
+}
+
+TEST_CASE("Player: the window path draws under Xvfb with a dummy audio device", "[demo]") {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) {
+    WARN("xvfb-run not installed (Debian: xvfb): skipping the window test");
+    return;
+  }
+  const std::string screenshot = std::string(FACERIG_TEST_OUTPUT_DIR) + "/player_window.png";
+  std::filesystem::remove(screenshot);
+  const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/io/data/reference_v1.frig";
+  std::string output;
+  const int code = Run("SDL_AUDIODRIVER=dummy xvfb-run -a -s '-screen 0 1024x768x24' '" FACERIG_PLAYER_EXE
+                       "' --rig " + rig + " --size 320x240 --quit-after 1.5 --screenshot " + screenshot +
+                       " --say hello",
+                       &output);
+  INFO(output);
+  REQUIRE(code == 0);
+  const Image image = facerig::player::ReadPng(screenshot);
+  CHECK(image.width == 320);
+  CHECK(image.height == 240);
+  // Something was drawn: the rig and the HUD differ from the clear colour.
+  int differing = 0;
+  for (std::size_t i = 0; i + 4 <= image.rgba.size(); i += 4) {
+    differing += image.rgba[i] != image.rgba[0] || image.rgba[i + 1] != image.rgba[1] ? 1 : 0;
+  }
+  CHECK(differing > 320 * 240 / 50);
+  CHECK(output.find("frames, CPU ms per frame") != std::string::npos);
+}
