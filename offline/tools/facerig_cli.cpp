@@ -1,6 +1,7 @@
 // facerig: inspect and convert rigs.
 //   facerig inspect FILE|DIR [folder options]
 //   facerig convert IN OUT   [folder options]
+//   facerig default-head OUT_DIR [--preview DIR [--preview-size PX]]
 // Formats by extension: a folder of OBJs, .obj (neutral only), .glb, .gltf, .frig.
 #include <algorithm>
 #include <chrono>
@@ -12,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/default_head.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/io/template_folder.h"
@@ -21,6 +23,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: facerig inspect FILE|DIR [options]\n"
     "       facerig convert IN OUT [options]\n"
+    "       facerig default-head OUT_DIR [--preview DIR [--preview-size PX]]   (built-in head)\n"
     "Formats by extension: a template folder of OBJs, .obj (neutral only), .glb, .gltf, .frig.\n"
     "Options for template folders and .obj input:\n"
     "  --units mm|cm|m        units of the input (default: guessed from the head size)\n"
@@ -148,6 +151,49 @@ void Inspect(const facerig::Rig& rig) {
               dense * static_cast<double>(entry_bytes - 4) / 1e6);
 }
 
+// --- default-head: regenerates data/default_head.{glb,frig} (and previews) ---
+int DefaultHeadCommand(int argc, char** argv) {
+  std::string out_dir, preview_dir;
+  int preview_size = 256;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--preview" && i + 1 < argc) {
+      preview_dir = argv[++i];
+    } else if (arg == "--preview-size" && i + 1 < argc) {
+      preview_size = std::clamp(std::atoi(argv[++i]), 64, 4096);
+    } else if (arg.rfind("--", 0) != 0 && out_dir.empty()) {
+      out_dir = arg;
+    } else {
+      std::fputs(kUsage, stderr);
+      return 2;
+    }
+  }
+  if (out_dir.empty()) {
+    std::fputs(kUsage, stderr);
+    return 2;
+  }
+  facerig::DefaultHeadFeatures features;
+  const facerig::Rig rig = facerig::BuildDefaultHead(&features);
+  std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
+              features.control_vertex_count, features.control_triangle_count,
+              features.skin_vertex_count);
+  std::filesystem::create_directories(out_dir);
+  for (const char* name : {"default_head.glb", "default_head.frig"}) {
+    const std::filesystem::path path = std::filesystem::path(out_dir) / name;
+    facerig::SaveRig(path, rig);
+    std::printf("wrote %s (%zu vertices, %zu triangles, %zu shapes, %ju bytes)\n", path.c_str(),
+                rig.vertex_count(), rig.triangle_count(), rig.shape_count(),
+                static_cast<std::uintmax_t>(std::filesystem::file_size(path)));
+  }
+  if (!preview_dir.empty()) {
+    for (const auto& path : facerig::WriteDefaultHeadPreviews(rig, preview_dir, preview_size)) {
+      std::printf("wrote %s\n", path.c_str());
+    }
+  }
+  return 0;
+}
+// --- end of default-head --------------------------------------------------------
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -156,6 +202,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string command = argv[1];
+  if (command == "default-head") {
+    try {
+      return DefaultHeadCommand(argc, argv);
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "facerig: %s\n", error.what());
+      return 1;
+    }
+  }
   Arguments args;
   if (!ParseArguments(argc, argv, args)) return 2;
   try {

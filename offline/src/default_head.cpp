@@ -1,0 +1,188 @@
+// Assembly of the default head: control face -> 2 linear + 2 Loop
+// subdivisions -> projection onto the sculpt -> parts -> shapes -> Rig.
+#include "facerig/offline/default_head.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "default_head_internal.h"
+#include "facerig/offline/rasterizer.h"
+#include "facerig/runtime/blend_job.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+namespace default_head {
+namespace {
+
+// Walks the dense boundary from corner `from` to corner `to` both ways and
+// returns the way that passes through `through` (corners excluded).
+std::vector<std::uint32_t> BoundaryChain(const std::vector<Triangle>& triangles, std::uint32_t from,
+                                         std::uint32_t to, std::uint32_t through) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (const Triangle& t : triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::map<std::uint32_t, std::vector<std::uint32_t>> next;
+  for (const auto& [edge, count] : uses) {
+    if (count != 1) continue;
+    next[edge.first].push_back(edge.second);
+    next[edge.second].push_back(edge.first);
+  }
+  for (std::uint32_t start : next.at(from)) {
+    std::vector<std::uint32_t> chain;
+    std::uint32_t previous = from, current = start;
+    while (current != to && chain.size() < triangles.size()) {
+      chain.push_back(current);
+      const std::vector<std::uint32_t>& n = next.at(current);
+      if (n.size() != 2) throw std::logic_error("default head: boundary vertex of valence != 2");
+      const std::uint32_t following = n[0] == previous ? n[1] : n[0];
+      previous = current;
+      current = following;
+    }
+    if (current == to && std::find(chain.begin(), chain.end(), through) != chain.end()) return chain;
+  }
+  throw std::logic_error("default head: opening chain not found");
+}
+
+}  // namespace
+
+HeadGeometry BuildSkin() {
+  HeadGeometry head;
+  head.control = BuildControlMesh();
+  const ControlMesh& control = head.control;
+  // Table I of paper 002: two linear steps keep the control shape, two Loop
+  // steps smooth it; the corners of the eyes and mouth stay sharp.
+  head.subdivision = Subdivide(control.directions.size(), control.triangles, control.corners, 2, 2);
+  const std::vector<glm::dvec3> directions = Apply(head.subdivision, control.directions);
+  head.positions.reserve(directions.size());
+  for (const glm::dvec3& d : directions) head.positions.push_back(SurfacePoint(d));
+  head.triangles = head.subdivision.triangles;
+  head.skin_count = static_cast<std::uint32_t>(head.positions.size());
+  head.parts.push_back({"skin", 0, static_cast<std::uint32_t>(head.triangles.size())});
+
+  for (int side = 0; side < 2; ++side) {
+    const ControlMesh::Opening& eye = control.eyes[static_cast<std::size_t>(side)];
+    head.upper_lid[static_cast<std::size_t>(side)] =
+        BoundaryChain(head.triangles, eye.corner_a, eye.corner_b, eye.upper.front());
+    head.lower_lid[static_cast<std::size_t>(side)] =
+        BoundaryChain(head.triangles, eye.corner_a, eye.corner_b, eye.lower.front());
+  }
+  head.upper_lip = BoundaryChain(head.triangles, control.mouth.corner_a, control.mouth.corner_b,
+                                 control.mouth.upper.front());
+  head.lower_lip = BoundaryChain(head.triangles, control.mouth.corner_a, control.mouth.corner_b,
+                                 control.mouth.lower.front());
+  if (head.upper_lip.size() != head.lower_lip.size() ||
+      head.upper_lid[0].size() != head.lower_lid[0].size()) {
+    throw std::logic_error("default head: upper and lower margins differ in length");
+  }
+
+  // Jaw weights authored on the control face, subdivided like positions.
+  // A trailing '_' names both sides.
+  std::vector<double> jaw(control.names.size(), 0.0);
+  const std::vector<std::pair<std::string, double>> jaw_control = {
+      {"lip_lower_inner", 1.0},  {"lip_lower_outer", 1.0},  {"chin", 1.0},       {"menton", 1.0},
+      {"lip_lower_inner_", 1.0}, {"lip_lower_outer_", 1.0},
+      {"jaw_", 1.0},             {"jaw_angle_", 0.75}, {"mouth_corner_", 0.5},
+      {"cheek_low_", 0.35}};
+  for (const auto& [name, weight] : jaw_control) {
+    if (name.back() == '_') {
+      jaw[control.Find(name + "L")] = weight;
+      jaw[control.Find(name + "R")] = weight;
+    } else {
+      jaw[control.Find(name)] = weight;
+    }
+  }
+  head.jaw_weight = Apply(head.subdivision, jaw);
+  // The skull above the hinge never follows the jaw, however far the
+  // subdivided weights spread.
+  const double hinge_y = Anatomy::JawPivot().y;
+  for (std::size_t v = 0; v < head.jaw_weight.size(); ++v) {
+    head.jaw_weight[v] *= std::clamp((hinge_y - head.positions[v].y) / 2.5, 0.0, 1.0);
+  }
+  return head;
+}
+
+}  // namespace default_head
+
+Rig BuildDefaultHead(DefaultHeadFeatures* features) {
+  default_head::HeadGeometry head = default_head::BuildSkin();
+  default_head::AddParts(head);
+
+  RawRig raw;
+  raw.units = Units::kCentimetres;
+  raw.up_axis = UpAxis::kY;
+  raw.positions.reserve(head.positions.size());
+  for (const glm::dvec3& p : head.positions) raw.positions.push_back(glm::vec3(p));
+  raw.triangles = head.triangles;
+  raw.parts = head.parts;
+  raw.shapes = default_head::BuildExpressions(head);
+  std::string problem;
+  std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+  if (!rig) throw std::logic_error("default head: invalid rig: " + problem);
+
+  if (features) {
+    const default_head::ControlMesh& control = head.control;
+    for (int side = 0; side < 2; ++side) {
+      const auto s = static_cast<std::size_t>(side);
+      features->eye_centres[s] = glm::vec3(default_head::Anatomy::EyeCentre(side));
+      features->upper_lid[s] = head.upper_lid[s];
+      features->lower_lid[s] = head.lower_lid[s];
+    }
+    features->eyeball_radius = static_cast<float>(default_head::Anatomy::kEyeRadius);
+    features->nose_tip = control.Find("nose_tip");
+    features->mouth_corners = {control.Find("mouth_corner_L"), control.Find("mouth_corner_R")};
+    features->upper_lip = head.upper_lip;
+    features->lower_lip = head.lower_lip;
+    features->skin_vertex_count = head.skin_count;
+    features->control_vertex_count = static_cast<std::uint32_t>(control.names.size());
+    features->control_triangle_count = static_cast<std::uint32_t>(control.triangles.size());
+  }
+  return std::move(*rig);
+}
+
+std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
+                                                            const std::filesystem::path& directory,
+                                                            int size) {
+  struct Pose {
+    const char* name;
+    std::vector<std::pair<const char*, float>> weights;
+  };
+  const std::vector<Pose> poses = {
+      {"neutral", {}},
+      {"jaw_open", {{"jawOpen", 1.0f}}},
+      {"smile", {{"mouthSmile_L", 1.0f}, {"mouthSmile_R", 1.0f}, {"eyeSquint_L", 0.4f}, {"eyeSquint_R", 0.4f}}},
+      {"blink", {{"eyeBlink_L", 1.0f}, {"eyeBlink_R", 1.0f}}},
+      {"speech", {{"jawOpen", 0.4f}, {"mouthFunnel", 0.3f}}},
+  };
+  std::filesystem::create_directories(directory);
+  std::vector<std::filesystem::path> written;
+  std::vector<float> weights(rig.shape_count());
+  std::vector<glm::vec3> positions(rig.vertex_count()), normals(rig.vertex_count());
+  const glm::vec3 centre{0.0f, -1.5f, 0.0f};
+  for (const Pose& pose : poses) {
+    std::fill(weights.begin(), weights.end(), 0.0f);
+    for (const auto& [name, weight] : pose.weights) {
+      if (const auto index = rig.FindShape(name)) weights[*index] = weight;
+    }
+    BlendJob job{&rig, weights, NormalMode::kRecompute, positions, normals};
+    if (job.Run() != BlendJobError::kNone) throw std::logic_error("preview: blend failed");
+    for (const auto& [view_name, yaw] : {std::pair<const char*, float>{"front", 0.0f},
+                                         std::pair<const char*, float>{"three_quarter", 0.6f}}) {
+      const RasterView view = RasterView::Orbit(centre, 13.5f, size, size, yaw);
+      const std::filesystem::path path = directory / (std::string(pose.name) + "_" + view_name + ".png");
+      WritePng(path, RenderRig(rig, positions, normals, view));
+      written.push_back(path);
+    }
+  }
+  return written;
+}
+
+}  // namespace facerig

@@ -1,0 +1,111 @@
+// Internal pieces of the built-in default head (default_head*.cpp), one topic
+// per file: the control face, subdivision, the sculpted surface, the separate
+// parts (eyes, teeth, mouth) and the expressions. Units: centimetres, +Y up,
+// the face looks along +Z, the character's left is +X (as ICT-FaceKit).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Sparse>
+#include <glm/vec3.hpp>
+
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig::default_head {
+
+// The low-poly control face: a closed head with holes for the eyes, the
+// mouth and the bottom of the neck, its vertices on the sculpted surface.
+// Vertices are named (MPEG-4 FDP-like): midline names have no suffix, sided
+// ones end in _L (the character's left, +X) or _R.
+struct ControlMesh {
+  std::vector<std::string> names;
+  std::vector<glm::dvec3> directions;  // unit, from SurfaceOrigin()
+  std::vector<glm::dvec3> positions;   // on the surface
+  std::vector<Triangle> triangles;     // outward facing
+  std::vector<std::uint8_t> corners;   // 1: sharp boundary corner (eye and mouth corners)
+  // An opening: two corners and the chains between them (corners excluded,
+  // ordered from corner_a to corner_b). Eyes: inner to outer corner; mouth:
+  // right (-X) to left corner.
+  struct Opening {
+    std::uint32_t corner_a = 0, corner_b = 0;
+    std::vector<std::uint32_t> upper, lower;
+  };
+  std::array<Opening, 2> eyes;  // [0] left, [1] right
+  Opening mouth;
+
+  // Index of a named vertex; throws std::out_of_range when absent.
+  std::uint32_t Find(const std::string& name) const;
+};
+
+ControlMesh BuildControlMesh();
+
+// Subdivision with per-vertex correspondence: dense = S * control. Control
+// vertices keep their indices (the first rows of S); each step appends one
+// vertex per edge. Boundaries use the curve rules (linear: midpoints; Loop:
+// 1/8 3/4 1/8 and midpoints); corner vertices stay where they are.
+struct Subdivision {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix;  // dense_count x control_count
+  std::vector<Triangle> triangles;
+};
+Subdivision Subdivide(std::size_t vertex_count, const std::vector<Triangle>& triangles,
+                      const std::vector<std::uint8_t>& corners, int linear_steps, int loop_steps);
+
+// Rows of S applied to per-control-vertex values.
+std::vector<double> Apply(const Subdivision& s, const std::vector<double>& control);
+std::vector<glm::dvec3> Apply(const Subdivision& s, const std::vector<glm::dvec3>& control);
+
+// The sculpted head surface: an implicit function (negative inside), star
+// shaped from SurfaceOrigin(); SurfacePoint casts a ray from there.
+glm::dvec3 SurfaceOrigin();
+double HeadField(const glm::dvec3& p);
+glm::dvec3 SurfacePoint(const glm::dvec3& direction);
+
+// Anatomy shared by the surface, the parts and the expressions (centimetres).
+struct Anatomy {
+  static constexpr double kEyeRadius = 1.2;
+  static constexpr double kLidOffset = 0.18;  // lid skin above the eyeball
+  static glm::dvec3 EyeCentre(int side) {     // side 0: left (+X), 1: right
+    return {side == 0 ? 3.15 : -3.15, 0.35, 5.8};
+  }
+  static constexpr double kMouthY = -6.25;
+  // Jaw hinge: a horizontal axis through both temporomandibular joints.
+  static glm::dvec3 JawPivot() { return {0.0, -1.6, -0.2}; }
+};
+
+// The assembled dense head before it becomes a rig: the subdivided skin
+// first, then the separate parts, each a contiguous vertex block.
+struct HeadGeometry {
+  struct Range {
+    std::uint32_t first = 0, count = 0;
+  };
+  ControlMesh control;
+  Subdivision subdivision;
+  std::vector<glm::dvec3> positions;
+  std::vector<Triangle> triangles;
+  std::vector<RawPart> parts;
+  std::uint32_t skin_count = 0;
+  // Dense chains on the openings (see ControlMesh::Opening), skin vertices.
+  std::array<std::vector<std::uint32_t>, 2> upper_lid, lower_lid;
+  std::vector<std::uint32_t> upper_lip, lower_lip;
+  Range eyeballs;  // both eyeballs (white, iris, pupil); the side is the sign of x
+  Range teeth_upper, teeth_lower, mouth_inner, tongue;
+  // Each inner-mouth vertex follows one lip-margin skin vertex, with a weight
+  // that fades from 1 at the lips to 0 at the back of the mouth.
+  std::vector<std::uint32_t> inner_source;
+  std::vector<double> inner_follow;
+  // Jaw rotation weight per vertex (0: skull, 1: fully on the jaw).
+  std::vector<double> jaw_weight;
+};
+
+// Skin (control mesh, subdivision, projection) and the dense margin chains.
+HeadGeometry BuildSkin();
+// Appends eyeballs, teeth, inner mouth and tongue (in the rig's part order).
+void AddParts(HeadGeometry& head);
+// The blend shapes, dense over all vertices of the head.
+std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head);
+
+}  // namespace facerig::default_head

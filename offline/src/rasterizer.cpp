@@ -1,0 +1,239 @@
+#include "facerig/offline/rasterizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace facerig {
+
+RasterView RasterView::Orbit(glm::vec3 centre, float half_extent, int width, int height, float yaw,
+                             float pitch) {
+  RasterView view;
+  // Camera axes in world coordinates: the camera sits on +z turned by yaw
+  // about +y, then tilted by pitch (positive: camera above, looking down).
+  const glm::vec3 forward{std::sin(yaw) * std::cos(pitch), std::sin(pitch),
+                          std::cos(yaw) * std::cos(pitch)};  // towards the camera
+  const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), forward));
+  const glm::vec3 up = glm::cross(forward, right);
+  // glm is column-major: set the rows to the camera axes.
+  for (int c = 0; c < 3; ++c) {
+    view.rotation[c][0] = right[c];
+    view.rotation[c][1] = up[c];
+    view.rotation[c][2] = forward[c];
+  }
+  view.centre = centre;
+  view.half_extent = half_extent;
+  view.width = width;
+  view.height = height;
+  return view;
+}
+
+namespace {
+
+void CheckView(const RasterView& view) {
+  if (view.width <= 0 || view.height <= 0 || view.width > 16384 || view.height > 16384) {
+    throw std::invalid_argument("RasterView: image size must be in [1, 16384]");
+  }
+  if (view.vertical_fov > 0.0f) {
+    if (!(view.vertical_fov < 3.1f) || !(view.distance > 0.0f)) {
+      throw std::invalid_argument("RasterView: perspective needs fov < pi and distance > 0");
+    }
+  } else if (!(view.half_extent > 0.0f)) {
+    throw std::invalid_argument("RasterView: half_extent must be > 0");
+  }
+}
+
+}  // namespace
+
+glm::vec3 ProjectToImage(const RasterView& view, glm::vec3 world) {
+  const glm::vec3 cam = view.rotation * (world - view.centre);
+  const float h = static_cast<float>(view.height);
+  const float w = static_cast<float>(view.width);
+  // Pixels per world unit at the centre plane.
+  float scale = 0.5f * h / view.half_extent;
+  float depth = cam.z;
+  if (view.vertical_fov > 0.0f) {
+    const float distance_to_camera = std::max(view.distance - cam.z, 1e-6f);
+    scale = 0.5f * h / (std::tan(0.5f * view.vertical_fov) * distance_to_camera);
+    depth = -distance_to_camera;  // nearer is larger, as in the orthographic case
+  }
+  return {0.5f * w + cam.x * scale, 0.5f * h - cam.y * scale, depth};
+}
+
+bool RasterBuffers::SurfacePoint(int x, int y, std::span<const glm::vec3> positions,
+                                 std::span<const Triangle> triangles, glm::vec3& point) const {
+  if (x < 0 || y < 0 || x >= width || y >= height) return false;
+  const std::int32_t id = triangle_ids[index(x, y)];
+  if (id == kNoTriangle || static_cast<std::size_t>(id) >= triangles.size()) return false;
+  const Triangle& t = triangles[static_cast<std::size_t>(id)];
+  const glm::vec3 b = barycentrics[index(x, y)];
+  point = b.x * positions[t[0]] + b.y * positions[t[1]] + b.z * positions[t[2]];
+  return true;
+}
+
+RasterBuffers Rasterize(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                        const RasterView& view) {
+  CheckView(view);
+  RasterBuffers buffers;
+  buffers.width = view.width;
+  buffers.height = view.height;
+  const std::size_t pixel_count = static_cast<std::size_t>(view.width) * static_cast<std::size_t>(view.height);
+  buffers.triangle_ids.assign(pixel_count, kNoTriangle);
+  buffers.barycentrics.assign(pixel_count, glm::vec3(0.0f));
+  buffers.depths.assign(pixel_count, -std::numeric_limits<float>::infinity());
+  buffers.back_facing.assign(pixel_count, 0);
+
+  std::vector<glm::vec3> projected(positions.size());
+  for (std::size_t v = 0; v < positions.size(); ++v) projected[v] = ProjectToImage(view, positions[v]);
+
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const Triangle& tri = triangles[t];
+    for (std::uint32_t v : tri) {
+      if (v >= positions.size()) {
+        throw std::invalid_argument("Rasterize: triangle " + std::to_string(t) + " uses vertex " +
+                                    std::to_string(v) + " >= " + std::to_string(positions.size()));
+      }
+    }
+    const glm::vec3 a = projected[tri[0]], b = projected[tri[1]], c = projected[tri[2]];
+    // Signed area in image coordinates (y down): negative = counter-clockwise
+    // on screen when seen from the camera = front facing.
+    const double area = (static_cast<double>(b.x) - a.x) * (static_cast<double>(c.y) - a.y) -
+                        (static_cast<double>(c.x) - a.x) * (static_cast<double>(b.y) - a.y);
+    if (std::abs(area) < 1e-12) continue;
+    const std::uint8_t back = area > 0.0 ? 1 : 0;
+    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, c.x}))));
+    const int x1 = std::min(view.width - 1, static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}))));
+    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, c.y}))));
+    const int y1 = std::min(view.height - 1, static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}))));
+    for (int y = y0; y <= y1; ++y) {
+      const double py = y + 0.5;
+      for (int x = x0; x <= x1; ++x) {
+        const double px = x + 0.5;
+        // Barycentrics from edge functions, in double so the coverage test is
+        // exact enough that shared edges leave no cracks.
+        const double w0 = ((static_cast<double>(b.x) - px) * (static_cast<double>(c.y) - py) -
+                           (static_cast<double>(c.x) - px) * (static_cast<double>(b.y) - py)) / area;
+        const double w1 = ((static_cast<double>(c.x) - px) * (static_cast<double>(a.y) - py) -
+                           (static_cast<double>(a.x) - px) * (static_cast<double>(c.y) - py)) / area;
+        const double w2 = 1.0 - w0 - w1;
+        if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
+        const float depth = static_cast<float>(w0 * a.z + w1 * b.z + w2 * c.z);
+        const std::size_t i = buffers.index(x, y);
+        if (depth > buffers.depths[i]) {
+          buffers.depths[i] = depth;
+          buffers.triangle_ids[i] = static_cast<std::int32_t>(t);
+          buffers.barycentrics[i] = glm::vec3(static_cast<float>(w0), static_cast<float>(w1),
+                                              static_cast<float>(w2));
+          buffers.back_facing[i] = back;
+        }
+      }
+    }
+  }
+  return buffers;
+}
+
+RgbImage Shade(const RasterBuffers& buffers, std::span<const glm::vec3> positions,
+               std::span<const glm::vec3> normals, std::span<const Triangle> triangles,
+               std::span<const glm::vec3> triangle_albedo, const RasterView& view,
+               const ShadeParams& params) {
+  RgbImage image;
+  image.width = buffers.width;
+  image.height = buffers.height;
+  image.pixels.resize(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3);
+  const glm::vec3 light = glm::normalize(params.light);
+  auto to_byte = [](float v) {
+    return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+  };
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::size_t i = buffers.index(x, y);
+      glm::vec3 colour = params.background;
+      const std::int32_t id = buffers.triangle_ids[i];
+      if (id != kNoTriangle) {
+        const Triangle& t = triangles[static_cast<std::size_t>(id)];
+        if (buffers.back_facing[i]) {
+          colour = params.back_face;
+        } else {
+          const glm::vec3 b = buffers.barycentrics[i];
+          glm::vec3 n;
+          if (normals.size() == positions.size()) {
+            n = b.x * normals[t[0]] + b.y * normals[t[1]] + b.z * normals[t[2]];
+          } else {
+            n = glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]);
+          }
+          const float length = glm::length(n);
+          n = length > 0.0f ? view.rotation * (n / length) : glm::vec3(0.0f, 0.0f, 1.0f);
+          const float diffuse = std::max(0.0f, glm::dot(n, light));
+          const glm::vec3 albedo = triangle_albedo.size() == triangles.size()
+                                       ? triangle_albedo[static_cast<std::size_t>(id)]
+                                       : glm::vec3(0.8f);
+          colour = albedo * (params.ambient + (1.0f - params.ambient) * diffuse);
+        }
+      }
+      image.pixels[3 * i + 0] = to_byte(colour.r);
+      image.pixels[3 * i + 1] = to_byte(colour.g);
+      image.pixels[3 * i + 2] = to_byte(colour.b);
+    }
+  }
+  return image;
+}
+
+std::vector<glm::vec3> PartAlbedo(const Rig& rig) {
+  std::vector<glm::vec3> albedo(rig.triangle_count(), glm::vec3(0.8f));
+  for (const Part& part : rig.parts()) {
+    glm::vec3 colour{0.8f};
+    const std::string& name = part.name;
+    if (name == "skin") colour = {0.87f, 0.69f, 0.58f};
+    else if (name.rfind("eye_white", 0) == 0) colour = {0.95f, 0.94f, 0.92f};
+    else if (name.rfind("iris", 0) == 0) colour = {0.25f, 0.42f, 0.55f};
+    else if (name.rfind("pupil", 0) == 0) colour = {0.03f, 0.03f, 0.03f};
+    else if (name.rfind("teeth", 0) == 0) colour = {0.93f, 0.91f, 0.84f};
+    else if (name == "mouth_inner") colour = {0.35f, 0.10f, 0.10f};
+    else if (name == "tongue") colour = {0.75f, 0.35f, 0.35f};
+    const std::uint32_t end = std::min<std::uint32_t>(part.first_triangle + part.triangle_count,
+                                                      static_cast<std::uint32_t>(albedo.size()));
+    for (std::uint32_t t = part.first_triangle; t < end; ++t) albedo[t] = colour;
+  }
+  return albedo;
+}
+
+RgbImage RenderRig(const Rig& rig, std::span<const glm::vec3> positions,
+                   std::span<const glm::vec3> normals, const RasterView& view,
+                   const ShadeParams& params) {
+  const RasterBuffers buffers = Rasterize(positions, rig.triangles(), view);
+  const std::vector<glm::vec3> albedo = PartAlbedo(rig);
+  return Shade(buffers, positions, normals, rig.triangles(), albedo, view, params);
+}
+
+std::vector<std::uint8_t> ToGray(const RgbImage& image) {
+  std::vector<std::uint8_t> gray(image.pixels.size() / 3);
+  for (std::size_t i = 0; i < gray.size(); ++i) {
+    const float luma = 0.299f * image.pixels[3 * i] + 0.587f * image.pixels[3 * i + 1] +
+                       0.114f * image.pixels[3 * i + 2];
+    gray[i] = static_cast<std::uint8_t>(std::lround(std::min(luma, 255.0f)));
+  }
+  return gray;
+}
+
+void WritePng(const std::filesystem::path& path, const RgbImage& image) {
+  if (image.width <= 0 || image.height <= 0 ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3) {
+    throw std::runtime_error("WritePng: empty or inconsistent image for " + path.string());
+  }
+  cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<std::uint8_t*>(image.pixels.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  // Highest zlib effort: previews are committed, so smaller is better.
+  if (!cv::imwrite(path.string(), bgr, {cv::IMWRITE_PNG_COMPRESSION, 9})) {
+    throw std::runtime_error("WritePng: cannot write " + path.string());
+  }
+}
+
+}  // namespace facerig

@@ -1,0 +1,214 @@
+#include "facerig/offline/default_head.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+#include "facerig/runtime/blend_job.h"
+#include "facerig/runtime/io/frig.h"
+#include "facerig/runtime/io/gltf.h"
+
+namespace {
+
+// Built once: the head takes about a second.
+const facerig::Rig& Head(facerig::DefaultHeadFeatures* features_out = nullptr) {
+  static facerig::DefaultHeadFeatures features;
+  static const facerig::Rig rig = facerig::BuildDefaultHead(&features);
+  if (features_out) *features_out = features;
+  return rig;
+}
+
+std::filesystem::path DataDir() { return std::filesystem::path(FACERIG_SOURCE_DIR) / "data"; }
+
+std::vector<std::byte> ReadBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> chars((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<std::byte> bytes(chars.size());
+  std::transform(chars.begin(), chars.end(), bytes.begin(), [](char c) { return static_cast<std::byte>(c); });
+  return bytes;
+}
+
+std::vector<glm::vec3> Pose(const facerig::Rig& rig, const std::vector<std::pair<const char*, float>>& weights) {
+  std::vector<float> w(rig.shape_count(), 0.0f);
+  for (const auto& [name, value] : weights) {
+    const auto index = rig.FindShape(name);
+    REQUIRE(index);
+    w[*index] = value;
+  }
+  std::vector<glm::vec3> positions(rig.vertex_count());
+  facerig::BlendJob job{&rig, w, facerig::NormalMode::kNone, positions, {}};
+  REQUIRE(job.Run() == facerig::BlendJobError::kNone);
+  return positions;
+}
+
+float MaxGap(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& upper,
+             const std::vector<std::uint32_t>& lower) {
+  REQUIRE(upper.size() == lower.size());
+  float gap = 0.0f;
+  for (std::size_t i = 0; i < upper.size(); ++i) {
+    gap = std::max(gap, glm::length(positions[upper[i]] - positions[lower[i]]));
+  }
+  return gap;
+}
+
+const std::vector<std::string> kRequiredShapes = {
+    "jawOpen", "mouthClose", "mouthFunnel", "mouthPucker", "mouthRollLower", "mouthRollUpper",
+    "mouthPress_L", "mouthPress_R", "mouthStretch_L", "mouthStretch_R", "mouthSmile_L", "mouthSmile_R",
+    "mouthFrown_L", "mouthFrown_R", "mouthLowerDown_L", "mouthLowerDown_R", "mouthUpperUp_L",
+    "mouthUpperUp_R", "eyeBlink_L", "eyeBlink_R", "eyeWide_L", "eyeWide_R", "eyeSquint_L", "eyeSquint_R",
+    "browInnerUp_L", "browInnerUp_R", "browDown_L", "browDown_R", "browOuterUp_L", "browOuterUp_R",
+    "cheekPuff_L", "cheekPuff_R", "noseSneer_L", "noseSneer_R", "eyeLookUp_L", "eyeLookUp_R",
+    "eyeLookDown_L", "eyeLookDown_R", "eyeLookIn_L", "eyeLookIn_R", "eyeLookOut_L", "eyeLookOut_R"};
+
+}  // namespace
+
+TEST_CASE("Default head: structure, units and parts", "[default_head]") {
+  facerig::DefaultHeadFeatures features;
+  const facerig::Rig& rig = Head(&features);
+  CHECK(rig.units() == facerig::Units::kCentimetres);
+  CHECK(rig.up_axis() == facerig::UpAxis::kY);
+  // 2 linear + 2 Loop subdivisions: 4^4 dense triangles per control triangle.
+  CHECK(rig.FindPart("skin")->triangle_count == 256u * features.control_triangle_count);
+  CHECK(rig.vertex_count() >= 5000);
+  CHECK(rig.vertex_count() <= 17000);
+  for (const char* part : {"skin", "eye_white_L", "eye_white_R", "iris_L", "iris_R", "pupil_L", "pupil_R",
+                           "teeth_upper", "teeth_lower", "mouth_inner", "tongue"}) {
+    INFO(part);
+    const facerig::Part* p = rig.FindPart(part);
+    REQUIRE(p);
+    CHECK(p->triangle_count > 0);
+  }
+  // A human-sized head: about 23 cm from chin to crown, eyes 6 to 7 cm apart.
+  const float eye_distance = glm::length(features.eye_centres[0] - features.eye_centres[1]);
+  CHECK(eye_distance > 5.8f);
+  CHECK(eye_distance < 7.0f);
+  CHECK(features.eye_centres[0].x > 0.0f);  // the character's left is +X
+}
+
+TEST_CASE("Default head: regenerating gives the committed files", "[default_head]") {
+  const facerig::Rig& rig = Head();
+  const std::vector<std::byte> committed = ReadBytes(DataDir() / "default_head.frig");
+  REQUIRE_FALSE(committed.empty());
+  // Byte-identical: the generator is deterministic (regenerate with
+  // `facerig default-head data --preview data/default_head_preview`).
+  const std::vector<std::byte> regenerated = facerig::SerializeFrig(rig);
+  CHECK(regenerated.size() == committed.size());
+  const bool identical = regenerated == committed;
+  CHECK(identical);
+
+  const facerig::Rig glb = facerig::ReadGltf(DataDir() / "default_head.glb");
+  REQUIRE(glb.vertex_count() == rig.vertex_count());
+  REQUIRE(glb.shape_count() == rig.shape_count());
+  CHECK(std::equal(glb.triangles().begin(), glb.triangles().end(), rig.triangles().begin()));
+  CHECK(std::equal(glb.positions().begin(), glb.positions().end(), rig.positions().begin()));
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+    const facerig::BlendShapeView a = rig.shape(s), b = glb.shape(s);
+    CHECK(a.name == b.name);
+    CHECK(std::equal(a.vertex_indices.begin(), a.vertex_indices.end(), b.vertex_indices.begin(),
+                     b.vertex_indices.end()));
+    CHECK(std::equal(a.position_deltas.begin(), a.position_deltas.end(), b.position_deltas.begin(),
+                     b.position_deltas.end()));
+  }
+}
+
+TEST_CASE("Default head: every shape loads, moves something, and only where it should", "[default_head]") {
+  facerig::DefaultHeadFeatures features;
+  const facerig::Rig& rig = Head(&features);
+  const facerig::Rig loaded = facerig::ReadFrig(DataDir() / "default_head.frig");
+  const float nose_y = rig.positions()[features.nose_tip].y;
+  const float eye_y = features.eye_centres[0].y;
+  const float mouth_y = rig.positions()[features.mouth_corners[0]].y;
+  for (const std::string& name : kRequiredShapes) {
+    INFO(name);
+    const auto index = loaded.FindShape(name);
+    REQUIRE(index);
+    const facerig::BlendShapeView shape = loaded.shape(*index);
+    REQUIRE_FALSE(shape.vertex_indices.empty());
+    float largest = 0.0f;
+    for (const glm::vec3& d : shape.position_deltas) largest = std::max(largest, glm::length(d));
+    CHECK(largest > 0.1f);  // cm: visible
+    CHECK(largest < 4.0f);
+    const bool left = name.ends_with("_L"), right = name.ends_with("_R");
+    const bool upper_face = name.starts_with("eye") || name.starts_with("brow");
+    const bool mouth = name.starts_with("mouth") || name.starts_with("jaw");
+    float largest_other_side = 0.0f;
+    for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+      const float length = glm::length(shape.position_deltas[i]);
+      // The coarse control face spreads a displacement over its neighbouring
+      // control triangles; a few percent of the peak there is invisible.
+      if (length < 0.03f * largest) continue;
+      const glm::vec3 p = loaded.positions()[shape.vertex_indices[i]];
+      // Eyes and brows stay above the nose tip; a squint raises the cheek too.
+      if (upper_face) REQUIRE(p.y > (name.starts_with("eyeSquint") ? mouth_y : nose_y));
+      if (mouth) REQUIRE(p.y < eye_y + 0.5f); // mouth and jaw stay below the upper lids
+      if (!left && !right) continue;
+      const float sided_x = left ? p.x : -p.x;  // > 0 on the shape's own side
+      if (!mouth) REQUIRE(sided_x > -0.3f);     // an eye/brow/cheek/nose _L shape leaves the right alone
+      if (sided_x < -1.0f) largest_other_side = std::max(largest_other_side, length);
+    }
+    // Sided mouth shapes move the middle of the lips a little, the far side not at all.
+    CHECK(largest_other_side <= 0.25f * largest);
+  }
+}
+
+TEST_CASE("Default head: a blink closes the lids over the eyeball", "[default_head]") {
+  facerig::DefaultHeadFeatures features;
+  const facerig::Rig& rig = Head(&features);
+  for (int side = 0; side < 2; ++side) {
+    INFO("side " << side);
+    const auto s = static_cast<std::size_t>(side);
+    const std::vector<glm::vec3> open(rig.positions().begin(), rig.positions().end());
+    const float open_gap = MaxGap(open, features.upper_lid[s], features.lower_lid[s]);
+    CHECK(open_gap > 0.7f);  // cm: the eye is open at rest
+    const std::vector<glm::vec3> closed = Pose(rig, {{side == 0 ? "eyeBlink_L" : "eyeBlink_R", 1.0f}});
+    // The margins meet: every upper margin vertex on its lower partner.
+    CHECK(MaxGap(closed, features.upper_lid[s], features.lower_lid[s]) < 0.01f);
+    // No skin vertex enters the eyeball, at any weight along the way.
+    for (const float w : {0.25f, 0.5f, 0.75f, 1.0f}) {
+      const std::vector<glm::vec3> posed = Pose(rig, {{side == 0 ? "eyeBlink_L" : "eyeBlink_R", w}});
+      float nearest = 1e9f;
+      for (std::uint32_t v = 0; v < features.skin_vertex_count; ++v) {
+        nearest = std::min(nearest, glm::length(posed[v] - features.eye_centres[s]));
+      }
+      INFO("weight " << w << ": nearest skin vertex " << nearest << " cm from the eye centre");
+      CHECK(nearest > features.eyeball_radius + 0.02f);
+    }
+  }
+}
+
+TEST_CASE("Default head: lips closed at rest, and closed by mouthClose with the jaw a little open",
+          "[default_head]") {
+  facerig::DefaultHeadFeatures features;
+  const facerig::Rig& rig = Head(&features);
+  const std::vector<glm::vec3> rest(rig.positions().begin(), rig.positions().end());
+  CHECK(MaxGap(rest, features.upper_lip, features.lower_lip) < 0.15f);
+  const std::vector<glm::vec3> open = Pose(rig, {{"jawOpen", 0.2f}});
+  CHECK(MaxGap(open, features.upper_lip, features.lower_lip) > 0.5f);
+  const std::vector<glm::vec3> closed = Pose(rig, {{"jawOpen", 0.2f}, {"mouthClose", 0.2f}});
+  CHECK(MaxGap(closed, features.upper_lip, features.lower_lip) < 0.15f);
+  // The middle of the lips (the midline vertex pair) meets to well under a millimetre.
+  const std::size_t mid = features.upper_lip.size() / 2;
+  CHECK(glm::length(closed[features.upper_lip[mid]] - closed[features.lower_lip[mid]]) < 0.05f);
+}
+
+TEST_CASE("Default head: jawOpen rotates the jaw about a hinge", "[default_head]") {
+  const facerig::Rig& rig = Head();
+  const std::vector<glm::vec3> open = Pose(rig, {{"jawOpen", 1.0f}});
+  // Lower teeth move rigidly: distances within the row are kept (a rotation,
+  // not a stretch), and they move down.
+  const facerig::Part* teeth = rig.FindPart("teeth_lower");
+  REQUIRE(teeth);
+  const std::uint32_t a = teeth->first_vertex, b = teeth->first_vertex + teeth->vertex_count - 1;
+  CHECK(glm::length(open[a] - open[b]) == Approx(glm::length(rig.positions()[a] - rig.positions()[b])).epsilon(1e-4));
+  CHECK(open[a].y < rig.positions()[a].y - 1.0f);
+  // Upper teeth do not move.
+  const facerig::Part* upper = rig.FindPart("teeth_upper");
+  CHECK(open[upper->first_vertex] == rig.positions()[upper->first_vertex]);
+}
