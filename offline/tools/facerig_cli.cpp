@@ -13,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "cli_register.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/rig_file.h"
@@ -23,6 +24,8 @@ namespace {
 constexpr const char* kUsage =
     "usage: facerig inspect FILE|DIR [options]\n"
     "       facerig convert IN OUT [options]\n"
+    "       facerig landmarks MESH -o LM.json [--debug-png P] [--json REPORT]\n"
+    "       facerig register --template DIR|RIG --target MESH -o FITTED.obj [--landmarks LM.json] [--json REPORT]\n"
     "       facerig default-head OUT_DIR [--preview DIR [--preview-size PX]]   (built-in head)\n"
     "Formats by extension: a template folder of OBJs, .obj (neutral only), .glb, .gltf, .frig.\n"
     "Options for template folders and .obj input:\n"
@@ -202,6 +205,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string command = argv[1];
+  if (command == "landmarks") return facerig::cli::RunLandmarksCommand(argc, argv);
+  if (command == "register") return facerig::cli::RunRegisterCommand(argc, argv);
   if (command == "default-head") {
     try {
       return DefaultHeadCommand(argc, argv);

@@ -1,0 +1,238 @@
+// Deformation transfer (Sumner & Popovic 2004, as in paper 000 Algorithm 1):
+// a template's expressions S_1..S_k, given as whole meshes in per-vertex
+// correspondence with its neutral S_0, are transferred onto a target neutral
+// T_0 of the same topology (or a template fitted to the target).
+//
+// libigl-style pair: PrecomputeDeformationTransfer factorizes the sparse
+// normal equations U^T U once per target; SolveDeformationTransfer then costs
+// one back-substitution per expression. DeformationTransfer does both for a
+// whole set of expressions on several threads (results do not depend on the
+// thread count).
+//
+// Positions are in the meshes' own units; both meshes are expected in the
+// same frame and at a similar scale (rigidly aligned).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "facerig/offline/registration_error.h"
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+
+// Bad input to a transfer function (mismatched vertex counts, out-of-range
+// triangle or anchor indices, non-finite positions). mesh() names the input,
+// e.g. "target neutral" or "source expression 3". An InvalidInputError, like
+// the registration's errors.
+class TransferInputError : public InvalidInputError {
+ public:
+  TransferInputError(std::string mesh, const std::string& message);
+  const std::string& mesh() const { return mesh_; }
+
+ private:
+  std::string mesh_;
+};
+
+// The sparse factorization failed (a part of the mesh without an anchor that
+// the automatic anchoring could not fix, or non-finite geometry).
+class TransferSolverError : public SolverError {
+ public:
+  using SolverError::SolverError;
+};
+
+enum class TransferMode : std::uint8_t {
+  // Transfer the template's expression gradients S_0 -> S_i onto T_0.
+  kClassic = 0,
+  // Paper 000 section V.B: transfer the identity gradients S_0 -> T_0 onto
+  // S_i. Fewer eyelid artefacts when the target's eyes differ from the template's.
+  kIdentityGradient,
+};
+
+const char* ToString(TransferMode mode);
+
+struct DeformationTransferParams {
+  TransferMode mode = TransferMode::kClassic;
+  // Vertices whose position in every expression is fixed to target rest +
+  // displacement_scale * template displacement (paper 000's `-cv`). Empty:
+  // the template's static set, the vertices that no expression passed to the
+  // precomputation moves by more than static_threshold times the source
+  // neutral's bounding-box diagonal. Vertices used by no triangle are always anchors.
+  // The default 3e-3 (1.4 mm on ICT's 47.5 cm) takes the skin that stays on
+  // the skull (scalp, ears, neck, upper forehead). Measured on one random ICT
+  // identity: median relative error 0.060 at 1e-4 (7.7k anchors), 0.052 at
+  // 2e-3, 0.047 at 3e-3 (10.3k), 0.040 at 5e-3; larger values turn into
+  // displacement transfer, which is exact only for same-size faces.
+  std::vector<std::uint32_t> anchor_vertices;
+  float static_threshold = 3e-3f;
+  // Connected parts with no anchor (jaw, teeth, eyeballs, which move as a
+  // whole in some expressions) get a gauge vertex, and after the solve are
+  // translated so that their mean displacement is displacement_scale times the
+  // template's mean displacement of that part (exact least-squares optimum:
+  // the gradient energy of a free part does not depend on its translation).
+  // 1 for a same-size target; e.g. the bounding-box ratio target/template otherwise.
+  float displacement_scale = 1.0f;
+  // Weight each triangle's gradient residual by its area on the target (the
+  // integral of the gradient error) instead of 1 per triangle (paper 000).
+  bool area_weighted = true;
+  // Source frames [e1 e2 n]: false, the unit normal of paper 000 eq. 1;
+  // true, Sumner & Popovic's 4th vertex (normal scaled by 1/sqrt(|e1 x e2|),
+  // so out-of-plane stretch follows in-plane stretch). The unit normal
+  // measured better on ICT identities (median 0.047 vs 0.049, p90 0.075 vs 0.074).
+  bool scaled_normal = false;
+  // Needle and degenerate triangles: the target's 2x2 edge Gram matrix has its
+  // smallest eigenvalue clamped to this fraction of the largest (and to a tiny
+  // fraction of the mean squared edge), and source triangles whose frame is
+  // this ill-conditioned transfer their edge differences instead of a gradient.
+  double min_gram_ratio = 1e-4;
+  // Weak displacement prior (0: off, pure deformation transfer): every free
+  // vertex is also pulled towards target rest + displacement_scale * template
+  // displacement with this weight relative to the system's mean diagonal.
+  // Still one factorization (the prior adds a constant diagonal). It blends
+  // towards displacement transfer: on 3 random ICT faces the classic median /
+  // p90 went 0.067 / 0.152 (off), 0.053 / 0.104 (1e-3), 0.029 / 0.060 (1e-2).
+  double displacement_prior = 0.0;
+  // Worker threads for DeformationTransfer (>= 1).
+  int threads = 2;
+};
+
+// The factorized system for one target (one source neutral / target neutral
+// pair and one anchor set). Movable; used read-only by the solves, so one
+// instance serves several threads.
+struct DeformationTransferData {
+  DeformationTransferData();
+  ~DeformationTransferData();
+  DeformationTransferData(DeformationTransferData&&) noexcept;
+  DeformationTransferData& operator=(DeformationTransferData&&) noexcept;
+
+  std::size_t vertex_count = 0;
+  std::size_t triangle_count = 0;
+  std::size_t anchor_count = 0;
+  std::size_t free_count = 0;          // unknowns of the sparse system
+  std::size_t component_count = 0;     // connected parts of the mesh
+  std::size_t floating_components = 0;  // parts anchored by their mean displacement
+  std::size_t regularized_triangles = 0;  // needle / degenerate triangles clamped
+  double factorize_seconds = 0.0;
+  double precompute_seconds = 0.0;  // total, including the factorization
+
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
+// Builds and factorizes the system for a target.
+// source_neutral, target_neutral: #V positions; triangles index both.
+// source_expressions: the template's expressions (each #V), used only to find
+// the static anchor set when params.anchor_vertices is empty (may then not be empty).
+// \throw TransferInputError on mismatched sizes or bad indices (naming the mesh);
+// \throw TransferSolverError when the factorization fails.
+void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
+                                   std::span<const glm::vec3> target_neutral,
+                                   std::span<const Triangle> triangles,
+                                   std::span<const std::vector<glm::vec3>> source_expressions,
+                                   const DeformationTransferParams& params,
+                                   DeformationTransferData& data);
+
+// One expression: source_expression (#V) -> target_expression (#V, resized).
+// Returns the root-mean-square gradient residual (weighted, dimensionless).
+// \throw TransferInputError when source_expression has the wrong size.
+double SolveDeformationTransfer(const DeformationTransferData& data,
+                                std::span<const glm::vec3> source_expression,
+                                std::vector<glm::vec3>& target_expression);
+
+struct DeformationTransferResult {
+  std::vector<std::vector<glm::vec3>> expressions;  // per expression, #V target positions
+  std::vector<double> residuals;                    // per expression, as SolveDeformationTransfer
+  std::size_t anchor_count = 0;
+  std::size_t floating_components = 0;
+  std::size_t regularized_triangles = 0;
+  double precompute_seconds = 0.0;  // including the factorization
+  double factorize_seconds = 0.0;
+  double solve_seconds = 0.0;  // all expressions
+};
+
+// Precompute + one solve per expression, expressions spread over params.threads.
+DeformationTransferResult DeformationTransfer(
+    std::span<const glm::vec3> source_neutral, std::span<const glm::vec3> target_neutral,
+    std::span<const Triangle> triangles, std::span<const std::vector<glm::vec3>> source_expressions,
+    const DeformationTransferParams& params = {});
+
+// The rig's neutral and every shape applied at weight 1 (dense, #V each).
+std::vector<std::vector<glm::vec3>> RigExpressionMeshes(const Rig& rig);
+
+// Sparse blend shapes (expression - neutral), keeping deltas longer than
+// relative_drop_threshold times the neutral's bounding-box diagonal.
+// \pre names.size() == expressions.size(); each expression has #V positions.
+std::vector<RawBlendShape> MakeBlendShapes(std::span<const std::string> names,
+                                           std::span<const glm::vec3> neutral,
+                                           std::span<const std::vector<glm::vec3>> expressions,
+                                           float relative_drop_threshold = 1e-6f);
+
+// A copy of the template rig (topology, UVs, parts, units, shape names) with
+// target_neutral as its neutral and the template's shapes transferred onto it
+// by deformation transfer. \pre target_neutral.size() == rig.vertex_count().
+// \throw TransferInputError, TransferSolverError.
+RawRig TransferRig(const Rig& template_rig, std::span<const glm::vec3> target_neutral,
+                   const DeformationTransferParams& params = {},
+                   DeformationTransferResult* result = nullptr);
+
+// Connected parts of a triangle mesh: part index per vertex (vertices used by
+// no triangle get parts of their own). Returns the number of parts.
+std::size_t ConnectedComponents(std::size_t vertex_count, std::span<const Triangle> triangles,
+                                std::vector<std::uint32_t>& component_of_vertex);
+
+// --- Measuring a transfer against a known answer (tests and the bench) ------
+
+// Issue 6's metrics for one expression on a same-topology target, over the
+// vertices [region_first, region_last) (ICT: the face, 0-9408).
+// moved: region vertices whose true displacement exceeds moved_fraction of the
+// largest true displacement in the region; still: below still_fraction.
+struct ExpressionError {
+  double relative_error = 0.0;  // mean |result - truth| / mean |truth - rest|, over moved
+  double leak = 0.0;            // mean |result - rest| over still / mean |truth - rest| over moved
+  double max_error = 0.0;       // largest |result - truth| over the region, mesh units
+  std::size_t moved_vertices = 0;
+  std::size_t still_vertices = 0;
+};
+// rest, truth, result: #V each. 	hrow TransferInputError on size mismatch.
+ExpressionError MeasureExpressionError(std::span<const glm::vec3> rest,
+                                       std::span<const glm::vec3> truth,
+                                       std::span<const glm::vec3> result,
+                                       std::size_t region_first, std::size_t region_last,
+                                       double moved_fraction = 0.1, double still_fraction = 0.01);
+
+// Median and 90th percentile (nearest rank) of a list; 0 for an empty one.
+double Percentile(std::vector<double> values, double fraction);
+
+// The eyelid margins of one eye, found from the template's blink: pairs of an
+// upper-lid vertex (moving more than half the blink's largest motion) and the
+// lower-lid vertex it meets (apart in the neutral, within 10% of the upper
+// vertex's motion in the blink). Vertices searched: [region_first, region_last)
+// (ICT: 0-17038, face and eye sockets, where the lid margins are).
+struct EyelidMargins {
+  std::vector<std::uint32_t> upper;
+  std::vector<std::uint32_t> lower;  // lower[i] meets upper[i]
+  double eye_width = 0.0;            // x extent of the upper lid (moving > half) in the neutral
+};
+// \throw TransferInputError when the blink closes nothing.
+EyelidMargins FindEyelidMargins(std::span<const glm::vec3> neutral,
+                                std::span<const glm::vec3> blink, std::size_t region_first,
+                                std::size_t region_last);
+
+// How closed an eye is on a (transferred) blink mesh, over eye width.
+struct EyelidGap {
+  double mean_gap = 0.0;      // mean distance of the paired margin vertices
+  double max_gap = 0.0;       // largest such distance
+  double max_crossing = 0.0;  // deepest upper-below-lower (y) of a pair, >= 0
+};
+EyelidGap MeasureEyelidGap(std::span<const glm::vec3> positions, const EyelidMargins& margins);
+
+}  // namespace facerig

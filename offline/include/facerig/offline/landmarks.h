@@ -1,0 +1,114 @@
+// Automatic 3D facial landmarks (paper 004, section 3): the mesh is rendered
+// orthographically from the front with the project's CPU rasterizer, dlib's
+// frontal face detector and 68-point shape predictor (Debian libdlib-data)
+// find the 2D landmarks, and the z-buffer (triangle id + barycentrics per
+// pixel) takes each one back to a 3D surface point.
+//
+// The front view comes from the mesh alone: +Y is taken as roughly up
+// (+-25 degrees), the principal axis nearest to it refines up, the mirror
+// symmetry plane gives the left-right axis, and the detector decides which
+// side is the face; nearby rotations are then tried and the one the detector
+// scores best is kept. Landmarks are in dlib / Multi-PIE order, in the mesh's
+// own coordinates and units.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "facerig/offline/rasterizer.h"
+#include "facerig/runtime/rig.h"
+
+namespace facerig {
+
+inline constexpr std::size_t kDlibLandmarkCount = 68;
+
+// 3D landmarks with a confidence in [0, 1] each. `indices` names each point's
+// dlib landmark (0..67): a detected set has all 68 in order; a manual file may
+// hold only a handful.
+struct FaceLandmarks {
+  std::vector<glm::vec3> points;
+  std::vector<float> confidence;
+  std::vector<std::uint32_t> indices;
+};
+
+struct LandmarkParams {
+  std::filesystem::path shape_predictor = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat";
+  // Square render used to find the face (the whole mesh in view) and the
+  // close-up render the 68 points are read from.
+  int search_image_size = 256;
+  int refine_image_size = 192;  // close-ups for the nearby rotations
+  int landmark_image_size = 256;
+  // Nearby rotations tried around the estimated front view (yaw and pitch).
+  float refine_step_degrees = 7.0f;
+  bool refine_rotation = true;
+  // Confidence of dlib's jaw points 0-16 (they follow the silhouette), and
+  // the factor applied to a point snapped off a hole.
+  float jaw_confidence = 0.3f;
+  float snapped_confidence_factor = 0.5f;
+  // A landmark whose surface lies farther behind its neighbourhood's front
+  // surface than this (fraction of the face height) fell through a hole.
+  float hole_depth_fraction = 0.08f;
+  // Remove dlib's small systematic per-landmark offsets (brows, nostrils, ...)
+  // against the ICT-FaceKit landmark vertices: a 2D table measured on random
+  // ICT faces (tests/offline/landmarks_test.cpp, "[.calibrate]").
+  bool calibrate = true;
+  // Paper 004 section 3.3: where an eye is a hole in the mesh, move its
+  // corner landmarks to the ends of the hole's first principal axis. Off by
+  // default: with the calibration on, it measured slightly worse on ICT faces
+  // (corner error 0.0205 vs 0.0189 of the inter-ocular distance).
+  bool correct_eye_corners = false;
+};
+
+struct LandmarkResult {
+  FaceLandmarks landmarks;  // 68 points
+  std::vector<glm::vec2> pixels;  // 2D landmarks in `image` (calibrated, snapped)
+  std::vector<glm::vec2> detected_pixels;  // dlib's own output in `image`
+  RasterView view;  // the close-up view the landmarks were read from
+  RgbImage image;  // its render (the detector's input, in colour)
+  double detector_score = 0.0;  // dlib's detection confidence in the chosen view
+  int views_tried = 0;
+  int snapped = 0;  // landmarks moved off a hole or a back face
+  int corrected = 0;  // eye corners moved by the PCA correction
+  double seconds = 0.0;
+};
+
+// Loads dlib's detector and shape predictor once; Detect() reuses them.
+// Not thread-safe (dlib keeps scratch buffers): one detector per thread.
+class LandmarkDetector {
+ public:
+  // \throw IoError (kOpenFailed) when the shape predictor file cannot be read.
+  explicit LandmarkDetector(const LandmarkParams& params = {});
+  ~LandmarkDetector();
+  LandmarkDetector(LandmarkDetector&&) noexcept;
+  LandmarkDetector& operator=(LandmarkDetector&&) noexcept;
+
+  // \throw InvalidInputError on an empty mesh, NaN coordinates or indices out of range.
+  // \throw LandmarkDetectionError when no view shows a face (the message
+  //        suggests a landmark file).
+  LandmarkResult Detect(std::span<const glm::vec3> positions, std::span<const Triangle> triangles);
+
+  const LandmarkParams& params() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The render with the landmarks drawn (jaw points in a different colour).
+RgbImage DrawLandmarks(const LandmarkResult& result);
+
+// JSON: {"points": [[x, y, z], ...], "confidence": [...], "indices": [...]}
+// ("indices" optional: 0..n-1 when absent, i.e. dlib order). Writing is atomic.
+// \throw IoError on unreadable or malformed files, non-finite values,
+//        mismatched lengths or indices outside 0..67.
+void WriteLandmarksJson(const std::filesystem::path& path, const FaceLandmarks& landmarks);
+FaceLandmarks ReadLandmarksJson(const std::filesystem::path& path);
+
+}  // namespace facerig

@@ -1,0 +1,623 @@
+#include "facerig/offline/deformation_transfer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <numeric>
+#include <thread>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <glm/common.hpp>
+
+namespace facerig {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Mat32 = Eigen::Matrix<double, 3, 2>;
+using Mat23 = Eigen::Matrix<double, 2, 3>;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+Eigen::Vector3d ToEigen(glm::vec3 p) { return {p.x, p.y, p.z}; }
+
+Mat32 Edges(std::span<const glm::vec3> positions, const Triangle& t) {
+  const Eigen::Vector3d p0 = ToEigen(positions[t[0]]);
+  Mat32 e;
+  e.col(0) = ToEigen(positions[t[1]]) - p0;
+  e.col(1) = ToEigen(positions[t[2]]) - p0;
+  return e;
+}
+
+// Local frame [e1 e2 n] of paper 000 eq. 1; with scaled_normal the normal is
+// Sumner & Popovic's 4th vertex offset (e1 x e2) / sqrt(|e1 x e2|).
+Eigen::Matrix3d Frame(const Mat32& edges, bool scaled_normal) {
+  Eigen::Matrix3d frame;
+  frame.leftCols<2>() = edges;
+  const Eigen::Vector3d cross = edges.col(0).cross(edges.col(1));
+  const double length = cross.norm();
+  if (length > 0.0) {
+    frame.col(2) = cross / (scaled_normal ? std::sqrt(length) : length);
+  } else {
+    frame.col(2).setZero();
+  }
+  return frame;
+}
+
+// Smallest over largest eigenvalue of the 2x2 Gram matrix of a triangle's edges
+// (1 for an equilateral-ish frame, 0 for a degenerate one).
+double GramRatio(const Mat32& edges) {
+  const Eigen::Matrix2d gram = edges.transpose() * edges;
+  const double trace = gram.trace();
+  if (!(trace > 0.0)) return 0.0;
+  const double det = std::max(0.0, gram.determinant());
+  const double disc = std::sqrt(std::max(0.0, 0.25 * trace * trace - det));
+  const double largest = 0.5 * trace + disc;
+  return (0.5 * trace - disc) / largest;
+}
+
+void CheckPositions(std::span<const glm::vec3> positions, std::size_t vertex_count,
+                    const std::string& mesh) {
+  if (positions.size() != vertex_count) {
+    throw TransferInputError(mesh, "has " + std::to_string(positions.size()) +
+                                       " vertices, expected " + std::to_string(vertex_count));
+  }
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    const glm::vec3 p = positions[v];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      throw TransferInputError(mesh, "vertex " + std::to_string(v) + " is not finite");
+    }
+  }
+}
+
+float BoundingDiagonal(std::span<const glm::vec3> positions) {
+  if (positions.empty()) return 0.0f;
+  glm::vec3 lo = positions[0];
+  glm::vec3 hi = positions[0];
+  for (const glm::vec3& p : positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 d = hi - lo;
+  return std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+}
+
+}  // namespace
+
+TransferInputError::TransferInputError(std::string mesh, const std::string& message)
+    : InvalidInputError(mesh + ": " + message), mesh_(std::move(mesh)) {}
+
+const char* ToString(TransferMode mode) {
+  switch (mode) {
+    case TransferMode::kClassic: return "classic";
+    case TransferMode::kIdentityGradient: return "identity";
+  }
+  return "unknown";
+}
+
+struct DeformationTransferData::Impl {
+  struct TriangleData {
+    Eigen::Matrix3d source_frame_inverse;  // V(S_0)^-1
+    Eigen::Matrix3d identity_gradient;     // V(T_0) V(S_0)^-1 (identity mode)
+    Mat32 target_edges;                    // E(T_0)
+    Mat23 rhs_operator;                    // w (W W^T) B, W = R^-1 Q^T of E(T_0)
+    bool source_degenerate = false;
+  };
+
+  TransferMode mode = TransferMode::kClassic;
+  bool scaled_normal = true;
+  double displacement_scale = 1.0;
+  std::vector<Triangle> triangles;
+  std::vector<TriangleData> triangle_data;
+  std::vector<glm::vec3> source_neutral;
+  std::vector<glm::vec3> target_neutral;
+  std::vector<std::int32_t> free_index;  // -1 for anchors
+  std::vector<std::uint32_t> anchors;    // includes gauge vertices of floating parts
+  std::vector<std::vector<std::uint32_t>> floating_parts;
+  Eigen::SparseMatrix<double> coupling;  // L_fa: free rows x anchor columns
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  double total_weight = 0.0;
+  double prior = 0.0;  // absolute weight of the displacement prior
+
+  // Desired edges (3x2) of triangle j in the expression.
+  Mat32 DesiredEdges(std::size_t j, std::span<const glm::vec3> expression) const {
+    const TriangleData& d = triangle_data[j];
+    const Mat32 expression_edges = Edges(expression, triangles[j]);
+    if (d.source_degenerate) {
+      // No usable gradient: carry the edge differences over (exact for a same-shape target).
+      return d.target_edges +
+             displacement_scale * (expression_edges - Edges(source_neutral, triangles[j]));
+    }
+    if (mode == TransferMode::kClassic) {
+      const Eigen::Matrix3d gradient =
+          Frame(expression_edges, scaled_normal) * d.source_frame_inverse;
+      return gradient * d.target_edges;
+    }
+    return d.identity_gradient * expression_edges;
+  }
+
+  glm::vec3 AnchorPosition(std::uint32_t v, std::span<const glm::vec3> expression) const {
+    return target_neutral[v] +
+           static_cast<float>(displacement_scale) * (expression[v] - source_neutral[v]);
+  }
+
+  struct Scratch {
+    std::vector<Mat32> desired;        // per triangle
+    std::vector<double> accumulated;   // 3 #V
+    Eigen::MatrixXd anchor_positions;  // #anchors x 3
+    Eigen::MatrixXd rhs;               // #free x 3
+    Eigen::MatrixXd solution;
+  };
+  // One expression: returns the residual.
+  double Solve(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
+               Scratch& scratch) const;
+};
+
+DeformationTransferData::DeformationTransferData() = default;
+DeformationTransferData::~DeformationTransferData() = default;
+DeformationTransferData::DeformationTransferData(DeformationTransferData&&) noexcept = default;
+DeformationTransferData& DeformationTransferData::operator=(DeformationTransferData&&) noexcept =
+    default;
+
+std::size_t ConnectedComponents(std::size_t vertex_count, std::span<const Triangle> triangles,
+                                std::vector<std::uint32_t>& component_of_vertex) {
+  std::vector<std::uint32_t> parent(vertex_count);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&parent](std::uint32_t v) {
+    while (parent[v] != v) {
+      parent[v] = parent[parent[v]];
+      v = parent[v];
+    }
+    return v;
+  };
+  for (const Triangle& t : triangles) {
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = find(t[0]);
+      const std::uint32_t b = find(t[static_cast<std::size_t>(k)]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  component_of_vertex.assign(vertex_count, 0);
+  std::vector<std::uint32_t> label(vertex_count, UINT32_MAX);
+  std::uint32_t count = 0;
+  for (std::uint32_t v = 0; v < vertex_count; ++v) {
+    const std::uint32_t root = find(v);
+    if (label[root] == UINT32_MAX) label[root] = count++;
+    component_of_vertex[v] = label[root];
+  }
+  return count;
+}
+
+void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
+                                   std::span<const glm::vec3> target_neutral,
+                                   std::span<const Triangle> triangles,
+                                   std::span<const std::vector<glm::vec3>> source_expressions,
+                                   const DeformationTransferParams& params,
+                                   DeformationTransferData& data) {
+  const Clock::time_point start = Clock::now();
+  const std::size_t n = source_neutral.size();
+  if (n == 0 || triangles.empty()) {
+    throw TransferInputError("source neutral", "needs vertices and triangles");
+  }
+  CheckPositions(source_neutral, n, "source neutral");
+  CheckPositions(target_neutral, n, "target neutral");
+  for (std::size_t k = 0; k < source_expressions.size(); ++k) {
+    CheckPositions(source_expressions[k], n, "source expression " + std::to_string(k));
+  }
+  for (std::size_t j = 0; j < triangles.size(); ++j) {
+    for (std::uint32_t v : triangles[j]) {
+      if (v >= n) {
+        throw TransferInputError("triangles", "triangle " + std::to_string(j) + " uses vertex " +
+                                                  std::to_string(v) + " >= " + std::to_string(n));
+      }
+    }
+  }
+  if (!(params.displacement_scale > 0.0f) || !std::isfinite(params.displacement_scale)) {
+    throw TransferInputError("params", "displacement_scale must be finite and > 0");
+  }
+  if (!(params.displacement_prior >= 0.0) || !std::isfinite(params.displacement_prior)) {
+    throw TransferInputError("params", "displacement_prior must be finite and >= 0");
+  }
+  if (!(params.min_gram_ratio > 0.0) || !(params.min_gram_ratio < 1.0)) {
+    throw TransferInputError("params", "min_gram_ratio must be in (0, 1)");
+  }
+
+  auto impl = std::make_unique<DeformationTransferData::Impl>();
+  impl->mode = params.mode;
+  impl->scaled_normal = params.scaled_normal;
+  impl->displacement_scale = params.displacement_scale;
+  impl->triangles.assign(triangles.begin(), triangles.end());
+  impl->source_neutral.assign(source_neutral.begin(), source_neutral.end());
+  impl->target_neutral.assign(target_neutral.begin(), target_neutral.end());
+
+  // Anchors: the given list, or the template's static set.
+  std::vector<char> is_anchor(n, 0);
+  if (!params.anchor_vertices.empty()) {
+    for (std::uint32_t v : params.anchor_vertices) {
+      if (v >= n) {
+        throw TransferInputError("anchor vertices", "vertex " + std::to_string(v) + " >= " +
+                                                        std::to_string(n));
+      }
+      is_anchor[v] = 1;
+    }
+  } else {
+    if (source_expressions.empty()) {
+      throw TransferInputError("source expressions",
+                               "needed to find the static anchors when none are given");
+    }
+    const float limit = params.static_threshold * BoundingDiagonal(source_neutral);
+    const float limit2 = limit * limit;
+    std::vector<float> largest(n, 0.0f);
+    for (const std::vector<glm::vec3>& expression : source_expressions) {
+      for (std::size_t v = 0; v < n; ++v) {
+        const glm::vec3 d = expression[v] - source_neutral[v];
+        largest[v] = std::max(largest[v], d.x * d.x + d.y * d.y + d.z * d.z);
+      }
+    }
+    for (std::size_t v = 0; v < n; ++v) is_anchor[v] = largest[v] <= limit2 ? 1 : 0;
+  }
+  std::vector<char> used(n, 0);
+  for (const Triangle& t : triangles) {
+    for (std::uint32_t v : t) used[v] = 1;
+  }
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!used[v]) is_anchor[v] = 1;
+  }
+
+  // Every connected part needs an anchor; parts without one get a gauge vertex
+  // (the one nearest the part's centroid) and are placed by mean displacement.
+  std::vector<std::uint32_t> component;
+  const std::size_t component_count = ConnectedComponents(n, triangles, component);
+  std::vector<char> anchored(component_count, 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (is_anchor[v]) anchored[component[v]] = 1;
+  }
+  std::vector<std::vector<std::uint32_t>> members(component_count);
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (!anchored[component[v]]) members[component[v]].push_back(v);
+  }
+  for (std::size_t c = 0; c < component_count; ++c) {
+    if (anchored[c]) continue;
+    glm::dvec3 centroid(0.0);
+    for (std::uint32_t v : members[c]) centroid += glm::dvec3(target_neutral[v]);
+    centroid /= static_cast<double>(members[c].size());
+    std::uint32_t gauge = members[c][0];
+    double best = 1e300;
+    for (std::uint32_t v : members[c]) {
+      const glm::dvec3 d = glm::dvec3(target_neutral[v]) - centroid;
+      const double dist = d.x * d.x + d.y * d.y + d.z * d.z;
+      if (dist < best) {
+        best = dist;
+        gauge = v;
+      }
+    }
+    is_anchor[gauge] = 1;
+    impl->floating_parts.push_back(std::move(members[c]));
+  }
+
+  impl->free_index.assign(n, -1);
+  std::vector<std::int32_t> anchor_index(n, -1);
+  std::int32_t free_count = 0;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (is_anchor[v]) {
+      anchor_index[v] = static_cast<std::int32_t>(impl->anchors.size());
+      impl->anchors.push_back(v);
+    } else {
+      impl->free_index[v] = free_count++;
+    }
+  }
+
+  // Per-triangle data and the normal equations (U^T U restricted to the free
+  // vertices, and its coupling to the anchors).
+  double mean_area = 0.0;
+  double mean_edge2 = 0.0;
+  for (const Triangle& t : triangles) {
+    const Mat32 e = Edges(target_neutral, t);
+    mean_area += 0.5 * e.col(0).cross(e.col(1)).norm();
+    mean_edge2 += 0.5 * e.colwise().squaredNorm().sum();
+  }
+  mean_area /= static_cast<double>(triangles.size());
+  mean_edge2 /= static_cast<double>(triangles.size());
+  if (!(mean_edge2 > 0.0)) throw TransferInputError("target neutral", "all triangles are points");
+
+  Mat23 b;  // edge operator: (e1, e2) = X * B^T over the triangle's 3 vertices
+  b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0;
+  const double ratio = params.min_gram_ratio;
+  std::vector<Eigen::Triplet<double>> free_triplets;
+  std::vector<Eigen::Triplet<double>> coupling_triplets;
+  free_triplets.reserve(triangles.size() * 9);
+  impl->triangle_data.resize(triangles.size());
+  std::size_t regularized = 0;
+  for (std::size_t j = 0; j < triangles.size(); ++j) {
+    const Triangle& t = triangles[j];
+    DeformationTransferData::Impl::TriangleData& d = impl->triangle_data[j];
+    d.target_edges = Edges(target_neutral, t);
+    const Mat32 source_edges = Edges(source_neutral, t);
+
+    d.source_degenerate = GramRatio(source_edges) < ratio;
+    if (!d.source_degenerate) {
+      d.source_frame_inverse = Frame(source_edges, params.scaled_normal).inverse();
+      d.identity_gradient = Frame(d.target_edges, params.scaled_normal) * d.source_frame_inverse;
+      d.source_degenerate = !d.source_frame_inverse.allFinite() || !d.identity_gradient.allFinite();
+    }
+    if (d.source_degenerate) {
+      d.source_frame_inverse.setIdentity();
+      d.identity_gradient.setIdentity();
+    }
+
+    // W = R^-1 Q^T from the QR of the target's edges (Algorithm 1, line 15),
+    // with R's diagonal clamped so needles and points stay bounded.
+    Eigen::HouseholderQR<Mat32> qr(d.target_edges);
+    Eigen::Matrix2d r = qr.matrixQR().topRows<2>().triangularView<Eigen::Upper>();
+    const double r0_min = std::sqrt(1e-6 * mean_edge2);
+    bool clamped = false;
+    if (std::abs(r(0, 0)) < r0_min) {
+      r(0, 0) = r0_min;
+      r(0, 1) = 0.0;
+      clamped = true;
+    }
+    const double r1_min = std::max(std::sqrt(ratio) * std::abs(r(0, 0)), r0_min);
+    if (std::abs(r(1, 1)) < r1_min) {
+      r(1, 1) = r(1, 1) < 0.0 ? -r1_min : r1_min;
+      clamped = true;
+    }
+    if (clamped || d.source_degenerate) ++regularized;
+    const Mat32 q = qr.householderQ() * Mat32::Identity();
+    const Mat23 w = r.inverse() * q.transpose();  // 2x3
+    const Eigen::Matrix2d metric = w * w.transpose();  // (E^T E)^-1, regularized
+    double weight = 1.0;
+    if (params.area_weighted) {
+      const double area = 0.5 * d.target_edges.col(0).cross(d.target_edges.col(1)).norm();
+      weight = std::max(area, 1e-3 * mean_area) / mean_area;
+    }
+    impl->total_weight += weight;
+    d.rhs_operator = weight * metric * b;
+    const Eigen::Matrix3d local = b.transpose() * d.rhs_operator;  // w B^T M B
+    for (int row = 0; row < 3; ++row) {
+      const std::int32_t fr = impl->free_index[t[static_cast<std::size_t>(row)]];
+      if (fr < 0) continue;
+      for (int col = 0; col < 3; ++col) {
+        const std::uint32_t vc = t[static_cast<std::size_t>(col)];
+        if (impl->free_index[vc] >= 0) {
+          free_triplets.emplace_back(fr, impl->free_index[vc], local(row, col));
+        } else {
+          coupling_triplets.emplace_back(fr, anchor_index[vc], local(row, col));
+        }
+      }
+    }
+  }
+
+  Eigen::SparseMatrix<double> system(free_count, free_count);
+  system.setFromTriplets(free_triplets.begin(), free_triplets.end());
+  if (params.displacement_prior > 0.0 && free_count > 0) {
+    impl->prior = params.displacement_prior * system.diagonal().mean();
+    for (std::int32_t f = 0; f < free_count; ++f) system.coeffRef(f, f) += impl->prior;
+  }
+  impl->coupling.resize(free_count, static_cast<Eigen::Index>(impl->anchors.size()));
+  impl->coupling.setFromTriplets(coupling_triplets.begin(), coupling_triplets.end());
+
+  const Clock::time_point factorize_start = Clock::now();
+  if (free_count > 0) {
+    impl->solver.compute(system);
+    if (impl->solver.info() != Eigen::Success) {
+      throw TransferSolverError("deformation transfer: the sparse Cholesky factorization of " +
+                                std::to_string(free_count) + " unknowns failed");
+    }
+  }
+  data.factorize_seconds = SecondsSince(factorize_start);
+
+  data.vertex_count = n;
+  data.triangle_count = triangles.size();
+  data.anchor_count = impl->anchors.size();
+  data.free_count = static_cast<std::size_t>(free_count);
+  data.component_count = component_count;
+  data.floating_components = impl->floating_parts.size();
+  data.regularized_triangles = regularized;
+  data.impl = std::move(impl);
+  data.precompute_seconds = SecondsSince(start);
+}
+
+double DeformationTransferData::Impl::Solve(std::span<const glm::vec3> expression,
+                                           std::vector<glm::vec3>& out, Scratch& scratch) const {
+  const std::size_t n = target_neutral.size();
+  const Eigen::Index free_count = coupling.rows();
+  // Right-hand side U^T S, accumulated per vertex (x y z contiguous).
+  scratch.desired.resize(triangles.size());
+  scratch.accumulated.assign(3 * n, 0.0);
+  double* acc = scratch.accumulated.data();
+  for (std::size_t j = 0; j < triangles.size(); ++j) {
+    const Mat32 desired = DesiredEdges(j, expression);
+    scratch.desired[j] = desired;
+    const Eigen::Matrix3d h = desired * triangle_data[j].rhs_operator;
+    for (int a = 0; a < 3; ++a) {
+      double* target = acc + 3 * static_cast<std::size_t>(triangles[j][static_cast<std::size_t>(a)]);
+      target[0] += h(0, a);
+      target[1] += h(1, a);
+      target[2] += h(2, a);
+    }
+  }
+  const auto anchor_count = static_cast<Eigen::Index>(anchors.size());
+  scratch.anchor_positions.resize(anchor_count, 3);
+  for (Eigen::Index i = 0; i < anchor_count; ++i) {
+    const glm::vec3 p = AnchorPosition(anchors[static_cast<std::size_t>(i)], expression);
+    scratch.anchor_positions.row(i) << p.x, p.y, p.z;
+  }
+  out.resize(n);
+  if (free_count > 0) {
+    scratch.rhs.resize(free_count, 3);
+    for (std::size_t v = 0; v < n; ++v) {
+      const std::int32_t f = free_index[v];
+      if (f < 0) continue;
+      scratch.rhs.row(f) << acc[3 * v], acc[3 * v + 1], acc[3 * v + 2];
+      if (prior > 0.0) {
+        const glm::vec3 p = AnchorPosition(static_cast<std::uint32_t>(v), expression);
+        scratch.rhs.row(f) += prior * Eigen::RowVector3d(p.x, p.y, p.z);
+      }
+    }
+    scratch.rhs -= coupling * scratch.anchor_positions;
+    scratch.solution = solver.solve(scratch.rhs);
+    for (std::size_t v = 0; v < n; ++v) {
+      const std::int32_t f = free_index[v];
+      if (f < 0) continue;
+      out[v] = glm::vec3(static_cast<float>(scratch.solution(f, 0)),
+                         static_cast<float>(scratch.solution(f, 1)),
+                         static_cast<float>(scratch.solution(f, 2)));
+    }
+  }
+  for (Eigen::Index i = 0; i < anchor_count; ++i) {
+    out[anchors[static_cast<std::size_t>(i)]] =
+        glm::vec3(static_cast<float>(scratch.anchor_positions(i, 0)),
+                  static_cast<float>(scratch.anchor_positions(i, 1)),
+                  static_cast<float>(scratch.anchor_positions(i, 2)));
+  }
+  // Parts without anchors: match the template's mean displacement of the part.
+  for (const std::vector<std::uint32_t>& part : floating_parts) {
+    glm::dvec3 current(0.0);
+    glm::dvec3 wanted(0.0);
+    for (std::uint32_t v : part) {
+      current += glm::dvec3(out[v]) - glm::dvec3(target_neutral[v]);
+      wanted += glm::dvec3(expression[v]) - glm::dvec3(source_neutral[v]);
+    }
+    const glm::vec3 shift((wanted * displacement_scale - current) / static_cast<double>(part.size()));
+    for (std::uint32_t v : part) out[v] += shift;
+  }
+  // Residual: sqrt(sum_j w_j |(E(X) - D) W|_F^2 / sum_j w_j), with
+  // w W W^T = rhs_operator's right 2x2 block (B = [-1 1 0; -1 0 1]).
+  double energy = 0.0;
+  for (std::size_t j = 0; j < triangles.size(); ++j) {
+    const Mat32 diff = Edges(out, triangles[j]) - scratch.desired[j];
+    const Eigen::Matrix2d weighted_metric = triangle_data[j].rhs_operator.rightCols<2>();
+    energy += (diff * weighted_metric * diff.transpose()).trace();
+  }
+  return std::sqrt(std::max(0.0, energy) / total_weight);
+}
+
+double SolveDeformationTransfer(const DeformationTransferData& data,
+                                std::span<const glm::vec3> source_expression,
+                                std::vector<glm::vec3>& target_expression) {
+  if (!data.impl) throw TransferInputError("data", "not precomputed");
+  CheckPositions(source_expression, data.vertex_count, "source expression");
+  DeformationTransferData::Impl::Scratch scratch;
+  const double residual = data.impl->Solve(source_expression, target_expression, scratch);
+  return residual;
+}
+
+DeformationTransferResult DeformationTransfer(
+    std::span<const glm::vec3> source_neutral, std::span<const glm::vec3> target_neutral,
+    std::span<const Triangle> triangles, std::span<const std::vector<glm::vec3>> source_expressions,
+    const DeformationTransferParams& params) {
+  if (params.threads < 1) throw TransferInputError("params", "threads must be >= 1");
+  DeformationTransferData data;
+  PrecomputeDeformationTransfer(source_neutral, target_neutral, triangles, source_expressions,
+                                params, data);
+  DeformationTransferResult result;
+  result.anchor_count = data.anchor_count;
+  result.floating_components = data.floating_components;
+  result.regularized_triangles = data.regularized_triangles;
+  result.precompute_seconds = data.precompute_seconds;
+  result.factorize_seconds = data.factorize_seconds;
+
+  const Clock::time_point start = Clock::now();
+  const std::size_t count = source_expressions.size();
+  result.expressions.resize(count);
+  result.residuals.assign(count, 0.0);
+  // Contiguous blocks of expressions, one per thread: each expression is
+  // solved on its own, so the results do not depend on the split.
+  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(params.threads),
+                                                    std::max<std::size_t>(count, 1));
+  const DeformationTransferData::Impl& impl = *data.impl;
+  std::vector<std::exception_ptr> failures(threads);
+  auto run = [&](std::size_t t) {
+    try {
+      DeformationTransferData::Impl::Scratch scratch;
+      for (std::size_t k = count * t / threads; k < count * (t + 1) / threads; ++k) {
+        result.residuals[k] = impl.Solve(source_expressions[k], result.expressions[k], scratch);
+      }
+    } catch (...) {
+      failures[t] = std::current_exception();  // rethrown on the calling thread
+    }
+  };
+  std::vector<std::thread> workers;
+  for (std::size_t t = 1; t < threads; ++t) workers.emplace_back(run, t);
+  run(0);
+  for (std::thread& worker : workers) worker.join();
+  for (const std::exception_ptr& failure : failures) {
+    if (failure) std::rethrow_exception(failure);
+  }
+  result.solve_seconds = SecondsSince(start);
+  return result;
+}
+
+std::vector<std::vector<glm::vec3>> RigExpressionMeshes(const Rig& rig) {
+  std::vector<std::vector<glm::vec3>> meshes(rig.shape_count());
+  const std::span<const glm::vec3> neutral = rig.positions();
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+    meshes[s].assign(neutral.begin(), neutral.end());
+    const BlendShapeView shape = rig.shape(s);
+    for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+      meshes[s][shape.vertex_indices[i]] += shape.position_deltas[i];
+    }
+  }
+  return meshes;
+}
+
+std::vector<RawBlendShape> MakeBlendShapes(std::span<const std::string> names,
+                                           std::span<const glm::vec3> neutral,
+                                           std::span<const std::vector<glm::vec3>> expressions,
+                                           float relative_drop_threshold) {
+  if (names.size() != expressions.size()) {
+    throw TransferInputError("shape names", std::to_string(names.size()) + " names for " +
+                                                std::to_string(expressions.size()) + " expressions");
+  }
+  const float threshold = relative_drop_threshold * BoundingDiagonal(neutral);
+  std::vector<RawBlendShape> shapes;
+  shapes.reserve(expressions.size());
+  std::vector<glm::vec3> deltas(neutral.size());
+  for (std::size_t s = 0; s < expressions.size(); ++s) {
+    CheckPositions(expressions[s], neutral.size(), "expression '" + names[s] + "'");
+    for (std::size_t v = 0; v < neutral.size(); ++v) deltas[v] = expressions[s][v] - neutral[v];
+    shapes.push_back(MakeSparseShape(names[s], deltas, {}, threshold));
+  }
+  return shapes;
+}
+
+RawRig TransferRig(const Rig& template_rig, std::span<const glm::vec3> target_neutral,
+                   const DeformationTransferParams& params, DeformationTransferResult* result) {
+  CheckPositions(target_neutral, template_rig.vertex_count(), "target neutral");
+  const std::vector<std::vector<glm::vec3>> expressions = RigExpressionMeshes(template_rig);
+  DeformationTransferResult transfer = DeformationTransfer(
+      template_rig.positions(), target_neutral, template_rig.triangles(), expressions, params);
+  RawRig raw = RigBuilder::ToRaw(template_rig);
+  raw.positions.assign(target_neutral.begin(), target_neutral.end());
+  raw.normals.clear();
+  std::vector<std::string> names;
+  for (std::size_t s = 0; s < template_rig.shape_count(); ++s) {
+    names.emplace_back(template_rig.shape_name(s));
+  }
+  raw.shapes = MakeBlendShapes(names, target_neutral, transfer.expressions);
+  if (template_rig.has_normal_deltas()) {
+    // Keep the rig's kind: normal deltas from the transferred meshes.
+    std::vector<glm::vec3> neutral_normals(target_neutral.size());
+    std::vector<glm::vec3> normals(target_neutral.size());
+    ComputeVertexNormals(target_neutral, raw.triangles, neutral_normals);
+    const float threshold = 1e-6f * BoundingDiagonal(target_neutral);
+    std::vector<glm::vec3> deltas(target_neutral.size());
+    for (std::size_t s = 0; s < raw.shapes.size(); ++s) {
+      ComputeVertexNormals(transfer.expressions[s], raw.triangles, normals);
+      for (std::size_t v = 0; v < normals.size(); ++v) {
+        deltas[v] = transfer.expressions[s][v] - target_neutral[v];
+        normals[v] -= neutral_normals[v];
+      }
+      raw.shapes[s] = MakeSparseShape(names[s], deltas, normals, threshold);
+    }
+  }
+  if (result) *result = std::move(transfer);
+  return raw;
+}
+
+}  // namespace facerig

@@ -1,0 +1,676 @@
+// The only translation unit that includes dlib (slow to compile).
+#include "facerig/offline/landmarks.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <system_error>
+
+#include <Eigen/Eigenvalues>
+#include <dlib/image_processing.h>
+#include <dlib/image_processing/frontal_face_detector.h>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <nlohmann/json.hpp>
+
+#include "facerig/offline/closest_point.h"
+#include "facerig/offline/registration_error.h"
+#include "facerig/offline/rigid_align.h"
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+glm::vec3 Rotate(glm::vec3 v, glm::vec3 axis, float radians) {
+  // Rodrigues.
+  const float c = std::cos(radians), s = std::sin(radians);
+  return v * c + glm::cross(axis, v) * s + axis * glm::dot(axis, v) * (1.0f - c);
+}
+
+// The mesh's own estimate of where its face is: centre, up and the normal of
+// the mirror-symmetry plane (the left-right axis).
+struct MeshFrame {
+  glm::vec3 centre{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  glm::vec3 lateral{1.0f, 0.0f, 0.0f};
+};
+
+MeshFrame EstimateFrame(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                        const ClosestPointQuery& surface) {
+  // Area-weighted moments: independent of how densely each region is meshed.
+  double area_sum = 0.0;
+  glm::dvec3 mean(0.0);
+  for (const Triangle& t : triangles) {
+    const glm::vec3 a = positions[t[0]], b = positions[t[1]], c = positions[t[2]];
+    const double area = 0.5 * static_cast<double>(glm::length(glm::cross(b - a, c - a)));
+    area_sum += area;
+    mean += area * glm::dvec3((a + b + c) / 3.0f);
+  }
+  if (!(area_sum > 0.0)) throw InvalidInputError("landmarks: every triangle of the mesh is degenerate");
+  mean /= area_sum;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Triangle& t : triangles) {
+    const glm::vec3 a = positions[t[0]], b = positions[t[1]], c = positions[t[2]];
+    const double area = 0.5 * static_cast<double>(glm::length(glm::cross(b - a, c - a)));
+    const glm::dvec3 d = glm::dvec3((a + b + c) / 3.0f) - mean;
+    const Eigen::Vector3d e(d.x, d.y, d.z);
+    covariance += area * e * e.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  MeshFrame frame;
+  frame.centre = glm::vec3(mean);
+  // Up: the principal axis nearest to +Y (the input is roughly upright).
+  int best_axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(eigen.eigenvectors()(1, k)) > std::abs(eigen.eigenvectors()(1, best_axis))) best_axis = k;
+  }
+  glm::vec3 up(static_cast<float>(eigen.eigenvectors()(0, best_axis)),
+               static_cast<float>(eigen.eigenvectors()(1, best_axis)),
+               static_cast<float>(eigen.eigenvectors()(2, best_axis)));
+  if (up.y < 0.0f) up = -up;
+  // A principal axis more than 35 degrees from +Y is not the head's up axis
+  // (e.g. a face mask wider than tall): keep +Y.
+  frame.up = up.y > std::cos(static_cast<float>(35.0 * kPi / 180.0)) ? glm::normalize(up) : glm::vec3(0, 1, 0);
+
+  // Symmetry plane through the centre containing up: the lateral direction
+  // whose mirror image of the surface lies closest to the surface.
+  const glm::vec3 a = glm::normalize(glm::cross(frame.up, std::abs(frame.up.z) < 0.9f ? glm::vec3(0, 0, 1)
+                                                                                         : glm::vec3(1, 0, 0)));
+  const glm::vec3 b = glm::cross(frame.up, a);
+  std::vector<glm::vec3> samples;
+  const std::size_t stride = std::max<std::size_t>(1, positions.size() / 300);
+  for (std::size_t v = 0; v < positions.size(); v += stride) samples.push_back(positions[v]);
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float cap = 0.05f * glm::length(hi - lo);
+  auto asymmetry = [&](float theta) {
+    const glm::vec3 lateral = std::cos(theta) * a + std::sin(theta) * b;
+    double sum = 0.0;
+    for (const glm::vec3& p : samples) {
+      const glm::vec3 mirrored = p - 2.0f * glm::dot(p - frame.centre, lateral) * lateral;
+      sum += static_cast<double>(std::min(surface.Find(mirrored, cap).distance, cap));
+    }
+    return sum;
+  };
+  float best_theta = 0.0f;
+  double best = std::numeric_limits<double>::infinity();
+  constexpr int kCoarse = 12;
+  for (int i = 0; i < kCoarse; ++i) {
+    const auto theta = static_cast<float>(kPi * i / kCoarse);
+    const double score = asymmetry(theta);
+    if (score < best) {
+      best = score;
+      best_theta = theta;
+    }
+  }
+  const float coarse_step = static_cast<float>(kPi / kCoarse);
+  const float centre_theta = best_theta;
+  for (int i = -3; i <= 3; ++i) {
+    const float theta = centre_theta + coarse_step * static_cast<float>(i) / 4.0f;
+    const double score = asymmetry(theta);
+    if (score < best) {
+      best = score;
+      best_theta = theta;
+    }
+  }
+  frame.lateral = std::cos(best_theta) * a + std::sin(best_theta) * b;
+  return frame;
+}
+
+// Orthographic view looking at the face along -forward, up as given, framing
+// the whole mesh (or `half_extent` around `centre` when positive).
+RasterView FrontView(std::span<const glm::vec3> positions, glm::vec3 forward, glm::vec3 up, int size) {
+  forward = glm::normalize(forward);
+  up = glm::normalize(up - glm::dot(up, forward) * forward);
+  const glm::vec3 right = glm::cross(up, forward);
+  RasterView view;
+  for (int c = 0; c < 3; ++c) {
+    view.rotation[c][0] = right[c];
+    view.rotation[c][1] = up[c];
+    view.rotation[c][2] = forward[c];
+  }
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : positions) {
+    const glm::vec2 q(glm::dot(p, right), glm::dot(p, up));
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  const glm::vec2 mid = 0.5f * (lo + hi);
+  float depth_mid = 0.0f;
+  view.centre = mid.x * right + mid.y * up + depth_mid * forward;
+  view.half_extent = 0.52f * std::max(hi.x - lo.x, hi.y - lo.y);
+  view.width = size;
+  view.height = size;
+  return view;
+}
+
+// Orthographic view of the face: `centre` in the middle, the face (size
+// `face_size`, world units) filling half of the image.
+RasterView FaceView(glm::vec3 forward, glm::vec3 up, glm::vec3 centre, float face_size, int size) {
+  forward = glm::normalize(forward);
+  up = glm::normalize(up - glm::dot(up, forward) * forward);
+  const glm::vec3 right = glm::cross(up, forward);
+  RasterView view;
+  for (int c = 0; c < 3; ++c) {
+    view.rotation[c][0] = right[c];
+    view.rotation[c][1] = up[c];
+    view.rotation[c][2] = forward[c];
+  }
+  view.centre = centre;
+  view.half_extent = face_size;
+  view.width = size;
+  view.height = size;
+  return view;
+}
+
+glm::vec3 ViewAxis(const RasterView& view, int row) {
+  return {view.rotation[0][row], view.rotation[1][row], view.rotation[2][row]};
+}
+
+float PixelsPerUnit(const RasterView& view) { return 0.5f * static_cast<float>(view.height) / view.half_extent; }
+
+// World point on the image plane through the centre, under pixel (x, y).
+glm::vec3 Unproject(const RasterView& view, glm::vec2 pixel) {
+  const float scale = PixelsPerUnit(view);
+  const float cx = (pixel.x - 0.5f * static_cast<float>(view.width)) / scale;
+  const float cy = (0.5f * static_cast<float>(view.height) - pixel.y) / scale;
+  return view.centre + cx * ViewAxis(view, 0) + cy * ViewAxis(view, 1);
+}
+
+// dlib's 68 points minus the ICT-FaceKit landmark vertices, in the close-up
+// view (x right, y down), as fractions of the detected face box: subtracted
+// from each detection when LandmarkParams::calibrate. Measured on 12 random
+// ICT faces (seeds 101-112, re-meshed, rotated; the tests use other seeds).
+constexpr std::array<std::array<float, 2>, kDlibLandmarkCount> kCalibration{{
+#include "landmark_calibration.inc"
+}};
+
+struct Detection {
+  double score = -std::numeric_limits<double>::infinity();
+  dlib::rectangle rect;
+  bool found() const { return std::isfinite(score); }
+};
+
+// Boundary loops of the mesh (holes: eye openings, an open mouth, the neck),
+// as vertex chains. Non-manifold corners end a chain early.
+std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3> positions,
+                                                     std::span<const Triangle> triangles) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(triangles.size() * 3);
+  auto key = [](std::uint32_t a, std::uint32_t b) {
+    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+  };
+  for (const Triangle& t : triangles) {
+    for (std::size_t e = 0; e < 3; ++e) keys.push_back(key(t[e], t[(e + 1) % 3]));
+  }
+  std::sort(keys.begin(), keys.end());
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> next(positions.size(), kNone);
+  for (const Triangle& t : triangles) {
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (a == b) continue;
+      const auto range = std::equal_range(keys.begin(), keys.end(), key(a, b));
+      if (range.second - range.first == 1 && next[a] == kNone) next[a] = b;
+    }
+  }
+  std::vector<std::uint8_t> visited(positions.size(), 0);
+  std::vector<std::vector<std::uint32_t>> loops;
+  for (std::uint32_t start = 0; start < next.size(); ++start) {
+    if (next[start] == kNone || visited[start]) continue;
+    std::vector<std::uint32_t> loop;
+    std::uint32_t v = start;
+    while (v != kNone && !visited[v]) {
+      visited[v] = 1;
+      loop.push_back(v);
+      v = next[v];
+    }
+    if (v == start && loop.size() >= 6) loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+// Paper 004, section 3.3: where an eye is an opening in the mesh, its
+// corners are the ends of the opening's first principal axis (dlib's corner
+// points wander along the lid margins). Returns how many corners moved.
+int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                      std::vector<glm::vec3>& points) {
+  const std::vector<std::vector<std::uint32_t>> loops = BoundaryLoops(positions, triangles);
+  int moved = 0;
+  for (const auto& [first, last] : {std::pair<std::size_t, std::size_t>{36, 39}, {42, 45}}) {
+    glm::vec3 centre(0.0f);
+    for (std::size_t k = first; k < first + 6; ++k) centre += points[k] / 6.0f;
+    const float width = glm::length(points[first] - points[last]);
+    const std::vector<std::uint32_t>* best = nullptr;
+    float best_distance = 0.5f * width;
+    for (const auto& loop : loops) {
+      glm::vec3 c(0.0f);
+      float extent = 0.0f;
+      for (std::uint32_t v : loop) c += positions[v] / static_cast<float>(loop.size());
+      for (std::uint32_t v : loop) extent = std::max(extent, glm::length(positions[v] - c));
+      const float distance = glm::length(c - centre);
+      if (distance < best_distance && extent < 1.0f * width && extent > 0.25f * width) {
+        best_distance = distance;
+        best = &loop;
+      }
+    }
+    if (best == nullptr) continue;
+    glm::vec3 c(0.0f);
+    for (std::uint32_t v : *best) c += positions[v] / static_cast<float>(best->size());
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (std::uint32_t v : *best) {
+      const glm::vec3 d = positions[v] - c;
+      const Eigen::Vector3d e(d.x, d.y, d.z);
+      covariance += e * e.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+    const Eigen::Vector3d axis = eigen.eigenvectors().col(2);  // largest eigenvalue
+    const glm::vec3 width_axis(static_cast<float>(axis.x()), static_cast<float>(axis.y()),
+                               static_cast<float>(axis.z()));
+    std::uint32_t lo = (*best)[0], hi = (*best)[0];
+    for (std::uint32_t v : *best) {
+      if (glm::dot(positions[v] - c, width_axis) < glm::dot(positions[lo] - c, width_axis)) lo = v;
+      if (glm::dot(positions[v] - c, width_axis) > glm::dot(positions[hi] - c, width_axis)) hi = v;
+    }
+    const bool lo_is_first = glm::length(positions[lo] - points[first]) + glm::length(positions[hi] - points[last]) <
+                             glm::length(positions[hi] - points[first]) + glm::length(positions[lo] - points[last]);
+    const glm::vec3 new_first = positions[lo_is_first ? lo : hi];
+    const glm::vec3 new_last = positions[lo_is_first ? hi : lo];
+    // Only a small correction: a far-away extreme means the loop is not this eye.
+    if (glm::length(new_first - points[first]) < 0.3f * width && glm::length(new_last - points[last]) < 0.3f * width) {
+      points[first] = new_first;
+      points[last] = new_last;
+      moved += 2;
+    }
+  }
+  return moved;
+}
+
+}  // namespace
+
+struct LandmarkDetector::Impl {
+  LandmarkParams params;
+  dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
+  dlib::shape_predictor predictor;
+
+  // Mesh data of the current Detect() call.
+  std::span<const glm::vec3> positions;
+  std::span<const Triangle> triangles;
+  std::vector<glm::vec3> normals;
+  int views_tried = 0;
+
+  RgbImage Render(const RasterView& view, RasterBuffers* buffers_out) {
+    RasterBuffers buffers = Rasterize(positions, triangles, view);
+    RgbImage image = Shade(buffers, positions, normals, triangles, {}, view);
+    if (buffers_out != nullptr) *buffers_out = std::move(buffers);
+    return image;
+  }
+
+  static dlib::array2d<unsigned char> ToDlib(const RgbImage& image) {
+    const std::vector<std::uint8_t> gray = ToGray(image);
+    dlib::array2d<unsigned char> out(image.height, image.width);
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        out[y][x] = gray[static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
+                         static_cast<std::size_t>(x)];
+      }
+    }
+    return out;
+  }
+
+  Detection Detect(const RasterView& view) {
+    ++views_tried;
+    const dlib::array2d<unsigned char> image = ToDlib(Render(view, nullptr));
+    std::vector<dlib::rect_detection> detections;
+    detector(image, detections, 0.0);
+    Detection best;
+    for (const dlib::rect_detection& d : detections) {
+      if (d.detection_confidence > best.score) {
+        best.score = d.detection_confidence;
+        best.rect = d.rect;
+      }
+    }
+    return best;
+  }
+};
+
+LandmarkDetector::LandmarkDetector(const LandmarkParams& params) : impl_(std::make_unique<Impl>()) {
+  impl_->params = params;
+  std::ifstream probe(params.shape_predictor, std::ios::binary);
+  if (!probe) {
+    throw IoError(IoErrorKind::kOpenFailed, params.shape_predictor.string(),
+                  "cannot read dlib's 68-point shape predictor (Debian: apt install libdlib-data)");
+  }
+  probe.close();
+  try {
+    dlib::deserialize(params.shape_predictor.string()) >> impl_->predictor;
+  } catch (const dlib::error& e) {
+    throw IoError(IoErrorKind::kParse, params.shape_predictor.string(),
+                  std::string("not a dlib shape predictor: ") + e.what());
+  }
+}
+
+LandmarkDetector::~LandmarkDetector() = default;
+LandmarkDetector::LandmarkDetector(LandmarkDetector&&) noexcept = default;
+LandmarkDetector& LandmarkDetector::operator=(LandmarkDetector&&) noexcept = default;
+const LandmarkParams& LandmarkDetector::params() const { return impl_->params; }
+
+LandmarkResult LandmarkDetector::Detect(std::span<const glm::vec3> positions,
+                                        std::span<const Triangle> triangles) {
+  const auto start = std::chrono::steady_clock::now();
+  CheckMesh(positions, triangles, "landmarks");
+  Impl& impl = *impl_;
+  const LandmarkParams& params = impl.params;
+  impl.positions = positions;
+  impl.triangles = triangles;
+  impl.normals.assign(positions.size(), glm::vec3(0.0f));
+  ComputeVertexNormals(positions, triangles, impl.normals);
+  impl.views_tried = 0;
+
+  const ClosestPointQuery surface(positions, triangles);
+  const MeshFrame frame = EstimateFrame(positions, triangles, surface);
+  const glm::vec3 facing = glm::normalize(glm::cross(frame.lateral, frame.up));
+
+  // Which side is the face: the detector decides (both sides of the symmetry
+  // plane, then the lateral directions should symmetry have failed).
+  struct Candidate {
+    glm::vec3 forward;
+    glm::vec3 up;
+    RasterView view;
+    Detection detection;
+  };
+  Candidate best{};
+  auto consider = [&](glm::vec3 forward, glm::vec3 up) {
+    Candidate c{forward, up, FrontView(positions, forward, up, params.search_image_size), {}};
+    c.detection = impl.Detect(c.view);
+    if (c.detection.score > best.detection.score) best = c;
+    return c.detection.found();
+  };
+  // dlib does not find faces on the back of a head: a confident hit on the
+  // first side settles it.
+  const bool facing_found = consider(facing, frame.up);
+  const bool behind_found = facing_found && best.detection.score >= 0.5 ? false : consider(-facing, frame.up);
+  if (!facing_found && !behind_found) {
+    consider(frame.lateral, frame.up);
+    consider(-frame.lateral, frame.up);
+  }
+  if (!best.detection.found()) {
+    throw LandmarkDetectionError(
+        "landmarks: the face detector found no face in any view of the mesh (is it a face, roughly "
+        "upright with +Y up?); give the landmarks in a file instead (--landmarks LM.json: {\"points\": "
+        "[[x, y, z], ...]} in dlib's 68-point order, or a subset with \"indices\")");
+  }
+
+  // Nearby rotations: keep the one the detector likes best.
+  if (params.refine_rotation && params.refine_step_degrees > 0.0f) {
+    // Close-ups (the face box fills half the image): cheaper to render and
+    // scan than the whole mesh, and comparable with each other.
+    const Candidate centre = best;
+    const float scale = PixelsPerUnit(centre.view);
+    const dlib::rectangle& box = centre.detection.rect;
+    const glm::vec3 face_centre = Unproject(
+        centre.view, {0.5f * static_cast<float>(box.left() + box.right() + 1),
+                      0.5f * static_cast<float>(box.top() + box.bottom() + 1)});
+    const float face_size = static_cast<float>(std::max(box.width(), box.height())) / scale;
+    bool have_close_up = false;
+    auto consider_close_up = [&](glm::vec3 forward, glm::vec3 up) {
+      Candidate c{forward, up, FaceView(forward, up, face_centre, face_size, params.refine_image_size), {}};
+      c.detection = impl.Detect(c.view);
+      // The first close-up replaces the whole-mesh view (scores compare
+      // only between views framed alike).
+      if (c.detection.found() && (!have_close_up || c.detection.score > best.detection.score)) {
+        best = c;
+        have_close_up = true;
+      }
+    };
+    const auto step = static_cast<float>(params.refine_step_degrees * kPi / 180.0);
+    const glm::vec3 right = glm::normalize(glm::cross(centre.up, centre.forward));
+    consider_close_up(centre.forward, centre.up);
+    for (float sign : {-1.0f, 1.0f}) {
+      consider_close_up(Rotate(centre.forward, centre.up, sign * step), centre.up);  // yaw
+      consider_close_up(Rotate(centre.forward, right, sign * step), Rotate(centre.up, right, sign * step));  // pitch
+    }
+  }
+
+  // Close-up on the detected face: its box fills half of the image.
+  const RasterView& search = best.view;
+  const float search_scale = PixelsPerUnit(search);
+  const dlib::rectangle& rect = best.detection.rect;
+  const glm::vec2 rect_centre(0.5f * static_cast<float>(rect.left() + rect.right() + 1),
+                              0.5f * static_cast<float>(rect.top() + rect.bottom() + 1));
+  const float rect_size = static_cast<float>(std::max(rect.width(), rect.height()));
+  RasterView view = search;
+  view.centre = Unproject(search, rect_centre);
+  view.half_extent = rect_size / search_scale;
+  view.width = params.landmark_image_size;
+  view.height = params.landmark_image_size;
+  RasterBuffers buffers;
+  LandmarkResult result;
+  result.image = impl.Render(view, &buffers);
+  result.view = view;
+  result.detector_score = best.detection.score;
+  const long quarter = params.landmark_image_size / 4;
+  const dlib::rectangle face_box(quarter, quarter, 3 * quarter, 3 * quarter);
+  const dlib::full_object_detection shape = impl.predictor(Impl::ToDlib(result.image), face_box);
+  if (shape.num_parts() != kDlibLandmarkCount) {
+    throw LandmarkDetectionError("landmarks: the shape predictor did not return 68 points");
+  }
+
+  // 2D -> 3D through the z-buffer.
+  const float scale = PixelsPerUnit(view);
+  const float face_height = rect_size / search_scale;
+  const float hole_depth = params.hole_depth_fraction * face_height;
+  const glm::vec3 view_forward = ViewAxis(view, 2);
+  const int w = view.width, h = view.height;
+  auto usable = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= w || y >= h) return false;
+    const std::size_t i = buffers.index(x, y);
+    return buffers.triangle_ids[i] != kNoTriangle && !buffers.back_facing[i];
+  };
+  // The nearest front surface around a pixel (largest depth = nearest).
+  auto front_depth = [&](int x0, int y0, int radius) {
+    float front = -std::numeric_limits<float>::infinity();
+    for (int y = y0 - radius; y <= y0 + radius; ++y) {
+      for (int x = x0 - radius; x <= x0 + radius; ++x) {
+        if (usable(x, y)) front = std::max(front, buffers.depths[buffers.index(x, y)]);
+      }
+    }
+    return front;
+  };
+  const int window = std::max(2, static_cast<int>(0.03f * face_height * scale));
+  result.landmarks.points.resize(kDlibLandmarkCount);
+  result.landmarks.confidence.resize(kDlibLandmarkCount);
+  result.landmarks.indices.resize(kDlibLandmarkCount);
+  result.pixels.resize(kDlibLandmarkCount);
+  result.detected_pixels.resize(kDlibLandmarkCount);
+  for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
+    const dlib::point part = shape.part(static_cast<unsigned long>(k));
+    glm::vec2 pixel(static_cast<float>(part.x()) + 0.5f, static_cast<float>(part.y()) + 0.5f);
+    result.detected_pixels[k] = pixel;
+    if (params.calibrate) {
+      const float box = 0.5f * static_cast<float>(params.landmark_image_size);
+      pixel -= box * glm::vec2(kCalibration[k][0], kCalibration[k][1]);
+    }
+    int px = static_cast<int>(std::floor(pixel.x)), py = static_cast<int>(std::floor(pixel.y));
+    const float front = front_depth(px, py, window);
+    const bool good = usable(px, py) && buffers.depths[buffers.index(px, py)] >= front - hole_depth;
+    float confidence = k < 17 ? params.jaw_confidence : 1.0f;
+    if (!good) {
+      // Ring search outwards for the nearest front-facing pixel on the front surface.
+      const int max_radius = std::max(w, h) / 4;
+      int found_x = -1, found_y = -1;
+      float found_d2 = std::numeric_limits<float>::infinity();
+      for (int r = 1; r <= max_radius && found_x < 0; ++r) {
+        for (int y = py - r; y <= py + r; ++y) {
+          for (int x = px - r; x <= px + r; ++x) {
+            if (std::max(std::abs(x - px), std::abs(y - py)) != r || !usable(x, y)) continue;
+            if (std::isfinite(front) && buffers.depths[buffers.index(x, y)] < front - hole_depth) continue;
+            const float d2 = static_cast<float>((x - px) * (x - px) + (y - py) * (y - py));
+            if (d2 < found_d2) {
+              found_d2 = d2;
+              found_x = x;
+              found_y = y;
+            }
+          }
+        }
+      }
+      if (found_x < 0) {
+        throw LandmarkDetectionError("landmarks: landmark " + std::to_string(k) +
+                                     " has no surface near it; give the landmarks in a file (--landmarks)");
+      }
+      px = found_x;
+      py = found_y;
+      pixel = {static_cast<float>(px) + 0.5f, static_cast<float>(py) + 0.5f};
+      confidence *= params.snapped_confidence_factor;
+      ++result.snapped;
+    }
+    // Sub-pixel: intersect the viewing ray with the plane of the triangle under the pixel.
+    const std::size_t i = buffers.index(px, py);
+    const Triangle& t = triangles[static_cast<std::size_t>(buffers.triangle_ids[i])];
+    const glm::vec3 b = buffers.barycentrics[i];
+    glm::vec3 point = b.x * positions[t[0]] + b.y * positions[t[1]] + b.z * positions[t[2]];
+    const glm::vec3 normal = glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]);
+    const glm::vec3 origin = Unproject(view, pixel);
+    const float denominator = glm::dot(normal, view_forward);
+    if (std::abs(denominator) > 0.2f * glm::length(normal)) {
+      const float along = glm::dot(normal, point - origin) / denominator;
+      const glm::vec3 on_plane = origin + along * view_forward;
+      if (glm::length(on_plane - point) < 1.5f / scale) point = on_plane;
+    }
+    result.landmarks.points[k] = point;
+    result.landmarks.confidence[k] = confidence;
+    result.landmarks.indices[k] = static_cast<std::uint32_t>(k);
+    result.pixels[k] = pixel;
+  }
+  if (params.correct_eye_corners) {
+    result.corrected = CorrectEyeCorners(positions, triangles, result.landmarks.points);
+  }
+  result.views_tried = impl.views_tried;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+RgbImage DrawLandmarks(const LandmarkResult& result) {
+  RgbImage image = result.image;
+  auto put = [&](int x, int y, std::array<std::uint8_t, 3> colour) {
+    if (x < 0 || y < 0 || x >= image.width || y >= image.height) return;
+    const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
+                               static_cast<std::size_t>(x));
+    for (std::size_t c = 0; c < 3; ++c) image.pixels[i + c] = colour[c];
+  };
+  for (std::size_t k = 0; k < result.pixels.size(); ++k) {
+    const bool jaw = k < 17;
+    const bool snapped = k < result.landmarks.confidence.size() &&
+                         result.landmarks.confidence[k] < (jaw ? 0.999f * 0.3f : 0.999f);
+    const std::array<std::uint8_t, 3> colour = snapped ? std::array<std::uint8_t, 3>{255, 60, 60}
+                                               : jaw   ? std::array<std::uint8_t, 3>{255, 210, 0}
+                                                       : std::array<std::uint8_t, 3>{40, 255, 80};
+    const int cx = static_cast<int>(std::floor(result.pixels[k].x));
+    const int cy = static_cast<int>(std::floor(result.pixels[k].y));
+    for (int d = -2; d <= 2; ++d) {
+      put(cx + d, cy, colour);
+      put(cx, cy + d, colour);
+    }
+  }
+  return image;
+}
+
+void WriteLandmarksJson(const std::filesystem::path& path, const FaceLandmarks& landmarks) {
+  if (landmarks.confidence.size() != landmarks.points.size() ||
+      (!landmarks.indices.empty() && landmarks.indices.size() != landmarks.points.size())) {
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "landmark points, confidences and indices differ in length");
+  }
+  nlohmann::json json;
+  json["format"] = "facerig-landmarks";
+  json["version"] = 1;
+  json["order"] = "dlib-68";
+  nlohmann::json points = nlohmann::json::array();
+  for (const glm::vec3& p : landmarks.points) points.push_back({p.x, p.y, p.z});
+  json["points"] = std::move(points);
+  json["confidence"] = landmarks.confidence;
+  if (!landmarks.indices.empty()) json["indices"] = landmarks.indices;
+  const std::filesystem::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << json.dump(1) << "\n";
+    if (!out) throw IoError(IoErrorKind::kWriteFailed, temporary.string(), "cannot write the landmark file");
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot rename the landmark file into place");
+  }
+}
+
+FaceLandmarks ReadLandmarksJson(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(IoErrorKind::kOpenFailed, path.string(), "cannot open the landmark file");
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(IoErrorKind::kParse, path.string(), std::string("not JSON: ") + e.what());
+  }
+  FaceLandmarks landmarks;
+  try {
+    if (!json.is_object() || !json.contains("points") || !json["points"].is_array()) {
+      throw IoError(IoErrorKind::kParse, path.string(), "expected an object with a \"points\" array");
+    }
+    for (const auto& p : json["points"]) {
+      if (!p.is_array() || p.size() != 3) {
+        throw IoError(IoErrorKind::kParse, path.string(), "each point must be [x, y, z]");
+      }
+      const glm::vec3 point(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+      if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z)) {
+        throw IoError(IoErrorKind::kNonFinite, path.string(), "a landmark point is not finite");
+      }
+      landmarks.points.push_back(point);
+    }
+    const std::size_t n = landmarks.points.size();
+    if (n == 0) throw IoError(IoErrorKind::kEmpty, path.string(), "the landmark file has no points");
+    if (json.contains("confidence")) {
+      landmarks.confidence = json["confidence"].get<std::vector<float>>();
+      for (float c : landmarks.confidence) {
+        if (!(c >= 0.0f && c <= 1.0f)) {
+          throw IoError(IoErrorKind::kParse, path.string(), "confidences must be in [0, 1]");
+        }
+      }
+    } else {
+      landmarks.confidence.assign(n, 1.0f);
+    }
+    if (json.contains("indices")) {
+      landmarks.indices = json["indices"].get<std::vector<std::uint32_t>>();
+    } else {
+      for (std::uint32_t i = 0; i < n; ++i) landmarks.indices.push_back(i);
+    }
+    if (landmarks.confidence.size() != n || landmarks.indices.size() != n) {
+      throw IoError(IoErrorKind::kParse, path.string(),
+                    "\"points\", \"confidence\" and \"indices\" must have the same length");
+    }
+    for (std::uint32_t i : landmarks.indices) {
+      if (i >= kDlibLandmarkCount) {
+        throw IoError(IoErrorKind::kIndexOutOfRange, path.string(),
+                      "landmark index " + std::to_string(i) + " is outside dlib's 0..67");
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(IoErrorKind::kParse, path.string(), std::string("malformed landmark file: ") + e.what());
+  }
+  return landmarks;
+}
+
+}  // namespace facerig

@@ -1,0 +1,422 @@
+#include "facerig/offline/nonrigid_icp.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#if defined(FACERIG_HAVE_CHOLMOD)
+#include <Eigen/CholmodSupport>
+#endif
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/closest_point.h"
+#include "facerig/offline/registration_error.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+glm::vec3 BoundsDiagonalVector(std::span<const glm::vec3> points, glm::vec3* lo_out = nullptr) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  if (lo_out != nullptr) *lo_out = lo;
+  return hi - lo;
+}
+
+double Percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(std::min<double>(static_cast<double>(values.size() - 1),
+                                                            std::ceil(fraction * static_cast<double>(values.size())) - 1.0));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+// Supernodal CHOLMOD when the build has it (several times faster on the
+// 4n x 4n system), else Eigen's simplicial LDL^T. Both keep the symbolic
+// analysis across factorizations.
+#if defined(FACERIG_HAVE_CHOLMOD)
+using SparseSolver = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+#else
+using SparseSolver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+#endif
+
+// Per-vertex affine transform X_i (4 x 3, rows: linear part, then translation)
+// applied to a point: X_i^T [p; 1].
+glm::vec3 ApplyAffine(const Eigen::MatrixXd& x, std::size_t vertex, glm::vec3 p) {
+  const auto row = static_cast<Eigen::Index>(4 * vertex);
+  glm::vec3 out;
+  for (int c = 0; c < 3; ++c) {
+    out[c] = static_cast<float>(x(row, c) * p.x + x(row + 1, c) * p.y + x(row + 2, c) * p.z + x(row + 3, c));
+  }
+  return out;
+}
+
+}  // namespace
+
+const std::vector<std::uint32_t>& IctLandmarkVertices() {
+  static const std::vector<std::uint32_t> kIndices{
+      1225, 1888, 1052, 367,  1719, 1722, 2199, 1447, 966,  3661, 4390, 3927, 3924, 2608,
+      3272, 4088, 3443, 268,  493,  1914, 2044, 1401, 3615, 4240, 4114, 2734, 2509, 978,
+      4527, 4942, 4857, 1140, 2075, 1147, 4269, 3360, 1507, 1542, 1537, 1528, 1518, 1511,
+      3742, 3751, 3756, 3721, 3725, 3732, 5708, 5695, 2081, 0,    4275, 6200, 6213, 6346,
+      6461, 5518, 5957, 5841, 5702, 5711, 5533, 6216, 6207, 6470, 5517, 5966};
+  return kIndices;
+}
+
+NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
+                              std::span<const Triangle> template_triangles,
+                              std::span<const glm::vec3> target_positions,
+                              std::span<const Triangle> target_triangles,
+                              const RegistrationLandmarks& landmarks, const NonrigidIcpParams& params) {
+  const auto start = Clock::now();
+  CheckMesh(template_positions, template_triangles, "non-rigid ICP template");
+  CheckMesh(target_positions, target_triangles, "non-rigid ICP target");
+  if (params.stiffness.empty()) throw InvalidInputError("non-rigid ICP: the stiffness schedule is empty");
+  const std::size_t landmark_count = landmarks.template_vertices.size();
+  if (landmarks.target_points.size() != landmark_count ||
+      (!landmarks.confidence.empty() && landmarks.confidence.size() != landmark_count)) {
+    throw InvalidInputError("non-rigid ICP: landmark vertices, points and confidences differ in length");
+  }
+  for (std::size_t l = 0; l < landmark_count; ++l) {
+    if (landmarks.template_vertices[l] >= template_positions.size()) {
+      throw InvalidInputError("non-rigid ICP: landmark " + std::to_string(l) + " uses template vertex " +
+                              std::to_string(landmarks.template_vertices[l]) + " of " +
+                              std::to_string(template_positions.size()));
+    }
+    const glm::vec3 p = landmarks.target_points[l];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      throw InvalidInputError("non-rigid ICP: landmark " + std::to_string(l) + " is not finite");
+    }
+  }
+  const std::size_t vertex_count = template_positions.size();
+  const std::uint32_t region_limit = params.region_vertex_count == 0
+                                         ? static_cast<std::uint32_t>(vertex_count)
+                                         : std::min<std::uint32_t>(params.region_vertex_count,
+                                                                   static_cast<std::uint32_t>(vertex_count));
+  NonrigidIcpResult result;
+
+  // --- the registered region: triangles whose vertices are all in range ---
+  std::vector<Triangle> region_triangles_global;
+  for (const Triangle& t : template_triangles) {
+    if (t[0] < region_limit && t[1] < region_limit && t[2] < region_limit) region_triangles_global.push_back(t);
+  }
+  if (region_triangles_global.empty()) throw InvalidInputError("non-rigid ICP: the template region has no triangles");
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> local_of(vertex_count, kNone);
+  std::vector<std::uint32_t> global_of;
+  for (const Triangle& t : region_triangles_global) {
+    for (std::uint32_t v : t) {
+      if (local_of[v] == kNone) {
+        local_of[v] = static_cast<std::uint32_t>(global_of.size());
+        global_of.push_back(v);
+      }
+    }
+  }
+  const std::size_t n = global_of.size();
+  std::vector<Triangle> region_triangles(region_triangles_global.size());
+  for (std::size_t t = 0; t < region_triangles.size(); ++t) {
+    for (std::size_t k = 0; k < 3; ++k) region_triangles[t][k] = local_of[region_triangles_global[t][k]];
+  }
+
+  // --- rigid pre-alignment (template -> target coordinates) ---
+  const auto rigid_start = Clock::now();
+  const ClosestPointQuery target_world(target_positions, target_triangles);
+  // The similarity comes from the confident landmarks (dlib's jaw points
+  // follow the silhouette) when at least 6 of them exist, else from all.
+  std::vector<glm::vec3> source_landmarks, target_landmarks;
+  for (const float min_confidence : {0.5f, 0.0f}) {
+    source_landmarks.clear();
+    target_landmarks.clear();
+    for (std::size_t l = 0; l < landmark_count; ++l) {
+      if (local_of[landmarks.template_vertices[l]] == kNone) continue;
+      const float confidence = landmarks.confidence.empty() ? 1.0f : landmarks.confidence[l];
+      if (!(confidence > 0.0f) || confidence < min_confidence) continue;
+      source_landmarks.push_back(template_positions[landmarks.template_vertices[l]]);
+      target_landmarks.push_back(landmarks.target_points[l]);
+    }
+    if (source_landmarks.size() >= 6) break;
+  }
+  if (params.rigid_prealign) {
+    const bool use_landmarks = source_landmarks.size() >= 3;
+    const RigidAlignResult rigid = RigidAlign(
+        template_positions, region_triangles_global, target_world,
+        use_landmarks ? std::span<const glm::vec3>(source_landmarks) : std::span<const glm::vec3>(),
+        use_landmarks ? std::span<const glm::vec3>(target_landmarks) : std::span<const glm::vec3>(),
+        params.rigid, nullptr);
+    result.rigid = rigid.transform;
+  }
+  result.timings.rigid_seconds = Seconds(rigid_start);
+
+  // --- working frame: template region centred, diagonal = working_diagonal ---
+  const auto setup_start = Clock::now();
+  std::vector<glm::vec3> aligned(vertex_count);
+  for (std::size_t v = 0; v < vertex_count; ++v) aligned[v] = result.rigid.Apply(template_positions[v]);
+  std::vector<glm::vec3> region_aligned(n);
+  for (std::size_t i = 0; i < n; ++i) region_aligned[i] = aligned[global_of[i]];
+  glm::vec3 region_lo;
+  const glm::vec3 region_extent = BoundsDiagonalVector(region_aligned, &region_lo);
+  const glm::vec3 centre = region_lo + 0.5f * region_extent;
+  const double region_diagonal = glm::length(region_extent);
+  if (!(region_diagonal > 0.0)) throw InvalidInputError("non-rigid ICP: the template region is a single point");
+  const auto to_work_scale = static_cast<float>(params.working_diagonal / region_diagonal);
+  auto to_work = [&](glm::vec3 p) { return (p - centre) * to_work_scale; };
+  auto to_world = [&](glm::vec3 p) { return p / to_work_scale + centre; };
+
+  std::vector<glm::vec3> target_work(target_positions.size());
+  for (std::size_t v = 0; v < target_positions.size(); ++v) target_work[v] = to_work(target_positions[v]);
+  const ClosestPointQuery target(target_work, target_triangles);
+  const double target_diagonal_work = glm::length(BoundsDiagonalVector(target_work));
+  result.residual.target_diagonal = glm::length(BoundsDiagonalVector(target_positions));
+
+  std::vector<glm::vec3> rest(n);  // undeformed template region, working frame
+  for (std::size_t i = 0; i < n; ++i) rest[i] = to_work(region_aligned[i]);
+
+  // Landmarks in the region (local index, working-frame target, weight factor).
+  struct LocalLandmark {
+    std::uint32_t vertex;
+    glm::vec3 target;
+    double confidence;
+  };
+  std::vector<LocalLandmark> local_landmarks;
+  for (std::size_t l = 0; l < landmark_count; ++l) {
+    const std::uint32_t local = local_of[landmarks.template_vertices[l]];
+    const double confidence = landmarks.confidence.empty() ? 1.0 : static_cast<double>(landmarks.confidence[l]);
+    if (local == kNone || !(confidence > 0.0)) continue;
+    local_landmarks.push_back({local, to_work(landmarks.target_points[l]), confidence});
+  }
+
+  // Unique undirected edges of the region (the stiffness term's node-arc incidence).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(region_triangles.size() * 3);
+  for (const Triangle& t : region_triangles) {
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+
+  // The matrix pattern never changes: full 4x4 blocks on the diagonal (data
+  // and landmark terms; explicit zeros where a correspondence is rejected)
+  // plus the diagonal of each edge block (G is diagonal). Only the lower
+  // triangle is stored (SimplicialLDLT reads the lower part).
+  const auto unknowns = static_cast<Eigen::Index>(4 * n);
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(10 * n + 4 * edges.size());
+  std::vector<double> edge_count(n, 0.0);
+  for (const auto& [a, b] : edges) {
+    edge_count[a] += 1.0;
+    edge_count[b] += 1.0;
+  }
+  const double gamma2 = params.gamma * params.gamma;
+  // Fills `matrix` (pattern fixed) for stiffness alpha and the given per-vertex
+  // data weights; the landmark term is added by the caller through `diag_blocks`.
+  std::vector<Eigen::Matrix4d> diag_blocks(n);
+  auto assemble = [&](double alpha) {
+    triplets.clear();
+    const double a2 = alpha * alpha;
+    for (std::size_t i = 0; i < n; ++i) {
+      Eigen::Matrix4d block = diag_blocks[i];
+      for (int k = 0; k < 4; ++k) block(k, k) += a2 * edge_count[i] * (k == 3 ? gamma2 : 1.0);
+      for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c <= r; ++c) {
+          triplets.emplace_back(static_cast<Eigen::Index>(4 * i) + r, static_cast<Eigen::Index>(4 * i) + c,
+                                block(r, c));
+        }
+      }
+    }
+    for (const auto& [a, b] : edges) {
+      for (int k = 0; k < 4; ++k) {
+        // Row index larger than column: lower triangle (b > a).
+        triplets.emplace_back(static_cast<Eigen::Index>(4 * b) + k, static_cast<Eigen::Index>(4 * a) + k,
+                              -a2 * (k == 3 ? gamma2 : 1.0));
+      }
+    }
+  };
+
+  Eigen::SparseMatrix<double> matrix(unknowns, unknowns);
+  SparseSolver solver;
+  for (auto& block : diag_blocks) block.setIdentity();
+  assemble(1.0);
+  matrix.setFromTriplets(triplets.begin(), triplets.end());
+#if defined(FACERIG_HAVE_CHOLMOD)
+  // Nested dissection (METIS) halves the factorization's flops against AMD
+  // on this mesh-shaped pattern; trying every ordering costs seconds.
+  solver.cholmod().nmethods = 1;
+  solver.cholmod().method[0].ordering = CHOLMOD_METIS;
+#endif
+  solver.analyzePattern(matrix);  // once: every later matrix has this pattern
+  result.timings.setup_seconds = Seconds(setup_start);
+
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(unknowns, 3);  // identity transforms
+  for (std::size_t i = 0; i < n; ++i) x.block<3, 3>(static_cast<Eigen::Index>(4 * i), 0).setIdentity();
+  Eigen::MatrixXd rhs(unknowns, 3);
+  std::vector<glm::vec3> deformed(rest), normals(n);
+  std::vector<ClosestPointHit> hits(n);
+  std::vector<std::uint8_t> accepted(n, 0), weighted(n, 0);
+  std::vector<double> distances;
+  const double cos_limit = std::cos(params.max_normal_angle_degrees * 3.14159265358979323846 / 180.0);
+  constexpr double kRidge = 1e-6;  // keeps parts without any data term solvable
+
+  // Closest points of the deformed template with rejection; fills hits/accepted.
+  auto find_correspondences = [&]() {
+    const auto t0 = Clock::now();
+    ComputeVertexNormals(deformed, region_triangles, normals);
+    const auto far_limit = static_cast<float>(params.max_reject_distance * target_diagonal_work);
+    distances.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      hits[i] = target.Find(deformed[i], far_limit);
+      const bool ok = hits[i].triangle >= 0 && !(params.reject_boundary && hits[i].on_boundary) &&
+                      glm::dot(normals[i], hits[i].normal) >= cos_limit;
+      accepted[i] = ok ? 1 : 0;
+      if (ok) distances.push_back(hits[i].distance);
+    }
+    const double median = Percentile(distances, 0.5);
+    const double limit = std::max(params.distance_median_factor * median,
+                                  params.min_reject_distance * target_diagonal_work);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (accepted[i] && hits[i].distance > limit) accepted[i] = 0;
+    }
+    result.timings.correspondence_seconds += Seconds(t0);
+  };
+
+  for (std::size_t stage = 0; stage < params.stiffness.size(); ++stage) {
+    const double alpha = params.stiffness[stage];
+    const double beta = params.landmark_weights.empty()
+                            ? 0.0
+                            : params.landmark_weights[std::min(stage, params.landmark_weights.size() - 1)];
+    int iterations = 0;
+    for (int iteration = 0; iteration < params.max_iterations_per_stage; ++iteration) {
+      find_correspondences();
+      // The matrix depends only on the stiffness, the landmark weight and
+      // which vertices have a data term (not where their correspondences
+      // land). The set is fixed at each stage's first iteration, so a stage
+      // costs one numeric factorization; later iterations only back-solve.
+      // A vertex that loses its correspondence within the stage is pulled
+      // to where it is (no force) rather than dropped from the matrix.
+      if (iteration == 0) weighted = accepted;
+      rhs.setZero();
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector4d d(rest[i].x, rest[i].y, rest[i].z, 1.0);
+        Eigen::Matrix4d& block = diag_blocks[i];
+        block = kRidge * Eigen::Matrix4d::Identity();
+        const auto row = static_cast<Eigen::Index>(4 * i);
+        rhs.block<3, 3>(row, 0) += kRidge * Eigen::Matrix3d::Identity();
+        if (weighted[i]) {
+          block += d * d.transpose();
+          const glm::vec3 goal = accepted[i] ? hits[i].point : deformed[i];
+          const Eigen::RowVector3d u(goal.x, goal.y, goal.z);
+          rhs.block<4, 3>(row, 0) += d * u;
+        }
+      }
+      for (const LocalLandmark& landmark : local_landmarks) {
+        const glm::vec3 p = rest[landmark.vertex];
+        const Eigen::Vector4d d(p.x, p.y, p.z, 1.0);
+        const double w = beta * beta * landmark.confidence;
+        diag_blocks[landmark.vertex] += w * d * d.transpose();
+        const Eigen::RowVector3d u(landmark.target.x, landmark.target.y, landmark.target.z);
+        rhs.block<4, 3>(static_cast<Eigen::Index>(4 * landmark.vertex), 0) += w * d * u;
+      }
+      Eigen::MatrixXd next;
+      if (iteration == 0) {
+        assemble(alpha);
+        matrix.setFromTriplets(triplets.begin(), triplets.end());
+        const auto t0 = Clock::now();
+        solver.factorize(matrix);
+        ++result.factorizations;
+        result.timings.factorize_seconds += Seconds(t0);
+        if (solver.info() != Eigen::Success) {
+          throw SolverError("non-rigid ICP: factorization failed at stiffness " + std::to_string(alpha));
+        }
+      }
+      const auto t0 = Clock::now();
+      next = solver.solve(rhs);
+      result.timings.solve_seconds += Seconds(t0);
+      if (solver.info() != Eigen::Success || !next.allFinite()) {
+        throw SolverError("non-rigid ICP: the solve failed at stiffness " + std::to_string(alpha));
+      }
+      x.swap(next);
+      double moved = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 p = ApplyAffine(x, i, rest[i]);
+        moved += glm::length(p - deformed[i]);
+        deformed[i] = p;
+      }
+      ++iterations;
+      if (moved / static_cast<double>(n) < params.convergence * params.working_diagonal) break;
+    }
+    result.iterations_per_stage.push_back(iterations);
+    if (params.progress) params.progress(stage + 1, params.stiffness.size());
+  }
+
+  // --- final correspondences and residuals ---
+  find_correspondences();
+  result.positions.assign(vertex_count, glm::vec3(0.0f));
+  result.correspondence.assign(vertex_count, SurfaceCorrespondence{});
+  std::vector<double> residuals;
+  residuals.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t v = global_of[i];
+    result.positions[v] = to_world(deformed[i]);
+    if (accepted[i]) {
+      result.correspondence[v] = {hits[i].triangle, hits[i].barycentrics};
+      residuals.push_back(static_cast<double>(hits[i].distance) / target_diagonal_work * 100.0);
+    } else {
+      ++result.residual.rejected_count;
+    }
+  }
+  if (!residuals.empty()) {
+    double sum = 0.0, max = 0.0;
+    for (double r : residuals) {
+      sum += r;
+      max = std::max(max, r);
+    }
+    result.residual.mean_percent = sum / static_cast<double>(residuals.size());
+    result.residual.max_percent = max;
+    result.residual.p95_percent = Percentile(residuals, 0.95);
+  }
+  result.residual.vertex_count = residuals.size();
+
+  // --- inner parts: each vertex takes the affine transforms of its nearest
+  // point on the undeformed region surface (barycentric blend), so eyeballs,
+  // teeth and the mouth socket move with the skin around them ---
+  std::vector<std::uint32_t> inner;
+  for (std::uint32_t v = 0; v < vertex_count; ++v) {
+    if (local_of[v] == kNone) inner.push_back(v);
+  }
+  if (!inner.empty()) {
+    const ClosestPointQuery rest_surface(rest, region_triangles);
+    for (std::uint32_t v : inner) {
+      const glm::vec3 p = to_work(aligned[v]);
+      const ClosestPointHit hit = rest_surface.Find(p);
+      const Triangle& t = region_triangles[static_cast<std::size_t>(hit.triangle)];
+      glm::vec3 moved(0.0f);
+      for (int k = 0; k < 3; ++k) moved += hit.barycentrics[k] * ApplyAffine(x, t[static_cast<std::size_t>(k)], p);
+      result.positions[v] = to_world(moved);
+    }
+  }
+
+  if (!local_landmarks.empty()) {
+    double sum = 0.0;
+    for (const LocalLandmark& landmark : local_landmarks) {
+      const glm::vec3 d = to_world(deformed[landmark.vertex]) - to_world(landmark.target);
+      sum += static_cast<double>(glm::dot(d, d));
+    }
+    result.landmark_rms = std::sqrt(sum / static_cast<double>(local_landmarks.size()));
+  }
+  result.timings.total_seconds = Seconds(start);
+  return result;
+}
+
+}  // namespace facerig

@@ -1,0 +1,270 @@
+#include "cli_register.h"
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "facerig/offline/landmarks.h"
+#include "facerig/offline/nonrigid_icp.h"
+#include "facerig/offline/rasterizer.h"
+#include "facerig/offline/registration_error.h"
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig::cli {
+namespace {
+
+constexpr const char* kLandmarksUsage =
+    "usage: facerig landmarks MESH -o LM.json [--debug-png P] [--json REPORT] [--shape-predictor F]\n"
+    "  Detects dlib's 68 face landmarks on a mesh (OBJ, or a rig: .frig/.glb/template folder) and\n"
+    "  writes them as 3D points in the mesh's coordinates.\n";
+constexpr const char* kRegisterUsage =
+    "usage: facerig register --template DIR|RIG --target MESH -o FITTED.obj [--landmarks LM.json]\n"
+    "                        [--json REPORT] [--shape-predictor F]\n"
+    "  Fits the template's neutral onto the target surface (similarity alignment + optimal-step\n"
+    "  non-rigid ICP). The OBJ keeps the template's vertex order, in the target's coordinates.\n";
+
+struct Mesh {
+  std::vector<glm::vec3> positions;
+  std::vector<Triangle> triangles;
+};
+
+Mesh LoadMesh(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  Mesh mesh;
+  if (extension == ".obj") {
+    ObjMesh obj = ReadObj(path);
+    mesh.positions = std::move(obj.positions);
+    mesh.triangles = std::move(obj.triangles);
+  } else {
+    const Rig rig = LoadRig(path);
+    mesh.positions.assign(rig.positions().begin(), rig.positions().end());
+    mesh.triangles.assign(rig.triangles().begin(), rig.triangles().end());
+  }
+  return mesh;
+}
+
+// Atomic JSON write (temporary file + rename): never a partial report.
+void WriteJson(const std::filesystem::path& path, const nlohmann::json& json) {
+  const std::filesystem::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << json.dump(2) << "\n";
+    if (!out) throw IoError(IoErrorKind::kWriteFailed, temporary.string(), "cannot write the report");
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot rename the report into place");
+  }
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void ProgressBar(const char* label, std::size_t done, std::size_t total) {
+  constexpr int kWidth = 30;
+  const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
+  std::fprintf(stderr, "\r%-14s [%.*s%*s] %zu/%zu", label, filled, "==============================",
+               kWidth - filled, "", done, total);
+  if (done >= total) std::fputc('\n', stderr);
+  std::fflush(stderr);
+}
+
+int Fail(const std::exception& error) {
+  std::fprintf(stderr, "facerig: %s\n", error.what());
+  return 1;
+}
+
+}  // namespace
+
+int RunLandmarksCommand(int argc, char** argv) {
+  std::string mesh_path, output, debug_png, report_path;
+  LandmarkParams params;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "-o" && has_value) {
+      output = argv[++i];
+    } else if (arg == "--debug-png" && has_value) {
+      debug_png = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      report_path = argv[++i];
+    } else if (arg == "--shape-predictor" && has_value) {
+      params.shape_predictor = argv[++i];
+    } else if (!arg.empty() && arg[0] != '-' && mesh_path.empty()) {
+      mesh_path = arg;
+    } else {
+      std::fputs(kLandmarksUsage, stderr);
+      return 2;
+    }
+  }
+  if (mesh_path.empty() || output.empty()) {
+    std::fputs(kLandmarksUsage, stderr);
+    return 2;
+  }
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const Mesh mesh = LoadMesh(mesh_path);
+    const double load_seconds = SecondsSince(start);
+    const auto model_start = std::chrono::steady_clock::now();
+    LandmarkDetector detector(params);
+    const double model_seconds = SecondsSince(model_start);
+    const LandmarkResult result = detector.Detect(mesh.positions, mesh.triangles);
+    if (!debug_png.empty()) WritePng(debug_png, DrawLandmarks(result));
+    WriteLandmarksJson(output, result.landmarks);
+    std::printf("wrote %s (68 landmarks; %d views tried, %d snapped off holes, detector score %.2f; %.3f s)\n",
+                output.c_str(), result.views_tried, result.snapped, result.detector_score, result.seconds);
+    if (!report_path.empty()) {
+      nlohmann::json report;
+      report["mesh"] = mesh_path;
+      report["vertices"] = mesh.positions.size();
+      report["views_tried"] = result.views_tried;
+      report["snapped"] = result.snapped;
+      report["detector_score"] = result.detector_score;
+      report["seconds"] = {{"load_mesh", load_seconds}, {"load_model", model_seconds}, {"detect", result.seconds}};
+      WriteJson(report_path, report);
+    }
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+int RunRegisterCommand(int argc, char** argv) {
+  std::string template_path, target_path, output, landmarks_path, report_path;
+  LandmarkParams landmark_params;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--template" && has_value) {
+      template_path = argv[++i];
+    } else if (arg == "--target" && has_value) {
+      target_path = argv[++i];
+    } else if (arg == "-o" && has_value) {
+      output = argv[++i];
+    } else if (arg == "--landmarks" && has_value) {
+      landmarks_path = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      report_path = argv[++i];
+    } else if (arg == "--shape-predictor" && has_value) {
+      landmark_params.shape_predictor = argv[++i];
+    } else {
+      std::fputs(kRegisterUsage, stderr);
+      return 2;
+    }
+  }
+  if (template_path.empty() || target_path.empty() || output.empty()) {
+    std::fputs(kRegisterUsage, stderr);
+    return 2;
+  }
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const Rig rig = LoadRig(template_path);
+    const Mesh target = LoadMesh(target_path);
+    const double load_seconds = SecondsSince(start);
+    std::fprintf(stderr, "template %zu vertices, target %zu vertices (%.2f s to load)\n", rig.vertex_count(),
+                 target.positions.size(), load_seconds);
+
+    // ICT-FaceKit's topology: its own landmark vertices and face + head region.
+    const bool ict = rig.vertex_count() == 26719;
+    std::optional<LandmarkDetector> detector;
+    auto get_detector = [&]() -> LandmarkDetector& {
+      if (!detector) detector.emplace(landmark_params);
+      return *detector;
+    };
+    const auto landmark_start = std::chrono::steady_clock::now();
+    FaceLandmarks target_landmarks;
+    if (!landmarks_path.empty()) {
+      target_landmarks = ReadLandmarksJson(landmarks_path);
+    } else {
+      std::fprintf(stderr, "detecting landmarks on the target...\n");
+      target_landmarks = get_detector().Detect(target.positions, target.triangles).landmarks;
+    }
+    // Template landmark vertices, by dlib index.
+    std::vector<std::uint32_t> template_vertex_of(kDlibLandmarkCount);
+    if (ict) {
+      template_vertex_of = IctLandmarkVertices();
+    } else {
+      std::fprintf(stderr, "detecting landmarks on the template...\n");
+      const LandmarkResult on_template = get_detector().Detect(rig.positions(), rig.triangles());
+      for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
+        float best = std::numeric_limits<float>::infinity();
+        for (std::uint32_t v = 0; v < rig.vertex_count(); ++v) {
+          const float d = glm::length(rig.positions()[v] - on_template.landmarks.points[k]);
+          if (d < best) {
+            best = d;
+            template_vertex_of[k] = v;
+          }
+        }
+      }
+    }
+    const double landmark_seconds = SecondsSince(landmark_start);
+    RegistrationLandmarks landmarks;
+    for (std::size_t i = 0; i < target_landmarks.points.size(); ++i) {
+      landmarks.template_vertices.push_back(template_vertex_of[target_landmarks.indices[i]]);
+      landmarks.target_points.push_back(target_landmarks.points[i]);
+      landmarks.confidence.push_back(target_landmarks.confidence[i]);
+    }
+
+    NonrigidIcpParams params;
+    params.region_vertex_count = ict ? kIctHeadVertexCount : 0;
+    params.progress = [](std::size_t done, std::size_t total) { ProgressBar("non-rigid ICP", done, total); };
+    const NonrigidIcpResult fit = NonrigidIcp(rig.positions(), rig.triangles(), target.positions,
+                                              target.triangles, landmarks, params);
+
+    std::vector<glm::vec3> normals(fit.positions.size());
+    ComputeVertexNormals(fit.positions, rig.triangles(), normals);
+    WriteObj(output, fit.positions, normals, rig.uvs(), rig.triangles(), rig.parts());
+    std::printf("wrote %s: residual mean %.4f%% p95 %.4f%% max %.3f%% of the target diagonal; landmark rms %g; "
+                "%.2f s\n",
+                output.c_str(), fit.residual.mean_percent, fit.residual.p95_percent, fit.residual.max_percent,
+                fit.landmark_rms, fit.timings.total_seconds);
+    if (!report_path.empty()) {
+      nlohmann::json report;
+      report["template"] = template_path;
+      report["target"] = target_path;
+      report["output"] = output;
+      report["landmarks"] = landmarks_path.empty() ? "detected" : landmarks_path;
+      report["residual_percent_of_diagonal"] = {{"mean", fit.residual.mean_percent},
+                                                {"p95", fit.residual.p95_percent},
+                                                {"max", fit.residual.max_percent}};
+      report["target_diagonal"] = fit.residual.target_diagonal;
+      report["measured_vertices"] = fit.residual.vertex_count;
+      report["rejected_vertices"] = fit.residual.rejected_count;
+      report["landmark_rms"] = fit.landmark_rms;
+      report["rigid_scale"] = fit.rigid.scale;
+      report["iterations_per_stage"] = fit.iterations_per_stage;
+      report["factorizations"] = fit.factorizations;
+      report["seconds"] = {{"load", load_seconds},
+                           {"landmarks", landmark_seconds},
+                           {"rigid", fit.timings.rigid_seconds},
+                           {"setup", fit.timings.setup_seconds},
+                           {"correspondences", fit.timings.correspondence_seconds},
+                           {"factorize", fit.timings.factorize_seconds},
+                           {"solve", fit.timings.solve_seconds},
+                           {"nonrigid_total", fit.timings.total_seconds},
+                           {"total", SecondsSince(start)}};
+      WriteJson(report_path, report);
+    }
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+}  // namespace facerig::cli

@@ -1,0 +1,446 @@
+#include "facerig/offline/deformation_transfer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <random>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include "facerig/runtime/io/obj.h"
+#include "support/test_meshes.h"
+
+namespace {
+
+using Meshes = std::vector<std::vector<glm::vec3>>;
+
+// ICT-FaceKit face region [0, 9409); face + eye sockets [0, 17039); teeth.
+constexpr std::size_t kFaceLast = 9409;
+constexpr std::size_t kLidLast = 17039;
+constexpr std::size_t kTeethFirst = 17039;
+constexpr std::size_t kTeethLast = 21451;
+
+struct TinyMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<facerig::Triangle> triangles;
+};
+
+TinyMesh Tetrahedron() {
+  return {{{0.0f, 0.0f, 0.0f}, {1.0f, 0.1f, 0.0f}, {0.2f, 1.0f, 0.1f}, {0.3f, 0.2f, 1.0f}},
+          {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}};
+}
+
+// An n x n grid in XY with a bump in z (so frames are not all parallel).
+TinyMesh Grid(int n, float bump) {
+  TinyMesh mesh;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const float fx = static_cast<float>(x);
+      const float fy = static_cast<float>(y);
+      mesh.positions.emplace_back(fx, fy, bump * std::sin(0.7f * fx) * std::cos(0.5f * fy));
+    }
+  }
+  auto at = [n](int x, int y) { return static_cast<std::uint32_t>(y * n + x); };
+  for (int y = 0; y + 1 < n; ++y) {
+    for (int x = 0; x + 1 < n; ++x) {
+      mesh.triangles.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1)});
+      mesh.triangles.push_back({at(x, y), at(x + 1, y + 1), at(x, y + 1)});
+    }
+  }
+  return mesh;
+}
+
+float MaxDistance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
+  REQUIRE(a.size() == b.size());
+  float worst = 0.0f;
+  for (std::size_t v = 0; v < a.size(); ++v) worst = std::max(worst, glm::length(a[v] - b[v]));
+  return worst;
+}
+
+glm::mat3 RotationZ(float angle) {
+  const float c = std::cos(angle);
+  const float s = std::sin(angle);
+  return glm::mat3(c, s, 0.0f, -s, c, 0.0f, 0.0f, 0.0f, 1.0f);  // column-major
+}
+
+// The ICT template and its 20 identity modes, read once per binary.
+struct IctData {
+  Meshes expressions;
+  Meshes identities;
+};
+
+const IctData& Ict() {
+  static std::once_flag once;
+  static IctData data;
+  std::call_once(once, [] {
+    const facerig::Rig& rig = facerig::test::IctRig();
+    data.expressions = facerig::RigExpressionMeshes(rig);
+    for (int k = 0; k < 20; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "identity%03d.obj", k);
+      data.identities.push_back(facerig::ReadObj(facerig::test::IctDir() / name).positions);
+    }
+  });
+  return data;
+}
+
+// A random same-topology ICT face: neutral + sum_i w_i (identity_i - neutral), w ~ N(0, 1).
+std::vector<glm::vec3> RandomIctFace(unsigned seed) {
+  const facerig::Rig& rig = facerig::test::IctRig();
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  std::vector<glm::vec3> face(rig.positions().begin(), rig.positions().end());
+  for (const std::vector<glm::vec3>& identity : Ict().identities) {
+    REQUIRE(identity.size() == face.size());
+    const float w = normal(rng);
+    for (std::size_t v = 0; v < face.size(); ++v) face[v] += w * (identity[v] - rig.positions()[v]);
+  }
+  return face;
+}
+
+// True expressions of a random face: T_i = T_0 + (S_i - S_0).
+Meshes TrueExpressions(std::span<const glm::vec3> face) {
+  const facerig::Rig& rig = facerig::test::IctRig();
+  Meshes truth(Ict().expressions.size());
+  for (std::size_t s = 0; s < truth.size(); ++s) {
+    truth[s].assign(face.begin(), face.end());
+    for (std::size_t v = 0; v < face.size(); ++v) {
+      truth[s][v] += Ict().expressions[s][v] - rig.positions()[v];
+    }
+  }
+  return truth;
+}
+
+struct ErrorTable {
+  std::vector<double> errors;
+  std::vector<double> leaks;
+  std::string worst_shape;
+  double worst = 0.0;
+  double median() const { return facerig::Percentile(errors, 0.5); }
+  double p90() const { return facerig::Percentile(errors, 0.9); }
+};
+
+ErrorTable Measure(const Meshes& result, const Meshes& truth, std::span<const glm::vec3> face) {
+  const facerig::Rig& rig = facerig::test::IctRig();
+  ErrorTable table;
+  for (std::size_t s = 0; s < result.size(); ++s) {
+    const facerig::ExpressionError e =
+        facerig::MeasureExpressionError(face, truth[s], result[s], 0, kFaceLast);
+    table.errors.push_back(e.relative_error);
+    table.leaks.push_back(e.leak);
+    if (e.relative_error > table.worst) {
+      table.worst = e.relative_error;
+      table.worst_shape = std::string(rig.shape_name(s));
+    }
+  }
+  return table;
+}
+
+}  // namespace
+
+TEST_CASE("Transferring no deformation returns the target unchanged", "[deformation_transfer]") {
+  const TinyMesh source = Grid(7, 0.3f);
+  const TinyMesh target = Grid(7, -0.5f);
+  for (facerig::TransferMode mode :
+       {facerig::TransferMode::kClassic, facerig::TransferMode::kIdentityGradient}) {
+    facerig::DeformationTransferParams params;
+    params.mode = mode;
+    params.anchor_vertices = {0};
+    const Meshes expressions{source.positions};
+    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
+        source.positions, target.positions, source.triangles, expressions, params);
+    REQUIRE(result.expressions.size() == 1);
+    CHECK(MaxDistance(result.expressions[0], target.positions) < 1e-5f);
+    CHECK(result.residuals[0] < 1e-5);
+  }
+}
+
+TEST_CASE("A rotation of the source transfers exactly", "[deformation_transfer]") {
+  const TinyMesh source = Tetrahedron();
+  TinyMesh target = Tetrahedron();
+  target.positions[2] += glm::vec3(0.2f, 0.3f, -0.1f);
+  target.positions[3] *= 1.4f;
+  const glm::mat3 rotation = RotationZ(0.6f) * glm::mat3(1.0f, 0.0f, 0.0f, 0.0f, 0.8f, 0.6f, 0.0f, -0.6f, 0.8f);
+  Meshes expressions(1);
+  // Rotated about vertex 0, which is the anchor (so it does not move).
+  for (const glm::vec3& p : source.positions) expressions[0].push_back(rotation * p);
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0};
+  for (bool scaled_normal : {false, true}) {
+    params.scaled_normal = scaled_normal;
+    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
+        source.positions, target.positions, source.triangles, expressions, params);
+    std::vector<glm::vec3> expected;
+    for (const glm::vec3& p : target.positions) expected.push_back(rotation * p);
+    CHECK(MaxDistance(result.expressions[0], expected) < 1e-5f);
+  }
+}
+
+TEST_CASE("A uniform scale of the source transfers exactly with the 4th-vertex frames",
+          "[deformation_transfer]") {
+  const TinyMesh source = Tetrahedron();
+  TinyMesh target = Tetrahedron();
+  target.positions[1] += glm::vec3(0.3f, -0.2f, 0.2f);
+  Meshes expressions(1);
+  const glm::vec3 centre = source.positions[0];
+  for (const glm::vec3& p : source.positions) expressions[0].push_back(centre + 1.5f * (p - centre));
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0};
+  params.scaled_normal = true;  // the normal scales like the edges: the gradient is exactly 1.5 I
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
+      source.positions, target.positions, source.triangles, expressions, params);
+  std::vector<glm::vec3> expected;
+  for (const glm::vec3& p : target.positions) {
+    expected.push_back(target.positions[0] + 1.5f * (p - target.positions[0]));
+  }
+  CHECK(MaxDistance(result.expressions[0], expected) < 1e-5f);
+}
+
+TEST_CASE("Precompute once, solve per expression; threads do not change the result",
+          "[deformation_transfer]") {
+  const TinyMesh source = Grid(9, 0.4f);
+  const TinyMesh target = Grid(9, 0.1f);
+  Meshes expressions;
+  for (int k = 0; k < 5; ++k) {
+    std::vector<glm::vec3> e = source.positions;
+    for (std::size_t v = 0; v < e.size(); ++v) {
+      if (e[v].y > 2.5f) e[v].z += 0.2f * static_cast<float>(k + 1) * std::sin(e[v].x + static_cast<float>(k));
+    }
+    expressions.push_back(std::move(e));
+  }
+  facerig::DeformationTransferParams params;
+  params.threads = 1;
+  const facerig::DeformationTransferResult one = facerig::DeformationTransfer(
+      source.positions, target.positions, source.triangles, expressions, params);
+  params.threads = 2;
+  const facerig::DeformationTransferResult two = facerig::DeformationTransfer(
+      source.positions, target.positions, source.triangles, expressions, params);
+  // Static anchors: the rows y <= 2 that no expression moves.
+  CHECK(one.anchor_count == 27);
+  facerig::DeformationTransferData data;
+  facerig::PrecomputeDeformationTransfer(source.positions, target.positions, source.triangles,
+                                         expressions, params, data);
+  CHECK(data.free_count == 81 - 27);
+  for (std::size_t k = 0; k < expressions.size(); ++k) {
+    CHECK(one.expressions[k] == two.expressions[k]);  // bit-identical
+    std::vector<glm::vec3> single;
+    const double residual = facerig::SolveDeformationTransfer(data, expressions[k], single);
+    CHECK(single == one.expressions[k]);
+    CHECK(residual == one.residuals[k]);
+    for (std::size_t v = 0; v < 27; ++v) CHECK(single[v] == target.positions[v]);
+  }
+}
+
+TEST_CASE("The displacement prior moves the result towards displacement transfer",
+          "[deformation_transfer]") {
+  const TinyMesh source = Grid(8, 0.3f);
+  TinyMesh target = Grid(8, 0.1f);
+  for (glm::vec3& p : target.positions) p.x *= 1.3f;  // wider: gradients differ from deltas
+  Meshes expressions{source.positions};
+  for (glm::vec3& p : expressions[0]) p.z += 0.3f * std::sin(p.x) * p.y;
+  std::vector<glm::vec3> additive = target.positions;
+  for (std::size_t v = 0; v < additive.size(); ++v) additive[v] += expressions[0][v] - source.positions[v];
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0};
+  float previous = 1e30f;
+  for (double prior : {0.0, 0.01, 1.0, 100.0}) {
+    params.displacement_prior = prior;
+    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
+        source.positions, target.positions, source.triangles, expressions, params);
+    const float distance = MaxDistance(result.expressions[0], additive);
+    CHECK(distance <= previous);
+    previous = distance;
+  }
+  CHECK(previous < 0.01f);
+  params.displacement_prior = -1.0;
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, target.positions, source.triangles,
+                                               expressions, params),
+                  facerig::TransferInputError);
+}
+
+TEST_CASE("A part without anchors follows the template's mean displacement",
+          "[deformation_transfer]") {
+  // Two tetrahedra; anchors only on the first. The second moves as a whole.
+  TinyMesh mesh = Tetrahedron();
+  for (int v = 0; v < 4; ++v) mesh.positions.push_back(mesh.positions[static_cast<std::size_t>(v)] + glm::vec3(3.0f, 0.0f, 0.0f));
+  for (int t = 0; t < 4; ++t) {
+    facerig::Triangle tri = mesh.triangles[static_cast<std::size_t>(t)];
+    for (std::uint32_t& v : tri) v += 4;
+    mesh.triangles.push_back(tri);
+  }
+  TinyMesh target = mesh;
+  for (glm::vec3& p : target.positions) p *= 1.1f;
+  Meshes expressions{mesh.positions};
+  const glm::vec3 shift(0.5f, -1.0f, 2.0f);
+  for (std::size_t v = 4; v < 8; ++v) expressions[0][v] += shift;
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0, 1};
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
+      mesh.positions, target.positions, mesh.triangles, expressions, params);
+  CHECK(result.floating_components == 1);
+  for (std::size_t v = 0; v < 8; ++v) {
+    const glm::vec3 expected = target.positions[v] + (v >= 4 ? shift : glm::vec3(0.0f));
+    CHECK(glm::length(result.expressions[0][v] - expected) < 1e-5f);
+  }
+}
+
+TEST_CASE("Degenerate and needle triangles are regularized, not fatal", "[deformation_transfer]") {
+  TinyMesh source = Grid(6, 0.2f);
+  // Collapse one triangle to a point and squash another into a needle.
+  source.positions[7] = source.positions[8];
+  source.positions[15].y = source.positions[14].y + 1e-6f;
+  TinyMesh target = source;
+  for (glm::vec3& p : target.positions) p.z *= 2.0f;
+  Meshes expressions{source.positions};
+  for (glm::vec3& p : expressions[0]) p.z += 0.1f * p.x;
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0};
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
+      source.positions, target.positions, source.triangles, expressions, params);
+  CHECK(result.regularized_triangles >= 2);
+  for (const glm::vec3& p : result.expressions[0]) {
+    CHECK((std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)));
+  }
+  // Away from the bad triangles the shear still transfers: the far corner moves up.
+  CHECK(result.expressions[0][35].z - target.positions[35].z > 0.3f);
+}
+
+TEST_CASE("Invalid inputs throw typed errors naming the mesh", "[deformation_transfer]") {
+  const TinyMesh source = Grid(4, 0.1f);
+  const Meshes expressions{source.positions};
+  std::vector<glm::vec3> short_target(source.positions.begin(), source.positions.end() - 1);
+  try {
+    facerig::DeformationTransfer(source.positions, short_target, source.triangles, expressions);
+    FAIL("no exception");
+  } catch (const facerig::TransferInputError& error) {
+    CHECK(error.mesh() == "target neutral");
+    CHECK(std::string(error.what()).find("15 vertices, expected 16") != std::string::npos);
+  }
+  const Meshes bad_expression{short_target};
+  try {
+    facerig::DeformationTransfer(source.positions, source.positions, source.triangles, bad_expression);
+    FAIL("no exception");
+  } catch (const facerig::TransferInputError& error) {
+    CHECK(error.mesh() == "source expression 0");
+  }
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {99};
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, source.positions, source.triangles,
+                                               expressions, params),
+                  facerig::TransferInputError);
+  std::vector<facerig::Triangle> bad_triangles = source.triangles;
+  bad_triangles[3][1] = 16;
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, source.positions, bad_triangles,
+                                               expressions),
+                  facerig::InvalidInputError);
+  std::vector<glm::vec3> nan_target = source.positions;
+  nan_target[5].x = std::nanf("");
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, nan_target, source.triangles, expressions),
+                  facerig::TransferInputError);
+  facerig::DeformationTransferData data;
+  std::vector<glm::vec3> out;
+  CHECK_THROWS_AS(facerig::SolveDeformationTransfer(data, source.positions, out),
+                  facerig::TransferInputError);
+}
+
+TEST_CASE("TransferRig builds a rig with the template's shapes on the target", "[deformation_transfer]") {
+  const facerig::Rig grid = facerig::test::MakeGridRig(8, 4);
+  std::vector<glm::vec3> target(grid.positions().begin(), grid.positions().end());
+  for (glm::vec3& p : target) p = 1.2f * p + glm::vec3(0.0f, 0.0f, 0.05f * p.x * p.y);
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0, 7};
+  facerig::DeformationTransferResult result;
+  facerig::RawRig raw = facerig::TransferRig(grid, target, params, &result);
+  std::string problem;
+  std::optional<facerig::Rig> rig = facerig::RigBuilder::Build(std::move(raw), &problem);
+  REQUIRE(rig.has_value());
+  CHECK(rig->shape_count() == grid.shape_count());
+  CHECK(rig->shape_name(2) == grid.shape_name(2));
+  CHECK(rig->positions()[5] == target[5]);
+  CHECK(result.expressions.size() == 4);
+}
+
+TEST_CASE("Classic deformation transfer of the ICT rig onto random identities (shared data)",
+          "[deformation_transfer][shared-data]") {
+  const facerig::Rig& rig = facerig::test::IctRig();
+  ErrorTable classic_all;
+  ErrorTable identity_all;
+  for (unsigned seed : {7u, 8u, 9u}) {
+    const std::vector<glm::vec3> face = RandomIctFace(seed);
+    const Meshes truth = TrueExpressions(face);
+    facerig::DeformationTransferParams params;
+    const facerig::DeformationTransferResult classic =
+        facerig::DeformationTransfer(rig.positions(), face, rig.triangles(), Ict().expressions, params);
+    params.mode = facerig::TransferMode::kIdentityGradient;
+    const facerig::DeformationTransferResult identity =
+        facerig::DeformationTransfer(rig.positions(), face, rig.triangles(), Ict().expressions, params);
+    REQUIRE(classic.expressions.size() == 53);
+    const ErrorTable classic_errors = Measure(classic.expressions, truth, face);
+    const ErrorTable identity_errors = Measure(identity.expressions, truth, face);
+    WARN("face " << seed << ": classic median " << classic_errors.median() << " p90 "
+                 << classic_errors.p90() << " worst " << classic_errors.worst_shape << " "
+                 << classic_errors.worst << "; identity gradient median " << identity_errors.median()
+                 << " p90 " << identity_errors.p90() << " worst " << identity_errors.worst_shape << " "
+                 << identity_errors.worst << "; " << classic.precompute_seconds + classic.solve_seconds
+                 << " s");
+    for (const ErrorTable* from : {&classic_errors, &identity_errors}) {
+      ErrorTable& into = from == &classic_errors ? classic_all : identity_all;
+      into.errors.insert(into.errors.end(), from->errors.begin(), from->errors.end());
+      into.leaks.insert(into.leaks.end(), from->leaks.begin(), from->leaks.end());
+    }
+    // Every part is anchored: the jaw's teeth follow jawOpen instead of flying off.
+    CHECK(classic.floating_components > 0);
+    const std::size_t jaw = *rig.FindShape("jawOpen");
+    const facerig::ExpressionError teeth = facerig::MeasureExpressionError(
+        face, truth[jaw], classic.expressions[jaw], kTeethFirst, kTeethLast);
+    CHECK(teeth.relative_error < 0.1);
+    // Parts without static vertices (eyeballs, teeth) match the template's mean
+    // displacement, so nothing drifts off: the worst vertex error stays small.
+    for (std::size_t s = 0; s < 53; ++s) {
+      const facerig::ExpressionError whole =
+          facerig::MeasureExpressionError(face, truth[s], classic.expressions[s], 0, face.size());
+      INFO(rig.shape_name(s));
+      CHECK(whole.max_error < 0.02 * rig.bounding_diagonal());
+    }
+  }
+  WARN("3 faces: classic median " << classic_all.median() << " p90 " << classic_all.p90()
+                                  << " (issue 6 targets 0.05 / 0.08), identity gradient median "
+                                  << identity_all.median() << " p90 " << identity_all.p90());
+  // Regression guards at the level measured (these 3 faces: 0.061 / 0.121;
+  // bench, 8 faces: 0.053 / 0.102): the issue's plain-reference level, not yet
+  // its targets. The error grows with the face's distance from the template
+  // (face 9: 0.106), as the gradients rotate the template's deltas.
+  CHECK(classic_all.median() <= 0.07);
+  CHECK(classic_all.p90() <= 0.14);
+  CHECK(facerig::Percentile(classic_all.leaks, 0.5) <= 0.01);
+  // Measured against each other: on same-topology ICT faces classic is the more accurate.
+  CHECK(classic_all.median() < identity_all.median());
+  CHECK(identity_all.median() <= 0.08);
+}
+
+TEST_CASE("eyeBlink closes the lids as far as the template's deltas do (shared data)",
+          "[deformation_transfer][shared-data]") {
+  const facerig::Rig& rig = facerig::test::IctRig();
+  const std::vector<glm::vec3> face = RandomIctFace(11);
+  const Meshes truth = TrueExpressions(face);
+  const facerig::DeformationTransferResult classic =
+      facerig::DeformationTransfer(rig.positions(), face, rig.triangles(), Ict().expressions);
+  for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
+    const std::size_t s = *rig.FindShape(name);
+    const facerig::EyelidMargins margins =
+        facerig::FindEyelidMargins(rig.positions(), Ict().expressions[s], 0, kLidLast);
+    REQUIRE(margins.upper.size() >= 3);
+    const facerig::EyelidGap on_template = facerig::MeasureEyelidGap(Ict().expressions[s], margins);
+    const facerig::EyelidGap on_truth = facerig::MeasureEyelidGap(truth[s], margins);
+    const facerig::EyelidGap transferred = facerig::MeasureEyelidGap(classic.expressions[s], margins);
+    WARN(name << ": mean lid gap / eye width: template " << on_template.mean_gap << ", template deltas on "
+              << "the face " << on_truth.mean_gap << ", transferred " << transferred.mean_gap
+              << " (crossing " << transferred.max_crossing << ")");
+    CHECK(on_template.mean_gap < 0.03);
+    CHECK(transferred.mean_gap <= on_truth.mean_gap + 0.01);
+    CHECK(transferred.max_crossing <= on_truth.max_crossing + 0.01);
+  }
+}

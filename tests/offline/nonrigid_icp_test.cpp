@@ -1,0 +1,175 @@
+#include "facerig/offline/nonrigid_icp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/landmarks.h"
+#include "facerig/offline/registration_error.h"
+#include "offline/registration_targets.h"
+
+namespace facerig {
+namespace {
+
+// An n x n grid over [-1, 1]^2 bent by `bend` (a smooth height field).
+void MakeSheet(int n, float bend, std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles) {
+  positions.clear();
+  triangles.clear();
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const float u = -1.0f + 2.0f * static_cast<float>(x) / static_cast<float>(n - 1);
+      const float v = -1.0f + 2.0f * static_cast<float>(y) / static_cast<float>(n - 1);
+      positions.push_back({u, v, bend * (0.5f * u * u - 0.3f * v * v + 0.2f * u * v)});
+    }
+  }
+  for (int y = 0; y + 1 < n; ++y) {
+    for (int x = 0; x + 1 < n; ++x) {
+      const auto a = static_cast<std::uint32_t>(y * n + x);
+      const auto b = a + 1, c = a + static_cast<std::uint32_t>(n), d = c + 1;
+      triangles.push_back({a, b, d});
+      triangles.push_back({a, d, c});
+    }
+  }
+}
+
+struct FitReport {
+  double correspondence_mean_cm = 0.0;
+  double correspondence_p95_cm = 0.0;
+};
+
+FitReport Measure(const NonrigidIcpResult& fit, const test::RegistrationTarget& target) {
+  std::vector<double> errors;
+  for (std::uint32_t v = 0; v < kIctFaceVertexCount; ++v) {
+    errors.push_back(static_cast<double>(glm::length(fit.positions[v] - target.true_ict_positions[v])) /
+                     target.units_per_cm);
+  }
+  FitReport report;
+  for (double e : errors) report.correspondence_mean_cm += e;
+  report.correspondence_mean_cm /= static_cast<double>(errors.size());
+  std::sort(errors.begin(), errors.end());
+  report.correspondence_p95_cm = errors[errors.size() * 95 / 100];
+  return report;
+}
+
+RegistrationLandmarks IctLandmarks(const test::RegistrationTarget& target) {
+  RegistrationLandmarks landmarks;
+  landmarks.template_vertices = IctLandmarkVertices();
+  landmarks.target_points = target.true_landmarks;
+  landmarks.confidence.assign(68, 1.0f);
+  for (int i = 0; i < 17; ++i) landmarks.confidence[static_cast<std::size_t>(i)] = 0.2f;  // jaw
+  return landmarks;
+}
+
+TEST_CASE("Non-rigid ICP fits a bent sheet onto another bend", "[nonrigid_icp]") {
+  std::vector<glm::vec3> source, target;
+  std::vector<Triangle> source_triangles, target_triangles;
+  MakeSheet(30, 0.2f, source, source_triangles);
+  MakeSheet(41, 0.6f, target, target_triangles);  // a different vertex set
+  // Scan-like defects: degenerate triangles and a loose vertex.
+  target_triangles.push_back({5, 5, 6});
+  target_triangles.push_back({7, 8, 7});
+  target.push_back({0.0f, 0.0f, 0.0f});
+  RegistrationLandmarks landmarks;
+  for (std::uint32_t v : {0u, 29u, 870u, 899u, 435u}) {
+    landmarks.template_vertices.push_back(v);
+    glm::vec3 p = source[v];
+    p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
+    landmarks.target_points.push_back(p);
+  }
+  const NonrigidIcpResult fit = NonrigidIcp(source, source_triangles, target, target_triangles, landmarks);
+  REQUIRE(fit.positions.size() == source.size());
+  CHECK(fit.residual.mean_percent < 0.1);
+  CHECK(fit.residual.p95_percent < 0.3);
+  // Heights follow the target's bend.
+  double worst = 0.0;
+  for (const glm::vec3& p : fit.positions) {
+    const double z = 0.6 * (0.5 * p.x * p.x - 0.3 * p.y * p.y + 0.2 * p.x * p.y);
+    if (std::abs(p.x) < 0.9f && std::abs(p.y) < 0.9f) worst = std::max(worst, std::abs(z - p.z));
+  }
+  CHECK(worst < 0.01);
+  CHECK(fit.iterations_per_stage.size() == 6);
+  int correspondences = 0;
+  for (const SurfaceCorrespondence& c : fit.correspondence) correspondences += c.triangle >= 0 ? 1 : 0;
+  CHECK(correspondences > 800);
+}
+
+TEST_CASE("Non-rigid ICP rejects invalid input", "[nonrigid_icp]") {
+  std::vector<glm::vec3> sheet;
+  std::vector<Triangle> triangles;
+  MakeSheet(5, 0.1f, sheet, triangles);
+  CHECK_THROWS_AS(NonrigidIcp({}, {}, sheet, triangles, {}), InvalidInputError);
+  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, {}, {}, {}), InvalidInputError);
+  std::vector<glm::vec3> nan = sheet;
+  nan[3].z = std::numeric_limits<float>::quiet_NaN();
+  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, nan, triangles, {}), InvalidInputError);
+  RegistrationLandmarks landmarks;
+  landmarks.template_vertices = {0, 1, 99};
+  landmarks.target_points = {sheet[0], sheet[1], sheet[2]};
+  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, sheet, triangles, landmarks), InvalidInputError);
+  landmarks.template_vertices = {0, 1};
+  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, sheet, triangles, landmarks), InvalidInputError);
+  NonrigidIcpParams params;
+  params.stiffness.clear();
+  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, sheet, triangles, {}, params), InvalidInputError);
+}
+
+// With `detect`, the target's landmarks come from the automatic detector
+// (the full pipeline), otherwise from the ground truth.
+void RunIctFit(bool remesh, std::uint32_t seed, double units_per_cm, bool detect) {
+  const test::IctFaceModel& ict = test::IctFaces();
+  test::RegistrationTargetOptions options;
+  options.seed = seed;
+  options.remesh = remesh;
+  options.units_per_cm = units_per_cm;
+  const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
+  NonrigidIcpParams params;
+  params.region_vertex_count = kIctHeadVertexCount;
+  RegistrationLandmarks landmarks = IctLandmarks(target);
+  if (detect) {
+    LandmarkDetector detector;
+    const LandmarkResult detected = detector.Detect(target.positions, target.triangles);
+    landmarks.target_points = detected.landmarks.points;
+    landmarks.confidence = detected.landmarks.confidence;
+  }
+  const NonrigidIcpResult fit =
+      NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles, landmarks, params);
+  const FitReport report = Measure(fit, target);
+  std::printf(
+      "nicp %s seed %u (%s landmarks): target %zu vertices, rotation %.1f deg, %.2f units/cm: correspondence mean %.3f cm "
+      "p95 %.3f cm; residual mean %.4f%% p95 %.4f%% max %.3f%% (%zu measured, %zu rejected); landmark rms "
+      "%.3f cm; %d factorizations; %.2f s (rigid %.2f, setup %.2f, closest %.2f, factorize %.2f, solve %.2f)\n",
+      remesh ? "re-meshed" : "same-topology", seed, detect ? "detected" : "true", target.positions.size(), target.rotation_degrees,
+      units_per_cm, report.correspondence_mean_cm, report.correspondence_p95_cm, fit.residual.mean_percent,
+      fit.residual.p95_percent, fit.residual.max_percent, fit.residual.vertex_count,
+      fit.residual.rejected_count, fit.landmark_rms / units_per_cm, fit.factorizations, fit.timings.total_seconds,
+      fit.timings.rigid_seconds, fit.timings.setup_seconds, fit.timings.correspondence_seconds,
+      fit.timings.factorize_seconds, fit.timings.solve_seconds);
+  CHECK(report.correspondence_mean_cm <= 0.25);
+  CHECK(fit.residual.mean_percent <= 0.1);
+  CHECK(fit.residual.p95_percent <= 0.5);
+  // Inner parts moved with the face: eyeballs stay near their true place.
+  double eye_error = 0.0;
+  for (std::uint32_t v = 21451; v < 24591; ++v) {
+    eye_error += static_cast<double>(glm::length(fit.positions[v] - target.true_ict_positions[v]));
+  }
+  eye_error /= 3140.0 * units_per_cm;
+  std::printf("  eyeball vertices: mean error %.3f cm\n", eye_error);
+  CHECK(eye_error < 0.5);
+}
+
+TEST_CASE("Non-rigid ICP registers ICT onto a random ICT face (shared data)", "[nonrigid_icp][shared-data]") {
+  RunIctFit(false, 21, 1.0, false);
+}
+
+TEST_CASE("Non-rigid ICP registers ICT onto a re-meshed random face in metres, detected landmarks (shared data)",
+          "[nonrigid_icp][shared-data]") {
+  RunIctFit(true, 22, 0.01, true);
+}
+
+}  // namespace
+}  // namespace facerig

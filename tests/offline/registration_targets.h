@@ -1,0 +1,53 @@
+// Registration test targets made from ICT-FaceKit (../shared/data): random
+// faces neutral + sum_i w_i (identity_i - neutral), w ~ N(0, 1), optionally
+// re-meshed to a different vertex set (midpoint subdivision, then every vertex
+// jittered along the surface and projected back onto it), randomly rotated,
+// scaled (cm -> m / cm / mm) and moved. Ground truth: where each ICT vertex
+// (and so each of the 68 landmark vertices) lies on the target.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "facerig/offline/rigid_align.h"
+#include "facerig/runtime/rig.h"
+
+namespace facerig::test {
+
+// ICT-FaceKit's neutral and identity meshes (read once; centimetres).
+struct IctFaceModel {
+  std::vector<glm::vec3> neutral;
+  std::vector<std::vector<glm::vec3>> identities;  // identity000..019, whole meshes
+  std::vector<Triangle> triangles;  // all parts
+  std::vector<Triangle> head_triangles;  // face + head region (vertices < 11248)
+};
+const IctFaceModel& IctFaces();
+
+// neutral + sum_i w_i (identity_i - neutral), w_i ~ N(0, sigma), all vertices.
+std::vector<glm::vec3> RandomIctFace(std::uint32_t seed, double sigma = 1.0);
+
+struct RegistrationTargetOptions {
+  std::uint32_t seed = 1;
+  bool remesh = true;  // false: the face + head region with ICT's own topology
+  double max_rotation_degrees = 25.0;
+  // Target units per centimetre: 0.01 (metres), 1 (cm), 10 (mm); 0 picks one at random.
+  double units_per_cm = 0.0;
+  double identity_sigma = 1.0;
+};
+
+struct RegistrationTarget {
+  std::vector<glm::vec3> positions;  // the target mesh, target units
+  std::vector<Triangle> triangles;
+  // Every ICT vertex of the random face, in target coordinates (ground truth).
+  std::vector<glm::vec3> true_ict_positions;
+  std::vector<glm::vec3> true_landmarks;  // the 68 ICT landmark vertices, target coordinates
+  SimilarityTransform from_ict;  // ICT centimetres -> target
+  double units_per_cm = 1.0;
+  double rotation_degrees = 0.0;
+};
+
+RegistrationTarget MakeRegistrationTarget(const RegistrationTargetOptions& options);
+
+}  // namespace facerig::test
