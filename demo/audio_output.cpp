@@ -53,7 +53,10 @@ void AudioOutput::Callback(void* user, Uint8* stream, int length) {
   auto* self = static_cast<AudioOutput*>(user);
   const auto wanted = static_cast<std::size_t>(length) / sizeof(std::int16_t);
   const std::size_t available = std::min(wanted, self->buffer_.size() - self->read_);
-  std::memcpy(stream, self->buffer_.data() + self->read_, available * sizeof(std::int16_t));
+  // An empty buffer has a null data(), which memcpy may not be given even for 0 bytes.
+  if (available > 0) {
+    std::memcpy(stream, self->buffer_.data() + self->read_, available * sizeof(std::int16_t));
+  }
   std::memset(stream + available * sizeof(std::int16_t), 0, (wanted - available) * sizeof(std::int16_t));
   self->read_ += available;
   self->consumed_ += static_cast<std::int64_t>(wanted);
