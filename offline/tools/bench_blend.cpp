@@ -1,4 +1,5 @@
 #include "bench_blend.h"
+#include "bench_json.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +13,6 @@
 #include "facerig/offline/dense_blend.h"
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "support/allocation_counter.h"
 
@@ -196,14 +196,5 @@ int RunBlendBenchmark(int argc, char** argv) {
   }
   std::printf("\nsparse us: positions only; +blend n / +recomp n: the same job with normals from\n"
               "blended normal deltas / recomputed from positions. roof: streaming the same bytes.\n");
-  if (!json_path.empty()) {
-    try {
-      facerig::WriteFileAtomically(json_path, report.dump(2) + "\n");
-    } catch (const facerig::IoError& error) {
-      std::fprintf(stderr, "facerig-bench: %s\n", error.what());
-      return 1;
-    }
-    std::printf("wrote %s\n", json_path.c_str());
-  }
-  return 0;
+  return WriteBenchJson(json_path, report);
 }

@@ -1,4 +1,5 @@
 #include "bench_crowd.h"
+#include "bench_json.h"
 
 #include <algorithm>
 #include <chrono>
@@ -14,7 +15,6 @@
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/rig_file.h"
 
 namespace {
@@ -147,13 +147,7 @@ int RunCrowdBenchmark(int argc, char** argv) {
                                    {"blend_us_per_character", median(blend_us_total) / static_cast<double>(count)},
                                    {"per_character_us", per_character_us},
                                    {"max_characters_60fps", max_characters}};
-    try {
-      facerig::WriteFileAtomically(json_path, report.dump(2) + "\n");
-    } catch (const facerig::IoError& error) {
-      std::fprintf(stderr, "facerig-bench: %s\n", error.what());
-      return 1;
-    }
-    std::printf("wrote %s\n", json_path.c_str());
+    return WriteBenchJson(json_path, report);
   }
   return 0;
 }

@@ -1,4 +1,5 @@
 #include "bench_lipsync.h"
+#include "bench_json.h"
 
 #include <algorithm>
 #include <chrono>
@@ -19,7 +20,6 @@
 #include "facerig/runtime/behaviour/blink.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 
@@ -341,13 +341,7 @@ int RunLipsyncBenchmark(int argc, char** argv) {
                              {"update_us", update_median},
                              {"tts_ready_ms", tts_median},
                              {"languages", languages}};
-    try {
-      facerig::WriteFileAtomically(json_path, report.dump(2) + "\n");
-    } catch (const facerig::IoError& error) {
-      std::fprintf(stderr, "facerig-bench: %s\n", error.what());
-      return 1;
-    }
-    std::printf("wrote %s\n", json_path.c_str());
+    return WriteBenchJson(json_path, report);
   }
   return 0;
 }

@@ -1,4 +1,5 @@
 #include "bench_transfer.h"
+#include "bench_json.h"
 
 #include <algorithm>
 #include <ctime>
@@ -15,7 +16,6 @@
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/displacement_transfer.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/template_folder.h"
 
@@ -302,14 +302,5 @@ int RunTransferBenchmark(int argc, char** argv) {
               "whole-mesh box ratio; displ-face: the face region's box; displ-raw: no normalisation\n"
               "(the additive ground truth itself); mixed: mean of classic and identity results.\n",
               template_gap, template_crossing, rig.shape_count());
-  if (!json_path.empty()) {
-    try {
-      facerig::WriteFileAtomically(json_path, report.dump(2) + "\n");
-    } catch (const facerig::IoError& error) {
-      std::fprintf(stderr, "facerig-bench: %s\n", error.what());
-      return 1;
-    }
-    std::printf("wrote %s\n", json_path.c_str());
-  }
-  return 0;
+  return WriteBenchJson(json_path, report);
 }
