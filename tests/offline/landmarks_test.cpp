@@ -13,7 +13,7 @@
 #include "facerig/offline/registration_error.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
-#include "offline/registration_targets.h"
+#include "support/registration_targets.h"
 #include "support/test_meshes.h"
 
 namespace facerig {

@@ -11,7 +11,7 @@
 
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/registration_error.h"
-#include "offline/registration_targets.h"
+#include "support/registration_targets.h"
 
 namespace facerig {
 namespace {

@@ -12,7 +12,7 @@
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/offline/registration_error.h"
-#include "offline/registration_targets.h"
+#include "support/registration_targets.h"
 
 namespace facerig {
 namespace {

@@ -1,4 +1,4 @@
-#include "offline/registration_targets.h"
+#include "support/registration_targets.h"
 
 #include <cmath>
 #include <cstdio>
