@@ -190,6 +190,16 @@ void ClosestPointQuery::Build(std::uint32_t count, const std::vector<glm::vec3>&
 }
 
 ClosestPointHit ClosestPointQuery::Find(glm::vec3 query, float max_distance) const {
+  return FindFiltered(query, max_distance, nullptr, 0.0f);
+}
+
+ClosestPointHit ClosestPointQuery::FindFacing(glm::vec3 query, glm::vec3 normal, float min_normal_dot,
+                                              float max_distance) const {
+  return FindFiltered(query, max_distance, &normal, min_normal_dot);
+}
+
+ClosestPointHit ClosestPointQuery::FindFiltered(glm::vec3 query, float max_distance, const glm::vec3* normal,
+                                                float min_normal_dot) const {
   ClosestPointHit hit;
   float best = std::isfinite(max_distance) ? max_distance * max_distance
                                            : std::numeric_limits<float>::infinity();
@@ -202,6 +212,7 @@ ClosestPointHit ClosestPointQuery::Find(glm::vec3 query, float max_distance) con
     if (node.count > 0) {
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
         const std::uint32_t t = order_[i];
+        if (normal && glm::dot(face_normals_[t], *normal) < min_normal_dot) continue;
         const Triangle& tri = triangles_[t];
         glm::vec3 bary;
         const glm::vec3 p = ClosestPointOnTriangle(query, positions_[tri[0]], positions_[tri[1]],

@@ -38,6 +38,11 @@ class ClosestPointQuery {
   // The nearest surface point within `max_distance` (hit.triangle == -1 when none).
   ClosestPointHit Find(glm::vec3 query,
                        float max_distance = std::numeric_limits<float>::infinity()) const;
+  // The nearest point on triangles facing the same way as `normal` (unit face
+  // normal . normal >= min_normal_dot), so a point on the lower lip does not
+  // snap onto the upper lip resting on it. Degenerate triangles never qualify.
+  ClosestPointHit FindFacing(glm::vec3 query, glm::vec3 normal, float min_normal_dot,
+                             float max_distance = std::numeric_limits<float>::infinity()) const;
 
   std::span<const glm::vec3> positions() const { return positions_; }
   std::span<const Triangle> triangles() const { return triangles_; }
@@ -51,6 +56,8 @@ class ClosestPointQuery {
     std::uint32_t count = 0;  // leaf: triangle count; inner: 0 (right child = left + 1)
   };
   void Build(std::uint32_t count, const std::vector<glm::vec3>& centroids);
+  ClosestPointHit FindFiltered(glm::vec3 query, float max_distance, const glm::vec3* normal,
+                               float min_normal_dot) const;
 
   std::vector<glm::vec3> positions_;
   std::vector<Triangle> triangles_;

@@ -1,0 +1,105 @@
+// Building a rig for a new face, end to end (`facerig build`): landmark pairs
+// -> similarity alignment + optimal-step non-rigid ICP of the template onto the
+// target -> transfer of every template expression onto the fitted template
+// (deformation transfer, classic or identity-gradient, or displacement
+// matrices) -> the expressions mapped onto the target's own vertices
+// (topology_mapping.h). The result keeps the target's vertex order, UVs,
+// parts, units and coordinates, with the template's shape names.
+//
+// The transfer runs in the template's frame and units (the fitted template
+// taken back through the inverse similarity), where the template's static
+// anchor set and thresholds are meaningful; the results are moved into the
+// target's frame with the similarity (deltas scaled and rotated).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "facerig/offline/deformation_transfer.h"
+#include "facerig/offline/landmarks.h"
+#include "facerig/offline/nonrigid_icp.h"
+#include "facerig/offline/registration_error.h"
+#include "facerig/offline/topology_mapping.h"
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+
+enum class BuildMode : std::uint8_t {
+  kClassic = 0,         // deformation transfer S0 -> Si onto T0
+  kIdentityGradient,    // deformation transfer S0 -> T0 onto Si (paper 000 V.B)
+  kDisplacement,        // displacement matrices with bounding-box normalisation (paper 002)
+};
+const char* ToString(BuildMode mode);
+// "classic", "identity", "displacement"; nullopt otherwise.
+std::optional<BuildMode> ParseBuildMode(std::string_view text);
+
+// The template and the target could not be matched: the registration's
+// residual is too large (not a face, or a very different one). The message
+// gives the residual.
+class RegistrationMismatchError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct BuildRigParams {
+  BuildMode mode = BuildMode::kClassic;
+  // region_vertex_count 0: TemplateRegionVertexCount(template). `progress` is
+  // replaced by the one below.
+  NonrigidIcpParams registration;
+  DeformationTransferParams transfer;  // `mode` is set from `mode` above
+  TopologyMappingParams mapping;
+  // A fit whose mean residual exceeds this (% of the target's diagonal) is a
+  // mismatch: RegistrationMismatchError. Good fits measure ~0.01 %.
+  double max_residual_mean_percent = 1.0;
+  // Called with a stage name ("register", "transfer", "map") and progress in it.
+  std::function<void(const char* stage, std::size_t done, std::size_t total)> progress;
+};
+
+struct BuildRigTimings {
+  double registration_seconds = 0.0;
+  double transfer_seconds = 0.0;
+  double mapping_seconds = 0.0;
+  double total_seconds = 0.0;
+};
+
+struct BuildRigResult {
+  RawRig rig;         // on the target's topology, frame and units
+  RawRig fitted_rig;  // the template's topology in the target's frame and units
+  NonrigidIcpResult registration;
+  TopologyMapping mapping;
+  std::size_t transfer_anchors = 0;  // deformation transfer: anchored vertices
+  BuildRigTimings timings;
+};
+
+// target: the user's mesh (positions, triangles, UVs, parts, units) as read by LoadRig.
+// landmarks: template vertex <-> target point pairs (PairLandmarks).
+// \throw InvalidInputError, SolverError, TransferInputError, TransferSolverError,
+//        RegistrationMismatchError.
+BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const RegistrationLandmarks& landmarks,
+                        const BuildRigParams& params = {});
+
+// The registered region of a template, [0, count): ICT-FaceKit (26,719
+// vertices with parts M_Face, M_BackHead) 11,248 (face + head and neck, not
+// the mouth socket that shares its BackHead part); a template of several parts
+// whose first part starts at vertex 0 (the skin, as the default head): that
+// part's vertices; otherwise every vertex.
+std::uint32_t TemplateRegionVertexCount(const Rig& template_rig);
+
+// The template vertex of each of dlib's 68 landmarks: ICT-FaceKit's published
+// list, or else detected on the template's neutral (nearest vertex to each
+// detected point), which needs the detector.
+// \throw LandmarkDetectionError (as LandmarkDetector::Detect).
+std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& template_rig, LandmarkDetector& detector);
+bool HasKnownLandmarkVertices(const Rig& template_rig);
+
+// Pairs detected (or read) target landmarks with template vertices.
+// \throw InvalidInputError when a landmark index is not below template_vertex_of.size().
+RegistrationLandmarks PairLandmarks(const std::vector<std::uint32_t>& template_vertex_of,
+                                    const FaceLandmarks& target_landmarks);
+
+}  // namespace facerig

@@ -1,0 +1,77 @@
+// Blend shapes onto the user's own mesh (issue 6): a template fitted to the
+// target (template topology, target frame) carries the transferred
+// expressions; every target vertex takes the deltas of its closest point on
+// the fitted template, interpolated with that point's barycentrics, and fades
+// to zero where the target has no template counterpart (the back of a body,
+// a hat), so the target's vertex order, UVs and parts stay untouched.
+//
+// Which template surface a target vertex may land on: each connected part of
+// the target votes (its vertices' nearest template parts) for the template
+// parts it matches (skin, eyeballs, teeth...), and only those are searched,
+// so an eyelid vertex does not take the eyeball's deltas. Within them the
+// nearest triangle facing the same way as the target vertex's normal wins, so
+// lips that touch in the neutral do not swap their motion.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+
+struct TopologyMappingParams {
+  // Distances as fractions of the fitted template's bounding-box diagonal:
+  // full deltas up to full_weight_distance from the fitted template, fading
+  // smoothly (smoothstep) to none at zero_weight_distance.
+  float full_weight_distance = 0.02f;
+  float zero_weight_distance = 0.08f;
+  // A target part searches the template parts that got at least this fraction
+  // of its vertices' votes.
+  float min_part_vote = 0.05f;
+  // Nearest triangle with face normal . vertex normal >= this (cos 75
+  // degrees); when none lies within zero_weight_distance, the plain nearest.
+  float min_normal_dot = 0.26f;
+};
+
+struct TopologyMapping {
+  // Per target vertex: the fitted template triangle and barycentrics of its
+  // closest point, and the falloff weight in [0, 1] (0: not mapped).
+  std::vector<std::uint32_t> triangle;
+  std::vector<glm::vec3> barycentrics;
+  std::vector<float> weight;
+  std::size_t full_vertices = 0;     // weight 1
+  std::size_t partial_vertices = 0;  // 0 < weight < 1
+  std::size_t unmapped_vertices = 0;  // weight 0
+  std::size_t facing_fallbacks = 0;  // no facing triangle near: plain nearest used
+  double mean_distance = 0.0;        // over full-weight vertices, target units
+};
+
+// fitted_template: template positions registered onto the target (target
+// frame and units); template_triangles: the template's triangles.
+// \throw InvalidInputError on empty meshes, indices out of range, NaN.
+TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
+                                       std::span<const Triangle> template_triangles,
+                                       std::span<const glm::vec3> target_positions,
+                                       std::span<const Triangle> target_triangles,
+                                       const TopologyMappingParams& params = {});
+
+// Per-vertex template values (deltas: #template vertices) -> per target vertex
+// (weight * barycentric interpolation). target_values gets #target vertices.
+void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> template_triangles,
+                     std::span<const glm::vec3> template_values, std::vector<glm::vec3>& target_values);
+
+// A rig on the target's topology: the target's positions, triangles, UVs,
+// parts and units, with every shape of `fitted_rig` (template topology, already
+// in the target's frame and units) mapped onto it. Normal deltas, when the
+// fitted rig has them, are recomputed on the target from its mapped meshes.
+// Deltas shorter than relative_drop_threshold x the target's diagonal are dropped.
+RawRig MapRigToTarget(const Rig& fitted_rig, const TopologyMapping& mapping, RawRig target,
+                      float relative_drop_threshold = 1e-6f);
+
+}  // namespace facerig

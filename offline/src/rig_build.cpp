@@ -1,0 +1,200 @@
+#include "facerig/offline/rig_build.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/displacement_transfer.h"
+
+namespace facerig {
+namespace {
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Units of a target whose file does not say: the template's units divided by
+// the registration's scale, rounded to mm / cm / m in log scale (a head is a
+// head: scale 0.01 from a centimetre template means metres).
+Units InferTargetUnits(Units template_units, double scale) {
+  if (template_units == Units::kUnknown || !(scale > 0.0)) return Units::kUnknown;
+  const double target_metres_per_unit = MetresPerUnit(template_units) / scale;
+  Units best = Units::kUnknown;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (Units units : {Units::kMillimetres, Units::kCentimetres, Units::kMetres}) {
+    const double distance = std::abs(std::log10(target_metres_per_unit / MetresPerUnit(units)));
+    if (distance < best_distance) {
+      best_distance = distance;
+      best = units;
+    }
+  }
+  return best_distance < 0.5 ? best : Units::kUnknown;  // within a factor ~3 of a unit
+}
+
+// The template's expressions on `fitted` (template frame, template topology),
+// as sparse shapes, by the chosen method.
+std::vector<RawBlendShape> TransferExpressions(const Rig& template_rig, std::span<const glm::vec3> fitted,
+                                               std::uint32_t region_vertex_count, const BuildRigParams& params,
+                                               std::size_t& anchors) {
+  if (params.mode == BuildMode::kDisplacement) {
+    const DisplacementMatrices matrices = ComputeDisplacementMatrices(template_rig);
+    DisplacementTransferParams displacement;
+    displacement.base_neutral.assign(template_rig.positions().begin(), template_rig.positions().end());
+    displacement.bounding_box_vertices.resize(region_vertex_count);
+    std::iota(displacement.bounding_box_vertices.begin(), displacement.bounding_box_vertices.end(), 0u);
+    const DisplacementTransferResult result = TransferDisplacements(matrices, fitted, displacement);
+    return MakeBlendShapes(matrices.names, fitted, result.poses);
+  }
+  DeformationTransferParams transfer = params.transfer;
+  transfer.mode = params.mode == BuildMode::kClassic ? TransferMode::kClassic : TransferMode::kIdentityGradient;
+  DeformationTransferResult result;
+  RawRig transferred = TransferRig(template_rig, fitted, transfer, &result);
+  anchors = result.anchor_count;
+  return std::move(transferred.shapes);
+}
+
+}  // namespace
+
+const char* ToString(BuildMode mode) {
+  switch (mode) {
+    case BuildMode::kClassic:
+      return "classic";
+    case BuildMode::kIdentityGradient:
+      return "identity";
+    case BuildMode::kDisplacement:
+      return "displacement";
+  }
+  return "?";
+}
+
+std::optional<BuildMode> ParseBuildMode(std::string_view text) {
+  for (BuildMode mode : {BuildMode::kClassic, BuildMode::kIdentityGradient, BuildMode::kDisplacement}) {
+    if (text == ToString(mode)) return mode;
+  }
+  return std::nullopt;
+}
+
+std::uint32_t TemplateRegionVertexCount(const Rig& template_rig) {
+  const auto parts = template_rig.parts();
+  const bool ict = template_rig.vertex_count() == 26719 && parts.size() >= 2 && parts[0].name == "M_Face" &&
+                   parts[1].name == "M_BackHead";
+  if (ict) return kIctHeadVertexCount;
+  if (parts.size() > 1 && parts[0].first_vertex == 0) return parts[0].vertex_count;
+  return static_cast<std::uint32_t>(template_rig.vertex_count());
+}
+
+bool HasKnownLandmarkVertices(const Rig& template_rig) {
+  return TemplateRegionVertexCount(template_rig) == kIctHeadVertexCount && template_rig.vertex_count() == 26719;
+}
+
+std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& template_rig, LandmarkDetector& detector) {
+  if (HasKnownLandmarkVertices(template_rig)) return IctLandmarkVertices();
+  const LandmarkResult detected = detector.Detect(template_rig.positions(), template_rig.triangles());
+  const std::uint32_t region = TemplateRegionVertexCount(template_rig);
+  std::vector<std::uint32_t> vertex_of(kDlibLandmarkCount, 0);
+  for (std::size_t i = 0; i < detected.landmarks.points.size(); ++i) {
+    float best = std::numeric_limits<float>::infinity();
+    std::uint32_t best_vertex = 0;
+    for (std::uint32_t v = 0; v < region; ++v) {
+      const float d = glm::length(template_rig.positions()[v] - detected.landmarks.points[i]);
+      if (d < best) {
+        best = d;
+        best_vertex = v;
+      }
+    }
+    vertex_of[detected.landmarks.indices[i]] = best_vertex;
+  }
+  return vertex_of;
+}
+
+RegistrationLandmarks PairLandmarks(const std::vector<std::uint32_t>& template_vertex_of,
+                                    const FaceLandmarks& target_landmarks) {
+  RegistrationLandmarks pairs;
+  for (std::size_t i = 0; i < target_landmarks.points.size(); ++i) {
+    const std::uint32_t index = i < target_landmarks.indices.size() ? target_landmarks.indices[i]
+                                                                     : static_cast<std::uint32_t>(i);
+    if (index >= template_vertex_of.size()) {
+      throw InvalidInputError("landmark index " + std::to_string(index) + " is not a dlib landmark (0-" +
+                              std::to_string(template_vertex_of.size() - 1) + ")");
+    }
+    pairs.template_vertices.push_back(template_vertex_of[index]);
+    pairs.target_points.push_back(target_landmarks.points[i]);
+    pairs.confidence.push_back(i < target_landmarks.confidence.size() ? target_landmarks.confidence[i] : 1.0f);
+  }
+  return pairs;
+}
+
+BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const RegistrationLandmarks& landmarks,
+                        const BuildRigParams& params) {
+  const auto start = std::chrono::steady_clock::now();
+  if (template_rig.shape_count() == 0) {
+    throw InvalidInputError("the template has no blend shapes to transfer");
+  }
+  auto report = [&](const char* stage, std::size_t done, std::size_t total) {
+    if (params.progress) params.progress(stage, done, total);
+  };
+  BuildRigResult result;
+
+  // 1. Register the template onto the target.
+  NonrigidIcpParams registration = params.registration;
+  if (registration.region_vertex_count == 0) registration.region_vertex_count = TemplateRegionVertexCount(template_rig);
+  registration.progress = [&](std::size_t done, std::size_t total) { report("register", done, total); };
+  result.registration = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions,
+                                    target.triangles, landmarks, registration);
+  result.timings.registration_seconds = result.registration.timings.total_seconds;
+  const ResidualStats& residual = result.registration.residual;
+  if (!(residual.mean_percent <= params.max_residual_mean_percent)) {
+    throw RegistrationMismatchError(
+        "the template does not match the target: registration residual mean " + std::to_string(residual.mean_percent) +
+        " % of the target's diagonal (p95 " + std::to_string(residual.p95_percent) + " %, limit " +
+        std::to_string(params.max_residual_mean_percent) + " %); is the target a face, and are the landmarks right?");
+  }
+
+  // 2. Transfer in the template's frame.
+  const auto transfer_start = std::chrono::steady_clock::now();
+  report("transfer", 0, 1);
+  const SimilarityTransform to_target = result.registration.rigid;
+  const SimilarityTransform to_template = to_target.Inverse();
+  std::vector<glm::vec3> fitted_in_template(result.registration.positions.size());
+  for (std::size_t v = 0; v < fitted_in_template.size(); ++v) {
+    fitted_in_template[v] = to_template.Apply(result.registration.positions[v]);
+  }
+  std::vector<RawBlendShape> shapes = TransferExpressions(template_rig, fitted_in_template,
+                                                          registration.region_vertex_count, params,
+                                                          result.transfer_anchors);
+  // Into the target's frame: deltas rotate and scale with the similarity.
+  const auto scale = static_cast<float>(to_target.scale);
+  for (RawBlendShape& shape : shapes) {
+    for (glm::vec3& d : shape.position_deltas) d = scale * to_target.ApplyToDirection(d);
+    for (glm::vec3& d : shape.normal_deltas) d = to_target.ApplyToDirection(d);
+  }
+  if (target.units == Units::kUnknown) target.units = InferTargetUnits(template_rig.units(), to_target.scale);
+  RawRig fitted = RigBuilder::ToRaw(template_rig);
+  fitted.positions = result.registration.positions;
+  fitted.normals.clear();
+  fitted.shapes = std::move(shapes);
+  fitted.units = target.units;
+  fitted.up_axis = target.up_axis;
+  result.timings.transfer_seconds = SecondsSince(transfer_start);
+  report("transfer", 1, 1);
+
+  // 3. Onto the target's own vertices.
+  const auto mapping_start = std::chrono::steady_clock::now();
+  report("map", 0, 1);
+  std::string problem;
+  std::optional<Rig> fitted_rig = RigBuilder::Build(fitted, &problem);
+  if (!fitted_rig) throw InvalidInputError("the transferred template rig is invalid: " + problem);
+  result.mapping = ComputeTopologyMapping(result.registration.positions, template_rig.triangles(), target.positions,
+                                          target.triangles, params.mapping);
+  result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
+  result.fitted_rig = std::move(fitted);
+  result.timings.mapping_seconds = SecondsSince(mapping_start);
+  report("map", 1, 1);
+  result.timings.total_seconds = SecondsSince(start);
+  return result;
+}
+
+}  // namespace facerig

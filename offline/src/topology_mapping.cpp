@@ -1,0 +1,218 @@
+#include "facerig/offline/topology_mapping.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/closest_point.h"
+#include "facerig/offline/deformation_transfer.h"
+#include "facerig/offline/registration_error.h"
+
+namespace facerig {
+namespace {
+
+void CheckTarget(std::span<const glm::vec3> positions, std::span<const Triangle> triangles) {
+  if (positions.empty() || triangles.empty()) {
+    throw InvalidInputError("topology mapping: the target mesh is empty");
+  }
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    const glm::vec3 p = positions[v];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      throw InvalidInputError("topology mapping: target vertex " + std::to_string(v) +
+                              " has a non-finite coordinate");
+    }
+  }
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (std::uint32_t v : triangles[t]) {
+      if (v >= positions.size()) {
+        throw InvalidInputError("topology mapping: target triangle " + std::to_string(t) + " uses vertex " +
+                                std::to_string(v) + " of " + std::to_string(positions.size()));
+      }
+    }
+  }
+}
+
+float BoundingDiagonalOf(std::span<const glm::vec3> positions) {
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  for (const glm::vec3& p : positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  return glm::length(hi - lo);
+}
+
+// 1 at distance <= full, 0 at >= zero, smoothstep between.
+float Falloff(float distance, float full, float zero) {
+  if (distance <= full) return 1.0f;
+  if (distance >= zero) return 0.0f;
+  const float t = (distance - full) / (zero - full);
+  return 1.0f - t * t * (3.0f - 2.0f * t);
+}
+
+// The fitted template restricted to some of its connected parts, with the
+// map from the subset's triangle index back to the template's.
+struct PartSurface {
+  std::unique_ptr<ClosestPointQuery> query;
+  std::vector<std::uint32_t> template_triangle;
+};
+
+}  // namespace
+
+TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
+                                       std::span<const Triangle> template_triangles,
+                                       std::span<const glm::vec3> target_positions,
+                                       std::span<const Triangle> target_triangles,
+                                       const TopologyMappingParams& params) {
+  CheckTarget(target_positions, target_triangles);
+  if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
+    throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
+  }
+  const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
+  const float diagonal = BoundingDiagonalOf(fitted_template);
+  const float full = params.full_weight_distance * diagonal;
+  const float zero = params.zero_weight_distance * diagonal;
+
+  std::vector<std::uint32_t> template_part_of_vertex, target_part_of_vertex;
+  ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
+  const std::size_t target_parts =
+      ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
+
+  // Votes: which template part is nearest to each target vertex, per target part.
+  const std::size_t n = target_positions.size();
+  std::vector<std::map<std::uint32_t, std::size_t>> votes(target_parts);
+  std::vector<std::size_t> part_size(target_parts, 0);
+  std::vector<ClosestPointHit> nearest(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    nearest[v] = whole.Find(target_positions[v]);
+    const std::uint32_t part = target_part_of_vertex[v];
+    ++part_size[part];
+    if (nearest[v].distance <= zero) {
+      const Triangle& t = template_triangles[static_cast<std::size_t>(nearest[v].triangle)];
+      ++votes[part][template_part_of_vertex[t[0]]];
+    }
+  }
+
+  // One search structure per distinct set of chosen template parts.
+  std::map<std::vector<std::uint32_t>, PartSurface> surfaces;
+  std::vector<const PartSurface*> surface_of_part(target_parts, nullptr);
+  for (std::size_t part = 0; part < target_parts; ++part) {
+    std::vector<std::uint32_t> chosen;
+    for (const auto& [template_part, count] : votes[part]) {
+      if (static_cast<float>(count) >= params.min_part_vote * static_cast<float>(part_size[part])) {
+        chosen.push_back(template_part);
+      }
+    }
+    if (chosen.empty()) continue;  // nothing of the template near this part: plain nearest, faded out
+    auto [it, inserted] = surfaces.try_emplace(chosen);
+    if (inserted) {
+      std::vector<Triangle> subset;
+      for (std::size_t t = 0; t < template_triangles.size(); ++t) {
+        if (std::binary_search(chosen.begin(), chosen.end(), template_part_of_vertex[template_triangles[t][0]])) {
+          subset.push_back(template_triangles[t]);
+          it->second.template_triangle.push_back(static_cast<std::uint32_t>(t));
+        }
+      }
+      it->second.query = std::make_unique<ClosestPointQuery>(fitted_template, subset);
+    }
+    surface_of_part[part] = &it->second;
+  }
+
+  std::vector<glm::vec3> target_normals(n);
+  ComputeVertexNormals(target_positions, target_triangles, target_normals);
+
+  TopologyMapping mapping;
+  mapping.triangle.resize(n);
+  mapping.barycentrics.resize(n);
+  mapping.weight.resize(n);
+  double distance_sum = 0.0;
+  for (std::size_t v = 0; v < n; ++v) {
+    ClosestPointHit hit = nearest[v];
+    const PartSurface* surface = surface_of_part[target_part_of_vertex[v]];
+    if (surface) {
+      ClosestPointHit facing =
+          surface->query->FindFacing(target_positions[v], target_normals[v], params.min_normal_dot, zero);
+      if (facing.triangle < 0) {
+        facing = surface->query->Find(target_positions[v]);
+        ++mapping.facing_fallbacks;
+      }
+      facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);
+      hit = facing;
+    }
+    mapping.triangle[v] = static_cast<std::uint32_t>(hit.triangle);
+    mapping.barycentrics[v] = hit.barycentrics;
+    mapping.weight[v] = Falloff(hit.distance, full, zero);
+    if (mapping.weight[v] >= 1.0f) {
+      ++mapping.full_vertices;
+      distance_sum += hit.distance;
+    } else if (mapping.weight[v] > 0.0f) {
+      ++mapping.partial_vertices;
+    } else {
+      ++mapping.unmapped_vertices;
+    }
+  }
+  mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
+  return mapping;
+}
+
+void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> template_triangles,
+                     std::span<const glm::vec3> template_values, std::vector<glm::vec3>& target_values) {
+  target_values.assign(mapping.weight.size(), glm::vec3(0.0f));
+  for (std::size_t v = 0; v < mapping.weight.size(); ++v) {
+    if (mapping.weight[v] <= 0.0f) continue;
+    const Triangle& t = template_triangles[mapping.triangle[v]];
+    const glm::vec3 b = mapping.barycentrics[v];
+    target_values[v] =
+        mapping.weight[v] * (b.x * template_values[t[0]] + b.y * template_values[t[1]] + b.z * template_values[t[2]]);
+  }
+}
+
+RawRig MapRigToTarget(const Rig& fitted_rig, const TopologyMapping& mapping, RawRig target,
+                      float relative_drop_threshold) {
+  if (mapping.weight.size() != target.positions.size()) {
+    throw InvalidInputError("topology mapping: the mapping has " + std::to_string(mapping.weight.size()) +
+                            " vertices, the target " + std::to_string(target.positions.size()));
+  }
+  const std::size_t n = target.positions.size();
+  const float threshold = relative_drop_threshold * BoundingDiagonalOf(target.positions);
+  const bool with_normals = fitted_rig.has_normal_deltas();
+  std::vector<glm::vec3> neutral_normals, normals, expression;
+  if (with_normals) {
+    neutral_normals.resize(n);
+    normals.resize(n);
+    ComputeVertexNormals(target.positions, target.triangles, neutral_normals);
+  }
+  std::vector<glm::vec3> template_deltas(fitted_rig.vertex_count()), target_deltas;
+  std::vector<RawBlendShape> shapes;
+  for (std::size_t s = 0; s < fitted_rig.shape_count(); ++s) {
+    const BlendShapeView shape = fitted_rig.shape(s);
+    std::fill(template_deltas.begin(), template_deltas.end(), glm::vec3(0.0f));
+    for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+      template_deltas[shape.vertex_indices[i]] = shape.position_deltas[i];
+    }
+    MapVertexValues(mapping, fitted_rig.triangles(), template_deltas, target_deltas);
+    if (with_normals) {
+      expression.resize(n);
+      for (std::size_t v = 0; v < n; ++v) expression[v] = target.positions[v] + target_deltas[v];
+      ComputeVertexNormals(expression, target.triangles, normals);
+      for (std::size_t v = 0; v < n; ++v) normals[v] -= neutral_normals[v];
+    }
+    shapes.push_back(MakeSparseShape(std::string(shape.name), target_deltas, normals, threshold));
+  }
+  // The target's own shapes stay unless a template shape has the same name.
+  for (RawBlendShape& own : target.shapes) {
+    const bool replaced =
+        std::any_of(shapes.begin(), shapes.end(), [&](const RawBlendShape& s) { return s.name == own.name; });
+    if (!replaced) shapes.push_back(std::move(own));
+  }
+  target.shapes = std::move(shapes);
+  if (!with_normals) {
+    for (RawBlendShape& shape : target.shapes) shape.normal_deltas.clear();
+  }
+  return target;  // the target's own normals (if any) stay
+}
+
+}  // namespace facerig
