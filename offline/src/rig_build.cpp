@@ -5,6 +5,8 @@
 #include <limits>
 #include <numeric>
 
+
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/displacement_transfer.h"
@@ -54,6 +56,21 @@ std::vector<RawBlendShape> TransferExpressions(const Rig& template_rig, std::spa
   RawRig transferred = TransferRig(template_rig, fitted, transfer, &result);
   anchors = result.anchor_count;
   return std::move(transferred.shapes);
+}
+
+// Mean distance between the template's region and its fitted shape (both in
+// the template's frame), as a percentage of the region's bounding-box diagonal.
+double MeanDeformationPercent(std::span<const glm::vec3> template_positions, std::span<const glm::vec3> fitted,
+                              std::uint32_t region_vertex_count) {
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  double sum = 0.0;
+  for (std::uint32_t v = 0; v < region_vertex_count; ++v) {
+    lo = glm::min(lo, template_positions[v]);
+    hi = glm::max(hi, template_positions[v]);
+    sum += glm::length(fitted[v] - template_positions[v]);
+  }
+  const double diagonal = glm::length(hi - lo);
+  return region_vertex_count > 0 && diagonal > 0.0 ? 100.0 * sum / region_vertex_count / diagonal : 0.0;
 }
 
 }  // namespace
@@ -161,6 +178,16 @@ BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const Registrati
   std::vector<glm::vec3> fitted_in_template(result.registration.positions.size());
   for (std::size_t v = 0; v < fitted_in_template.size(); ++v) {
     fitted_in_template[v] = to_template.Apply(result.registration.positions[v]);
+  }
+  result.deformation_percent = MeanDeformationPercent(template_rig.positions(), fitted_in_template,
+                                                      registration.region_vertex_count);
+  if (!(result.deformation_percent <= params.max_deformation_percent)) {
+    throw RegistrationMismatchError(
+        "the template does not match the target: fitting it moved the template's surface by " +
+        std::to_string(result.deformation_percent) + " % of its size on average (limit " +
+        std::to_string(params.max_deformation_percent) + " %; registration residual mean " +
+        std::to_string(residual.mean_percent) + " % of the target's diagonal); is the target a face, and are the "
+        "landmarks right?");
   }
   std::vector<RawBlendShape> shapes = TransferExpressions(template_rig, fitted_in_template,
                                                           registration.region_vertex_count, params,

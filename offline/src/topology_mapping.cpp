@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/closest_point.h"

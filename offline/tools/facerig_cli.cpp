@@ -13,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "cli_build.h"
 #include "cli_register.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/runtime/error.h"
@@ -26,6 +27,8 @@ constexpr const char* kUsage =
     "       facerig convert IN OUT [options]\n"
     "       facerig landmarks MESH -o LM.json [--debug-png P] [--json REPORT]\n"
     "       facerig register --template DIR|RIG --target MESH -o FITTED.obj [--landmarks LM.json] [--json REPORT]\n"
+    "       facerig build --template DIR|RIG --target MESH -o OUT.glb [--frig F] [--obj-dir DIR]\n"
+    "                     [--mode classic|identity|displacement] [--landmarks LM.json] [--json REPORT]\n"
     "       facerig default-head OUT_DIR [--preview DIR [--preview-size PX]]   (built-in head)\n"
     "Formats by extension: a template folder of OBJs, .obj (neutral only), .glb, .gltf, .frig.\n"
     "Options for template folders and .obj input:\n"
@@ -207,6 +210,7 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   if (command == "landmarks") return facerig::cli::RunLandmarksCommand(argc, argv);
   if (command == "register") return facerig::cli::RunRegisterCommand(argc, argv);
+  if (command == "build") return facerig::cli::RunBuildCommand(argc, argv);
   if (command == "default-head") {
     try {
       return DefaultHeadCommand(argc, argv);

@@ -1,7 +1,5 @@
 #include "facerig/runtime/io/gltf.h"
 
-#include <sys/wait.h>
-
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -20,6 +18,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "support/gltf_validator.h"
 #include "support/test_meshes.h"
 
 namespace facerig {
@@ -558,26 +557,6 @@ TEST_CASE("gltf: writing is atomic", "[gltf]") {
   }
 }
 
-// Runs the Khronos glTF validator (tests/runtime/io/gltf_validator) on `path`.
-void RequireValidatorAccepts(const fs::path& path) {
-#if defined(FACERIG_GLTF_VALIDATOR) && defined(FACERIG_NODE)
-  const fs::path report = fs::path(path).concat(".validation.txt");
-  const std::string command = std::string("\"") + FACERIG_NODE + "\" \"" + FACERIG_GLTF_VALIDATOR + "\" \"" +
-                              path.string() + "\" > \"" + report.string() + "\" 2>&1";
-  const int status = std::system(command.c_str());
-  const int exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  INFO(command);
-  INFO(ReadFileText(report));
-  REQUIRE(exit_code == 0);
-#else
-  (void)path;
-  FAIL(
-      "the Khronos glTF validator is not set up: run\n"
-      "  npm ci --prefix tests/runtime/io/gltf_validator\n"
-      "in the source folder (needs node and npm), then re-run cmake so that it finds\n"
-      "tests/runtime/io/gltf_validator/node_modules");
-#endif
-}
 
 TEST_CASE("gltf: files pass the Khronos validator", "[gltf][gltf-validator]") {
   const fs::path grid_glb = test::OutputPath("gltf_validate_grid.glb");
@@ -586,9 +565,9 @@ TEST_CASE("gltf: files pass the Khronos validator", "[gltf][gltf-validator]") {
   WriteGltf(grid_glb, test::MakeGridRig(8, 6, false));
   WriteGltf(grid_gltf, test::MakeGridRig(8, 6, true));
   WriteGltf(varied_glb, MakeVariedRig());
-  RequireValidatorAccepts(grid_glb);
-  RequireValidatorAccepts(grid_gltf);
-  RequireValidatorAccepts(varied_glb);
+  test::RequireValidatorAccepts(grid_glb);
+  test::RequireValidatorAccepts(grid_gltf);
+  test::RequireValidatorAccepts(varied_glb);
 }
 
 TEST_CASE("gltf: round trip of the ICT-FaceKit rig (shared data)", "[gltf][shared-data]") {
@@ -596,7 +575,7 @@ TEST_CASE("gltf: round trip of the ICT-FaceKit rig (shared data)", "[gltf][share
   REQUIRE(rig.shape_count() == 53);
   const fs::path path = test::OutputPath("gltf_ict.glb");
   RequireRoundTrip(rig, path);
-  RequireValidatorAccepts(path);
+  test::RequireValidatorAccepts(path);
 }
 
 }  // namespace

@@ -39,8 +39,8 @@ const char* ToString(BuildMode mode);
 std::optional<BuildMode> ParseBuildMode(std::string_view text);
 
 // The template and the target could not be matched: the registration's
-// residual is too large (not a face, or a very different one). The message
-// gives the residual.
+// residual is too large, or the fit had to crush the template (not a face, or
+// wrong landmarks). The message gives the residual.
 class RegistrationMismatchError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -56,6 +56,11 @@ struct BuildRigParams {
   // A fit whose mean residual exceeds this (% of the target's diagonal) is a
   // mismatch: RegistrationMismatchError. Good fits measure ~0.01 %.
   double max_residual_mean_percent = 1.0;
+  // A fit that had to move the template's surface further than this from its
+  // rigidly aligned shape (mean, % of the template region's diagonal) is a
+  // mismatch too: a face registered onto a sheet or a box fits closely but
+  // only by collapsing. Random ICT identities measure ~0.5 %.
+  double max_deformation_percent = 10.0;
   // Called with a stage name ("register", "transfer", "map") and progress in it.
   std::function<void(const char* stage, std::size_t done, std::size_t total)> progress;
 };
@@ -73,6 +78,9 @@ struct BuildRigResult {
   NonrigidIcpResult registration;
   TopologyMapping mapping;
   std::size_t transfer_anchors = 0;  // deformation transfer: anchored vertices
+  // How far the fit moved the template's region from its rigidly aligned
+  // shape: mean distance, % of the region's diagonal.
+  double deformation_percent = 0.0;
   BuildRigTimings timings;
 };
 

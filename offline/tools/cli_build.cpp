@@ -1,0 +1,238 @@
+#include "cli_build.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "cli_common.h"
+#include "facerig/offline/landmarks.h"
+#include "facerig/offline/rig_build.h"
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/io/rig_file.h"
+
+namespace facerig::cli {
+namespace {
+
+constexpr const char* kBuildUsage =
+    "usage: facerig build --template DIR|RIG --target MESH -o OUT.glb [--frig OUT.frig] [--obj-dir DIR]\n"
+    "                     [--mode classic|identity|displacement] [--landmarks LM.json] [--json REPORT]\n"
+    "                     [--units mm|cm|m] [--shape-predictor F]\n"
+    "  Builds the template's blend shapes on the target mesh's own vertices: landmarks (detected, or\n"
+    "  --landmarks) -> registration -> transfer (deformation transfer classic / identity-gradient, or\n"
+    "  displacement matrices) -> mapped onto the target. --units: the target's units when its file does\n"
+    "  not say (default: inferred from the registration's scale).\n";
+
+struct BuildOptions {
+  std::string template_path, target_path, output, frig, obj_dir, landmarks, report, shape_predictor;
+  BuildMode mode = BuildMode::kClassic;
+  Units units = Units::kUnknown;
+};
+
+// Returns false (after printing why) on a bad command line.
+bool ParseBuildOptions(int argc, char** argv, BuildOptions& options) {
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "facerig build: %s needs a value\n", arg.c_str());
+      return false;
+    }
+    const std::string value = argv[++i];
+    if (arg == "--template") {
+      options.template_path = value;
+    } else if (arg == "--target") {
+      options.target_path = value;
+    } else if (arg == "-o") {
+      options.output = value;
+    } else if (arg == "--frig") {
+      options.frig = value;
+    } else if (arg == "--obj-dir") {
+      options.obj_dir = value;
+    } else if (arg == "--landmarks") {
+      options.landmarks = value;
+    } else if (arg == "--json") {
+      options.report = value;
+    } else if (arg == "--shape-predictor") {
+      options.shape_predictor = value;
+    } else if (arg == "--mode") {
+      const std::optional<BuildMode> mode = ParseBuildMode(value);
+      if (!mode) {
+        std::fprintf(stderr, "facerig build: --mode '%s' is not classic, identity or displacement\n", value.c_str());
+        return false;
+      }
+      options.mode = *mode;
+    } else if (arg == "--units") {
+      const std::optional<Units> units = ParseUnits(value);
+      if (!units || *units == Units::kUnknown) {
+        std::fprintf(stderr, "facerig build: --units '%s' is not mm, cm or m\n", value.c_str());
+        return false;
+      }
+      options.units = *units;
+    } else {
+      std::fprintf(stderr, "facerig build: unknown option %s\n", arg.c_str());
+      return false;
+    }
+  }
+  if (options.template_path.empty() || options.target_path.empty() || options.output.empty()) {
+    std::fputs("facerig build: --template, --target and -o are required\n", stderr);
+    return false;
+  }
+  return true;
+}
+
+// A file name for a shape: characters other than letters, digits, '_', '-', '.' become '_'.
+std::string ShapeFileName(std::string_view name) {
+  std::string file(name);
+  for (char& c : file) {
+    const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+    if (!keep) c = '_';
+  }
+  if (file.empty() || file[0] == '.') file.insert(0, "shape_");
+  return file + ".obj";
+}
+
+// neutral.obj and one OBJ per shape on the target's topology, written into a
+// sibling folder first and moved into `folder` only when all are written.
+void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
+  namespace fs = std::filesystem;
+  const fs::path staging = fs::path(folder).concat(".partial");
+  std::error_code error;
+  fs::remove_all(staging, error);
+  if (!fs::create_directories(staging, error) && error) {
+    throw IoError(IoErrorKind::kWriteFailed, staging.string(), "cannot create the folder: " + error.message());
+  }
+  try {
+    std::vector<std::string> files{"neutral.obj"};
+    WriteObj(staging / files[0], rig);
+    std::vector<glm::vec3> positions, normals(rig.vertex_count());
+    for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+      positions.assign(rig.positions().begin(), rig.positions().end());
+      const BlendShapeView shape = rig.shape(s);
+      for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+        positions[shape.vertex_indices[i]] += shape.position_deltas[i];
+      }
+      ComputeVertexNormals(positions, rig.triangles(), normals);
+      files.push_back(ShapeFileName(shape.name));
+      WriteObj(staging / files.back(), positions, normals, rig.uvs(), rig.triangles(), rig.parts());
+    }
+    fs::create_directories(folder, error);
+    if (error) throw IoError(IoErrorKind::kWriteFailed, folder.string(), "cannot create the folder: " + error.message());
+    for (const std::string& file : files) {
+      fs::rename(staging / file, folder / file, error);
+      if (error) throw IoError(IoErrorKind::kWriteFailed, (folder / file).string(), "cannot move into place");
+    }
+    fs::remove_all(staging, error);
+  } catch (...) {
+    fs::remove_all(staging, error);
+    throw;
+  }
+}
+
+}  // namespace
+
+int RunBuildCommand(int argc, char** argv) {
+  BuildOptions options;
+  if (!ParseBuildOptions(argc, argv, options)) {
+    std::fputs(kBuildUsage, stderr);
+    return 2;
+  }
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    for (const std::string& path : {options.output, options.frig, options.report}) {
+      if (!path.empty()) CheckWritable(path);
+    }
+    if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
+
+    const Rig template_rig = LoadRig(options.template_path);
+    RawRig target = LoadMeshForEditing(options.target_path, options.units);
+    const std::size_t target_vertices = target.positions.size();
+    const double load_seconds = SecondsSince(start);
+    std::fprintf(stderr, "template %zu vertices, %zu shapes; target %zu vertices (%.2f s to load)\n",
+                 template_rig.vertex_count(), template_rig.shape_count(), target_vertices, load_seconds);
+
+    const auto landmark_start = std::chrono::steady_clock::now();
+    LandmarkParams landmark_params;
+    if (!options.shape_predictor.empty()) landmark_params.shape_predictor = options.shape_predictor;
+    std::optional<LandmarkDetector> detector;
+    auto get_detector = [&]() -> LandmarkDetector& {
+      if (!detector) detector.emplace(landmark_params);
+      return *detector;
+    };
+    FaceLandmarks target_landmarks;
+    if (!options.landmarks.empty()) {
+      target_landmarks = ReadLandmarksJson(options.landmarks);
+    } else {
+      std::fputs("detecting landmarks on the target...\n", stderr);
+      target_landmarks = get_detector().Detect(target.positions, target.triangles).landmarks;
+    }
+    const std::vector<std::uint32_t> template_vertex_of = HasKnownLandmarkVertices(template_rig)
+                                                              ? IctLandmarkVertices()
+                                                              : TemplateLandmarkVertices(template_rig, get_detector());
+    const RegistrationLandmarks landmarks = PairLandmarks(template_vertex_of, target_landmarks);
+    const double landmark_seconds = SecondsSince(landmark_start);
+
+    BuildRigParams params;
+    params.mode = options.mode;
+    params.progress = [](const char* stage, std::size_t done, std::size_t total) {
+      const std::string label = std::string(stage);
+      ProgressBar(label.c_str(), done, total);
+    };
+    const BuildRigResult built = BuildRig(template_rig, std::move(target), landmarks, params);
+    std::string problem;
+    const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
+    if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
+
+    const auto write_start = std::chrono::steady_clock::now();
+    SaveRig(options.output, *rig);
+    if (!options.frig.empty()) SaveRig(options.frig, *rig);
+    if (!options.obj_dir.empty()) WriteObjFolder(options.obj_dir, *rig);
+    const double write_seconds = SecondsSince(write_start);
+
+    const ResidualStats& residual = built.registration.residual;
+    std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "
+                "%.4f%% p95 %.4f%% of the diagonal; %.2f s\n",
+                options.output.c_str(), rig->vertex_count(), rig->shape_count(), ToString(options.mode),
+                ToString(rig->units()), residual.mean_percent, residual.p95_percent, SecondsSince(start));
+    if (!options.report.empty()) {
+      nlohmann::json report;
+      report["template"] = options.template_path;
+      report["target"] = options.target_path;
+      report["mode"] = ToString(options.mode);
+      report["outputs"] = {{"glb", options.output}, {"frig", options.frig}, {"obj_dir", options.obj_dir}};
+      report["target_vertices"] = target_vertices;
+      report["shapes"] = rig->shape_count();
+      report["units"] = ToString(rig->units());
+      report["landmarks"] = options.landmarks.empty() ? "detected" : options.landmarks;
+      report["registration"] = {{"residual_percent_of_diagonal",
+                                 {{"mean", residual.mean_percent},
+                                  {"p95", residual.p95_percent},
+                                  {"max", residual.max_percent}}},
+                                {"landmark_rms", built.registration.landmark_rms},
+                                {"rigid_scale", built.registration.rigid.scale},
+                                {"iterations_per_stage", built.registration.iterations_per_stage}};
+      report["transfer_anchors"] = built.transfer_anchors;
+      report["mapping"] = {{"full_weight_vertices", built.mapping.full_vertices},
+                           {"partial_weight_vertices", built.mapping.partial_vertices},
+                           {"unmapped_vertices", built.mapping.unmapped_vertices},
+                           {"facing_fallbacks", built.mapping.facing_fallbacks},
+                           {"mean_distance", built.mapping.mean_distance}};
+      report["seconds"] = {{"load", load_seconds},
+                           {"landmarks", landmark_seconds},
+                           {"register", built.timings.registration_seconds},
+                           {"transfer", built.timings.transfer_seconds},
+                           {"map", built.timings.mapping_seconds},
+                           {"write", write_seconds},
+                           {"total", SecondsSince(start)}};
+      WriteJsonAtomically(options.report, report);
+    }
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+}  // namespace facerig::cli

@@ -1,0 +1,67 @@
+#include "cli_common.h"
+
+#include <cstdio>
+#include <fstream>
+#include <system_error>
+
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/rig_file.h"
+
+namespace facerig::cli {
+
+RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units) {
+  TemplateImportOptions options;
+  options.units = units;
+  RawRig raw = RigBuilder::ToRaw(LoadRig(path, options));
+  if (units != Units::kUnknown) raw.units = units;
+  return raw;
+}
+
+void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json& json) {
+  const std::filesystem::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << json.dump(2) << "\n";
+    if (!out) throw IoError(IoErrorKind::kWriteFailed, temporary.string(), "cannot write the report");
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot rename the report into place");
+  }
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void ProgressBar(const char* label, std::size_t done, std::size_t total) {
+  constexpr int kWidth = 30;
+  const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
+  std::fprintf(stderr, "\r%-14s [%.*s%*s] %zu/%zu", label, filled, "==============================",
+               kWidth - filled, "", done, total);
+  if (done >= total) std::fputc('\n', stderr);
+  std::fflush(stderr);
+}
+
+int Fail(const std::exception& error) {
+  std::fprintf(stderr, "facerig: %s\n", error.what());
+  return 1;
+}
+
+void CheckWritable(const std::filesystem::path& path) {
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  const std::filesystem::path probe = folder / (".facerig-write-check-" + path.filename().string());
+  {
+    std::ofstream out(probe, std::ios::binary | std::ios::trunc);
+    if (!out) {
+      throw IoError(IoErrorKind::kWriteFailed, path.string(),
+                    "cannot create files in '" + folder.string() + "' (missing folder or no permission)");
+    }
+  }
+  std::error_code ignored;
+  std::filesystem::remove(probe, ignored);
+}
+
+}  // namespace facerig::cli

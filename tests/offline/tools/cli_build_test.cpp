@@ -1,0 +1,169 @@
+// `facerig build`, run in-process: outputs on the target's own topology (GLB
+// accepted by the Khronos validator, .frig, an OBJ per shape), the report,
+// and clear errors with nothing written on bad input.
+#include "cli_build.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "facerig/offline/landmarks.h"
+#include "facerig/offline/nonrigid_icp.h"
+#include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/io/rig_file.h"
+#include "support/command_runner.h"
+#include "support/gltf_validator.h"
+#include "support/registration_targets.h"
+#include "support/test_meshes.h"
+
+namespace facerig {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path FreshFolder(const std::string& name) {
+  const fs::path folder = test::OutputPath(name);
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+void WriteTarget(const fs::path& path, const test::RegistrationTarget& target) {
+  WriteObj(path, target.positions, {}, {}, target.triangles, {});
+}
+
+void WriteTrueLandmarks(const fs::path& path, const test::RegistrationTarget& target) {
+  FaceLandmarks landmarks;
+  for (std::uint32_t i = 0; i < kDlibLandmarkCount; ++i) {
+    landmarks.points.push_back(target.true_landmarks[i]);
+    landmarks.indices.push_back(i);
+    landmarks.confidence.push_back(i < 17 ? 0.2f : 1.0f);
+  }
+  WriteLandmarksJson(path, landmarks);
+}
+
+test::CommandOutcome Build(const std::vector<std::string>& arguments) {
+  std::vector<std::string> all{"build"};
+  all.insert(all.end(), arguments.begin(), arguments.end());
+  return test::RunCommand(cli::RunBuildCommand, all);
+}
+
+fs::path DefaultHead() { return fs::path(FACERIG_SOURCE_DIR) / "data" / "default_head.frig"; }
+
+}  // namespace
+
+TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets the template's shapes on its own "
+          "vertices, as GLB, .frig and OBJs",
+          "[shared-data][cli]") {
+  const fs::path folder = FreshFolder("cli_build");
+  test::RegistrationTargetOptions options;
+  options.seed = 11;
+  options.units_per_cm = 10.0;  // millimetres
+  const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
+  WriteTarget(folder / "target.obj", target);
+  WriteTrueLandmarks(folder / "landmarks.json", target);
+  const fs::path ict_frig = folder / "ict.frig";
+  SaveRig(ict_frig, test::IctRig());
+
+  const test::CommandOutcome outcome =
+      Build({"--template", ict_frig.string(), "--target", (folder / "target.obj").string(), "-o",
+             (folder / "face.glb").string(), "--frig", (folder / "face.frig").string(), "--obj-dir",
+             (folder / "shapes").string(), "--landmarks", (folder / "landmarks.json").string(), "--json",
+             (folder / "report.json").string()});
+  INFO(outcome.error_output);
+  REQUIRE(outcome.exit_code == 0);
+  CHECK(outcome.error_output.find("register") != std::string::npos);  // the progress bar
+
+  const Rig glb = LoadRig(folder / "face.glb");
+  const Rig frig = LoadRig(folder / "face.frig");
+  const Rig& ict = test::IctRig();
+  REQUIRE(frig.vertex_count() == target.positions.size());
+  CHECK(frig.units() == Units::kMillimetres);  // inferred from the registration's scale
+  CHECK(frig.shape_count() == ict.shape_count());
+  for (std::size_t s = 0; s < ict.shape_count(); ++s) CHECK(frig.FindShape(ict.shape_name(s)).has_value());
+  for (std::size_t v = 0; v < target.positions.size(); v += 97) {
+    REQUIRE(frig.positions()[v].x == Approx(target.positions[v].x).margin(1e-3));
+  }
+  std::string difference;
+  CHECK(test::RigsEqual(glb, frig, 1e-3f, &difference));
+  INFO(difference);
+  test::RequireValidatorAccepts(folder / "face.glb");
+
+  // One OBJ per shape plus the neutral, each on the target's vertices.
+  CHECK(std::distance(fs::directory_iterator(folder / "shapes"), fs::directory_iterator{}) ==
+        static_cast<std::ptrdiff_t>(ict.shape_count() + 1));
+  const ObjMesh neutral = ReadObj(folder / "shapes" / "neutral.obj");
+  CHECK(neutral.positions.size() == target.positions.size());
+  const ObjMesh jaw_open = ReadObj(folder / "shapes" / "jawOpen.obj");
+  REQUIRE(jaw_open.positions.size() == target.positions.size());
+  const BlendShapeView jaw = frig.shape(frig.FindShape("jawOpen").value());
+  REQUIRE(!jaw.vertex_indices.empty());
+  const std::uint32_t moved = jaw.vertex_indices[jaw.vertex_indices.size() / 2];
+  const glm::vec3 expected = frig.positions()[moved] + jaw.position_deltas[jaw.vertex_indices.size() / 2];
+  CHECK(jaw_open.positions[moved].y == Approx(expected.y).margin(1e-3));
+
+  std::ifstream report_file(folder / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(report_file);
+  CHECK(report["target_vertices"] == target.positions.size());
+  CHECK(report["units"] == "mm");
+  CHECK(report["registration"]["residual_percent_of_diagonal"]["mean"].get<double>() < 0.1);
+  CHECK(report["seconds"]["total"].get<double>() > 0.0);
+  CHECK(report["mapping"]["unmapped_vertices"] == 0);
+}
+
+TEST_CASE("facerig build: bad command lines and bad input fail clearly and write nothing", "[cli]") {
+  const fs::path folder = FreshFolder("cli_build_bad");
+  const std::string head = DefaultHead().string();
+  const std::string out = (folder / "out.glb").string();
+
+  SECTION("usage") {
+    CHECK(Build({}).exit_code == 2);
+    CHECK(Build({"--template", head, "--target", head}).exit_code == 2);  // no -o
+    const test::CommandOutcome mode = Build({"--template", head, "--target", head, "-o", out, "--mode", "magic"});
+    CHECK(mode.exit_code == 2);
+    CHECK(mode.error_output.find("'magic'") != std::string::npos);
+    CHECK(Build({"--template", head, "--target", head, "-o", out, "--units", "inches"}).exit_code == 2);
+  }
+  SECTION("a missing target names the file") {
+    const test::CommandOutcome outcome =
+        Build({"--template", head, "--target", (folder / "missing.obj").string(), "-o", out});
+    CHECK(outcome.exit_code == 1);
+    CHECK(outcome.error_output.find("missing.obj") != std::string::npos);
+  }
+  SECTION("an unwritable output fails before any work") {
+    const test::CommandOutcome outcome =
+        Build({"--template", head, "--target", head, "-o", (folder / "no" / "such" / "dir" / "out.glb").string()});
+    CHECK(outcome.exit_code == 1);
+    CHECK(outcome.error_output.find("cannot create files") != std::string::npos);
+    CHECK(outcome.error_output.find("template") == std::string::npos);  // nothing loaded
+  }
+  SECTION("a target that is not the template's kind of face: the residual is given") {
+    // A flat sheet with landmarks on it: registration cannot make a face of it.
+    RawRig sheet = RigBuilder::ToRaw(test::MakeGridRig(40, 0));
+    for (glm::vec3& p : sheet.positions) p = p * 0.5f;
+    WriteObj(folder / "sheet.obj", sheet.positions, {}, {}, sheet.triangles, {});
+    FaceLandmarks landmarks;
+    for (std::uint32_t i = 0; i < kDlibLandmarkCount; ++i) {
+      landmarks.points.emplace_back(static_cast<float>(i % 9) * 2.0f, static_cast<float>(i / 9) * 2.0f, 0.0f);
+      landmarks.indices.push_back(i);
+      landmarks.confidence.push_back(1.0f);
+    }
+    WriteLandmarksJson(folder / "sheet_landmarks.json", landmarks);
+    const test::CommandOutcome outcome =
+        Build({"--template", head, "--target", (folder / "sheet.obj").string(), "-o", out, "--landmarks",
+               (folder / "sheet_landmarks.json").string()});
+    INFO(outcome.error_output);
+    CHECK(outcome.exit_code == 1);
+    CHECK(outcome.error_output.find("residual") != std::string::npos);
+  }
+  CHECK_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    CHECK(name.find("out.glb") == std::string::npos);
+    CHECK(name.find(".tmp") == std::string::npos);
+  }
+}
+
+}  // namespace facerig
