@@ -150,17 +150,36 @@ BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const Registrati
   if (template_rig.shape_count() == 0) {
     throw InvalidInputError("the template has no blend shapes to transfer");
   }
+  NonrigidIcpParams registration = params.registration;
+  if (registration.region_vertex_count == 0) registration.region_vertex_count = TemplateRegionVertexCount(template_rig);
+  registration.progress = [&](std::size_t done, std::size_t total) {
+    if (params.progress) params.progress("register", done, total);
+  };
+  NonrigidIcpResult fit = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions,
+                                      target.triangles, landmarks, registration);
+  BuildRigResult result = BuildRigOnRegistration(template_rig, std::move(target), std::move(fit), params);
+  result.timings.total_seconds = SecondsSince(start);
+  return result;
+}
+
+BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, NonrigidIcpResult registered,
+                                      const BuildRigParams& params) {
+  const auto start = std::chrono::steady_clock::now();
+  if (template_rig.shape_count() == 0) {
+    throw InvalidInputError("the template has no blend shapes to transfer");
+  }
+  if (registered.positions.size() != template_rig.vertex_count()) {
+    throw InvalidInputError("the registration has " + std::to_string(registered.positions.size()) +
+                            " vertices, the template " + std::to_string(template_rig.vertex_count()));
+  }
   auto report = [&](const char* stage, std::size_t done, std::size_t total) {
     if (params.progress) params.progress(stage, done, total);
   };
+  const std::uint32_t region_vertex_count = params.registration.region_vertex_count != 0
+                                                ? params.registration.region_vertex_count
+                                                : TemplateRegionVertexCount(template_rig);
   BuildRigResult result;
-
-  // 1. Register the template onto the target.
-  NonrigidIcpParams registration = params.registration;
-  if (registration.region_vertex_count == 0) registration.region_vertex_count = TemplateRegionVertexCount(template_rig);
-  registration.progress = [&](std::size_t done, std::size_t total) { report("register", done, total); };
-  result.registration = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions,
-                                    target.triangles, landmarks, registration);
+  result.registration = std::move(registered);
   result.timings.registration_seconds = result.registration.timings.total_seconds;
   const ResidualStats& residual = result.registration.residual;
   if (!(residual.mean_percent <= params.max_residual_mean_percent)) {
@@ -180,7 +199,7 @@ BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const Registrati
     fitted_in_template[v] = to_template.Apply(result.registration.positions[v]);
   }
   result.deformation_percent = MeanDeformationPercent(template_rig.positions(), fitted_in_template,
-                                                      registration.region_vertex_count);
+                                                      region_vertex_count);
   if (!(result.deformation_percent <= params.max_deformation_percent)) {
     throw RegistrationMismatchError(
         "the template does not match the target: fitting it moved the template's surface by " +
@@ -190,7 +209,7 @@ BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const Registrati
         "landmarks right?");
   }
   std::vector<RawBlendShape> shapes = TransferExpressions(template_rig, fitted_in_template,
-                                                          registration.region_vertex_count, params,
+                                                          region_vertex_count, params,
                                                           result.transfer_anchors);
   // Into the target's frame: deltas rotate and scale with the similarity.
   const auto scale = static_cast<float>(to_target.scale);
@@ -220,7 +239,7 @@ BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const Registrati
   result.fitted_rig = std::move(fitted);
   result.timings.mapping_seconds = SecondsSince(mapping_start);
   report("map", 1, 1);
-  result.timings.total_seconds = SecondsSince(start);
+  result.timings.total_seconds = result.timings.registration_seconds + SecondsSince(start);
   return result;
 }
 

@@ -91,6 +91,12 @@ struct BuildRigResult {
 BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const RegistrationLandmarks& landmarks,
                         const BuildRigParams& params = {});
 
+// The same from an existing registration of template_rig onto target (e.g.
+// to compare modes without registering again); `params.registration` only
+// gives the region (0: TemplateRegionVertexCount).
+BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, NonrigidIcpResult registered,
+                                      const BuildRigParams& params = {});
+
 // The registered region of a template, [0, count): ICT-FaceKit (26,719
 // vertices with parts M_Face, M_BackHead) 11,248 (face + head and neck, not
 // the mouth socket that shares its BackHead part); a template of several parts
