@@ -1,6 +1,7 @@
 #include "facerig/offline/rig_build.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -71,6 +72,34 @@ double MeanDeformationPercent(std::span<const glm::vec3> template_positions, std
   }
   const double diagonal = glm::length(hi - lo);
   return region_vertex_count > 0 && diagonal > 0.0 ? 100.0 * sum / region_vertex_count / diagonal : 0.0;
+}
+
+// The target's triangles the template is registered onto: the parts (connected
+// components) whose area is at least min_fraction of the largest part's. An
+// artist's head has separate eyeballs, teeth and lashes; registering the skin
+// onto them would pull the template's lids over the eyeballs.
+std::vector<Triangle> RegistrationTriangles(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                            double min_fraction, std::size_t& parts_left_out) {
+  std::vector<std::uint32_t> part_of_vertex;
+  const std::size_t parts = ConnectedComponents(positions.size(), triangles, part_of_vertex);
+  std::vector<double> area(parts, 0.0);
+  for (const Triangle& t : triangles) {
+    area[part_of_vertex[t[0]]] +=
+        0.5 * glm::length(glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]));
+  }
+  const double largest = *std::max_element(area.begin(), area.end());
+  std::vector<Triangle> kept;
+  kept.reserve(triangles.size());
+  for (const Triangle& t : triangles) {
+    if (area[part_of_vertex[t[0]]] >= min_fraction * largest) kept.push_back(t);
+  }
+  parts_left_out = 0;
+  std::vector<std::uint8_t> has_triangles(parts, 0);
+  for (const Triangle& t : triangles) has_triangles[part_of_vertex[t[0]]] = 1;
+  for (std::size_t p = 0; p < parts; ++p) {
+    if (has_triangles[p] && area[p] < min_fraction * largest) ++parts_left_out;
+  }
+  return kept;
 }
 
 }  // namespace
@@ -155,9 +184,14 @@ BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const Registrati
   registration.progress = [&](std::size_t done, std::size_t total) {
     if (params.progress) params.progress("register", done, total);
   };
-  NonrigidIcpResult fit = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions,
-                                      target.triangles, landmarks, registration);
+  if (target.triangles.empty()) throw InvalidInputError("the target mesh has no triangles");
+  std::size_t parts_left_out = 0;
+  const std::vector<Triangle> skin = RegistrationTriangles(target.positions, target.triangles,
+                                                           params.registration_min_part_area, parts_left_out);
+  NonrigidIcpResult fit = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions, skin,
+                                      landmarks, registration);
   BuildRigResult result = BuildRigOnRegistration(template_rig, std::move(target), std::move(fit), params);
+  result.target_parts_left_out = parts_left_out;
   result.timings.total_seconds = SecondsSince(start);
   return result;
 }

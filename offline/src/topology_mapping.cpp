@@ -61,6 +61,56 @@ struct PartSurface {
   std::vector<std::uint32_t> template_triangle;
 };
 
+// Where each target vertex looks for its template point: the vertex itself,
+// or, on a boundary (the rim of a mouth or eye opening), a point `inset`
+// (target units) into its own lip or lid, along the surface towards its
+// neighbours. The rims are where a fitted template is least exact: the seam
+// of closed lips sits a millimetre off, so the rim vertex itself is as near
+// to the other lip as to its own, and would take the wrong lip's motion.
+std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                   std::span<const glm::vec3> normals, float inset) {
+  std::vector<glm::vec3> queries(positions.begin(), positions.end());
+  if (inset <= 0.0f) return queries;
+  // Boundary edges: used by one triangle.
+  std::vector<std::uint64_t> edges;
+  edges.reserve(triangles.size() * 3);
+  for (const Triangle& t : triangles) {
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = std::min(t[e], t[(e + 1) % 3]), b = std::max(t[e], t[(e + 1) % 3]);
+      edges.push_back((static_cast<std::uint64_t>(a) << 32) | b);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint8_t> on_boundary(positions.size(), 0);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) {
+      on_boundary[edges[i] >> 32] = 1;
+      on_boundary[edges[i] & 0xffffffffu] = 1;
+    }
+    i = j;
+  }
+  std::vector<glm::vec3> neighbour_sum(positions.size(), glm::vec3(0.0f));
+  std::vector<float> neighbour_count(positions.size(), 0.0f);
+  for (const Triangle& t : triangles) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!on_boundary[t[k]]) continue;
+      neighbour_sum[t[k]] += positions[t[(k + 1) % 3]] + positions[t[(k + 2) % 3]];
+      neighbour_count[t[k]] += 2.0f;
+    }
+  }
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    if (!on_boundary[v] || neighbour_count[v] == 0.0f) continue;
+    // Away from the rim: towards the neighbours' centroid, in the tangent plane.
+    glm::vec3 direction = neighbour_sum[v] / neighbour_count[v] - positions[v];
+    direction -= glm::dot(direction, normals[v]) * normals[v];
+    const float length = glm::length(direction);
+    if (length > 0.0f) queries[v] = positions[v] + (inset / length) * direction;
+  }
+  return queries;
+}
+
 }  // namespace
 
 TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
@@ -124,6 +174,8 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
 
   std::vector<glm::vec3> target_normals(n);
   ComputeVertexNormals(target_positions, target_triangles, target_normals);
+  const std::vector<glm::vec3> queries =
+      QueryPoints(target_positions, target_triangles, target_normals, params.boundary_inset * diagonal);
 
   TopologyMapping mapping;
   mapping.triangle.resize(n);
@@ -135,9 +187,9 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
     const PartSurface* surface = surface_of_part[target_part_of_vertex[v]];
     if (surface) {
       ClosestPointHit facing =
-          surface->query->FindFacing(target_positions[v], target_normals[v], params.min_normal_dot, zero);
+          surface->query->FindFacing(queries[v], target_normals[v], params.min_normal_dot, zero);
       if (facing.triangle < 0) {
-        facing = surface->query->Find(target_positions[v]);
+        facing = surface->query->Find(queries[v]);
         ++mapping.facing_fallbacks;
       }
       facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);

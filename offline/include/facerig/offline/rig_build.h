@@ -61,6 +61,10 @@ struct BuildRigParams {
   // mismatch too: a face registered onto a sheet or a box fits closely but
   // only by collapsing. Random ICT identities measure ~0.5 %.
   double max_deformation_percent = 10.0;
+  // The template is registered onto the target's connected parts whose area
+  // is at least this fraction of the largest part's (the skin; not separate
+  // eyeballs, teeth or lashes, which the template has parts of its own for).
+  double registration_min_part_area = 0.1;
   // Called with a stage name ("register", "transfer", "map") and progress in it.
   std::function<void(const char* stage, std::size_t done, std::size_t total)> progress;
 };
@@ -78,6 +82,7 @@ struct BuildRigResult {
   NonrigidIcpResult registration;
   TopologyMapping mapping;
   std::size_t transfer_anchors = 0;  // deformation transfer: anchored vertices
+  std::size_t target_parts_left_out = 0;  // small target parts not registered onto (BuildRig)
   // How far the fit moved the template's region from its rigidly aligned
   // shape: mean distance, % of the region's diagonal.
   double deformation_percent = 0.0;

@@ -10,7 +10,8 @@
 // parts it matches (skin, eyeballs, teeth...), and only those are searched,
 // so an eyelid vertex does not take the eyeball's deltas. Within them the
 // nearest triangle facing the same way as the target vertex's normal wins, so
-// lips that touch in the neutral do not swap their motion.
+// lips that touch in the neutral do not swap their motion; and a vertex on the
+// rim of an opening looks from slightly inside its own lip or lid.
 #pragma once
 
 #include <cstddef>
@@ -37,6 +38,10 @@ struct TopologyMappingParams {
   // Nearest triangle with face normal . vertex normal >= this (cos 75
   // degrees); when none lies within zero_weight_distance, the plain nearest.
   float min_normal_dot = 0.26f;
+  // Vertices on the target's boundary (the rims of mouth and eye openings)
+  // look for their template point this far (fraction of the fitted template's
+  // diagonal; 0.003 is 1.4 mm on ICT-FaceKit) inside their own lip or lid.
+  float boundary_inset = 0.003f;
 };
 
 struct TopologyMapping {
