@@ -139,6 +139,14 @@ TEST_CASE("facerig build: bad command lines and bad input fail clearly and write
     CHECK(outcome.error_output.find("cannot create files") != std::string::npos);
     CHECK(outcome.error_output.find("template") == std::string::npos);  // nothing loaded
   }
+  SECTION("a target where no face is found suggests a landmark file") {
+    const RawRig sheet = RigBuilder::ToRaw(test::MakeGridRig(30, 0));
+    WriteObj(folder / "plain.obj", sheet.positions, {}, {}, sheet.triangles, {});
+    const test::CommandOutcome outcome = Build({"--template", head, "--target", (folder / "plain.obj").string(), "-o", out});
+    INFO(outcome.error_output);
+    CHECK(outcome.exit_code == 1);
+    CHECK(outcome.error_output.find("--landmarks") != std::string::npos);
+  }
   SECTION("a target that is not the template's kind of face: the residual is given") {
     // A flat sheet with landmarks on it: registration cannot make a face of it.
     RawRig sheet = RigBuilder::ToRaw(test::MakeGridRig(40, 0));
