@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/rig_file.h"
 
 namespace facerig::cli {
@@ -18,18 +19,7 @@ RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units) {
 }
 
 void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json& json) {
-  const std::filesystem::path temporary = path.string() + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << json.dump(2) << "\n";
-    if (!out) throw IoError(IoErrorKind::kWriteFailed, temporary.string(), "cannot write the report");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot rename the report into place");
-  }
+  WriteFileAtomically(path, json.dump(2) + "\n");
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
