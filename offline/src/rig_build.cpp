@@ -245,6 +245,12 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
   std::vector<RawBlendShape> shapes = TransferExpressions(template_rig, fitted_in_template,
                                                           region_vertex_count, params,
                                                           result.transfer_anchors);
+  // The template-topology result in the template's frame (for averages,
+  // caricatures and identity morphs of several fits).
+  result.template_frame_rig = RigBuilder::ToRaw(template_rig);
+  result.template_frame_rig.positions = fitted_in_template;
+  result.template_frame_rig.normals.clear();
+  result.template_frame_rig.shapes = shapes;
   // Into the target's frame: deltas rotate and scale with the similarity.
   const auto scale = static_cast<float>(to_target.scale);
   for (RawBlendShape& shape : shapes) {

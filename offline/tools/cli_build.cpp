@@ -21,14 +21,16 @@ namespace {
 constexpr const char* kBuildUsage =
     "usage: facerig build --template DIR|RIG --target MESH -o OUT.glb [--frig OUT.frig] [--obj-dir DIR]\n"
     "                     [--mode classic|identity|displacement] [--landmarks LM.json] [--json REPORT]\n"
-    "                     [--units mm|cm|m] [--shape-predictor F]\n"
+    "                     [--units mm|cm|m] [--template-topology FIT.frig] [--shape-predictor F]\n"
     "  Builds the template's blend shapes on the target mesh's own vertices: landmarks (detected, or\n"
     "  --landmarks) -> registration -> transfer (deformation transfer classic / identity-gradient, or\n"
     "  displacement matrices) -> mapped onto the target. --units: the target's units when its file does\n"
-    "  not say (default: inferred from the registration's scale).\n";
+    "  not say (default: inferred from the registration's scale). --template-topology also writes the\n"
+    "  rig on the template's vertices, in the template's frame and units (for average, caricature, morph).\n";
 
 struct BuildOptions {
-  std::string template_path, target_path, output, frig, obj_dir, landmarks, report, shape_predictor;
+  std::string template_path, target_path, output, frig, obj_dir, landmarks, report, shape_predictor,
+      template_topology;
   BuildMode mode = BuildMode::kClassic;
   Units units = Units::kUnknown;
 };
@@ -50,6 +52,8 @@ bool ParseBuildOptions(int argc, char** argv, BuildOptions& options) {
       options.output = value;
     } else if (arg == "--frig") {
       options.frig = value;
+    } else if (arg == "--template-topology") {
+      options.template_topology = value;
     } else if (arg == "--obj-dir") {
       options.obj_dir = value;
     } else if (arg == "--landmarks") {
@@ -142,7 +146,7 @@ int RunBuildCommand(int argc, char** argv) {
   }
   try {
     const auto start = std::chrono::steady_clock::now();
-    for (const std::string& path : {options.output, options.frig, options.report}) {
+    for (const std::string& path : {options.output, options.frig, options.report, options.template_topology}) {
       if (!path.empty()) CheckWritable(path);
     }
     if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
@@ -190,6 +194,11 @@ int RunBuildCommand(int argc, char** argv) {
     SaveRig(options.output, *rig);
     if (!options.frig.empty()) SaveRig(options.frig, *rig);
     if (!options.obj_dir.empty()) WriteObjFolder(options.obj_dir, *rig);
+    if (!options.template_topology.empty()) {
+      const std::optional<Rig> fitted = RigBuilder::Build(built.template_frame_rig, &problem);
+      if (!fitted) throw InvalidInputError("the template-topology rig is invalid: " + problem);
+      SaveRig(options.template_topology, *fitted);
+    }
     const double write_seconds = SecondsSince(write_start);
 
     const ResidualStats& residual = built.registration.residual;
@@ -202,7 +211,10 @@ int RunBuildCommand(int argc, char** argv) {
       report["template"] = options.template_path;
       report["target"] = options.target_path;
       report["mode"] = ToString(options.mode);
-      report["outputs"] = {{"glb", options.output}, {"frig", options.frig}, {"obj_dir", options.obj_dir}};
+      report["outputs"] = {{"glb", options.output},
+                           {"frig", options.frig},
+                           {"obj_dir", options.obj_dir},
+                           {"template_topology", options.template_topology}};
       report["target_vertices"] = target_vertices;
       report["shapes"] = rig->shape_count();
       report["units"] = ToString(rig->units());

@@ -7,7 +7,7 @@ namespace facerig::cli {
 // facerig build --template DIR|RIG --target MESH -o OUT.glb [--frig OUT.frig]
 //               [--obj-dir DIR] [--mode classic|identity|displacement]
 //               [--landmarks LM.json] [--json REPORT] [--units mm|cm|m]
-//               [--shape-predictor F]
+//               [--template-topology FIT.frig] [--shape-predictor F]
 // argv[0] is the program, argv[1] "build". Returns the exit code (0 ok,
 // 1 failure, 2 usage).
 int RunBuildCommand(int argc, char** argv);

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "facerig/offline/landmarks.h"
@@ -71,7 +72,7 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
       Build({"--template", ict_frig.string(), "--target", (folder / "target.obj").string(), "-o",
              (folder / "face.glb").string(), "--frig", (folder / "face.frig").string(), "--obj-dir",
              (folder / "shapes").string(), "--landmarks", (folder / "landmarks.json").string(), "--json",
-             (folder / "report.json").string()});
+             (folder / "report.json").string(), "--template-topology", (folder / "fit.frig").string()});
   INFO(outcome.error_output);
   REQUIRE(outcome.exit_code == 0);
   CHECK(outcome.error_output.find("register") != std::string::npos);  // the progress bar
@@ -103,6 +104,15 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   const std::uint32_t moved = jaw.vertex_indices[jaw.vertex_indices.size() / 2];
   const glm::vec3 expected = frig.positions()[moved] + jaw.position_deltas[jaw.vertex_indices.size() / 2];
   CHECK(jaw_open.positions[moved].y == Approx(expected.y).margin(1e-3));
+
+  // The template's topology, in the template's frame (centimetres, near the ICT neutral).
+  const Rig fit = LoadRig(folder / "fit.frig");
+  REQUIRE(fit.vertex_count() == ict.vertex_count());
+  CHECK(fit.units() == ict.units());
+  CHECK(fit.shape_count() == ict.shape_count());
+  double offset = 0.0;
+  for (std::size_t v = 0; v < kIctFaceVertexCount; ++v) offset += glm::length(fit.positions()[v] - ict.positions()[v]);
+  CHECK(offset / kIctFaceVertexCount < 1.0);  // cm: an identity, not another frame (mm, rotated, moved)
 
   std::ifstream report_file(folder / "report.json");
   const nlohmann::json report = nlohmann::json::parse(report_file);

@@ -79,6 +79,9 @@ struct BuildRigTimings {
 struct BuildRigResult {
   RawRig rig;         // on the target's topology, frame and units
   RawRig fitted_rig;  // the template's topology in the target's frame and units
+  // The same in the template's frame and units (the similarity undone): fits
+  // of several faces are comparable (AverageFace, Caricature, IdentityMorphRig).
+  RawRig template_frame_rig;
   NonrigidIcpResult registration;
   TopologyMapping mapping;
   std::size_t transfer_anchors = 0;  // deformation transfer: anchored vertices
