@@ -46,6 +46,9 @@ struct ModeReport {
   std::vector<double> errors;  // per shape, over all faces
   std::vector<double> leaks;
   std::vector<std::string> shape_of_error;
+  // Per shape and face: sum (result - rest).(truth - rest) / sum |truth - rest|^2 over
+  // the moved face vertices; above 1 the transfer overshoots the template's deltas.
+  std::vector<double> amplitudes;
   double seconds = 0.0;        // per face, precompute + all shapes
   double factorize_seconds = 0.0;
   double precompute_seconds = 0.0;
@@ -63,6 +66,22 @@ void Measure(ModeReport& report, const facerig::Rig& rig, const Meshes& truth,
     report.errors.push_back(e.relative_error);
     report.leaks.push_back(e.leak);
     report.shape_of_error.emplace_back(rig.shape_name(s));
+    double largest2 = 0.0;
+    for (std::size_t v = 0; v < kFaceLast; ++v) {
+      const glm::dvec3 d = glm::dvec3(truth[s][v]) - glm::dvec3(target[v]);
+      largest2 = std::max(largest2, d.x * d.x + d.y * d.y + d.z * d.z);
+    }
+    double along = 0.0;
+    double norm2 = 0.0;
+    for (std::size_t v = 0; v < kFaceLast; ++v) {
+      const glm::dvec3 d = glm::dvec3(truth[s][v]) - glm::dvec3(target[v]);
+      const double d2 = d.x * d.x + d.y * d.y + d.z * d.z;
+      if (d2 <= 0.01 * largest2) continue;  // moved: > 10% of the largest displacement
+      const glm::dvec3 r = glm::dvec3(result[s][v]) - glm::dvec3(target[v]);
+      along += r.x * d.x + r.y * d.y + r.z * d.z;
+      norm2 += d2;
+    }
+    report.amplitudes.push_back(norm2 > 0.0 ? along / norm2 : 1.0);
   }
   for (std::size_t i = 0; i < eyes.size(); ++i) {
     const facerig::EyelidGap gap = facerig::MeasureEyelidGap(result[blinks[i]], eyes[i]);
@@ -75,7 +94,7 @@ void Usage() {
   std::fprintf(stderr,
                "usage: facerig-bench transfer [--ict DIR] [--faces N] [--seed N] [--threads N]\n"
                "                              [--static-threshold F] [--scaled-normal] [--prior W] [--no-area]\n"
-               "                              [--json FILE]\n");
+               "                              [--per-shape] [--json FILE]\n");
 }
 
 }  // namespace
@@ -88,6 +107,7 @@ int RunTransferBenchmark(int argc, char** argv) {
 #endif
   std::string json_path;
   int faces = 3;
+  bool per_shape_table = false;
   unsigned seed = 1;
   facerig::DeformationTransferParams params;
   for (int i = 2; i < argc; ++i) {
@@ -109,6 +129,8 @@ int RunTransferBenchmark(int argc, char** argv) {
       params.displacement_prior = std::strtod(argv[++i], nullptr);
     } else if (arg == "--scaled-normal") {
       params.scaled_normal = true;
+    } else if (arg == "--per-shape") {
+      per_shape_table = true;
     } else if (arg == "--no-area") {
       params.area_weighted = false;
     } else {
@@ -293,6 +315,29 @@ int RunTransferBenchmark(int argc, char** argv) {
                                   {"worst_shapes", worst_shapes},
                                   {"per_shape_worst", per_shape}};
   }
+  if (per_shape_table) {
+    // Each shape over the faces: median and largest error, median amplitude.
+    std::printf("\n%-18s", "shape");
+    for (std::size_t m : {0u, 1u, 6u}) {
+      std::printf(" | %-8s %6s %6s %6s", modes[m].name.c_str(), "median", "max", "ampl");
+    }
+    std::printf("\n");
+    const std::size_t shapes = rig.shape_count();
+    for (std::size_t s = 0; s < shapes; ++s) {
+      std::printf("%-18s", std::string(rig.shape_name(s)).c_str());
+      for (std::size_t m : {0u, 1u, 6u}) {
+        std::vector<double> errors;
+        std::vector<double> amplitudes;
+        for (std::size_t i = s; i < modes[m].errors.size(); i += shapes) {
+          errors.push_back(modes[m].errors[i]);
+          amplitudes.push_back(modes[m].amplitudes[i]);
+        }
+        std::printf(" | %-8s %6.3f %6.3f %6.3f", "", facerig::Percentile(errors, 0.5),
+                    facerig::Percentile(errors, 1.0), facerig::Percentile(amplitudes, 0.5));
+      }
+      std::printf("\n");
+    }
+  }
   std::printf("\nerror: mean |result - truth| / mean |truth - rest| over the face vertices each shape\n"
               "moves (> 10%% of its largest displacement); leak: mean motion of those it leaves still\n"
               "(< 1%%) over the same mean. blink gap: mean |upper - lower lid margin| / eye width on\n"
@@ -300,7 +345,10 @@ int RunTransferBenchmark(int argc, char** argv) {
               "crossing %.4f; truth = target neutral + template deltas). seconds: precompute\n"
               "(factorization) + all %zu shapes; CPU: all threads. displacement: paper 002 with the\n"
               "whole-mesh box ratio; displ-face: the face region's box; displ-raw: no normalisation\n"
-              "(the additive ground truth itself); mixed: mean of classic and identity results.\n",
+              "(the additive ground truth itself); mixed: mean of classic and identity results.\n"
+              "--per-shape: each shape's median and largest error over the faces, and its median\n"
+              "amplitude, sum (result - rest).(truth - rest) / sum |truth - rest|^2 over the moved\n"
+              "face vertices (> 1: larger motion than the template's deltas).\n",
               template_gap, template_crossing, rig.shape_count());
   return WriteBenchJson(json_path, report);
 }
