@@ -1,6 +1,9 @@
 // Error measures for deformation transfer against a known answer (issue 6).
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <set>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -110,6 +113,65 @@ EyelidGap MeasureEyelidGap(std::span<const glm::vec3> positions, const EyelidMar
     sum += d;
     gap.max_gap = std::max(gap.max_gap, d);
     gap.max_crossing = std::max(gap.max_crossing, (l.y - u.y) / margins.eye_width);
+  }
+  gap.mean_gap = sum / static_cast<double>(margins.upper.size());
+  return gap;
+}
+
+LipMargins FindLipMargins(std::span<const glm::vec3> neutral, std::span<const glm::vec3> open,
+                          std::span<const glm::vec3> closed, std::size_t region_first,
+                          std::size_t region_last) {
+  if (open.size() != neutral.size()) throw TransferInputError("open mouth", "vertex count differs");
+  if (closed.size() != neutral.size()) throw TransferInputError("closed mouth", "vertex count differs");
+  region_last = std::min(region_last, neutral.size());
+  double largest = 0.0;
+  for (std::size_t v = region_first; v < region_last; ++v) {
+    largest = std::max(largest, static_cast<double>(glm::length(closed[v] - open[v])));
+  }
+  // mouthClose moves both lips (mostly the lower one, up): search both ways.
+  std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (upper, lower)
+  for (std::size_t m = region_first; m < region_last; ++m) {
+    const double motion = glm::length(closed[m] - open[m]);
+    if (!(motion > 0.3 * largest)) continue;
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t partner = m;
+    for (std::size_t other = region_first; other < region_last; ++other) {
+      if (glm::length(open[other] - open[m]) < 0.3 * motion) continue;
+      const double d = glm::length(closed[other] - closed[m]);
+      if (d < best) {
+        best = d;
+        partner = other;
+      }
+    }
+    if (partner == m || !(best < 0.1 * glm::length(open[partner] - open[m]))) continue;
+    const bool above = open[m].y > open[partner].y;
+    pairs.emplace(static_cast<std::uint32_t>(above ? m : partner), static_cast<std::uint32_t>(above ? partner : m));
+  }
+  if (pairs.empty()) throw TransferInputError("closed mouth", "the lips meet nowhere");
+  LipMargins margins;
+  float lo = neutral[pairs.begin()->first].x;
+  float hi = lo;
+  for (const auto& [upper, lower] : pairs) {
+    margins.upper.push_back(upper);
+    margins.lower.push_back(lower);
+    lo = std::min({lo, neutral[upper].x, neutral[lower].x});
+    hi = std::max({hi, neutral[upper].x, neutral[lower].x});
+  }
+  margins.mouth_width = hi - lo;
+  return margins;
+}
+
+LipGap MeasureLipGap(std::span<const glm::vec3> positions, const LipMargins& margins) {
+  LipGap gap;
+  if (margins.upper.empty() || !(margins.mouth_width > 0.0)) return gap;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < margins.upper.size(); ++i) {
+    const glm::vec3 u = positions[margins.upper[i]];
+    const glm::vec3 l = positions[margins.lower[i]];
+    const double d = glm::length(u - l) / margins.mouth_width;
+    sum += d;
+    gap.max_gap = std::max(gap.max_gap, d);
+    gap.max_crossing = std::max(gap.max_crossing, (l.y - u.y) / margins.mouth_width);
   }
   gap.mean_gap = sum / static_cast<double>(margins.upper.size());
   return gap;

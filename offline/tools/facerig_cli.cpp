@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "cli_build.h"
+#include "cli_identity.h"
 #include "cli_register.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/runtime/error.h"
@@ -29,6 +30,9 @@ constexpr const char* kUsage =
     "       facerig register --template DIR|RIG --target MESH -o FITTED.obj [--landmarks LM.json] [--json REPORT]\n"
     "       facerig build --template DIR|RIG --target MESH -o OUT.glb [--frig F] [--obj-dir DIR]\n"
     "                     [--mode classic|identity|displacement] [--landmarks LM.json] [--json REPORT]\n"
+    "       facerig average -o AVG.obj FACE FACE... [--no-align] [--json REPORT]   (rigs or OBJs, one topology)\n"
+    "       facerig caricature --rig RIG --average AVG --factor F -o OUT [--keep-deltas] [--json REPORT]\n"
+    "       facerig morph --template RIG --target RIG -o OUT [--json REPORT]   (adds the identityMorph shape)\n"
     "       facerig default-head OUT_DIR [--preview DIR [--preview-size PX]]   (built-in head)\n"
     "Formats by extension: a template folder of OBJs, .obj (neutral only), .glb, .gltf, .frig.\n"
     "Options for template folders and .obj input:\n"
@@ -210,6 +214,9 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   if (command == "landmarks") return facerig::cli::RunLandmarksCommand(argc, argv);
   if (command == "register") return facerig::cli::RunRegisterCommand(argc, argv);
+  if (command == "average") return facerig::cli::RunAverageCommand(argc, argv);
+  if (command == "caricature") return facerig::cli::RunCaricatureCommand(argc, argv);
+  if (command == "morph") return facerig::cli::RunMorphCommand(argc, argv);
   if (command == "build") return facerig::cli::RunBuildCommand(argc, argv);
   if (command == "default-head") {
     try {

@@ -235,4 +235,30 @@ struct EyelidGap {
 };
 EyelidGap MeasureEyelidGap(std::span<const glm::vec3> positions, const EyelidMargins& margins);
 
+// The lip margins, found from the template's closed mouth: ICT's mouthClose is
+// made to be added to jawOpen (alone it pushes the lips through each other), so
+// open = neutral + jawOpen, closed = neutral + jawOpen + mouthClose. Pairs of a
+// vertex that mouthClose moves (more than 0.3 of its largest motion in the
+// region) and the vertex it meets: apart in the open pose (by more than 0.3 of
+// that motion), within 10% of their open distance in the closed pose. Each
+// pair once, upper = the higher of the two in the open pose. Vertices searched:
+// [region_first, region_last) (ICT: the face, 0-9408).
+struct LipMargins {
+  std::vector<std::uint32_t> upper;
+  std::vector<std::uint32_t> lower;  // lower[i] meets upper[i]
+  double mouth_width = 0.0;          // x extent of the paired vertices in the neutral
+};
+// \throw TransferInputError on a vertex count mismatch or when the lips meet nowhere.
+LipMargins FindLipMargins(std::span<const glm::vec3> neutral, std::span<const glm::vec3> open,
+                          std::span<const glm::vec3> closed, std::size_t region_first,
+                          std::size_t region_last);
+
+// How closed the mouth is on a (transferred) mesh, over mouth width.
+struct LipGap {
+  double mean_gap = 0.0;      // mean distance of the paired margin vertices
+  double max_gap = 0.0;       // largest such distance
+  double max_crossing = 0.0;  // deepest lower-above-upper (y) of a pair, >= 0
+};
+LipGap MeasureLipGap(std::span<const glm::vec3> positions, const LipMargins& margins);
+
 }  // namespace facerig

@@ -1,0 +1,327 @@
+#include "cli_identity.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "facerig/offline/caricature.h"
+#include "facerig/offline/displacement_transfer.h"
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig::cli {
+namespace {
+
+constexpr const char* kAverageUsage =
+    "usage: facerig average -o AVG(.obj|.glb|.gltf|.frig) FACE FACE... [--no-align] [--json REPORT]\n"
+    "  The mean face of corresponded faces (rigs or OBJs of one topology and units). Each face is\n"
+    "  first rigidly aligned onto the first (unless --no-align). The output has the first face's\n"
+    "  topology, UVs and parts and no shapes.\n";
+constexpr const char* kCaricatureUsage =
+    "usage: facerig caricature --rig RIG --average AVG(.obj|rig) --factor F -o OUT(.glb|.gltf|.frig)\n"
+    "                          [--keep-deltas] [--no-align] [--json REPORT]\n"
+    "  Scales the rig's difference from the average face: neutral + F x (neutral - average),\n"
+    "  F in [-1, 3] (-1 the average, 0 the rig itself). The expressions follow by deformation\n"
+    "  transfer from the rig's own shapes, or keep their deltas (--keep-deltas). The average is\n"
+    "  rigidly aligned onto the rig first (unless --no-align); it needs the rig's vertex count.\n";
+constexpr const char* kMorphUsage =
+    "usage: facerig morph --template RIG --target RIG -o OUT(.glb|.gltf|.frig) [--json REPORT]\n"
+    "  Identity morph (paper 000 V.A): the template's neutral, the target's shapes (e.g. from a\n"
+    "  transfer onto the target) and one more shape, identityMorph: at 0 the template's face, at 1\n"
+    "  the target's, the expressions working at any weight. Both rigs need the same topology.\n";
+
+std::string LowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+// False (after printing why) when the output cannot hold what the command makes.
+bool CheckOutputExtension(const std::string& path, bool allow_obj, const char* usage) {
+  const std::string extension = LowerExtension(path);
+  if (extension == ".glb" || extension == ".gltf" || extension == ".frig" || (allow_obj && extension == ".obj")) {
+    return true;
+  }
+  std::fprintf(stderr, "facerig: output '%s' must end in %s\n%s", path.c_str(),
+               allow_obj ? ".obj, .glb, .gltf or .frig" : ".glb, .gltf or .frig (an OBJ holds no shapes)", usage);
+  return false;
+}
+
+// Not a nullopt only for a whole finite number.
+std::optional<float> ParseNumber(const char* text) {
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(value)) return std::nullopt;
+  return static_cast<float>(value);
+}
+
+// Throws std::runtime_error naming both files when `b` is not of `a`'s topology and units.
+void CheckSameTopology(const Rig& a, const std::string& a_path, const Rig& b, const std::string& b_path) {
+  if (b.vertex_count() != a.vertex_count()) {
+    throw std::runtime_error(b_path + " has " + std::to_string(b.vertex_count()) + " vertices, " + a_path +
+                             " has " + std::to_string(a.vertex_count()) + ": not the same topology");
+  }
+  if (b.triangle_count() != a.triangle_count() ||
+      !std::equal(a.triangles().begin(), a.triangles().end(), b.triangles().begin())) {
+    throw std::runtime_error(b_path + " has different triangles from " + a_path + ": not the same topology");
+  }
+  if (a.units() != Units::kUnknown && b.units() != Units::kUnknown && a.units() != b.units()) {
+    throw std::runtime_error(b_path + " is in " + ToString(b.units()) + ", " + a_path + " in " +
+                             ToString(a.units()));
+  }
+}
+
+Rig BuildOrThrow(RawRig raw, const std::string& what) {
+  std::string problem;
+  std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+  if (!rig) throw std::runtime_error(what + ": invalid rig: " + problem);
+  return std::move(*rig);
+}
+
+void WriteReport(const std::string& path, const nlohmann::json& report) {
+  if (!path.empty()) WriteJsonAtomically(path, report);
+}
+
+// Fails before any work when an output cannot be created (IoError naming it).
+void CheckOutputsWritable(const std::string& output, const std::string& report_path) {
+  CheckWritable(output);
+  if (!report_path.empty()) CheckWritable(report_path);
+}
+
+// " cm", or nothing for a mesh of unknown units (an OBJ).
+std::string UnitsSuffix(const Rig& rig) {
+  return rig.units() == Units::kUnknown ? std::string() : std::string(" ") + ToString(rig.units());
+}
+
+float MaxDistance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
+  float worst = 0.0f;
+  for (std::size_t v = 0; v < a.size(); ++v) worst = std::max(worst, glm::length(a[v] - b[v]));
+  return worst;
+}
+
+}  // namespace
+
+int RunAverageCommand(int argc, char** argv) {
+  std::string output, report_path;
+  std::vector<std::string> face_paths;
+  bool align = true;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "-o" && has_value) {
+      output = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      report_path = argv[++i];
+    } else if (arg == "--no-align") {
+      align = false;
+    } else if (!arg.empty() && arg[0] != '-') {
+      face_paths.push_back(arg);
+    } else {
+      std::fputs(kAverageUsage, stderr);
+      return 2;
+    }
+  }
+  if (output.empty() || face_paths.size() < 2) {
+    std::fputs(kAverageUsage, stderr);
+    return 2;
+  }
+  if (!CheckOutputExtension(output, true, kAverageUsage)) return 2;
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    CheckOutputsWritable(output, report_path);
+    std::optional<Rig> first;
+    std::vector<std::vector<glm::vec3>> faces;
+    for (const std::string& path : face_paths) {
+      Rig face = LoadRig(path);
+      if (first) {
+        CheckSameTopology(*first, face_paths[0], face, path);
+      } else if (face.vertex_count() < 3) {
+        throw std::runtime_error(path + " has " + std::to_string(face.vertex_count()) + " vertices: not a face");
+      }
+      faces.emplace_back(face.positions().begin(), face.positions().end());
+      if (!first) first.emplace(std::move(face));
+    }
+    const std::vector<glm::vec3> average = AverageFace(faces, align);
+    RawRig raw = RigBuilder::ToRaw(*first);
+    raw.positions = average;
+    raw.normals.clear();
+    raw.shapes.clear();
+    const Rig rig = BuildOrThrow(std::move(raw), "average");
+    SaveRig(output, rig);
+    float spread = 0.0f;
+    for (const auto& face : faces) spread = std::max(spread, MaxDistance(face, average));
+    std::printf("wrote %s: average of %zu faces (%zu vertices%s); largest vertex distance from it %g%s\n",
+                output.c_str(), faces.size(), rig.vertex_count(), align ? ", rigidly aligned" : "",
+                static_cast<double>(spread), UnitsSuffix(rig).c_str());
+    nlohmann::json report;
+    report["faces"] = face_paths;
+    report["output"] = output;
+    report["vertices"] = rig.vertex_count();
+    report["aligned"] = align;
+    report["largest_distance_from_average"] = spread;
+    report["units"] = ToString(rig.units());
+    report["seconds"] = SecondsSince(start);
+    WriteReport(report_path, report);
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+int RunCaricatureCommand(int argc, char** argv) {
+  std::string rig_path, average_path, output, report_path, factor_text;
+  bool keep_deltas = false;
+  bool align = true;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--rig" && has_value) {
+      rig_path = argv[++i];
+    } else if (arg == "--average" && has_value) {
+      average_path = argv[++i];
+    } else if (arg == "--factor" && has_value) {
+      factor_text = argv[++i];
+    } else if (arg == "-o" && has_value) {
+      output = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      report_path = argv[++i];
+    } else if (arg == "--keep-deltas") {
+      keep_deltas = true;
+    } else if (arg == "--no-align") {
+      align = false;
+    } else {
+      std::fputs(kCaricatureUsage, stderr);
+      return 2;
+    }
+  }
+  if (rig_path.empty() || average_path.empty() || factor_text.empty() || output.empty()) {
+    std::fputs(kCaricatureUsage, stderr);
+    return 2;
+  }
+  const std::optional<float> factor = ParseNumber(factor_text.c_str());
+  if (!factor) {
+    std::fprintf(stderr, "facerig: --factor '%s' is not a number\n%s", factor_text.c_str(), kCaricatureUsage);
+    return 2;
+  }
+  if (!(*factor >= kMinCaricatureFactor && *factor <= kMaxCaricatureFactor)) {
+    std::fprintf(stderr, "facerig: --factor %s is outside [-1, 3]\n", factor_text.c_str());
+    return 1;
+  }
+  if (!CheckOutputExtension(output, false, kCaricatureUsage)) return 2;
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    CheckOutputsWritable(output, report_path);
+    const Rig rig = LoadRig(rig_path);
+    const Rig average_rig = LoadRig(average_path);
+    CheckSameTopology(rig, rig_path, average_rig, average_path);
+    std::vector<glm::vec3> average(average_rig.positions().begin(), average_rig.positions().end());
+    double alignment_rms = 0.0;
+    if (align) {
+      const RigidMotion motion = FitRigidMotion(average, rig.positions());
+      for (glm::vec3& p : average) p = motion.Apply(p);
+      alignment_rms = motion.rms;
+    }
+    const double load_seconds = SecondsSince(start);
+    CaricatureParams params;
+    params.factor = *factor;
+    params.expressions =
+        keep_deltas ? CaricatureExpressions::kKeepDeltas : CaricatureExpressions::kDeformationTransfer;
+    const auto caricature_start = std::chrono::steady_clock::now();
+    const Rig result = BuildOrThrow(CaricatureRig(rig, average, params), "caricature");
+    const double caricature_seconds = SecondsSince(caricature_start);
+    SaveRig(output, result);
+    const float moved = MaxDistance(result.positions(), rig.positions());
+    std::printf(
+        "wrote %s: caricature factor %g of %s (%zu vertices, %zu shapes, expressions %s); neutral moved "
+        "up to %g%s; %.2f s\n",
+        output.c_str(), static_cast<double>(*factor), rig_path.c_str(), result.vertex_count(),
+        result.shape_count(), keep_deltas ? "deltas kept" : "by deformation transfer", static_cast<double>(moved),
+        UnitsSuffix(result).c_str(), SecondsSince(start));
+    nlohmann::json report;
+    report["rig"] = rig_path;
+    report["average"] = average_path;
+    report["output"] = output;
+    report["factor"] = *factor;
+    report["expressions"] = keep_deltas ? "keep-deltas" : "deformation-transfer";
+    report["aligned"] = align;
+    report["alignment_rms"] = alignment_rms;
+    report["largest_neutral_displacement"] = moved;
+    report["vertices"] = result.vertex_count();
+    report["shapes"] = result.shape_count();
+    report["seconds"] = {
+        {"load", load_seconds}, {"caricature", caricature_seconds}, {"total", SecondsSince(start)}};
+    WriteReport(report_path, report);
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+int RunMorphCommand(int argc, char** argv) {
+  std::string template_path, target_path, output, report_path;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--template" && has_value) {
+      template_path = argv[++i];
+    } else if (arg == "--target" && has_value) {
+      target_path = argv[++i];
+    } else if (arg == "-o" && has_value) {
+      output = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      report_path = argv[++i];
+    } else {
+      std::fputs(kMorphUsage, stderr);
+      return 2;
+    }
+  }
+  if (template_path.empty() || target_path.empty() || output.empty()) {
+    std::fputs(kMorphUsage, stderr);
+    return 2;
+  }
+  if (!CheckOutputExtension(output, false, kMorphUsage)) return 2;
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    CheckOutputsWritable(output, report_path);
+    const Rig template_rig = LoadRig(template_path);
+    const Rig target_rig = LoadRig(target_path);
+    CheckSameTopology(template_rig, template_path, target_rig, target_path);
+    if (target_rig.FindShape(kIdentityMorphShape)) {
+      throw std::runtime_error(target_path + " already has a shape called " + kIdentityMorphShape);
+    }
+    const Rig result = BuildOrThrow(IdentityMorphRig(template_rig, target_rig), "identity morph");
+    SaveRig(output, result);
+    const float morph = MaxDistance(template_rig.positions(), target_rig.positions());
+    std::printf("wrote %s: %zu vertices, %zu shapes (the target's %zu + %s, moving vertices up to %g%s); %.2f s\n",
+                output.c_str(), result.vertex_count(), result.shape_count(), target_rig.shape_count(),
+                kIdentityMorphShape, static_cast<double>(morph), UnitsSuffix(result).c_str(), SecondsSince(start));
+    nlohmann::json report;
+    report["template"] = template_path;
+    report["target"] = target_path;
+    report["output"] = output;
+    report["vertices"] = result.vertex_count();
+    report["shapes"] = result.shape_count();
+    report["identity_shape"] = kIdentityMorphShape;
+    report["largest_identity_displacement"] = morph;
+    report["seconds"] = SecondsSince(start);
+    WriteReport(report_path, report);
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+}  // namespace facerig::cli
