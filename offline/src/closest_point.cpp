@@ -104,44 +104,58 @@ ClosestPointQuery::ClosestPointQuery(std::span<const glm::vec3> positions,
     normal = length > 0.0f ? normal / length : glm::vec3(0.0f);
   }
 
-  // Boundary edges: used by exactly one triangle (undirected). Sorted keys
-  // rather than a hash map: several times faster on large meshes.
-  auto key = [](std::uint32_t a, std::uint32_t b) {
-    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+  // Boundary edges: used by exactly one triangle (undirected). Edge uses
+  // sorted by key, then one linear pass over runs of equal keys: several
+  // times faster than a hash map or a binary search per edge on large meshes.
+  struct EdgeUse {
+    std::uint64_t key;
+    std::uint32_t slot;  // 3 * triangle + edge
   };
-  std::vector<std::uint64_t> keys;
-  keys.reserve(triangles_.size() * 3);
-  for (const Triangle& tri : triangles_) {
-    for (std::size_t e = 0; e < 3; ++e) keys.push_back(key(tri[e], tri[(e + 1) % 3]));
-  }
-  std::sort(keys.begin(), keys.end());
-  auto used_once = [&](std::uint64_t k) {
-    const auto range = std::equal_range(keys.begin(), keys.end(), k);
-    return range.second - range.first == 1;
-  };
-  boundary_edges_.assign(triangles_.size(), 0);
-  boundary_vertex_.assign(n, 0);
+  std::vector<EdgeUse> uses;
+  uses.reserve(triangles_.size() * 3);
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const Triangle& tri = triangles_[t];
     for (std::size_t e = 0; e < 3; ++e) {
-      if (used_once(key(tri[e], tri[(e + 1) % 3]))) {
-        boundary_edges_[t] = static_cast<std::uint8_t>(boundary_edges_[t] | (1u << e));
-        boundary_vertex_[tri[e]] = 1;
-        boundary_vertex_[tri[(e + 1) % 3]] = 1;
-      }
+      const std::uint32_t a = tri[e], b = tri[(e + 1) % 3];
+      uses.push_back({(static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b),
+                      static_cast<std::uint32_t>(3 * t + e)});
     }
   }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) { return x.key < y.key; });
+  boundary_edges_.assign(triangles_.size(), 0);
+  boundary_vertex_.assign(n, 0);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i + 1;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    if (j - i == 1) {
+      const std::uint32_t t = uses[i].slot / 3, e = uses[i].slot % 3;
+      boundary_edges_[t] = static_cast<std::uint8_t>(boundary_edges_[t] | (1u << e));
+      boundary_vertex_[triangles_[t][e]] = 1;
+      boundary_vertex_[triangles_[t][(e + 1) % 3]] = 1;
+    }
+    i = j;
+  }
+  uses = {};
 
   std::vector<glm::vec3> centroids(triangles_.size());
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const Triangle& tri = triangles_[t];
     centroids[t] = (positions_[tri[0]] + positions_[tri[1]] + positions_[tri[2]]) / 3.0f;
   }
+  // Per-triangle boxes: each level of the build reads one box per triangle
+  // rather than three scattered vertices.
+  triangle_boxes_.resize(2 * triangles_.size());
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const Triangle& tri = triangles_[t];
+    triangle_boxes_[2 * t] = glm::min(glm::min(positions_[tri[0]], positions_[tri[1]]), positions_[tri[2]]);
+    triangle_boxes_[2 * t + 1] = glm::max(glm::max(positions_[tri[0]], positions_[tri[1]]), positions_[tri[2]]);
+  }
   order_.resize(triangles_.size());
   for (std::uint32_t t = 0; t < order_.size(); ++t) order_[t] = t;
   nodes_.reserve(2 * triangles_.size() / kLeafSize + 2);
   nodes_.push_back({});
   Build(static_cast<std::uint32_t>(order_.size()), centroids);
+  triangle_boxes_ = {};
 }
 
 void ClosestPointQuery::Build(std::uint32_t count, const std::vector<glm::vec3>& centroids) {
@@ -157,11 +171,8 @@ void ClosestPointQuery::Build(std::uint32_t count, const std::vector<glm::vec3>&
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     glm::vec3 clo = lo, chi = hi;
     for (std::uint32_t i = task.first; i < task.first + task.count; ++i) {
-      const Triangle& tri = triangles_[order_[i]];
-      for (std::uint32_t v : tri) {
-        lo = glm::min(lo, positions_[v]);
-        hi = glm::max(hi, positions_[v]);
-      }
+      lo = glm::min(lo, triangle_boxes_[2 * order_[i]]);
+      hi = glm::max(hi, triangle_boxes_[2 * order_[i] + 1]);
       clo = glm::min(clo, centroids[order_[i]]);
       chi = glm::max(chi, centroids[order_[i]]);
     }

@@ -85,13 +85,19 @@ MeshFrame EstimateFrame(std::span<const glm::vec3> positions, std::span<const Tr
   const glm::vec3 a = glm::normalize(glm::cross(frame.up, std::abs(frame.up.z) < 0.9f ? glm::vec3(0, 0, 1)
                                                                                          : glm::vec3(1, 0, 0)));
   const glm::vec3 b = glm::cross(frame.up, a);
+  // Only vertices of triangles: stray points are not surface.
+  std::vector<std::uint8_t> used(positions.size(), 0);
+  for (const Triangle& t : triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
   std::vector<glm::vec3> samples;
   const std::size_t stride = std::max<std::size_t>(1, positions.size() / 300);
-  for (std::size_t v = 0; v < positions.size(); v += stride) samples.push_back(positions[v]);
+  for (std::size_t v = 0; v < positions.size(); v += stride) {
+    if (used[v]) samples.push_back(positions[v]);
+  }
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    if (!used[v]) continue;
+    lo = glm::min(lo, positions[v]);
+    hi = glm::max(hi, positions[v]);
   }
   const float cap = 0.05f * glm::length(hi - lo);
   auto asymmetry = [&](float theta) {
@@ -126,6 +132,61 @@ MeshFrame EstimateFrame(std::span<const glm::vec3> positions, std::span<const Tr
   }
   frame.lateral = std::cos(best_theta) * a + std::sin(best_theta) * b;
   return frame;
+}
+
+// A coarse stand-in for a large mesh (vertex clustering on a grid of
+// `cells` cells along the longest side): the front-view estimate only needs
+// the overall shape, and a million-vertex scan would otherwise cost a
+// closest-point structure of millions of triangles. Vertices no triangle
+// uses are left out, so stray points do not count as surface.
+struct ProxyMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<Triangle> triangles;
+};
+
+ProxyMesh ClusterMesh(std::span<const glm::vec3> positions, std::span<const Triangle> triangles, int cells) {
+  std::vector<std::uint8_t> used(positions.size(), 0);
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const Triangle& t : triangles) {
+    for (std::uint32_t v : t) {
+      used[v] = 1;
+      lo = glm::min(lo, positions[v]);
+      hi = glm::max(hi, positions[v]);
+    }
+  }
+  const glm::vec3 extent = hi - lo;
+  const float cell = std::max({extent.x, extent.y, extent.z}) / static_cast<float>(cells);
+  // (cell key, vertex), sorted: vertices of one cell become one proxy vertex.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  keyed.reserve(positions.size());
+  for (std::uint32_t v = 0; v < positions.size(); ++v) {
+    if (!used[v]) continue;
+    const glm::vec3 q = cell > 0.0f ? (positions[v] - lo) / cell : glm::vec3(0.0f);
+    const auto ix = static_cast<std::uint64_t>(std::min(q.x, static_cast<float>(cells)));
+    const auto iy = static_cast<std::uint64_t>(std::min(q.y, static_cast<float>(cells)));
+    const auto iz = static_cast<std::uint64_t>(std::min(q.z, static_cast<float>(cells)));
+    keyed.emplace_back((ix << 42) | (iy << 21) | iz, v);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> proxy_of(positions.size(), kNone);
+  ProxyMesh proxy;
+  std::vector<float> members;
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+      proxy.positions.emplace_back(0.0f);
+      members.push_back(0.0f);
+    }
+    proxy.positions.back() += positions[keyed[i].second];
+    members.back() += 1.0f;
+    proxy_of[keyed[i].second] = static_cast<std::uint32_t>(proxy.positions.size() - 1);
+  }
+  for (std::size_t p = 0; p < proxy.positions.size(); ++p) proxy.positions[p] /= members[p];
+  for (const Triangle& t : triangles) {
+    const Triangle mapped{proxy_of[t[0]], proxy_of[t[1]], proxy_of[t[2]]};
+    if (mapped[0] != mapped[1] && mapped[1] != mapped[2] && mapped[0] != mapped[2]) proxy.triangles.push_back(mapped);
+  }
+  return proxy;
 }
 
 // Orthographic view looking at the face along -forward, up as given, framing
@@ -378,8 +439,31 @@ LandmarkResult LandmarkDetector::Detect(std::span<const glm::vec3> positions,
   ComputeVertexNormals(positions, triangles, impl.normals);
   impl.views_tried = 0;
 
-  const ClosestPointQuery surface(positions, triangles);
-  const MeshFrame frame = EstimateFrame(positions, triangles, surface);
+  // The front-view estimate and the whole-mesh framing only need the overall
+  // shape: a large mesh (a million-vertex scan) is replaced by a clustered
+  // copy, so the closest-point structure stays small. Vertices no triangle
+  // uses (stray points) never count.
+  ProxyMesh proxy;
+  const bool use_proxy = triangles.size() > params.proxy_triangle_limit;
+  if (use_proxy) {
+    proxy = ClusterMesh(positions, triangles, params.proxy_cells);
+    if (proxy.triangles.empty()) throw InvalidInputError("landmarks: every triangle of the mesh is degenerate");
+  } else {
+    std::vector<std::uint8_t> used(positions.size(), 0);
+    for (const Triangle& t : triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+    if (std::find(used.begin(), used.end(), 0) != used.end()) {
+      for (std::size_t v = 0; v < positions.size(); ++v) {
+        if (used[v]) proxy.positions.push_back(positions[v]);
+      }
+    }
+  }
+  const std::span<const glm::vec3> frame_positions =
+      use_proxy ? std::span<const glm::vec3>(proxy.positions) : positions;
+  const std::span<const Triangle> frame_triangles = use_proxy ? std::span<const Triangle>(proxy.triangles) : triangles;
+  const std::span<const glm::vec3> framed_positions =
+      proxy.positions.empty() ? positions : std::span<const glm::vec3>(proxy.positions);
+  const ClosestPointQuery surface(frame_positions, frame_triangles);
+  const MeshFrame frame = EstimateFrame(frame_positions, frame_triangles, surface);
   const glm::vec3 facing = glm::normalize(glm::cross(frame.lateral, frame.up));
 
   // Which side is the face: the detector decides (both sides of the symmetry
@@ -392,7 +476,7 @@ LandmarkResult LandmarkDetector::Detect(std::span<const glm::vec3> positions,
   };
   Candidate best{};
   auto consider = [&](glm::vec3 forward, glm::vec3 up) {
-    Candidate c{forward, up, FrontView(positions, forward, up, params.search_image_size), {}};
+    Candidate c{forward, up, FrontView(framed_positions, forward, up, params.search_image_size), {}};
     c.detection = impl.Detect(c.view);
     if (c.detection.score > best.detection.score) best = c;
     return c.detection.found();

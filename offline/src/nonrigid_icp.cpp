@@ -130,6 +130,10 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
 
   // --- rigid pre-alignment (template -> target coordinates) ---
   const auto rigid_start = Clock::now();
+  // One closest-point structure of the target, in its own coordinates, for
+  // the rigid step and (queries mapped in and out of the working frame) the
+  // non-rigid one: on a million-vertex scan a second copy cost ~2 s and
+  // ~200 MB.
   const ClosestPointQuery target_world(target_positions, target_triangles);
   // The similarity comes from the confident landmarks (dlib's jaw points
   // follow the silhouette) when at least 6 of them exist, else from all.
@@ -172,11 +176,30 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
   auto to_work = [&](glm::vec3 p) { return (p - centre) * to_work_scale; };
   auto to_world = [&](glm::vec3 p) { return p / to_work_scale + centre; };
 
-  std::vector<glm::vec3> target_work(target_positions.size());
-  for (std::size_t v = 0; v < target_positions.size(); ++v) target_work[v] = to_work(target_positions[v]);
-  const ClosestPointQuery target(target_work, target_triangles);
-  const double target_diagonal_work = glm::length(BoundsDiagonalVector(target_work));
-  result.residual.target_diagonal = glm::length(BoundsDiagonalVector(target_positions));
+  // Nearest target surface point of a working-frame point (working frame in and out).
+  auto find_target = [&](glm::vec3 p, float max_distance) {
+    ClosestPointHit hit = target_world.Find(to_world(p), max_distance / to_work_scale);
+    if (hit.triangle >= 0) {
+      hit.point = to_work(hit.point);
+      hit.distance *= to_work_scale;
+    }
+    return hit;
+  };
+  // The target's size from the vertices its triangles use: a stray point far
+  // away (scans have them) must not loosen the rejection distances or shrink
+  // the residual percentages.
+  std::vector<glm::vec3> surface_points;
+  {
+    std::vector<std::uint8_t> used(target_positions.size(), 0);
+    for (const Triangle& t : target_triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+    surface_points.reserve(target_positions.size());
+    for (std::size_t v = 0; v < target_positions.size(); ++v) {
+      if (used[v]) surface_points.push_back(target_positions[v]);
+    }
+  }
+  result.residual.target_diagonal = glm::length(BoundsDiagonalVector(surface_points));
+  const double target_diagonal_work = result.residual.target_diagonal * static_cast<double>(to_work_scale);
+  surface_points = {};
 
   std::vector<glm::vec3> rest(n);  // undeformed template region, working frame
   for (std::size_t i = 0; i < n; ++i) rest[i] = to_work(region_aligned[i]);
@@ -276,7 +299,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
     const auto far_limit = static_cast<float>(params.max_reject_distance * target_diagonal_work);
     distances.clear();
     for (std::size_t i = 0; i < n; ++i) {
-      hits[i] = target.Find(deformed[i], far_limit);
+      hits[i] = find_target(deformed[i], far_limit);
       const bool ok = hits[i].triangle >= 0 && !(params.reject_boundary && hits[i].on_boundary) &&
                       glm::dot(normals[i], hits[i].normal) >= cos_limit;
       accepted[i] = ok ? 1 : 0;

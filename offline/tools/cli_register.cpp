@@ -121,6 +121,8 @@ int RunLandmarksCommand(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     const Mesh mesh = LoadMesh(mesh_path);
     const double load_seconds = SecondsSince(start);
+    std::fprintf(stderr, "%s: %zu vertices, %zu triangles (%.2f s to load); detecting landmarks...\n",
+                 mesh_path.c_str(), mesh.positions.size(), mesh.triangles.size(), load_seconds);
     const auto model_start = std::chrono::steady_clock::now();
     LandmarkDetector detector(params);
     const double model_seconds = SecondsSince(model_start);
@@ -223,6 +225,7 @@ int RunRegisterCommand(int argc, char** argv) {
 
     NonrigidIcpParams params;
     params.region_vertex_count = ict ? kIctHeadVertexCount : 0;
+    std::fprintf(stderr, "rigid alignment and non-rigid ICP (%zu landmarks)...\n", landmarks.target_points.size());
     params.progress = [](std::size_t done, std::size_t total) { ProgressBar("non-rigid ICP", done, total); };
     const NonrigidIcpResult fit = NonrigidIcp(rig.positions(), rig.triangles(), target.positions,
                                               target.triangles, landmarks, params);

@@ -165,6 +165,26 @@ TEST_CASE("Landmarks on random re-meshed ICT faces (shared data)", "[landmarks][
   CHECK(pca_corner_error / faces < 0.04);
 }
 
+// A scan-sized mesh takes the clustered front-view estimate
+// (LandmarkParams::proxy_triangle_limit); the landmarks stay as accurate.
+TEST_CASE("Landmarks on a 400k-vertex re-meshed ICT face (shared data)", "[landmarks][shared-data]") {
+  test::RegistrationTargetOptions options;
+  options.seed = 36;
+  options.target_vertex_count = 400000;
+  const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
+  REQUIRE(target.positions.size() == 400000);
+  REQUIRE(target.triangles.size() > Detector().params().proxy_triangle_limit);
+  const LandmarkResult result = Detector().Detect(target.positions, target.triangles);
+  const double interocular = static_cast<double>(glm::length(target.true_landmarks[36] - target.true_landmarks[45]));
+  double no_jaw = 0.0;
+  for (std::size_t k = 17; k < 68; ++k) {
+    no_jaw += static_cast<double>(glm::length(result.landmarks.points[k] - target.true_landmarks[k])) / interocular / 51.0;
+  }
+  std::printf("landmarks on %zu vertices, %zu triangles: error/IOD %.4f without jaw; %d views; %.3f s\n",
+              target.positions.size(), target.triangles.size(), no_jaw, result.views_tried, result.seconds);
+  CHECK(no_jaw < 0.04);
+}
+
 }  // namespace
 }  // namespace facerig
 

@@ -98,6 +98,79 @@ TEST_CASE("Non-rigid ICP fits a bent sheet onto another bend", "[nonrigid_icp]")
   CHECK(correspondences > 800);
 }
 
+// Scan defects of issue 5 on a target: fins (edges with three or four
+// triangles), a duplicated triangle, degenerate triangles (repeated index,
+// collinear) and isolated vertices, one of them far away. Returns how many
+// triangles were added.
+std::size_t AddNonManifoldDefects(std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles,
+                                  std::size_t fins, float fin_depth) {
+  const std::size_t original = triangles.size();
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const float diagonal = glm::length(hi - lo);
+  const std::size_t stride = std::max<std::size_t>(1, original / (fins + 1));
+  for (std::size_t k = 1; k <= fins; ++k) {
+    const Triangle t = triangles[(k * stride) % original];
+    const glm::vec3 a = positions[t[0]], b = positions[t[1]], c = positions[t[2]];
+    const glm::vec3 normal = glm::normalize(glm::cross(b - a, c - a));
+    // A small fin hanging behind the surface from edge (a, b): that edge now
+    // has three triangles; the second fin on it makes four.
+    const auto tip = static_cast<std::uint32_t>(positions.size());
+    positions.push_back((a + b + c) / 3.0f - fin_depth * diagonal * normal);
+    triangles.push_back({t[0], t[1], tip});
+    if (k % 4 == 0) triangles.push_back({t[1], t[0], tip});
+    if (k % 5 == 0) triangles.push_back(t);  // duplicate
+    if (k % 3 == 0) triangles.push_back({t[0], t[0], t[1]});  // repeated index
+    if (k % 3 == 1) {  // collinear: zero area, three distinct vertices
+      const auto mid = static_cast<std::uint32_t>(positions.size());
+      positions.push_back(0.5f * (a + b));
+      triangles.push_back({t[0], mid, t[1]});
+    }
+  }
+  for (int k = 0; k < 20; ++k) {  // isolated vertices inside the bounds
+    const float f = static_cast<float>(k) / 20.0f;
+    positions.push_back(lo + f * (hi - lo));
+  }
+  positions.push_back(hi + 100.0f * (hi - lo));  // a stray point far away
+  return triangles.size() - original;
+}
+
+TEST_CASE("Non-rigid ICP on a non-manifold target with stray points", "[nonrigid_icp]") {
+  std::vector<glm::vec3> source, target;
+  std::vector<Triangle> source_triangles, target_triangles;
+  MakeSheet(30, 0.2f, source, source_triangles);
+  MakeSheet(41, 0.6f, target, target_triangles);
+  const std::size_t clean_vertices = target.size();
+  CHECK(AddNonManifoldDefects(target, target_triangles, 40, 0.002f) > 40);
+  RegistrationLandmarks landmarks;
+  for (std::uint32_t v : {0u, 29u, 870u, 899u, 435u}) {
+    landmarks.template_vertices.push_back(v);
+    glm::vec3 p = source[v];
+    p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
+    landmarks.target_points.push_back(p);
+  }
+  const NonrigidIcpResult fit = NonrigidIcp(source, source_triangles, target, target_triangles, landmarks);
+  REQUIRE(fit.positions.size() == source.size());
+  // The far stray point does not count in the target's size...
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (std::size_t v = 0; v < clean_vertices; ++v) {
+    lo = glm::min(lo, target[v]);
+    hi = glm::max(hi, target[v]);
+  }
+  CHECK(fit.residual.target_diagonal == Approx(glm::length(hi - lo)).epsilon(1e-3));
+  // ...and the fit is as good as on the clean sheet.
+  CHECK(fit.residual.mean_percent < 0.1);
+  double worst = 0.0;
+  for (const glm::vec3& p : fit.positions) {
+    const double z = 0.6 * (0.5 * p.x * p.x - 0.3 * p.y * p.y + 0.2 * p.x * p.y);
+    if (std::abs(p.x) < 0.9f && std::abs(p.y) < 0.9f) worst = std::max(worst, std::abs(z - p.z));
+  }
+  CHECK(worst < 0.01);
+}
+
 TEST_CASE("Non-rigid ICP rejects invalid input", "[nonrigid_icp]") {
   std::vector<glm::vec3> sheet;
   std::vector<Triangle> triangles;
@@ -169,6 +242,46 @@ TEST_CASE("Non-rigid ICP registers ICT onto a random ICT face (shared data)", "[
 TEST_CASE("Non-rigid ICP registers ICT onto a re-meshed random face in metres, detected landmarks (shared data)",
           "[nonrigid_icp][shared-data]") {
   RunIctFit(true, 22, 0.01, true);
+}
+
+}  // namespace
+}  // namespace facerig
+
+namespace facerig {
+namespace {
+
+TEST_CASE("Landmarks and registration on a non-manifold re-meshed ICT face with stray points (shared data)",
+          "[nonrigid_icp][landmarks][shared-data]") {
+  const test::IctFaceModel& ict = test::IctFaces();
+  test::RegistrationTargetOptions options;
+  options.seed = 23;
+  options.units_per_cm = 10.0;
+  test::RegistrationTarget target = test::MakeRegistrationTarget(options);
+  const std::size_t added = AddNonManifoldDefects(target.positions, target.triangles, 400, 0.003f);
+  LandmarkDetector detector;
+  const LandmarkResult detected = detector.Detect(target.positions, target.triangles);
+  const double interocular = static_cast<double>(glm::length(target.true_landmarks[36] - target.true_landmarks[45]));
+  double landmark_error = 0.0;
+  for (std::size_t k = 17; k < 68; ++k) {
+    landmark_error +=
+        static_cast<double>(glm::length(detected.landmarks.points[k] - target.true_landmarks[k])) / interocular / 51.0;
+  }
+  NonrigidIcpParams params;
+  params.region_vertex_count = kIctHeadVertexCount;
+  RegistrationLandmarks landmarks = IctLandmarks(target);
+  landmarks.target_points = detected.landmarks.points;
+  landmarks.confidence = detected.landmarks.confidence;
+  const NonrigidIcpResult fit =
+      NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles, landmarks, params);
+  const FitReport report = Measure(fit, target);
+  std::printf("non-manifold target (%zu defect triangles, 21 stray vertices): landmark error/IOD %.4f without jaw; "
+              "correspondence mean %.3f cm, residual mean %.4f%% p95 %.4f%%; %.2f s\n",
+              added, landmark_error, report.correspondence_mean_cm, fit.residual.mean_percent,
+              fit.residual.p95_percent, fit.timings.total_seconds);
+  CHECK(landmark_error < 0.04);
+  CHECK(report.correspondence_mean_cm <= 0.3);
+  CHECK(fit.residual.mean_percent <= 0.1);
+  CHECK(fit.residual.p95_percent <= 0.5);
 }
 
 }  // namespace

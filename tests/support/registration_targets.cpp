@@ -1,8 +1,9 @@
 #include "support/registration_targets.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <random>
 #include <string>
 
@@ -11,34 +12,40 @@
 
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/nonrigid_icp.h"
+#include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
-#include "support/test_meshes.h"
 
 namespace facerig::test {
 
-const IctFaceModel& IctFaces() {
-  static const IctFaceModel model = [] {
-    IctFaceModel m;
-    ObjMesh neutral = ReadObj(IctDir() / "generic_neutral_mesh.obj");
-    m.neutral = std::move(neutral.positions);
-    m.triangles = std::move(neutral.triangles);
-    for (int i = 0; i < 20; ++i) {
-      char name[32];
-      std::snprintf(name, sizeof(name), "identity%03d.obj", i);
-      m.identities.push_back(ReadObj(IctDir() / name).positions);
+IctFaceModel LoadIctFaces(const std::filesystem::path& ict_dir) {
+  IctFaceModel m;
+  ObjMesh neutral = ReadObj(ict_dir / "generic_neutral_mesh.obj");
+  m.neutral = std::move(neutral.positions);
+  m.triangles = std::move(neutral.triangles);
+  if (m.neutral.size() < kIctHeadVertexCount) {
+    throw IoError(IoErrorKind::kTopologyMismatch, (ict_dir / "generic_neutral_mesh.obj").string(),
+                  "expected ICT-FaceKit's neutral (at least " + std::to_string(kIctHeadVertexCount) +
+                      " vertices), got " + std::to_string(m.neutral.size()));
+  }
+  for (int i = 0; i < 20; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "identity%03d.obj", i);
+    m.identities.push_back(ReadObj(ict_dir / name).positions);
+    if (m.identities.back().size() != m.neutral.size()) {
+      throw IoError(IoErrorKind::kTopologyMismatch, (ict_dir / name).string(),
+                    "has " + std::to_string(m.identities.back().size()) + " vertices, the neutral " +
+                        std::to_string(m.neutral.size()));
     }
-    for (const Triangle& t : m.triangles) {
-      if (t[0] < kIctHeadVertexCount && t[1] < kIctHeadVertexCount && t[2] < kIctHeadVertexCount) {
-        m.head_triangles.push_back(t);
-      }
+  }
+  for (const Triangle& t : m.triangles) {
+    if (t[0] < kIctHeadVertexCount && t[1] < kIctHeadVertexCount && t[2] < kIctHeadVertexCount) {
+      m.head_triangles.push_back(t);
     }
-    return m;
-  }();
-  return model;
+  }
+  return m;
 }
 
-std::vector<glm::vec3> RandomIctFace(std::uint32_t seed, double sigma) {
-  const IctFaceModel& model = IctFaces();
+std::vector<glm::vec3> RandomIctFace(const IctFaceModel& model, std::uint32_t seed, double sigma) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal(0.0, sigma);
   std::vector<glm::vec3> face = model.neutral;
@@ -51,36 +58,119 @@ std::vector<glm::vec3> RandomIctFace(std::uint32_t seed, double sigma) {
 
 namespace {
 
-// 1-to-4 midpoint subdivision.
-void Subdivide(std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
+std::uint64_t EdgeKey(std::uint32_t a, std::uint32_t b) {
+  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+}
+
+// Sorted unique undirected edges.
+std::vector<std::uint64_t> UniqueEdges(const std::vector<Triangle>& triangles) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(3 * triangles.size());
+  for (const Triangle& t : triangles) {
+    for (std::size_t e = 0; e < 3; ++e) keys.push_back(EdgeKey(t[e], t[(e + 1) % 3]));
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+// Midpoint subdivision of the edges marked in `split` (parallel to `edges`,
+// the sorted unique edges). Each triangle is cut along its split edges: into
+// 4 (all three: the classic 1-to-4), 3 (two: the quad cut along its shorter
+// diagonal) or 2 (one). Midpoints are numbered in the order the triangles
+// first meet them, so splitting every edge gives the plain 1-to-4 scheme.
+void SplitEdges(std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles,
+                const std::vector<std::uint64_t>& edges, const std::vector<std::uint8_t>& split) {
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> midpoint_of(edges.size(), kNone);
   auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-    const auto key = std::make_pair(std::min(a, b), std::max(a, b));
-    const auto it = midpoints.find(key);
-    if (it != midpoints.end()) return it->second;
-    const auto index = static_cast<std::uint32_t>(positions.size());
-    positions.push_back(0.5f * (positions[a] + positions[b]));
-    midpoints.emplace(key, index);
-    return index;
+    const auto slot = static_cast<std::size_t>(
+        std::lower_bound(edges.begin(), edges.end(), EdgeKey(a, b)) - edges.begin());
+    if (!split[slot]) return kNone;
+    if (midpoint_of[slot] == kNone) {
+      midpoint_of[slot] = static_cast<std::uint32_t>(positions.size());
+      positions.push_back(0.5f * (positions[a] + positions[b]));
+    }
+    return midpoint_of[slot];
   };
   std::vector<Triangle> out;
   out.reserve(triangles.size() * 4);
   for (const Triangle& t : triangles) {
     const std::uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
-    out.push_back({t[0], ab, ca});
-    out.push_back({ab, t[1], bc});
-    out.push_back({ca, bc, t[2]});
-    out.push_back({ab, bc, ca});
+    const int count = (ab != kNone ? 1 : 0) + (bc != kNone ? 1 : 0) + (ca != kNone ? 1 : 0);
+    if (count == 3) {
+      out.push_back({t[0], ab, ca});
+      out.push_back({ab, t[1], bc});
+      out.push_back({ca, bc, t[2]});
+      out.push_back({ab, bc, ca});
+      continue;
+    }
+    if (count == 0) {
+      out.push_back(t);
+      continue;
+    }
+    // Rotate (keeping the winding) so that edge (v0, v1) is split and, with
+    // two splits, edge (v1, v2) too.
+    std::array<std::uint32_t, 3> v{t[0], t[1], t[2]};
+    std::array<std::uint32_t, 3> m{ab, bc, ca};  // m[e]: midpoint of (v[e], v[e + 1])
+    for (int turn = 0; turn < 3; ++turn) {
+      if (count == 1 ? m[0] != kNone : (m[0] != kNone && m[1] != kNone)) break;
+      std::rotate(v.begin(), v.begin() + 1, v.end());
+      std::rotate(m.begin(), m.begin() + 1, m.end());
+    }
+    if (count == 1) {
+      out.push_back({v[0], m[0], v[2]});
+      out.push_back({m[0], v[1], v[2]});
+    } else {
+      out.push_back({m[0], v[1], m[1]});
+      // The quad v0, m0, m1, v2: cut along its shorter diagonal.
+      if (glm::length(positions[v[0]] - positions[m[1]]) <= glm::length(positions[m[0]] - positions[v[2]])) {
+        out.push_back({v[0], m[0], m[1]});
+        out.push_back({v[0], m[1], v[2]});
+      } else {
+        out.push_back({v[0], m[0], v[2]});
+        out.push_back({m[0], m[1], v[2]});
+      }
+    }
   }
   triangles = std::move(out);
 }
 
+// See RegistrationTargetOptions::target_vertex_count.
+void Remesh(std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles, std::size_t target_count) {
+  for (bool first = true;; first = false) {
+    const std::vector<std::uint64_t> edges = UniqueEdges(triangles);
+    const bool full = target_count == 0 ? first : positions.size() + edges.size() <= target_count;
+    if (full) {
+      SplitEdges(positions, triangles, edges, std::vector<std::uint8_t>(edges.size(), 1));
+      continue;
+    }
+    if (target_count <= positions.size()) return;
+    // Split the longest edges, as many as vertices are missing.
+    const std::size_t missing = target_count - positions.size();
+    std::vector<float> length(edges.size());
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      const auto a = static_cast<std::uint32_t>(edges[e] >> 32), b = static_cast<std::uint32_t>(edges[e]);
+      length[e] = glm::length(positions[a] - positions[b]);
+    }
+    std::vector<std::uint32_t> order(edges.size());
+    for (std::size_t e = 0; e < order.size(); ++e) order[e] = static_cast<std::uint32_t>(e);
+    std::nth_element(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(missing - 1), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       return length[a] > length[b] || (length[a] == length[b] && a < b);
+                     });
+    std::vector<std::uint8_t> split(edges.size(), 0);
+    for (std::size_t k = 0; k < missing; ++k) split[order[k]] = 1;
+    SplitEdges(positions, triangles, edges, split);
+    return;
+  }
+}
+
 }  // namespace
 
-RegistrationTarget MakeRegistrationTarget(const RegistrationTargetOptions& options) {
-  const IctFaceModel& model = IctFaces();
+RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const RegistrationTargetOptions& options) {
   RegistrationTarget target;
-  const std::vector<glm::vec3> face = RandomIctFace(options.seed, options.identity_sigma);
+  const std::vector<glm::vec3> face = RandomIctFace(model, options.seed, options.identity_sigma);
   std::mt19937 rng(options.seed * 7919u + 17u);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
 
@@ -89,7 +179,7 @@ RegistrationTarget MakeRegistrationTarget(const RegistrationTargetOptions& optio
   std::vector<Triangle> triangles = model.head_triangles;
   if (options.remesh) {
     const ClosestPointQuery surface(positions, triangles);
-    Subdivide(positions, triangles);
+    Remesh(positions, triangles, options.target_vertex_count);
     // Jitter every vertex along the surface by up to a third of the local edge
     // length and project it back: no target vertex sits on an ICT vertex.
     std::vector<float> edge(positions.size(), 0.0f);

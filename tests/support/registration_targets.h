@@ -4,15 +4,22 @@
 // jittered along the surface and projected back onto it), randomly rotated,
 // scaled (cm -> m / cm / mm) and moved. Ground truth: where each ICT vertex
 // (and so each of the 68 landmark vertices) lies on the target.
+//
+// Shared by the tests and `facerig-bench register`: the functions taking an
+// IctFaceModel read nothing themselves; the overloads without one use the
+// tests' IctDir() (support/test_meshes.h) and are inline so that the bench,
+// which loads the model from its own --ict directory, never references it.
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
 #include "facerig/offline/rigid_align.h"
 #include "facerig/runtime/rig.h"
+#include "support/test_meshes.h"
 
 namespace facerig::test {
 
@@ -23,10 +30,13 @@ struct IctFaceModel {
   std::vector<Triangle> triangles;  // all parts
   std::vector<Triangle> head_triangles;  // face + head region (vertices < 11248)
 };
-const IctFaceModel& IctFaces();
+// Reads generic_neutral_mesh.obj and identity000..019.obj from `ict_dir`.
+// \throw IoError when a file is missing or malformed, or the identities do
+//        not match the neutral's vertex count.
+IctFaceModel LoadIctFaces(const std::filesystem::path& ict_dir);
 
 // neutral + sum_i w_i (identity_i - neutral), w_i ~ N(0, sigma), all vertices.
-std::vector<glm::vec3> RandomIctFace(std::uint32_t seed, double sigma = 1.0);
+std::vector<glm::vec3> RandomIctFace(const IctFaceModel& model, std::uint32_t seed, double sigma = 1.0);
 
 struct RegistrationTargetOptions {
   std::uint32_t seed = 1;
@@ -35,6 +45,12 @@ struct RegistrationTargetOptions {
   // Target units per centimetre: 0.01 (metres), 1 (cm), 10 (mm); 0 picks one at random.
   double units_per_cm = 0.0;
   double identity_sigma = 1.0;
+  // Re-meshed vertex count. 0: one 1-to-4 midpoint subdivision of the face +
+  // head region (~44k vertices). Otherwise full subdivisions while they stay
+  // within the count, then the longest edges are split (red-green: each
+  // triangle is cut into 2, 3 or 4 along its split edges) until the count is
+  // reached exactly: 30000 gives issue 5's ~30k target, 1000000 a scan-sized one.
+  std::size_t target_vertex_count = 0;
 };
 
 struct RegistrationTarget {
@@ -48,6 +64,18 @@ struct RegistrationTarget {
   double rotation_degrees = 0.0;
 };
 
-RegistrationTarget MakeRegistrationTarget(const RegistrationTargetOptions& options);
+RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const RegistrationTargetOptions& options);
+
+// --- the tests' shortcuts: the model from IctDir(), read once per process ---
+inline const IctFaceModel& IctFaces() {
+  static const IctFaceModel model = LoadIctFaces(IctDir());
+  return model;
+}
+inline std::vector<glm::vec3> RandomIctFace(std::uint32_t seed, double sigma = 1.0) {
+  return RandomIctFace(IctFaces(), seed, sigma);
+}
+inline RegistrationTarget MakeRegistrationTarget(const RegistrationTargetOptions& options) {
+  return MakeRegistrationTarget(IctFaces(), options);
+}
 
 }  // namespace facerig::test

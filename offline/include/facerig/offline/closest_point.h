@@ -67,6 +67,7 @@ class ClosestPointQuery {
   std::vector<std::uint8_t> boundary_vertex_;
   std::vector<std::uint32_t> order_;
   std::vector<Node> nodes_;
+  std::vector<glm::vec3> triangle_boxes_;  // lo, hi per triangle; only during the build
 };
 
 // Closest point on one triangle (Ericson, Real-Time Collision Detection 5.1.5).

@@ -45,6 +45,11 @@ struct LandmarkParams {
   int search_image_size = 256;
   int refine_image_size = 192;  // close-ups for the nearby rotations
   int landmark_image_size = 256;
+  // Meshes with more triangles than this (scans) have their front view
+  // estimated on a copy clustered to `proxy_cells` grid cells along the
+  // longest side: bounded time and memory on million-vertex meshes.
+  std::size_t proxy_triangle_limit = 200000;
+  int proxy_cells = 150;
   // Nearby rotations tried around the estimated front view (yaw and pitch).
   float refine_step_degrees = 7.0f;
   bool refine_rotation = true;
