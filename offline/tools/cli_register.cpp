@@ -13,10 +13,12 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli_common.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/offline/rasterizer.h"
 #include "facerig/offline/registration_error.h"
+#include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
@@ -34,61 +36,6 @@ constexpr const char* kRegisterUsage =
     "                        [--json REPORT] [--shape-predictor F]\n"
     "  Fits the template's neutral onto the target surface (similarity alignment + optimal-step\n"
     "  non-rigid ICP). The OBJ keeps the template's vertex order, in the target's coordinates.\n";
-
-struct Mesh {
-  std::vector<glm::vec3> positions;
-  std::vector<Triangle> triangles;
-};
-
-Mesh LoadMesh(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  Mesh mesh;
-  if (extension == ".obj") {
-    ObjMesh obj = ReadObj(path);
-    mesh.positions = std::move(obj.positions);
-    mesh.triangles = std::move(obj.triangles);
-  } else {
-    const Rig rig = LoadRig(path);
-    mesh.positions.assign(rig.positions().begin(), rig.positions().end());
-    mesh.triangles.assign(rig.triangles().begin(), rig.triangles().end());
-  }
-  return mesh;
-}
-
-// Atomic JSON write (temporary file + rename): never a partial report.
-void WriteJson(const std::filesystem::path& path, const nlohmann::json& json) {
-  const std::filesystem::path temporary = path.string() + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << json.dump(2) << "\n";
-    if (!out) throw IoError(IoErrorKind::kWriteFailed, temporary.string(), "cannot write the report");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot rename the report into place");
-  }
-}
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-void ProgressBar(const char* label, std::size_t done, std::size_t total) {
-  constexpr int kWidth = 30;
-  const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
-  std::fprintf(stderr, "\r%-14s [%.*s%*s] %zu/%zu", label, filled, "==============================",
-               kWidth - filled, "", done, total);
-  if (done >= total) std::fputc('\n', stderr);
-  std::fflush(stderr);
-}
-
-int Fail(const std::exception& error) {
-  std::fprintf(stderr, "facerig: %s\n", error.what());
-  return 1;
-}
 
 }  // namespace
 
@@ -119,7 +66,7 @@ int RunLandmarksCommand(int argc, char** argv) {
   }
   try {
     const auto start = std::chrono::steady_clock::now();
-    const Mesh mesh = LoadMesh(mesh_path);
+    const RawRig mesh = LoadMeshForEditing(mesh_path);
     const double load_seconds = SecondsSince(start);
     std::fprintf(stderr, "%s: %zu vertices, %zu triangles (%.2f s to load); detecting landmarks...\n",
                  mesh_path.c_str(), mesh.positions.size(), mesh.triangles.size(), load_seconds);
@@ -139,7 +86,7 @@ int RunLandmarksCommand(int argc, char** argv) {
       report["snapped"] = result.snapped;
       report["detector_score"] = result.detector_score;
       report["seconds"] = {{"load_mesh", load_seconds}, {"load_model", model_seconds}, {"detect", result.seconds}};
-      WriteJson(report_path, report);
+      WriteJsonAtomically(report_path, report);
     }
     return 0;
   } catch (const std::exception& error) {
@@ -177,13 +124,11 @@ int RunRegisterCommand(int argc, char** argv) {
   try {
     const auto start = std::chrono::steady_clock::now();
     const Rig rig = LoadRig(template_path);
-    const Mesh target = LoadMesh(target_path);
+    const RawRig target = LoadMeshForEditing(target_path);
     const double load_seconds = SecondsSince(start);
     std::fprintf(stderr, "template %zu vertices, target %zu vertices (%.2f s to load)\n", rig.vertex_count(),
                  target.positions.size(), load_seconds);
 
-    // ICT-FaceKit's topology: its own landmark vertices and face + head region.
-    const bool ict = rig.vertex_count() == 26719;
     std::optional<LandmarkDetector> detector;
     auto get_detector = [&]() -> LandmarkDetector& {
       if (!detector) detector.emplace(landmark_params);
@@ -197,34 +142,14 @@ int RunRegisterCommand(int argc, char** argv) {
       std::fprintf(stderr, "detecting landmarks on the target...\n");
       target_landmarks = get_detector().Detect(target.positions, target.triangles).landmarks;
     }
-    // Template landmark vertices, by dlib index.
-    std::vector<std::uint32_t> template_vertex_of(kDlibLandmarkCount);
-    if (ict) {
-      template_vertex_of = IctLandmarkVertices();
-    } else {
-      std::fprintf(stderr, "detecting landmarks on the template...\n");
-      const LandmarkResult on_template = get_detector().Detect(rig.positions(), rig.triangles());
-      for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
-        float best = std::numeric_limits<float>::infinity();
-        for (std::uint32_t v = 0; v < rig.vertex_count(); ++v) {
-          const float d = glm::length(rig.positions()[v] - on_template.landmarks.points[k]);
-          if (d < best) {
-            best = d;
-            template_vertex_of[k] = v;
-          }
-        }
-      }
-    }
+    if (!HasKnownLandmarkVertices(rig)) std::fprintf(stderr, "detecting landmarks on the template...\n");
+    const std::vector<std::uint32_t> template_vertex_of =
+        HasKnownLandmarkVertices(rig) ? IctLandmarkVertices() : TemplateLandmarkVertices(rig, get_detector());
+    const RegistrationLandmarks landmarks = PairLandmarks(template_vertex_of, target_landmarks);
     const double landmark_seconds = SecondsSince(landmark_start);
-    RegistrationLandmarks landmarks;
-    for (std::size_t i = 0; i < target_landmarks.points.size(); ++i) {
-      landmarks.template_vertices.push_back(template_vertex_of[target_landmarks.indices[i]]);
-      landmarks.target_points.push_back(target_landmarks.points[i]);
-      landmarks.confidence.push_back(target_landmarks.confidence[i]);
-    }
 
     NonrigidIcpParams params;
-    params.region_vertex_count = ict ? kIctHeadVertexCount : 0;
+    params.region_vertex_count = TemplateRegionVertexCount(rig);
     std::fprintf(stderr, "rigid alignment and non-rigid ICP (%zu landmarks)...\n", landmarks.target_points.size());
     params.progress = [](std::size_t done, std::size_t total) { ProgressBar("non-rigid ICP", done, total); };
     const NonrigidIcpResult fit = NonrigidIcp(rig.positions(), rig.triangles(), target.positions,
@@ -262,7 +187,7 @@ int RunRegisterCommand(int argc, char** argv) {
                            {"solve", fit.timings.solve_seconds},
                            {"nonrigid_total", fit.timings.total_seconds},
                            {"total", SecondsSince(start)}};
-      WriteJson(report_path, report);
+      WriteJsonAtomically(report_path, report);
     }
     return 0;
   } catch (const std::exception& error) {

@@ -88,6 +88,13 @@ std::filesystem::path OutputPath(const std::string& file_name) {
   return dir / file_name;
 }
 
+std::filesystem::path FreshOutputFolder(const std::string& name) {
+  const std::filesystem::path folder = OutputPath(name);
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
 namespace {
 bool Differ(std::string* difference, std::string text) {
   if (difference) *difference = std::move(text);

@@ -24,6 +24,8 @@ const Rig& IctRig();
 
 // A fresh path under the build's test output folder.
 std::filesystem::path OutputPath(const std::string& file_name);
+// An empty folder of that name under the test output folder (emptied if it exists).
+std::filesystem::path FreshOutputFolder(const std::string& name);
 
 // True when two rigs have the same topology, parts, names, units and deltas
 // (positions and deltas within `tolerance`).

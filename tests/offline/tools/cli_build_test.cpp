@@ -24,13 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path FreshFolder(const std::string& name) {
-  const fs::path folder = test::OutputPath(name);
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
 void WriteTarget(const fs::path& path, const test::RegistrationTarget& target) {
   WriteObj(path, target.positions, {}, {}, target.triangles, {});
 }
@@ -58,7 +51,7 @@ fs::path DefaultHead() { return fs::path(FACERIG_SOURCE_DIR) / "data" / "default
 TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets the template's shapes on its own "
           "vertices, as GLB, .frig and OBJs",
           "[shared-data][cli]") {
-  const fs::path folder = FreshFolder("cli_build");
+  const fs::path folder = test::FreshOutputFolder("cli_build");
   test::RegistrationTargetOptions options;
   options.seed = 11;
   options.units_per_cm = 10.0;  // millimetres
@@ -124,7 +117,7 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
 }
 
 TEST_CASE("facerig build: bad command lines and bad input fail clearly and write nothing", "[cli]") {
-  const fs::path folder = FreshFolder("cli_build_bad");
+  const fs::path folder = test::FreshOutputFolder("cli_build_bad");
   const std::string head = DefaultHead().string();
   const std::string out = (folder / "out.glb").string();
 

@@ -20,13 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path FreshFolder(const std::string& name) {
-  const fs::path folder = test::OutputPath(name);
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
 test::CommandOutcome Run(const std::function<int(int, char**)>& command,
                          const std::vector<std::string>& arguments) {
   return test::RunCommand(command, arguments);
@@ -60,7 +53,7 @@ std::vector<glm::vec3> DenseDeltas(const Rig& rig, std::size_t shape) {
 }  // namespace
 
 TEST_CASE("facerig average: the mean of rigs and OBJs, aligned or not", "[cli]") {
-  const fs::path folder = FreshFolder("cli_average");
+  const fs::path folder = test::FreshOutputFolder("cli_average");
   const Rig a = BentGrid(0.5f);
   const Rig b = BentGrid(-0.3f);
   SaveRig(folder / "a.frig", a);
@@ -100,7 +93,7 @@ TEST_CASE("facerig average: the mean of rigs and OBJs, aligned or not", "[cli]")
 }
 
 TEST_CASE("facerig caricature: factor 0 reproduces the rig, factor 1 doubles its difference", "[cli]") {
-  const fs::path folder = FreshFolder("cli_caricature");
+  const fs::path folder = test::FreshOutputFolder("cli_caricature");
   const Rig rig = BentGrid(0.5f);
   const Rig average = BentGrid(0.2f, 0);
   const fs::path rig_path = folder / "rig.frig";
@@ -163,7 +156,7 @@ TEST_CASE("facerig caricature: factor 0 reproduces the rig, factor 1 doubles its
 }
 
 TEST_CASE("facerig morph: the template's neutral, the target's shapes and identityMorph", "[cli]") {
-  const fs::path folder = FreshFolder("cli_morph");
+  const fs::path folder = test::FreshOutputFolder("cli_morph");
   const Rig template_rig = BentGrid(0.0f);
   const Rig target = BentGrid(0.7f);
   SaveRig(folder / "template.frig", template_rig);
@@ -192,7 +185,7 @@ TEST_CASE("facerig morph: the template's neutral, the target's shapes and identi
 
 TEST_CASE("facerig average / caricature / morph: bad input exits 1 or 2, names the problem, writes nothing",
           "[cli]") {
-  const fs::path folder = FreshFolder("cli_identity_errors");
+  const fs::path folder = test::FreshOutputFolder("cli_identity_errors");
   const Rig rig = BentGrid(0.5f);
   const fs::path rig_path = folder / "rig.frig";
   SaveRig(rig_path, rig);

@@ -27,13 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path FreshFolder(const std::string& name) {
-  const fs::path folder = test::OutputPath(name);
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
 test::CommandOutcome Landmarks(const std::vector<std::string>& arguments) {
   std::vector<std::string> all{"landmarks"};
   all.insert(all.end(), arguments.begin(), arguments.end());
@@ -132,7 +125,7 @@ TEST_CASE("facerig landmarks / register: usage errors return 2", "[cli][landmark
 
 TEST_CASE("facerig landmarks / register: bad input fails with a clear message and writes nothing",
           "[cli][landmarks]") {
-  const fs::path folder = FreshFolder("cli_register_bad");
+  const fs::path folder = test::FreshOutputFolder("cli_register_bad");
   const fs::path out = folder / "lm.json", png = folder / "lm.png", fitted = folder / "fitted.obj";
 
   SECTION("missing file") {
@@ -196,7 +189,7 @@ TEST_CASE("facerig landmarks / register: bad input fails with a clear message an
 
 TEST_CASE("facerig landmarks on a re-meshed ICT face: 68 points near the truth, debug PNG, report (shared data)",
           "[cli][landmarks][shared-data]") {
-  const fs::path folder = FreshFolder("cli_landmarks");
+  const fs::path folder = test::FreshOutputFolder("cli_landmarks");
   const fs::path mesh = folder / "target.obj", out = folder / "lm.json", png = folder / "lm.png",
                  report = folder / "report.json";
   const test::RegistrationTarget& target = WriteTarget(mesh, 41, 10.0);  // millimetres
@@ -226,7 +219,7 @@ TEST_CASE("facerig landmarks on a re-meshed ICT face: 68 points near the truth, 
 
 TEST_CASE("facerig register with a landmark file: the template's vertices on the target, in its units (shared data)",
           "[cli][shared-data]") {
-  const fs::path folder = FreshFolder("cli_register_file");
+  const fs::path folder = test::FreshOutputFolder("cli_register_file");
   const fs::path mesh = folder / "target.obj", landmarks = folder / "lm.json", fitted = folder / "fitted.obj",
                  report = folder / "report.json";
   const test::RegistrationTarget& target = WriteTarget(mesh, 42, 0.01);  // metres
@@ -262,7 +255,7 @@ TEST_CASE("facerig register with a landmark file: the template's vertices on the
 }
 
 TEST_CASE("facerig register without landmarks detects them on the target (shared data)", "[cli][shared-data]") {
-  const fs::path folder = FreshFolder("cli_register_detect");
+  const fs::path folder = test::FreshOutputFolder("cli_register_detect");
   const fs::path mesh = folder / "target.obj", fitted = folder / "fitted.obj", report = folder / "report.json";
   const test::RegistrationTarget& target = WriteTarget(mesh, 43, 1.0);
   const test::CommandOutcome result = Register({"--template", IctTemplate().string(), "--target", mesh.string(), "-o",
