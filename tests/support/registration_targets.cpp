@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -11,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/closest_point.h"
+#include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
@@ -230,6 +232,57 @@ RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const Regis
   for (const glm::vec3& p : face) target.true_ict_positions.push_back(target.from_ict.Apply(p));
   for (std::uint32_t v : IctLandmarkVertices()) target.true_landmarks.push_back(target.true_ict_positions[v]);
   return target;
+}
+
+}  // namespace facerig::test
+
+namespace facerig::test {
+
+BuiltRigErrors MeasureBuiltRig(const IctFaceModel& model, const Rig& template_rig, const RegistrationTarget& target,
+                               const Rig& built) {
+  const ClosestPointQuery truth_surface(target.true_ict_positions, model.head_triangles);
+  std::vector<std::uint32_t> face_vertices;  // target vertices on the face region
+  std::vector<ClosestPointHit> material;
+  for (std::uint32_t v = 0; v < target.positions.size(); ++v) {
+    const ClosestPointHit hit = truth_surface.Find(target.positions[v]);
+    const Triangle& t = model.head_triangles[static_cast<std::size_t>(hit.triangle)];
+    if (t[0] < kIctFaceVertexCount && t[1] < kIctFaceVertexCount && t[2] < kIctFaceVertexCount) {
+      face_vertices.push_back(v);
+      material.push_back(hit);
+    }
+  }
+  const std::size_t n = face_vertices.size();
+  std::vector<glm::vec3> rest(n), truth(n), result(n), true_delta(template_rig.vertex_count());
+  std::vector<glm::vec3> built_delta(built.vertex_count());
+  BuiltRigErrors errors;
+  errors.face_vertices = n;
+  for (std::size_t s = 0; s < template_rig.shape_count(); ++s) {
+    std::fill(true_delta.begin(), true_delta.end(), glm::vec3(0.0f));
+    const BlendShapeView shape = template_rig.shape(s);
+    for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+      true_delta[shape.vertex_indices[i]] =
+          static_cast<float>(target.from_ict.scale) * target.from_ict.ApplyToDirection(shape.position_deltas[i]);
+    }
+    const std::optional<std::size_t> built_shape = built.FindShape(shape.name);
+    if (!built_shape) throw InvalidInputError("the built rig has no shape '" + std::string(shape.name) + "'");
+    std::fill(built_delta.begin(), built_delta.end(), glm::vec3(0.0f));
+    const BlendShapeView mapped = built.shape(*built_shape);
+    for (std::size_t i = 0; i < mapped.vertex_indices.size(); ++i) {
+      built_delta[mapped.vertex_indices[i]] = mapped.position_deltas[i];
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const Triangle& t = model.head_triangles[static_cast<std::size_t>(material[i].triangle)];
+      const glm::vec3 b = material[i].barycentrics;
+      rest[i] = material[i].point;
+      truth[i] = rest[i] + b.x * true_delta[t[0]] + b.y * true_delta[t[1]] + b.z * true_delta[t[2]];
+      result[i] = target.positions[face_vertices[i]] + built_delta[face_vertices[i]];
+    }
+    const ExpressionError error = MeasureExpressionError(rest, truth, result, 0, n);
+    errors.names.emplace_back(shape.name);
+    errors.relative.push_back(error.relative_error);
+    errors.leak.push_back(error.leak);
+  }
+  return errors;
 }
 
 }  // namespace facerig::test

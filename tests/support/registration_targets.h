@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -65,6 +66,22 @@ struct RegistrationTarget {
 };
 
 RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const RegistrationTargetOptions& options);
+
+// Issue 6's measure of a rig built on a re-meshed target (whole pipeline):
+// each target vertex is matched once to its material point on the true
+// neutral surface (closest point + barycentrics on the face + head region);
+// its true position in an expression is that material point on the true
+// expression mesh (the random face + the template's delta, moved into the
+// target's frame). Over the target vertices on ICT's face region, per shape
+// of `template_rig` (found in `built` by name): relative error and leak.
+struct BuiltRigErrors {
+  std::vector<std::string> names;
+  std::vector<double> relative;
+  std::vector<double> leak;
+  std::size_t face_vertices = 0;  // target vertices measured
+};
+BuiltRigErrors MeasureBuiltRig(const IctFaceModel& model, const Rig& template_rig, const RegistrationTarget& target,
+                               const Rig& built);
 
 // --- the tests' shortcuts: the model from IctDir(), read once per process ---
 inline const IctFaceModel& IctFaces() {

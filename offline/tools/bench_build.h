@@ -1,0 +1,8 @@
+// facerig-bench build: issue 6's whole pipeline (`facerig build`) on random
+// re-meshed ICT faces (tests/support/registration_targets.h): landmarks ->
+// registration -> transfer -> the target's own vertices, timed end to end,
+// with each mode's relative error and leak against the known answer, printed
+// against the issue's targets.
+#pragma once
+
+int RunBuildBenchmark(int argc, char** argv);
