@@ -4,6 +4,7 @@
 #include "facerig/offline/rig_build.h"
 
 #include <algorithm>
+#include <limits>
 #include <cstdio>
 
 #include <catch2/catch.hpp>
@@ -12,6 +13,7 @@
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/landmarks.h"
+#include "facerig/offline/self_intersection.h"
 #include "support/registration_targets.h"
 #include "support/test_meshes.h"
 
@@ -46,6 +48,29 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
   const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
 
   const BuildRigResult registered = BuildRig(ict, TargetRig(target), TrueLandmarks(target));
+  {
+    // The inner parts (eyeballs, teeth, mouth socket, lashes) follow the fitted
+    // skin: count skin x inner crossings of the fit against the true face's.
+    auto skin_inner_crossings = [&](std::span<const glm::vec3> positions) {
+      SelfIntersectionParams params;
+      params.max_pairs = std::numeric_limits<std::size_t>::max();
+      const SelfIntersectionResult found = FindSelfIntersections(positions, ict.triangles(), params);
+      std::size_t count = 0;
+      auto skin = [&](std::uint32_t t) {
+        const Triangle& tri = ict.triangles()[t];
+        return tri[0] < kIctHeadVertexCount && tri[1] < kIctHeadVertexCount && tri[2] < kIctHeadVertexCount;
+      };
+      for (const auto& [a, b] : found.pairs) count += skin(a) != skin(b) ? 1 : 0;
+      return count;
+    };
+    const std::size_t fitted = skin_inner_crossings(registered.registration.positions);
+    const std::size_t truth = skin_inner_crossings(target.true_ict_positions);
+    const std::size_t original = skin_inner_crossings(ict.positions());
+    std::printf("skin x inner-part crossings: fitted %zu, true face %zu, template %zu\n", fitted, truth, original);
+    // ICT itself has ~1,000 (lashes through lids, the mouth socket's rim): the
+    // fit may add a few percent, not a tooth through the lip.
+    CHECK(fitted <= original + original / 10 + 10);
+  }
   for (BuildMode mode : {BuildMode::kClassic, BuildMode::kIdentityGradient, BuildMode::kDisplacement}) {
     BuildRigParams params;
     params.mode = mode;
