@@ -205,7 +205,13 @@ TEST_CASE("Player: the window path draws under Xvfb with a dummy audio device", 
   std::filesystem::remove(screenshot);
   const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/io/data/reference_v1.frig";
   std::string output;
-  const int code = Run("SDL_AUDIODRIVER=dummy xvfb-run -a -s '-screen 0 1024x768x24' '" FACERIG_PLAYER_EXE
+  // Under the sanitizers, no leak check in this one child: the window path
+  // loads Mesa's GLX/DRI drivers, which are unloaded at exit, and LeakSanitizer
+  // then reports their process-lifetime blocks from an "<unknown module>" that
+  // no suppression can name (it failed a CI run). The player's own
+  // code stays leak-checked by the headless tests.
+  const int code = Run("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" "
+                       "SDL_AUDIODRIVER=dummy xvfb-run -a -s '-screen 0 1024x768x24' '" FACERIG_PLAYER_EXE
                        "' --rig " + rig + " --size 320x240 --quit-after 1.5 --screenshot " + screenshot +
                        " --say hello",
                        &output);
