@@ -189,33 +189,6 @@ ProxyMesh ClusterMesh(std::span<const glm::vec3> positions, std::span<const Tria
   return proxy;
 }
 
-// Orthographic view looking at the face along -forward, up as given, framing
-// the whole mesh (or `half_extent` around `centre` when positive).
-RasterView FrontView(std::span<const glm::vec3> positions, glm::vec3 forward, glm::vec3 up, int size) {
-  forward = glm::normalize(forward);
-  up = glm::normalize(up - glm::dot(up, forward) * forward);
-  const glm::vec3 right = glm::cross(up, forward);
-  RasterView view;
-  for (int c = 0; c < 3; ++c) {
-    view.rotation[c][0] = right[c];
-    view.rotation[c][1] = up[c];
-    view.rotation[c][2] = forward[c];
-  }
-  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : positions) {
-    const glm::vec2 q(glm::dot(p, right), glm::dot(p, up));
-    lo = glm::min(lo, q);
-    hi = glm::max(hi, q);
-  }
-  const glm::vec2 mid = 0.5f * (lo + hi);
-  float depth_mid = 0.0f;
-  view.centre = mid.x * right + mid.y * up + depth_mid * forward;
-  view.half_extent = 0.52f * std::max(hi.x - lo.x, hi.y - lo.y);
-  view.width = size;
-  view.height = size;
-  return view;
-}
-
 // Orthographic view of the face: `centre` in the middle, the face (size
 // `face_size`, world units) filling half of the image.
 RasterView FaceView(glm::vec3 forward, glm::vec3 up, glm::vec3 centre, float face_size, int size) {
@@ -237,6 +210,24 @@ RasterView FaceView(glm::vec3 forward, glm::vec3 up, glm::vec3 centre, float fac
 
 glm::vec3 ViewAxis(const RasterView& view, int row) {
   return {view.rotation[0][row], view.rotation[1][row], view.rotation[2][row]};
+}
+
+// Orthographic view looking at the face along -forward, up as given, framing
+// the whole mesh.
+RasterView FrontView(std::span<const glm::vec3> positions, glm::vec3 forward, glm::vec3 up, int size) {
+  RasterView view = FaceView(forward, up, glm::vec3(0.0f), 1.0f, size);
+  const glm::vec3 right = ViewAxis(view, 0);
+  const glm::vec3 view_up = ViewAxis(view, 1);
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : positions) {
+    const glm::vec2 q(glm::dot(p, right), glm::dot(p, view_up));
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
+  }
+  const glm::vec2 mid = 0.5f * (lo + hi);
+  view.centre = mid.x * right + mid.y * view_up;
+  view.half_extent = 0.52f * std::max(hi.x - lo.x, hi.y - lo.y);
+  return view;
 }
 
 float PixelsPerUnit(const RasterView& view) { return 0.5f * static_cast<float>(view.height) / view.half_extent; }

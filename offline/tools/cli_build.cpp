@@ -181,10 +181,7 @@ int RunBuildCommand(int argc, char** argv) {
 
     BuildRigParams params;
     params.mode = options.mode;
-    params.progress = [](const char* stage, std::size_t done, std::size_t total) {
-      const std::string label = std::string(stage);
-      ProgressBar(label.c_str(), done, total);
-    };
+    params.progress = [](const char* stage, std::size_t done, std::size_t total) { ProgressBar(stage, done, total); };
     const BuildRigResult built = BuildRig(template_rig, std::move(target), landmarks, params);
     std::string problem;
     const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
