@@ -8,6 +8,7 @@
 #include <thread>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <glm/common.hpp>
@@ -101,6 +102,7 @@ const char* ToString(TransferMode mode) {
 }
 
 struct DeformationTransferData::Impl {
+  static constexpr char kPinnedRigid = 2;  // Scratch::pinned: placed by PinRigidMotions
   struct TriangleData {
     Eigen::Matrix3d source_frame_inverse;  // V(S_0)^-1
     Eigen::Matrix3d identity_gradient;     // V(T_0) V(S_0)^-1 (identity mode)
@@ -123,6 +125,17 @@ struct DeformationTransferData::Impl {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   double total_weight = 0.0;
   double prior = 0.0;  // absolute weight of the displacement prior
+
+  // Still pinning (params.still_fraction > 0): the whole #V x #V system, the
+  // anchors given or found static (without gauges), and each connected
+  // part's vertices and gauge vertex (nearest its centroid).
+  double still_fraction = 0.0;
+  double rigid_tolerance = 0.0;
+  Eigen::SparseMatrix<double> full_system;
+  std::vector<char> is_static_anchor;
+  std::vector<std::uint32_t> component_of_vertex;
+  std::vector<std::vector<std::uint32_t>> component_members;
+  std::vector<std::uint32_t> component_gauge;
 
   // Desired edges (3x2) of triangle j in the expression.
   Mat32 DesiredEdges(std::size_t j, std::span<const glm::vec3> expression) const {
@@ -152,10 +165,37 @@ struct DeformationTransferData::Impl {
     Eigen::MatrixXd anchor_positions;  // #anchors x 3
     Eigen::MatrixXd rhs;               // #free x 3
     Eigen::MatrixXd solution;
+    // Still pinning: this expression's pinned vertices and system.
+    std::vector<char> pinned;
+    std::vector<std::int32_t> free_index;
+    std::vector<std::uint32_t> floating_components;
+    std::vector<std::uint32_t> moving;  // one part's unpinned vertices
+    struct RigidFit {
+      Eigen::Matrix4d transform;  // template rest -> expression
+      std::vector<std::uint32_t> vertices;
+      std::size_t group;  // index of the first fit with the same motion
+    };
+    std::vector<RigidFit> rigid_fits;
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::SparseMatrix<double> system;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   };
   // One expression: returns the residual.
   double Solve(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
                Scratch& scratch) const;
+  // The free vertices' positions with this expression's still vertices pinned.
+  void SolveStillPinned(std::span<const glm::vec3> expression, const double* accumulated,
+                        std::vector<glm::vec3>& out, Scratch& scratch) const;
+  // Pins the unpinned vertices of each part where the template moves them as
+  // one rigid body (pinned = kPinnedRigid), placing them rigidly in out.
+  void PinRigidMotions(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
+                       Scratch& scratch) const;
+  // Translates a part without anchors so that its mean displacement is
+  // displacement_scale times the template's.
+  void PlaceFloatingPart(std::span<const std::uint32_t> part, std::span<const glm::vec3> expression,
+                         std::vector<glm::vec3>& out) const;
+  // The weighted root-mean-square gradient residual of a solved expression.
+  double Residual(std::span<const glm::vec3> out, const Scratch& scratch) const;
 };
 
 DeformationTransferData::DeformationTransferData() = default;
@@ -226,11 +266,19 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   if (!(params.min_gram_ratio > 0.0) || !(params.min_gram_ratio < 1.0)) {
     throw TransferInputError("params", "min_gram_ratio must be in (0, 1)");
   }
+  if (!(params.still_fraction >= 0.0) || !(params.still_fraction < 1.0)) {
+    throw TransferInputError("params", "still_fraction must be in [0, 1)");
+  }
+  if (!(params.rigid_tolerance >= 0.0) || !(params.rigid_tolerance < 1.0)) {
+    throw TransferInputError("params", "rigid_tolerance must be in [0, 1)");
+  }
 
   auto impl = std::make_unique<DeformationTransferData::Impl>();
   impl->mode = params.mode;
   impl->scaled_normal = params.scaled_normal;
   impl->displacement_scale = params.displacement_scale;
+  impl->still_fraction = params.still_fraction;
+  impl->rigid_tolerance = params.rigid_tolerance;
   impl->triangles.assign(triangles.begin(), triangles.end());
   impl->source_neutral.assign(source_neutral.begin(), source_neutral.end());
   impl->target_neutral.assign(target_neutral.begin(), target_neutral.end());
@@ -268,6 +316,8 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   for (std::size_t v = 0; v < n; ++v) {
     if (!used[v]) is_anchor[v] = 1;
   }
+  const bool still_pinning = params.still_fraction > 0.0;
+  if (still_pinning) impl->is_static_anchor = is_anchor;
 
   // Every connected part needs an anchor; parts without one get a gauge vertex
   // (the one nearest the part's centroid) and are placed by mean displacement.
@@ -281,14 +331,13 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   for (std::uint32_t v = 0; v < n; ++v) {
     if (!anchored[component[v]]) members[component[v]].push_back(v);
   }
-  for (std::size_t c = 0; c < component_count; ++c) {
-    if (anchored[c]) continue;
+  auto gauge_of = [&target_neutral](std::span<const std::uint32_t> part) {
     glm::dvec3 centroid(0.0);
-    for (std::uint32_t v : members[c]) centroid += glm::dvec3(target_neutral[v]);
-    centroid /= static_cast<double>(members[c].size());
-    std::uint32_t gauge = members[c][0];
+    for (std::uint32_t v : part) centroid += glm::dvec3(target_neutral[v]);
+    centroid /= static_cast<double>(part.size());
+    std::uint32_t gauge = part[0];
     double best = 1e300;
-    for (std::uint32_t v : members[c]) {
+    for (std::uint32_t v : part) {
       const glm::dvec3 d = glm::dvec3(target_neutral[v]) - centroid;
       const double dist = d.x * d.x + d.y * d.y + d.z * d.z;
       if (dist < best) {
@@ -296,7 +345,20 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
         gauge = v;
       }
     }
-    is_anchor[gauge] = 1;
+    return gauge;
+  };
+  if (still_pinning) {
+    // Which parts float depends on the expression: keep every part's gauge.
+    impl->component_of_vertex = component;
+    impl->component_members.resize(component_count);
+    for (std::uint32_t v = 0; v < n; ++v) impl->component_members[component[v]].push_back(v);
+    for (const std::vector<std::uint32_t>& part : impl->component_members) {
+      impl->component_gauge.push_back(gauge_of(part));
+    }
+  }
+  for (std::size_t c = 0; c < component_count; ++c) {
+    if (anchored[c]) continue;
+    is_anchor[gauge_of(members[c])] = 1;
     impl->floating_parts.push_back(std::move(members[c]));
   }
 
@@ -330,7 +392,9 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   const double ratio = params.min_gram_ratio;
   std::vector<Eigen::Triplet<double>> free_triplets;
   std::vector<Eigen::Triplet<double>> coupling_triplets;
+  std::vector<Eigen::Triplet<double>> full_triplets;
   free_triplets.reserve(triangles.size() * 9);
+  if (still_pinning) full_triplets.reserve(triangles.size() * 9);
   impl->triangle_data.resize(triangles.size());
   std::size_t regularized = 0;
   for (std::size_t j = 0; j < triangles.size(); ++j) {
@@ -378,6 +442,14 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
     impl->total_weight += weight;
     d.rhs_operator = weight * metric * b;
     const Eigen::Matrix3d local = b.transpose() * d.rhs_operator;  // w B^T M B
+    if (still_pinning) {
+      for (int row = 0; row < 3; ++row) {
+        for (int col = 0; col < 3; ++col) {
+          full_triplets.emplace_back(t[static_cast<std::size_t>(row)],
+                                     t[static_cast<std::size_t>(col)], local(row, col));
+        }
+      }
+    }
     for (int row = 0; row < 3; ++row) {
       const std::int32_t fr = impl->free_index[t[static_cast<std::size_t>(row)]];
       if (fr < 0) continue;
@@ -400,9 +472,17 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   }
   impl->coupling.resize(free_count, static_cast<Eigen::Index>(impl->anchors.size()));
   impl->coupling.setFromTriplets(coupling_triplets.begin(), coupling_triplets.end());
+  if (still_pinning) {
+    impl->full_system.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    impl->full_system.setFromTriplets(full_triplets.begin(), full_triplets.end());
+    if (params.displacement_prior > 0.0) {
+      impl->prior = params.displacement_prior * impl->full_system.diagonal().mean();
+    }
+  }
 
   const Clock::time_point factorize_start = Clock::now();
-  if (free_count > 0) {
+  // With still pinning each expression factorizes its own system.
+  if (free_count > 0 && !still_pinning) {
     impl->solver.compute(system);
     if (impl->solver.info() != Eigen::Success) {
       throw TransferSolverError("deformation transfer: the sparse Cholesky factorization of " +
@@ -441,13 +521,17 @@ double DeformationTransferData::Impl::Solve(std::span<const glm::vec3> expressio
       target[2] += h(2, a);
     }
   }
+  out.resize(n);
+  if (still_fraction > 0.0) {
+    SolveStillPinned(expression, acc, out, scratch);
+    return Residual(out, scratch);
+  }
   const auto anchor_count = static_cast<Eigen::Index>(anchors.size());
   scratch.anchor_positions.resize(anchor_count, 3);
   for (Eigen::Index i = 0; i < anchor_count; ++i) {
     const glm::vec3 p = AnchorPosition(anchors[static_cast<std::size_t>(i)], expression);
     scratch.anchor_positions.row(i) << p.x, p.y, p.z;
   }
-  out.resize(n);
   if (free_count > 0) {
     scratch.rhs.resize(free_count, 3);
     for (std::size_t v = 0; v < n; ++v) {
@@ -475,19 +559,203 @@ double DeformationTransferData::Impl::Solve(std::span<const glm::vec3> expressio
                   static_cast<float>(scratch.anchor_positions(i, 1)),
                   static_cast<float>(scratch.anchor_positions(i, 2)));
   }
-  // Parts without anchors: match the template's mean displacement of the part.
   for (const std::vector<std::uint32_t>& part : floating_parts) {
-    glm::dvec3 current(0.0);
-    glm::dvec3 wanted(0.0);
-    for (std::uint32_t v : part) {
-      current += glm::dvec3(out[v]) - glm::dvec3(target_neutral[v]);
-      wanted += glm::dvec3(expression[v]) - glm::dvec3(source_neutral[v]);
-    }
-    const glm::vec3 shift((wanted * displacement_scale - current) / static_cast<double>(part.size()));
-    for (std::uint32_t v : part) out[v] += shift;
+    PlaceFloatingPart(part, expression, out);
   }
-  // Residual: sqrt(sum_j w_j |(E(X) - D) W|_F^2 / sum_j w_j), with
-  // w W W^T = rhs_operator's right 2x2 block (B = [-1 1 0; -1 0 1]).
+  return Residual(out, scratch);
+}
+
+void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> expression,
+                                                     const double* accumulated,
+                                                     std::vector<glm::vec3>& out,
+                                                     Scratch& scratch) const {
+  const std::size_t n = target_neutral.size();
+  // Pinned: the static anchors and whatever this expression leaves still.
+  float largest2 = 0.0f;
+  for (std::size_t v = 0; v < n; ++v) {
+    const glm::vec3 d = expression[v] - source_neutral[v];
+    largest2 = std::max(largest2, d.x * d.x + d.y * d.y + d.z * d.z);
+  }
+  const auto still2 = static_cast<float>(still_fraction * still_fraction) * largest2;
+  scratch.pinned.resize(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    const glm::vec3 d = expression[v] - source_neutral[v];
+    scratch.pinned[v] = is_static_anchor[v] || d.x * d.x + d.y * d.y + d.z * d.z <= still2;
+  }
+  if (rigid_tolerance > 0.0) PinRigidMotions(expression, out, scratch);
+  // A part with nothing pinned moves as a whole: pin its gauge, place it after the solve.
+  scratch.floating_components.clear();
+  for (std::size_t c = 0; c < component_members.size(); ++c) {
+    const std::vector<std::uint32_t>& part = component_members[c];
+    if (std::none_of(part.begin(), part.end(), [&](std::uint32_t v) { return scratch.pinned[v]; })) {
+      scratch.pinned[component_gauge[c]] = 1;
+      scratch.floating_components.push_back(static_cast<std::uint32_t>(c));
+    }
+  }
+  scratch.free_index.assign(n, -1);
+  std::int32_t free_count = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (scratch.pinned[v] == kPinnedRigid) {
+      continue;  // placed by PinRigidMotions
+    } else if (scratch.pinned[v]) {
+      out[v] = AnchorPosition(static_cast<std::uint32_t>(v), expression);
+    } else {
+      scratch.free_index[v] = free_count++;
+    }
+  }
+  if (free_count > 0) {
+    // The free rows of the whole system: free columns form the matrix, pinned
+    // columns move to the right-hand side.
+    scratch.rhs.resize(free_count, 3);
+    for (std::size_t v = 0; v < n; ++v) {
+      const std::int32_t f = scratch.free_index[v];
+      if (f < 0) continue;
+      scratch.rhs.row(f) << accumulated[3 * v], accumulated[3 * v + 1], accumulated[3 * v + 2];
+      if (prior > 0.0) {
+        const glm::vec3 p = AnchorPosition(static_cast<std::uint32_t>(v), expression);
+        scratch.rhs.row(f) += prior * Eigen::RowVector3d(p.x, p.y, p.z);
+      }
+    }
+    scratch.triplets.clear();
+    for (Eigen::Index column = 0; column < full_system.outerSize(); ++column) {
+      const std::int32_t free_column = scratch.free_index[static_cast<std::size_t>(column)];
+      const glm::vec3 p = out[static_cast<std::size_t>(column)];
+      for (Eigen::SparseMatrix<double>::InnerIterator it(full_system, column); it; ++it) {
+        const std::int32_t free_row = scratch.free_index[static_cast<std::size_t>(it.row())];
+        if (free_row < 0) continue;
+        if (free_column >= 0) {
+          scratch.triplets.emplace_back(free_row, free_column, it.value());
+        } else {
+          scratch.rhs.row(free_row) -= it.value() * Eigen::RowVector3d(p.x, p.y, p.z);
+        }
+      }
+    }
+    if (prior > 0.0) {
+      for (std::int32_t f = 0; f < free_count; ++f) scratch.triplets.emplace_back(f, f, prior);
+    }
+    scratch.system.resize(free_count, free_count);
+    scratch.system.setFromTriplets(scratch.triplets.begin(), scratch.triplets.end());
+    scratch.solver.compute(scratch.system);
+    if (scratch.solver.info() != Eigen::Success) {
+      throw TransferSolverError("deformation transfer: the sparse Cholesky factorization of " +
+                                std::to_string(free_count) + " unknowns failed");
+    }
+    scratch.solution = scratch.solver.solve(scratch.rhs);
+    for (std::size_t v = 0; v < n; ++v) {
+      const std::int32_t f = scratch.free_index[v];
+      if (f < 0) continue;
+      out[v] = glm::vec3(static_cast<float>(scratch.solution(f, 0)),
+                         static_cast<float>(scratch.solution(f, 1)),
+                         static_cast<float>(scratch.solution(f, 2)));
+    }
+  }
+  for (std::uint32_t c : scratch.floating_components) {
+    PlaceFloatingPart(component_members[c], expression, out);
+  }
+}
+
+void DeformationTransferData::Impl::PinRigidMotions(std::span<const glm::vec3> expression,
+                                                    std::vector<glm::vec3>& out,
+                                                    Scratch& scratch) const {
+  // Sum of |R x + t - x'|^2 and of |x' - x|^2 over vertices (x rest, x' moved).
+  auto fit_error = [&](const Eigen::Matrix4d& fit, std::span<const std::uint32_t> vertices) {
+    double residual2 = 0.0;
+    double motion2 = 0.0;
+    for (std::uint32_t v : vertices) {
+      const Eigen::Vector3d rest = ToEigen(source_neutral[v]);
+      const Eigen::Vector3d moved = ToEigen(expression[v]);
+      residual2 += (fit.topLeftCorner<3, 3>() * rest + fit.topRightCorner<3, 1>() - moved).squaredNorm();
+      motion2 += (moved - rest).squaredNorm();
+    }
+    return std::pair{residual2, motion2};
+  };
+  const double tolerance2 = rigid_tolerance * rigid_tolerance;
+  // Each part's moving vertices that the template moves as one rigid body.
+  scratch.rigid_fits.clear();
+  for (const std::vector<std::uint32_t>& part : component_members) {
+    scratch.moving.clear();
+    for (std::uint32_t v : part) {
+      if (!scratch.pinned[v]) scratch.moving.push_back(v);
+    }
+    if (scratch.moving.size() < 4) continue;
+    const auto count = static_cast<Eigen::Index>(scratch.moving.size());
+    Eigen::Matrix3Xd rest(3, count);
+    Eigen::Matrix3Xd moved(3, count);
+    for (Eigen::Index i = 0; i < count; ++i) {
+      const std::uint32_t v = scratch.moving[static_cast<std::size_t>(i)];
+      rest.col(i) = ToEigen(source_neutral[v]);
+      moved.col(i) = ToEigen(expression[v]);
+    }
+    const Eigen::Matrix4d fit = Eigen::umeyama(rest, moved, false);
+    const auto [residual2, motion2] = fit_error(fit, scratch.moving);
+    if (fit.allFinite() && motion2 > 0.0 && residual2 <= tolerance2 * motion2) {
+      scratch.rigid_fits.push_back({fit, scratch.moving, scratch.rigid_fits.size()});
+    }
+  }
+  // Parts that move by the same rigid motion (ICT: lower teeth, gums and
+  // tongue with the jaw) move together, so they keep their places relative
+  // to each other on the target.
+  std::vector<Scratch::RigidFit>& fits = scratch.rigid_fits;
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (fits[j].group != j) continue;
+      const auto [residual2, motion2] = fit_error(fits[j].transform, fits[i].vertices);
+      if (residual2 <= tolerance2 * motion2) {
+        fits[i].group = j;
+        break;
+      }
+    }
+  }
+  // Each group: the template's rotation about the group's centroid on the
+  // target, and the template's mean displacement.
+  for (std::size_t g = 0; g < fits.size(); ++g) {
+    if (fits[g].group != g) continue;
+    Eigen::Vector3d target_centroid = Eigen::Vector3d::Zero();
+    Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
+    std::size_t count = 0;
+    for (const Scratch::RigidFit& fit : fits) {
+      if (fit.group != g) continue;
+      for (std::uint32_t v : fit.vertices) {
+        target_centroid += ToEigen(target_neutral[v]);
+        displacement += ToEigen(expression[v]) - ToEigen(source_neutral[v]);
+      }
+      count += fit.vertices.size();
+    }
+    target_centroid /= static_cast<double>(count);
+    const Eigen::Vector3d shift =
+        target_centroid + displacement_scale * displacement / static_cast<double>(count);
+    const Eigen::Matrix3d rotation = fits[g].transform.topLeftCorner<3, 3>();
+    for (const Scratch::RigidFit& fit : fits) {
+      if (fit.group != g) continue;
+      for (std::uint32_t v : fit.vertices) {
+        const Eigen::Vector3d p = rotation * (ToEigen(target_neutral[v]) - target_centroid) + shift;
+        out[v] = glm::vec3(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                           static_cast<float>(p.z()));
+        scratch.pinned[v] = kPinnedRigid;
+      }
+    }
+  }
+}
+
+void DeformationTransferData::Impl::PlaceFloatingPart(std::span<const std::uint32_t> part,
+                                                      std::span<const glm::vec3> expression,
+                                                      std::vector<glm::vec3>& out) const {
+  // Exact least-squares optimum: a free part's gradient energy does not depend
+  // on its translation.
+  glm::dvec3 current(0.0);
+  glm::dvec3 wanted(0.0);
+  for (std::uint32_t v : part) {
+    current += glm::dvec3(out[v]) - glm::dvec3(target_neutral[v]);
+    wanted += glm::dvec3(expression[v]) - glm::dvec3(source_neutral[v]);
+  }
+  const glm::vec3 shift((wanted * displacement_scale - current) / static_cast<double>(part.size()));
+  for (std::uint32_t v : part) out[v] += shift;
+}
+
+double DeformationTransferData::Impl::Residual(std::span<const glm::vec3> out,
+                                               const Scratch& scratch) const {
+  // sqrt(sum_j w_j |(E(X) - D) W|_F^2 / sum_j w_j), with w W W^T =
+  // rhs_operator's right 2x2 block (B = [-1 1 0; -1 0 1]).
   double energy = 0.0;
   for (std::size_t j = 0; j < triangles.size(); ++j) {
     const Mat32 diff = Edges(out, triangles[j]) - scratch.desired[j];

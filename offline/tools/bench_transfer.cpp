@@ -94,6 +94,7 @@ void Usage() {
   std::fprintf(stderr,
                "usage: facerig-bench transfer [--ict DIR] [--faces N] [--seed N] [--threads N]\n"
                "                              [--static-threshold F] [--scaled-normal] [--prior W] [--no-area]\n"
+               "                              [--still F]\n"
                "                              [--per-shape] [--json FILE]\n");
 }
 
@@ -125,6 +126,8 @@ int RunTransferBenchmark(int argc, char** argv) {
       params.threads = std::max(1, std::atoi(argv[++i]));
     } else if (arg == "--static-threshold" && has_value) {
       params.static_threshold = std::strtof(argv[++i], nullptr);
+    } else if (arg == "--still" && has_value) {
+      params.still_fraction = std::strtod(argv[++i], nullptr);
     } else if (arg == "--prior" && has_value) {
       params.displacement_prior = std::strtod(argv[++i], nullptr);
     } else if (arg == "--scaled-normal") {

@@ -101,6 +101,26 @@ struct DeformationTransferParams {
   // towards displacement transfer: on 3 random ICT faces the classic median /
   // p90 went 0.067 / 0.152 (off), 0.053 / 0.104 (1e-3), 0.029 / 0.060 (1e-2).
   double displacement_prior = 0.0;
+  // Per expression, the vertices that the template's expression moves by at
+  // most still_fraction of its largest displacement are fixed as well (at
+  // target rest + displacement_scale * template displacement), and only the
+  // rest is solved: what the template leaves still stays still, and the
+  // gradient mismatch of the moved region cannot add up, across the whole
+  // face, into a rigid offset of that region (0.092 of eyeWide_L's 0.128
+  // error with the static anchors alone). Costs one small factorization per
+  // expression instead of one shared one. 0: off (the static anchors only).
+  double still_fraction = 0.01;
+  // With still pinning: in each connected part, the vertices an expression
+  // moves are placed as one rigid body when the template moves them as one
+  // (RMS residual of their best rigid fit <= rigid_tolerance of their RMS
+  // motion): the template's rotation about their centroid on the target and
+  // the template's mean displacement (times displacement_scale), then pinned.
+  // ICT: the lower gums and tongue in the jaw shapes (residual 0.000-0.021;
+  // the skin's is 0.64-0.98). Solved as a gradient field instead, the gums of
+  // a random identity ended 0.8 mm off in jawOpen, and the teeth (placed as a
+  // whole) went through them: 956 new gums x teeth pairs against the truth's
+  // 100. 0: off.
+  double rigid_tolerance = 0.05;
   // Worker threads for DeformationTransfer (>= 1).
   int threads = 2;
 };
