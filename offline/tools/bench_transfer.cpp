@@ -171,7 +171,7 @@ int RunTransferBenchmark(int argc, char** argv) {
   std::vector<std::size_t> blinks;
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     if (auto s = rig.FindShape(name)) {
-      eyes.push_back(facerig::FindEyelidMargins(neutral, expressions[*s], 0, kLidLast));
+      eyes.push_back(facerig::FindEyelidMargins(neutral, expressions[*s], rig.triangles(), 0, kLidLast));
       blinks.push_back(*s);
     }
   }
@@ -343,9 +343,10 @@ int RunTransferBenchmark(int argc, char** argv) {
   }
   std::printf("\nerror: mean |result - truth| / mean |truth - rest| over the face vertices each shape\n"
               "moves (> 10%% of its largest displacement); leak: mean motion of those it leaves still\n"
-              "(< 1%%) over the same mean. blink gap: mean |upper - lower lid margin| / eye width on\n"
-              "eyeBlink_L/R, on the lid vertex pairs that meet in the template (template: gap %.4f,\n"
-              "crossing %.4f; truth = target neutral + template deltas). seconds: precompute\n"
+              "(< 1%%) over the same mean. blink gap: mean distance of the upper lid margin vertices\n"
+              "to the lower margin polyline / eye width on eyeBlink_L/R, worst eye and face; crossing:\n"
+              "deepest upper vertex below that polyline (template: gap %.4f, crossing %.4f;\n"
+              "truth = target neutral + template deltas). seconds: precompute\n"
               "(factorization) + all %zu shapes; CPU: all threads. displacement: paper 002 with the\n"
               "whole-mesh box ratio; displ-face: the face region's box; displ-raw: no normalisation\n"
               "(the additive ground truth itself); mixed: mean of classic and identity results.\n"

@@ -222,7 +222,7 @@ struct ExpressionError {
   std::size_t moved_vertices = 0;
   std::size_t still_vertices = 0;
 };
-// rest, truth, result: #V each. 	hrow TransferInputError on size mismatch.
+// rest, truth, result: #V each. \throw TransferInputError on size mismatch.
 ExpressionError MeasureExpressionError(std::span<const glm::vec3> rest,
                                        std::span<const glm::vec3> truth,
                                        std::span<const glm::vec3> result,
@@ -232,26 +232,36 @@ ExpressionError MeasureExpressionError(std::span<const glm::vec3> rest,
 // Median and 90th percentile (nearest rank) of a list; 0 for an empty one.
 double Percentile(std::vector<double> values, double fraction);
 
-// The eyelid margins of one eye, found from the template's blink: pairs of an
-// upper-lid vertex (moving more than half the blink's largest motion) and the
-// lower-lid vertex it meets (apart in the neutral, within 10% of the upper
-// vertex's motion in the blink). Vertices searched: [region_first, region_last)
-// (ICT: 0-17038, face and eye sockets, where the lid margins are).
+// The eyelid margins of one eye, found from the template's blink. upper: the
+// upper-lid vertices (moving more than half the blink's largest motion) that
+// meet a lower-lid vertex (apart in the neutral, within 10% of the upper
+// vertex's motion in the blink); lower: those partners. The lid slides as it
+// closes, so the partners mark where the lower margin is, not what each upper
+// vertex meets: lower_margin is the lower lid's margin as a polyline, the
+// shortest mesh-edge path (neutral lengths, avoiding the upper lid) from the
+// partner of smallest x to that of largest x. Vertices searched:
+// [region_first, region_last) (ICT: 0-17038, face and eye sockets, where the
+// lid margins are). triangles: the mesh's, indices into neutral.
 struct EyelidMargins {
   std::vector<std::uint32_t> upper;
-  std::vector<std::uint32_t> lower;  // lower[i] meets upper[i]
-  double eye_width = 0.0;            // x extent of the upper lid (moving > half) in the neutral
+  std::vector<std::uint32_t> lower;         // lower[i] meets upper[i]
+  std::vector<std::uint32_t> lower_margin;  // along the lid, from the partner of smallest x
+  double eye_width = 0.0;                   // x extent of the upper lid (moving > half) in the neutral
 };
-// \throw TransferInputError when the blink closes nothing.
+// \throw TransferInputError when the blink closes nothing or no mesh path
+// joins the lower partners.
 EyelidMargins FindEyelidMargins(std::span<const glm::vec3> neutral,
-                                std::span<const glm::vec3> blink, std::size_t region_first,
-                                std::size_t region_last);
+                                std::span<const glm::vec3> blink, std::span<const Triangle> triangles,
+                                std::size_t region_first, std::size_t region_last);
 
-// How closed an eye is on a (transferred) blink mesh, over eye width.
+// How closed an eye is on a (transferred) blink mesh, over eye width, for the
+// upper margin vertices whose x lies within the lower margin's x extent in that
+// pose (the lid corners, where the lower polyline ends, are left out).
 struct EyelidGap {
-  double mean_gap = 0.0;      // mean distance of the paired margin vertices
+  double mean_gap = 0.0;      // mean distance of an upper vertex to the lower margin polyline
   double max_gap = 0.0;       // largest such distance
-  double max_crossing = 0.0;  // deepest upper-below-lower (y) of a pair, >= 0
+  double max_crossing = 0.0;  // deepest upper vertex below the lower margin (along y), >= 0
+  std::size_t measured_vertices = 0;
 };
 EyelidGap MeasureEyelidGap(std::span<const glm::vec3> positions, const EyelidMargins& margins);
 
