@@ -199,7 +199,7 @@ TEST_CASE("A uniform scale of the source transfers exactly with the 4th-vertex f
   CHECK(MaxDistance(result.expressions[0], expected) < 1e-5f);
 }
 
-TEST_CASE("Precompute once, solve per expression; threads do not change the result",
+TEST_CASE("Precompute once, solve per expression, threads do not change the result",
           "[deformation_transfer]") {
   const TinyMesh source = Grid(9, 0.4f);
   const TinyMesh target = Grid(9, 0.1f);
@@ -285,6 +285,98 @@ TEST_CASE("A part without anchors follows the template's mean displacement",
     const glm::vec3 expected = target.positions[v] + (v >= 4 ? shift : glm::vec3(0.0f));
     CHECK(glm::length(result.expressions[0][v] - expected) < 1e-5f);
   }
+}
+
+TEST_CASE("What the template leaves still stays still, without static anchors", "[deformation_transfer]") {
+  // One expression lifts the rows y > 2.5 of a bumpy grid; the only anchor is vertex 0.
+  const TinyMesh source = Grid(9, 0.4f);
+  TinyMesh target = Grid(9, 0.1f);
+  for (glm::vec3& p : target.positions) p.x *= 1.2f;
+  Meshes expressions{source.positions};
+  for (glm::vec3& p : expressions[0]) {
+    if (p.y > 2.5f) p.z += 0.3f * (p.y - 2.5f) * std::sin(p.x);
+  }
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0};
+  const facerig::DeformationTransferResult pinned = facerig::DeformationTransfer(
+      source.positions, target.positions, source.triangles, expressions, params);
+  params.still_fraction = 0.0;
+  const facerig::DeformationTransferResult gradient_only = facerig::DeformationTransfer(
+      source.positions, target.positions, source.triangles, expressions, params);
+  float pinned_leak = 0.0f;
+  float gradient_leak = 0.0f;
+  for (std::size_t v = 0; v < target.positions.size(); ++v) {
+    if (source.positions[v].y > 2.5f) continue;
+    pinned_leak = std::max(pinned_leak, glm::length(pinned.expressions[0][v] - target.positions[v]));
+    gradient_leak = std::max(gradient_leak, glm::length(gradient_only.expressions[0][v] - target.positions[v]));
+  }
+  CHECK(pinned_leak == 0.0f);
+  CHECK(gradient_leak > 1e-3f);  // one anchor: the gradient mismatch moves the still rows
+  params.still_fraction = 1.0;
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, target.positions, source.triangles,
+                                               expressions, params),
+                  facerig::TransferInputError);
+}
+
+TEST_CASE("Parts the template moves by one rigid motion move rigidly together", "[deformation_transfer]") {
+  // A static sheet (the skull) and two tetrahedra (a tooth and a gum) that the
+  // expression turns about a common pivot (the jaw hinge).
+  TinyMesh mesh = Grid(4, 0.2f);
+  const std::uint32_t sheet = static_cast<std::uint32_t>(mesh.positions.size());
+  const TinyMesh tetrahedron = Tetrahedron();
+  for (int copy = 0; copy < 2; ++copy) {
+    const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+    for (const glm::vec3& p : tetrahedron.positions) {
+      mesh.positions.push_back(p + glm::vec3(0.5f + 1.5f * static_cast<float>(copy), -3.0f, 0.0f));
+    }
+    for (facerig::Triangle t : tetrahedron.triangles) {
+      for (std::uint32_t& v : t) v += first;
+      mesh.triangles.push_back(t);
+    }
+  }
+  const glm::mat3 turn = RotationZ(0.3f);
+  const glm::vec3 pivot(1.0f, 0.0f, 0.0f);
+  Meshes expressions{mesh.positions};
+  for (std::size_t v = sheet; v < mesh.positions.size(); ++v) {
+    expressions[0][v] = pivot + turn * (mesh.positions[v] - pivot);
+  }
+  // The target's tooth is bigger and sits lower: the two are not a copy of the template's.
+  TinyMesh target = mesh;
+  for (std::size_t v = sheet; v < sheet + 4; ++v) target.positions[v] = 1.3f * target.positions[v] + glm::vec3(0.0f, 0.4f, 0.0f);
+  facerig::DeformationTransferParams params;
+  params.anchor_vertices = {0, 1, 2};
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
+      mesh.positions, target.positions, mesh.triangles, expressions, params);
+  const std::vector<glm::vec3>& moved = result.expressions[0];
+  // One rigid motion for both parts: every distance between their vertices is kept.
+  float worst_stretch = 0.0f;
+  glm::vec3 mean_displacement(0.0f);
+  glm::vec3 template_mean(0.0f);
+  for (std::size_t a = sheet; a < moved.size(); ++a) {
+    for (std::size_t b = sheet; b < a; ++b) {
+      worst_stretch = std::max(worst_stretch, std::abs(glm::length(moved[a] - moved[b]) -
+                                                       glm::length(target.positions[a] - target.positions[b])));
+    }
+    mean_displacement += (moved[a] - target.positions[a]) / 8.0f;
+    template_mean += (expressions[0][a] - mesh.positions[a]) / 8.0f;
+  }
+  CHECK(worst_stretch < 1e-5f);
+  // The template's rotation, and its mean displacement.
+  const glm::vec3 edge = moved[sheet + 5] - moved[sheet + 4];
+  const glm::vec3 rest_edge = target.positions[sheet + 5] - target.positions[sheet + 4];
+  CHECK(glm::length(edge - turn * rest_edge) < 1e-5f);
+  CHECK(glm::length(mean_displacement - template_mean) < 1e-5f);
+  for (std::size_t v = 0; v < sheet; ++v) CHECK(moved[v] == target.positions[v]);
+  // Each part placed on its own (rigid_tolerance 0: gradients, then its own
+  // mean displacement) moves them apart.
+  params.rigid_tolerance = 0.0;
+  const facerig::DeformationTransferResult separate = facerig::DeformationTransfer(
+      mesh.positions, target.positions, mesh.triangles, expressions, params);
+  const float apart = glm::length(separate.expressions[0][sheet] - separate.expressions[0][sheet + 4]);
+  const float together = glm::length(moved[sheet] - moved[sheet + 4]);
+  const float rest = glm::length(target.positions[sheet] - target.positions[sheet + 4]);
+  CHECK(std::abs(together - rest) < 1e-5f);
+  CHECK(std::abs(apart - rest) > 1e-3f);
 }
 
 TEST_CASE("Degenerate and needle triangles are regularized, not fatal", "[deformation_transfer]") {

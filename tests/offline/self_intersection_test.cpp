@@ -76,7 +76,7 @@ TEST_CASE("Two quads crossing each other: the three triangle pairs that cross", 
   CHECK(Count(soup) == 0);
 }
 
-TEST_CASE("Touching without crossing does not count; a hair further in does", "[self_intersection]") {
+TEST_CASE("Touching without crossing does not count, a hair further in does", "[self_intersection]") {
   const glm::vec3 a{-1, -1, 0}, b{1, -1, 0}, c{1, 1, 0}, d{-1, 1, 0};
   SECTION("an edge resting on the other quad") {
     Soup soup;
@@ -259,7 +259,7 @@ TEST_CASE("The grid finds exactly what testing every pair finds", "[self_interse
   CHECK(symmetric == 399);
 }
 
-TEST_CASE("ICT-FaceKit: the grid agrees with testing every pair around the mouth; timing (shared data)",
+TEST_CASE("ICT-FaceKit: the grid agrees with testing every pair around the mouth, timing (shared data)",
           "[self_intersection][shared-data]") {
   const facerig::Rig& rig = facerig::test::IctRig();
   // mouthClose alone pushes the lips through each other.

@@ -148,7 +148,7 @@ TEST_CASE("Character: Speak, streaming and Update allocate nothing", "[character
   REQUIRE(counter.count() == 0);
 }
 
-TEST_CASE("Character: deterministic for a seed; blinks at rest", "[character]") {
+TEST_CASE("Character: deterministic for a seed, blinks at rest", "[character]") {
   const facerig::Rig rig = MakeArkitGridRig();
   const CharacterRig character_rig = CharacterRig::Build(rig);
   facerig::CharacterParams params;
