@@ -68,11 +68,11 @@ struct DeformationTransferParams {
   // precomputation moves by more than static_threshold times the source
   // neutral's bounding-box diagonal. Vertices used by no triangle are always anchors.
   // The default 3e-3 (1.4 mm on ICT's 47.5 cm) takes the skin that stays on
-  // the skull (scalp, ears, neck, upper forehead). Measured (before still
-  // pinning, below) on one random ICT
-  // identity: median relative error 0.060 at 1e-4 (7.7k anchors), 0.052 at
-  // 2e-3, 0.047 at 3e-3 (10.3k), 0.040 at 5e-3; larger values turn into
-  // displacement transfer, which is exact only for same-size faces.
+  // the skull (scalp, ears, neck, upper forehead). Measured on one random ICT
+  // identity, before still pinning (below): median relative error 0.060 at
+  // 1e-4 (7.7k anchors), 0.052 at 2e-3, 0.047 at 3e-3 (10.3k), 0.040 at 5e-3;
+  // larger values turn into displacement transfer, which is exact only for
+  // same-size faces.
   std::vector<std::uint32_t> anchor_vertices;
   float static_threshold = 3e-3f;
   // Connected parts with no anchor (jaw, teeth, eyeballs, which move as a
