@@ -171,9 +171,9 @@ void WriteSkinnedGltf(const std::filesystem::path& path, const std::vector<Skinn
     if (!primitive.normals.empty()) {
       attributes["NORMAL"] = b.Accessor(std::span<const glm::vec3>(primitive.normals), kFloat, "VEC3", n, kArrayBuffer);
     }
-    if (!primitive.uvs.empty()) {
-      attributes["TEXCOORD_0"] = b.Accessor(std::span<const glm::vec2>(primitive.uvs), kFloat, "VEC2", n, kArrayBuffer);
-    }
+    // The material's texture needs TEXCOORD_0: made up when not given.
+    attributes["TEXCOORD_0"] = b.Accessor(std::span<const glm::vec2>(primitive.uvs.empty() ? uv1 : primitive.uvs),
+                                          kFloat, "VEC2", n, kArrayBuffer);
     attributes["TEXCOORD_1"] = b.Accessor(std::span<const glm::vec2>(uv1), kFloat, "VEC2", n, kArrayBuffer);
     attributes["COLOR_0"] = b.Accessor(std::span<const std::array<std::uint8_t, 4>>(colors), kUnsignedByte, "VEC4", n,
                                        kArrayBuffer, true);

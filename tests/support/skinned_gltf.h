@@ -23,7 +23,7 @@ namespace facerig::test {
 struct SkinnedPrimitive {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
-  std::vector<glm::vec2> uvs;  // glTF's convention (V down)
+  std::vector<glm::vec2> uvs;  // glTF's convention (V down); made up when empty
   std::vector<Triangle> triangles;
 };
 

@@ -1,25 +1,18 @@
 #include "facerig/runtime/io/gltf.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
-#include <exception>
 #include <iterator>
-#include <limits>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
-#include <glm/common.hpp>
 #include <tiny_gltf.h>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/rig_builder.h"
 #include "gltf_internal.h"
 
@@ -29,20 +22,23 @@ namespace {
 constexpr char kGenerator[] = "facerig";
 
 using gltf_internal::AddAccessor;
-using gltf_internal::ChooseMesh;
-using gltf_internal::GroupMeshVertices;
-using gltf_internal::MeshVertices;
-using gltf_internal::VertexBlock;
 using gltf_internal::AddMorphTargets;
 using gltf_internal::BufferBuilder;
+using gltf_internal::ChooseMesh;
 using gltf_internal::FloatAccessor;
 using gltf_internal::Format;
 using gltf_internal::FormatFromExtension;
+using gltf_internal::GroupMeshVertices;
+using gltf_internal::MeshVertices;
 using gltf_internal::ParseModel;
-using gltf_internal::WriteModel;
 using gltf_internal::SetMinMax;
 using gltf_internal::StringArray;
+using gltf_internal::VertexBlock;
 using gltf_internal::WithTargetNames;
+using gltf_internal::WriteModel;
+
+// ---------------------------------------------------------------------------
+// Writing
 
 tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
   tinygltf::Model model;
