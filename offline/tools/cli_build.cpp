@@ -1,5 +1,7 @@
 #include "cli_build.h"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +14,7 @@
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/gltf_with_morph_targets.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 
@@ -26,7 +29,9 @@ constexpr const char* kBuildUsage =
     "  --landmarks) -> registration -> transfer (deformation transfer classic / identity-gradient, or\n"
     "  displacement matrices) -> mapped onto the target. --units: the target's units when its file does\n"
     "  not say (default: inferred from the registration's scale). --template-topology also writes the\n"
-    "  rig on the template's vertices, in the template's frame and units (for average, caricature, morph).\n";
+    "  rig on the template's vertices, in the template's frame and units (for average, caricature, morph).\n"
+    "  A glTF target written to .glb/.gltf keeps its skin, nodes, materials, textures and animations: the\n"
+    "  output is the target's own document with the shapes added as morph targets.\n";
 
 struct BuildOptions {
   std::string template_path, target_path, output, frig, obj_dir, landmarks, report, shape_predictor,
@@ -86,6 +91,24 @@ bool ParseBuildOptions(int argc, char** argv, BuildOptions& options) {
     return false;
   }
   return true;
+}
+
+bool IsGltf(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".glb" || extension == ".gltf";
+}
+
+// A glTF target's own document, with the shapes added, so that a skinned
+// character keeps its skin, nodes and materials (issue #6); else a fresh file.
+void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::path& output, const Rig& rig) {
+  if (!IsGltf(target) || !IsGltf(output)) return SaveRig(output, rig);
+  const MorphTargetsWritten written = WriteGltfWithMorphTargets(target, output, rig);
+  if (written.replaced_targets > 0) {
+    std::fprintf(stderr, "replaced the %zu morph targets mesh '%s' had in %s\n", written.replaced_targets,
+                 written.mesh_name.c_str(), target.string().c_str());
+  }
 }
 
 // A file name for a shape: characters other than letters, digits, '_', '-', '.' become '_'.
@@ -188,7 +211,7 @@ int RunBuildCommand(int argc, char** argv) {
     if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
 
     const auto write_start = std::chrono::steady_clock::now();
-    SaveRig(options.output, *rig);
+    SaveBuiltRig(options.target_path, options.output, *rig);
     if (!options.frig.empty()) SaveRig(options.frig, *rig);
     if (!options.obj_dir.empty()) WriteObjFolder(options.obj_dir, *rig);
     if (!options.template_topology.empty()) {

@@ -1,126 +1,44 @@
 #include "facerig/runtime/io/gltf.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
-#include <exception>
 #include <iterator>
-#include <limits>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
-#include <glm/common.hpp>
 #include <tiny_gltf.h>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "gltf_internal.h"
 
 namespace facerig {
 namespace {
 
 constexpr char kGenerator[] = "facerig";
-constexpr std::uint32_t kGlbJsonChunk = 0x4E4F534A;  // "JSON"
-constexpr std::uint32_t kGlbBinChunk = 0x004E4942;   // "BIN\0"
-constexpr std::size_t kGlbHeaderSize = 12;
-constexpr std::size_t kGlbChunkHeaderSize = 8;
 
-enum class Format { kBinary, kText };
-
-std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
-Format FormatFromExtension(const std::filesystem::path& path) {
-  const std::string extension = Lowercase(path.extension().string());
-  if (extension == ".glb") return Format::kBinary;
-  if (extension == ".gltf") return Format::kText;
-  throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
-                "expected a .glb or .gltf extension, got '" + path.extension().string() + "'");
-}
-
-// Images are never needed for a rig; this keeps tinygltf from decoding any.
-bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-               void*) {
-  return true;
-}
+using gltf_internal::AddAccessor;
+using gltf_internal::AddMorphTargets;
+using gltf_internal::BufferBuilder;
+using gltf_internal::ChooseMesh;
+using gltf_internal::FloatAccessor;
+using gltf_internal::Format;
+using gltf_internal::FormatFromExtension;
+using gltf_internal::GroupMeshVertices;
+using gltf_internal::MeshVertices;
+using gltf_internal::ParseModel;
+using gltf_internal::SetMinMax;
+using gltf_internal::StringArray;
+using gltf_internal::VertexBlock;
+using gltf_internal::WithTargetNames;
+using gltf_internal::WriteModel;
 
 // ---------------------------------------------------------------------------
 // Writing
-
-// Appends data to the single buffer, each view starting 4-byte aligned as
-// glTF requires for float and uint32 accessors.
-class BufferBuilder {
- public:
-  explicit BufferBuilder(tinygltf::Model* model) : model_(model) {}
-
-  int AddView(const void* data, std::size_t size, int target) {
-    std::vector<unsigned char>& bytes = Bytes();
-    bytes.resize((bytes.size() + 3) & ~std::size_t{3}, 0);
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = bytes.size();
-    view.byteLength = size;
-    view.target = target;
-    const auto* begin = static_cast<const unsigned char*>(data);
-    bytes.insert(bytes.end(), begin, begin + size);
-    model_->bufferViews.push_back(std::move(view));
-    return static_cast<int>(model_->bufferViews.size()) - 1;
-  }
-
- private:
-  std::vector<unsigned char>& Bytes() {
-    if (model_->buffers.empty()) model_->buffers.emplace_back();
-    return model_->buffers.front().data;
-  }
-  tinygltf::Model* model_;
-};
-
-int AddAccessor(tinygltf::Model* model, tinygltf::Accessor accessor) {
-  model->accessors.push_back(std::move(accessor));
-  return static_cast<int>(model->accessors.size()) - 1;
-}
-
-tinygltf::Accessor FloatAccessor(int view, std::size_t count, int type) {
-  tinygltf::Accessor accessor;
-  accessor.bufferView = view;
-  accessor.byteOffset = 0;
-  accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  accessor.count = count;
-  accessor.type = type;
-  return accessor;
-}
-
-void SetMinMax(std::span<const glm::vec3> values, bool include_zero, tinygltf::Accessor* accessor) {
-  glm::vec3 lo(std::numeric_limits<float>::max());
-  glm::vec3 hi(std::numeric_limits<float>::lowest());
-  for (const glm::vec3& v : values) {
-    lo = glm::min(lo, v);
-    hi = glm::max(hi, v);
-  }
-  // Elements a sparse accessor does not set are zero and count towards min/max.
-  if (include_zero || values.empty()) {
-    lo = glm::min(lo, glm::vec3(0.0f));
-    hi = glm::max(hi, glm::vec3(0.0f));
-  }
-  accessor->minValues = {lo.x, lo.y, lo.z};
-  accessor->maxValues = {hi.x, hi.y, hi.z};
-}
-
-tinygltf::Value StringArray(const std::vector<std::string>& strings) {
-  tinygltf::Value::Array array;
-  array.reserve(strings.size());
-  for (const std::string& s : strings) array.emplace_back(s);
-  return tinygltf::Value(std::move(array));
-}
 
 tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
   tinygltf::Model model;
@@ -151,44 +69,8 @@ tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
                                           vertex_count, TINYGLTF_TYPE_VEC2));
   }
 
-  // Morph targets: every shape's entries live in three shared views, each
-  // shape's sparse accessor pointing at its own range.
-  std::vector<std::map<std::string, int>> targets;
-  if (rig.shape_count() > 0) {
-    const int index_view =
-        buffer.AddView(rig.all_shape_vertex_indices().data(), rig.all_shape_vertex_indices().size_bytes(), 0);
-    const int position_view = buffer.AddView(rig.all_shape_position_deltas().data(),
-                                             rig.all_shape_position_deltas().size_bytes(), 0);
-    const int normal_view = rig.has_normal_deltas()
-                                ? buffer.AddView(rig.all_shape_normal_deltas().data(),
-                                                 rig.all_shape_normal_deltas().size_bytes(), 0)
-                                : -1;
-    auto sparse_accessor = [&](const ShapeRange& range, int values_view) {
-      // No bufferView: elements default to zero and the sparse entries set the
-      // rest. A shape without entries stays all zero, which needs no sparse
-      // part at all (sparse.count must be >= 1).
-      tinygltf::Accessor accessor = FloatAccessor(-1, vertex_count, TINYGLTF_TYPE_VEC3);
-      if (range.count > 0) {
-        accessor.sparse.isSparse = true;
-        accessor.sparse.count = static_cast<int>(range.count);
-        accessor.sparse.indices.bufferView = index_view;
-        accessor.sparse.indices.byteOffset = static_cast<int>(range.offset * sizeof(std::uint32_t));
-        accessor.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-        accessor.sparse.values.bufferView = values_view;
-        accessor.sparse.values.byteOffset = static_cast<int>(range.offset * sizeof(glm::vec3));
-      }
-      return accessor;
-    };
-    for (std::size_t s = 0; s < rig.shape_count(); ++s) {
-      const ShapeRange& range = rig.shape_ranges()[s];
-      std::map<std::string, int> target;
-      tinygltf::Accessor position = sparse_accessor(range, position_view);
-      SetMinMax(rig.shape(s).position_deltas, range.count < vertex_count, &position);
-      target["POSITION"] = AddAccessor(&model, std::move(position));
-      if (normal_view >= 0) target["NORMAL"] = AddAccessor(&model, sparse_accessor(range, normal_view));
-      targets.push_back(std::move(target));
-    }
-  }
+  const std::vector<std::map<std::string, int>> targets = AddMorphTargets(
+      &model, &buffer, rig, 0, static_cast<std::uint32_t>(vertex_count), rig.has_normal_deltas());
 
   // Indices: one view, one accessor per part (a byte range of it).
   const bool short_indices = vertex_count <= 0xFFFF;  // 0xFFFF is the restart value, never used
@@ -233,13 +115,11 @@ tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
   facerig["parts"] = StringArray(part_names);
   tinygltf::Value::Object extras;
   extras["facerig"] = tinygltf::Value(std::move(facerig));
+  mesh.extras = tinygltf::Value(std::move(extras));
   if (rig.shape_count() > 0) {
-    std::vector<std::string> shape_names;
-    for (std::size_t s = 0; s < rig.shape_count(); ++s) shape_names.emplace_back(rig.shape_name(s));
-    extras["targetNames"] = StringArray(shape_names);
+    mesh.extras = WithTargetNames(mesh.extras, rig);
     mesh.weights.assign(rig.shape_count(), 0.0);
   }
-  mesh.extras = tinygltf::Value(std::move(extras));
   model.meshes.push_back(std::move(mesh));
 
   tinygltf::Node node;
@@ -268,111 +148,6 @@ std::uint32_t LoadU32(const unsigned char* p) {
   std::uint32_t value;
   std::memcpy(&value, p, sizeof(value));
   return value;
-}
-
-// Checks the GLB container before tinygltf sees it, so that truncation and a
-// wrong magic get their own error kinds (tinygltf reports both as "invalid").
-// Returns the declared length (bytes after it are ignored).
-std::size_t CheckGlbHeader(std::span<const unsigned char> bytes, const std::string& path) {
-  static constexpr unsigned char kMagic[4] = {'g', 'l', 'T', 'F'};
-  const std::size_t size = bytes.size();
-  if (std::memcmp(bytes.data(), kMagic, std::min<std::size_t>(size, 4)) != 0) {
-    throw IoError(IoErrorKind::kBadMagic, path, "not a binary glTF (no 'glTF' magic)", 0, 0);
-  }
-  if (size < kGlbHeaderSize + kGlbChunkHeaderSize) {
-    throw IoError(IoErrorKind::kTruncated, path,
-                  "the file ends inside the GLB header (" + std::to_string(size) + " bytes)", 0,
-                  static_cast<std::int64_t>(size));
-  }
-  const std::uint32_t version = LoadU32(bytes.data() + 4);
-  if (version != 2) {
-    throw IoError(IoErrorKind::kUnsupportedVersion, path,
-                  "GLB version " + std::to_string(version) + " (only 2 is supported)", 0, 4);
-  }
-  const std::uint32_t length = LoadU32(bytes.data() + 8);
-  if (length > size) {
-    throw IoError(IoErrorKind::kTruncated, path,
-                  "the GLB header declares " + std::to_string(length) + " bytes but the file has " +
-                      std::to_string(size),
-                  0, static_cast<std::int64_t>(size));
-  }
-  const std::uint64_t json_length = LoadU32(bytes.data() + 12);
-  const std::uint64_t json_end = kGlbHeaderSize + kGlbChunkHeaderSize + json_length;
-  if (json_end > length) {
-    throw IoError(IoErrorKind::kTruncated, path,
-                  "the JSON chunk (" + std::to_string(json_length) + " bytes) runs past the end of the data",
-                  0, 12);
-  }
-  if (LoadU32(bytes.data() + 16) != kGlbJsonChunk) {
-    throw IoError(IoErrorKind::kParse, path, "the first GLB chunk is not JSON", 0, 16);
-  }
-  if (json_end < length) {
-    if (json_end + kGlbChunkHeaderSize > length) {
-      throw IoError(IoErrorKind::kTruncated, path, "the file ends inside the BIN chunk header", 0,
-                    static_cast<std::int64_t>(json_end));
-    }
-    const std::uint64_t bin_length = LoadU32(bytes.data() + json_end);
-    if (json_end + kGlbChunkHeaderSize + bin_length > length) {
-      throw IoError(IoErrorKind::kTruncated, path,
-                    "the BIN chunk (" + std::to_string(bin_length) + " bytes) runs past the end of the data",
-                    0, static_cast<std::int64_t>(json_end));
-    }
-    if (LoadU32(bytes.data() + json_end + 4) != kGlbBinChunk) {
-      throw IoError(IoErrorKind::kParse, path, "the second GLB chunk is not BIN", 0,
-                    static_cast<std::int64_t>(json_end + 4));
-    }
-  }
-  return length;
-}
-
-tinygltf::Model ParseModel(const std::filesystem::path& path, Format format, std::uint64_t* file_size) {
-  const std::string where = path.string();
-  // tinygltf takes 32-bit lengths; GLB cannot exceed 4 GiB anyway.
-  const std::vector<std::byte> file = ReadFileBytes(path, std::numeric_limits<std::uint32_t>::max());
-  if (file.empty()) throw IoError(IoErrorKind::kEmpty, where, "the file is empty");
-  *file_size = file.size();
-  std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(file.data()), file.size());
-
-  // A .gltf that is really binary is read as such; the converse is a wrong magic.
-  if (format == Format::kText && bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    format = Format::kBinary;
-  }
-  if (format == Format::kBinary) {
-    bytes = bytes.first(CheckGlbHeader(bytes, where));
-  } else {
-    std::size_t first = 0;
-    if (bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF) first = 3;
-    while (first < bytes.size() && std::isspace(bytes[first])) ++first;
-    if (first == bytes.size() || bytes[first] != '{') {
-      throw IoError(IoErrorKind::kBadMagic, where, "not glTF JSON (it does not start with '{')", 0,
-                    static_cast<std::int64_t>(first));
-    }
-  }
-
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(&SkipImage, nullptr);
-  tinygltf::Model model;
-  std::string error, warning;
-  const std::string base_dir = path.parent_path().string();
-  bool loaded = false;
-  try {
-    const auto size = static_cast<unsigned int>(bytes.size());
-    if (format == Format::kBinary) {
-      loaded = loader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), size, base_dir);
-    } else {
-      loaded = loader.LoadASCIIFromString(&model, &error, &warning,
-                                          reinterpret_cast<const char*>(bytes.data()), size, base_dir);
-    }
-  } catch (const std::exception& e) {
-    // tinygltf throws on a few malformed inputs (e.g. a zero-length GLB buffer).
-    error = e.what();
-    loaded = false;
-  }
-  if (!loaded) {
-    while (!error.empty() && std::isspace(static_cast<unsigned char>(error.back()))) error.pop_back();
-    throw IoError(IoErrorKind::kParse, where, "tinygltf: " + (error.empty() ? "cannot parse" : error));
-  }
-  return model;
 }
 
 std::size_t ComponentSize(int component_type) {
@@ -499,19 +274,10 @@ class GltfReader {
   Rig Read();
 
  private:
-  // Vertices that primitives share through one POSITION accessor.
-  struct VertexBlock {
-    int position_accessor = -1;
-    const tinygltf::Primitive* primitive = nullptr;  // the first that uses it
-    std::uint32_t first_vertex = 0;
-    std::uint32_t vertex_count = 0;
-  };
-
   [[noreturn]] void Fail(IoErrorKind kind, const std::string& message) const {
     throw IoError(kind, path_, message);
   }
 
-  const tinygltf::Mesh& ChooseMesh() const;
   const tinygltf::Accessor& GetAccessor(int index, const std::string& what) const;
   Elements ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
                         std::uint64_t element_size, bool allow_stride, const std::string& what) const;
@@ -529,28 +295,6 @@ class GltfReader {
   tinygltf::Model model_;
   std::uint64_t file_size_;
 };
-
-const tinygltf::Mesh& GltfReader::ChooseMesh() const {
-  if (model_.meshes.empty()) Fail(IoErrorKind::kEmpty, "the file has no mesh");
-  // The mesh of the first node (depth first) of the default scene that has one.
-  int scene = model_.defaultScene >= 0 ? model_.defaultScene : 0;
-  if (scene < static_cast<int>(model_.scenes.size())) {
-    std::vector<int> stack(model_.scenes[scene].nodes.rbegin(), model_.scenes[scene].nodes.rend());
-    std::vector<bool> visited(model_.nodes.size(), false);  // a malformed file may loop
-    while (!stack.empty()) {
-      const int index = stack.back();
-      stack.pop_back();
-      if (index < 0 || index >= static_cast<int>(model_.nodes.size()) || visited[index]) continue;
-      visited[index] = true;
-      const tinygltf::Node& node = model_.nodes[index];
-      if (node.mesh >= 0 && node.mesh < static_cast<int>(model_.meshes.size())) {
-        return model_.meshes[node.mesh];
-      }
-      stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
-    }
-  }
-  return model_.meshes.front();
-}
 
 const tinygltf::Accessor& GltfReader::GetAccessor(int index, const std::string& what) const {
   if (index < 0 || index >= static_cast<int>(model_.accessors.size())) {
@@ -814,53 +558,11 @@ std::string StringOr(const tinygltf::Value& array, std::size_t index, std::strin
 }
 
 Rig GltfReader::Read() {
-  const tinygltf::Mesh& mesh = ChooseMesh();
-
-  // Triangle-list primitives, grouped by the vertex set (POSITION accessor) they use.
-  std::vector<std::size_t> primitive_indices;
-  std::vector<VertexBlock> blocks;
-  std::map<int, std::size_t> block_of_accessor;
-  std::uint64_t vertex_count = 0;
-  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-    const tinygltf::Primitive& primitive = mesh.primitives[p];
-    if (primitive.mode != TINYGLTF_MODE_TRIANGLES) continue;
-    const std::string what = "primitive " + std::to_string(p);
-    const auto position = primitive.attributes.find("POSITION");
-    if (position == primitive.attributes.end()) Fail(IoErrorKind::kParse, what + " has no POSITION");
-    primitive_indices.push_back(p);
-    const auto [it, inserted] = block_of_accessor.emplace(position->second, blocks.size());
-    if (!inserted) {
-      // Sharing vertices means sharing everything attached to them.
-      const tinygltf::Primitive& first = *blocks[it->second].primitive;
-      auto attribute = [](const tinygltf::Primitive& q, const char* name) {
-        const auto found = q.attributes.find(name);
-        return found == q.attributes.end() ? -1 : found->second;
-      };
-      if (attribute(first, "NORMAL") != attribute(primitive, "NORMAL") ||
-          attribute(first, "TEXCOORD_0") != attribute(primitive, "TEXCOORD_0") ||
-          first.targets != primitive.targets) {
-        Fail(IoErrorKind::kParse, what +
-                                      " shares its POSITION accessor with another primitive but not its "
-                                      "NORMAL, TEXCOORD_0 or morph targets, which a rig cannot represent");
-      }
-      continue;
-    }
-    VertexBlock block;
-    block.position_accessor = position->second;
-    block.primitive = &primitive;
-    block.first_vertex = static_cast<std::uint32_t>(vertex_count);
-    const tinygltf::Accessor& accessor = GetAccessor(position->second, what + " POSITION");
-    if (accessor.bufferView < 0 && accessor.count > file_size_) {
-      Fail(IoErrorKind::kAbsurdCount, what + " POSITION: " + std::to_string(accessor.count) +
-                                          " vertices without data in a file of " +
-                                          std::to_string(file_size_) + " bytes");
-    }
-    vertex_count += accessor.count;
-    if (vertex_count > 0xFFFFFFF0u) Fail(IoErrorKind::kAbsurdCount, "more than 2^32 vertices");
-    block.vertex_count = static_cast<std::uint32_t>(accessor.count);
-    blocks.push_back(block);
-  }
-  if (primitive_indices.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no triangle-list primitive");
+  const int mesh_index = ChooseMesh(model_);
+  if (mesh_index < 0) Fail(IoErrorKind::kEmpty, "the file has no mesh");
+  const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
+  const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
+  const std::vector<VertexBlock>& blocks = vertices.blocks;
 
   RawRig raw;
   bool all_normals = true, all_uvs = true;
@@ -889,9 +591,9 @@ Rig GltfReader::Read() {
   // Parts: one per primitive, named from extras.facerig.parts when present.
   const tinygltf::Value& facerig = Member(mesh.extras, "facerig");
   const tinygltf::Value& part_names = Member(facerig, "parts");
-  for (std::size_t p : primitive_indices) {
+  for (std::size_t p : vertices.triangle_primitives) {
     const tinygltf::Primitive& primitive = mesh.primitives[p];
-    const VertexBlock& block = blocks[block_of_accessor.at(primitive.attributes.at("POSITION"))];
+    const VertexBlock& block = blocks[vertices.block_of_accessor.at(primitive.attributes.at("POSITION"))];
     const std::string what = "primitive " + std::to_string(p);
     const std::vector<std::uint32_t> indices = ReadIndices(primitive, block, what);
     if (indices.empty()) continue;  // a part needs at least one triangle
@@ -950,6 +652,84 @@ Rig GltfReader::Read() {
 
 }  // namespace
 
+namespace gltf_internal {
+
+int ChooseMesh(const tinygltf::Model& model) {
+  if (model.meshes.empty()) return -1;
+  int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+  if (scene < static_cast<int>(model.scenes.size())) {
+    std::vector<int> stack(model.scenes[scene].nodes.rbegin(), model.scenes[scene].nodes.rend());
+    std::vector<bool> visited(model.nodes.size(), false);  // a malformed file may loop
+    while (!stack.empty()) {
+      const int index = stack.back();
+      stack.pop_back();
+      if (index < 0 || index >= static_cast<int>(model.nodes.size()) || visited[index]) continue;
+      visited[index] = true;
+      const tinygltf::Node& node = model.nodes[index];
+      if (node.mesh >= 0 && node.mesh < static_cast<int>(model.meshes.size())) return node.mesh;
+      stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
+    }
+  }
+  return 0;
+}
+
+MeshVertices GroupMeshVertices(const tinygltf::Model& model, const tinygltf::Mesh& mesh, const std::string& path,
+                               std::uint64_t file_size) {
+  auto fail = [&path](IoErrorKind kind, const std::string& message) { throw IoError(kind, path, message); };
+  MeshVertices vertices;
+  std::vector<VertexBlock>& blocks = vertices.blocks;
+  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+    const tinygltf::Primitive& primitive = mesh.primitives[p];
+    if (primitive.mode != TINYGLTF_MODE_TRIANGLES) continue;
+    const std::string what = "primitive " + std::to_string(p);
+    const auto position = primitive.attributes.find("POSITION");
+    if (position == primitive.attributes.end()) fail(IoErrorKind::kParse, what + " has no POSITION");
+    vertices.triangle_primitives.push_back(p);
+    const auto [it, inserted] = vertices.block_of_accessor.emplace(position->second, blocks.size());
+    if (!inserted) {
+      // Sharing vertices means sharing everything attached to them.
+      const tinygltf::Primitive& first = *blocks[it->second].primitive;
+      auto attribute = [](const tinygltf::Primitive& q, const char* name) {
+        const auto found = q.attributes.find(name);
+        return found == q.attributes.end() ? -1 : found->second;
+      };
+      if (attribute(first, "NORMAL") != attribute(primitive, "NORMAL") ||
+          attribute(first, "TEXCOORD_0") != attribute(primitive, "TEXCOORD_0") ||
+          first.targets != primitive.targets) {
+        fail(IoErrorKind::kParse, what +
+                                      " shares its POSITION accessor with another primitive but not its "
+                                      "NORMAL, TEXCOORD_0 or morph targets, which a rig cannot represent");
+      }
+      continue;
+    }
+    VertexBlock block;
+    block.position_accessor = position->second;
+    block.primitive = &primitive;
+    block.first_vertex = static_cast<std::uint32_t>(vertices.vertex_count);
+    if (position->second < 0 || position->second >= static_cast<int>(model.accessors.size())) {
+      fail(IoErrorKind::kIndexOutOfRange, what + " POSITION: accessor " + std::to_string(position->second) +
+                                              " does not exist (" + std::to_string(model.accessors.size()) +
+                                              " accessors)");
+    }
+    const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(position->second)];
+    if (accessor.bufferView < 0 && accessor.count > file_size) {
+      fail(IoErrorKind::kAbsurdCount, what + " POSITION: " + std::to_string(accessor.count) +
+                                          " vertices without data in a file of " + std::to_string(file_size) +
+                                          " bytes");
+    }
+    vertices.vertex_count += accessor.count;
+    if (vertices.vertex_count > 0xFFFFFFF0u) fail(IoErrorKind::kAbsurdCount, "more than 2^32 vertices");
+    block.vertex_count = static_cast<std::uint32_t>(accessor.count);
+    blocks.push_back(block);
+  }
+  if (vertices.triangle_primitives.empty()) {
+    fail(IoErrorKind::kEmpty, "the mesh has no triangle-list primitive");
+  }
+  return vertices;
+}
+
+}  // namespace gltf_internal
+
 Rig ReadGltf(const std::filesystem::path& path) {
   const Format format = FormatFromExtension(path);
   std::uint64_t file_size = 0;
@@ -963,20 +743,7 @@ void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
   if (rig.vertex_count() == 0 || rig.triangle_count() == 0) {
     throw IoError(IoErrorKind::kWriteFailed, path.string(), "the rig is empty (no vertices or triangles)");
   }
-  const tinygltf::Model model = BuildModel(rig, path.stem().string());
-  // GLB stores 32-bit lengths; base64 text grows by 4/3.
-  const std::size_t buffer_size = model.buffers.empty() ? 0 : model.buffers.front().data.size();
-  if (buffer_size > std::numeric_limits<std::uint32_t>::max() / 2) {
-    throw IoError(IoErrorKind::kWriteFailed, path.string(),
-                  "the rig's data (" + std::to_string(buffer_size) + " bytes) is too large for glTF");
-  }
-  tinygltf::TinyGLTF writer;
-  std::ostringstream stream;
-  const bool binary = format == Format::kBinary;
-  if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!binary, binary) || !stream) {
-    throw IoError(IoErrorKind::kWriteFailed, path.string(), "tinygltf could not serialise the rig");
-  }
-  WriteFileAtomically(path, stream.view());
+  WriteModel(path, format, BuildModel(rig, path.stem().string()));
 }
 
 }  // namespace facerig

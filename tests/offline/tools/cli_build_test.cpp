@@ -17,6 +17,7 @@
 #include "support/command_runner.h"
 #include "support/gltf_validator.h"
 #include "support/registration_targets.h"
+#include "support/skinned_gltf.h"
 #include "support/test_meshes.h"
 
 namespace facerig {
@@ -114,6 +115,48 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   CHECK(report["registration"]["residual_percent_of_diagonal"]["mean"].get<double>() < 0.1);
   CHECK(report["seconds"]["total"].get<double>() > 0.0);
   CHECK(report["mapping"]["unmapped_vertices"] == 0);
+}
+
+TEST_CASE("(shared data) facerig build: a skinned glTF target keeps its skin, nodes, material and animation",
+          "[shared-data][cli]") {
+  const fs::path folder = test::FreshOutputFolder("cli_build_skinned");
+  test::RegistrationTargetOptions options;
+  options.seed = 5;
+  options.units_per_cm = 0.01;  // metres, as glTF
+  options.target_vertex_count = 8000;
+  const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
+  test::WriteSkinnedGltf(folder / "character.glb", {{target.positions, {}, {}, target.triangles}});
+  WriteTrueLandmarks(folder / "landmarks.json", target);
+  const fs::path ict_frig = folder / "ict.frig";
+  SaveRig(ict_frig, test::IctRig());
+
+  const test::CommandOutcome outcome =
+      Build({"--template", ict_frig.string(), "--target", (folder / "character.glb").string(), "-o",
+             (folder / "character_rig.glb").string(), "--landmarks", (folder / "landmarks.json").string()});
+  INFO(outcome.error_output);
+  REQUIRE(outcome.exit_code == 0);
+  test::RequireValidatorAccepts(folder / "character_rig.glb");
+
+  const test::GltfFile in = test::ReadGltfFile(folder / "character.glb");
+  const test::GltfFile out = test::ReadGltfFile(folder / "character_rig.glb");
+  for (const char* kept : {"nodes", "skins", "animations", "images"}) {
+    INFO(kept);
+    CHECK(in.document[kept] == out.document[kept]);
+  }
+  const nlohmann::json& attributes = out.document["meshes"][0]["primitives"][0]["attributes"];
+  CHECK(attributes == in.document["meshes"][0]["primitives"][0]["attributes"]);
+  for (const char* attribute : {"POSITION", "JOINTS_0", "WEIGHTS_0", "COLOR_0"}) {
+    INFO(attribute);
+    CHECK(test::AccessorBytes(in, attributes[attribute].get<int>()) ==
+          test::AccessorBytes(out, attributes[attribute].get<int>()));
+  }
+  const int inverse_binds = in.document["skins"][0]["inverseBindMatrices"].get<int>();
+  CHECK(test::AccessorBytes(in, inverse_binds) == test::AccessorBytes(out, inverse_binds));
+
+  const Rig rig = LoadRig(folder / "character_rig.glb");
+  CHECK(rig.vertex_count() == target.positions.size());
+  CHECK(rig.shape_count() == test::IctRig().shape_count());
+  CHECK(rig.FindShape("jawOpen").has_value());
 }
 
 TEST_CASE("facerig build: bad command lines and bad input fail clearly and write nothing", "[cli]") {

@@ -9,6 +9,8 @@
 // glTF's +Y up; units and up axis are also kept in mesh.extras.facerig.
 // Reading accepts dense or sparse target accessors, any primitive layout whose
 // primitives share one vertex set, and triangle-list primitives.
+// To add a rig's shapes to an artist's glTF and keep the rest of it (skin,
+// nodes, materials, animations), see gltf_with_morph_targets.h.
 #pragma once
 
 #include <filesystem>

@@ -1,0 +1,203 @@
+#include "facerig/runtime/io/gltf_with_morph_targets.h"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "facerig/runtime/error.h"
+#include "gltf_internal.h"
+
+namespace facerig {
+namespace {
+
+using gltf_internal::AddAccessor;
+using gltf_internal::AddMorphTargets;
+using gltf_internal::BufferBuilder;
+using gltf_internal::ChooseMesh;
+using gltf_internal::FloatAccessor;
+using gltf_internal::Format;
+using gltf_internal::FormatFromExtension;
+using gltf_internal::GroupMeshVertices;
+using gltf_internal::Images;
+using gltf_internal::MeshVertices;
+using gltf_internal::ParseModel;
+using gltf_internal::VertexBlock;
+using gltf_internal::WithTargetNames;
+using gltf_internal::WriteModel;
+
+using Targets = std::vector<std::map<std::string, int>>;
+
+bool Contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// A compressed mesh has no accessor data to read or to keep alongside targets.
+void RefuseCompression(const tinygltf::Model& model, const std::string& path) {
+  for (const char* extension : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
+    if (Contains(model.extensionsUsed, extension) || Contains(model.extensionsRequired, extension)) {
+      throw IoError(IoErrorKind::kUnsupportedFormat, path,
+                    std::string("the file uses ") + extension +
+                        ", which facerig cannot add morph targets to (export it uncompressed)");
+    }
+  }
+}
+
+// A .glb has one BIN chunk: every buffer's bytes go into buffer 0, 4-byte
+// aligned so that the views keep their alignment.
+void MergeBuffers(tinygltf::Model* model) {
+  if (model->buffers.empty()) return;
+  std::vector<std::size_t> start(model->buffers.size(), 0);
+  std::vector<unsigned char>& merged = model->buffers.front().data;
+  for (std::size_t b = 1; b < model->buffers.size(); ++b) {
+    merged.resize((merged.size() + 3) & ~std::size_t{3}, 0);
+    start[b] = merged.size();
+    merged.insert(merged.end(), model->buffers[b].data.begin(), model->buffers[b].data.end());
+  }
+  for (tinygltf::BufferView& view : model->bufferViews) {
+    if (view.buffer <= 0 || view.buffer >= static_cast<int>(start.size())) continue;
+    view.byteOffset += start[static_cast<std::size_t>(view.buffer)];
+    view.buffer = 0;
+  }
+  model->buffers.resize(1);
+  model->buffers.front().uri.clear();  // the BIN chunk
+}
+
+std::optional<std::string> MimeTypeOfFile(const std::string& uri) {
+  std::string extension = uri.substr(uri.find_last_of('.') == std::string::npos ? uri.size() : uri.find_last_of('.'));
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".png") return "image/png";
+  if (extension == ".jpg" || extension == ".jpeg") return "image/jpeg";
+  if (extension == ".webp") return "image/webp";
+  if (extension == ".ktx2") return "image/ktx2";
+  return std::nullopt;
+}
+
+// Images that were data URIs (tinygltf keeps neither their uri nor their
+// bytes) or external files (whose relative uri would break beside another
+// output) move into a bufferView, byte for byte. Returns how many moved.
+std::size_t EmbedImages(tinygltf::Model* model, BufferBuilder* buffer) {
+  std::size_t embedded = 0;
+  for (tinygltf::Image& image : model->images) {
+    if (image.bufferView >= 0 || image.image.empty()) continue;
+    std::vector<unsigned char> bytes = std::move(image.image);
+    image.image.clear();
+    if (!image.uri.empty()) {
+      const std::optional<std::string> mime_type = MimeTypeOfFile(image.uri);
+      if (!mime_type) continue;  // a type glTF cannot embed: the uri stays
+      image.mimeType = *mime_type;
+    }
+    image.bufferView = buffer->AddView(bytes.data(), bytes.size(), 0);
+    image.uri.clear();
+    ++embedded;
+  }
+  return embedded;
+}
+
+// All-zero targets for primitives that share no vertices with the rig (lines,
+// points, another vertex set): glTF wants the same number of targets on every
+// primitive of a mesh.
+Targets ZeroTargets(tinygltf::Model* model, std::size_t vertex_count, std::size_t shape_count) {
+  tinygltf::Accessor zero = FloatAccessor(-1, vertex_count, TINYGLTF_TYPE_VEC3);
+  zero.minValues = {0.0, 0.0, 0.0};
+  zero.maxValues = {0.0, 0.0, 0.0};
+  const int accessor = AddAccessor(model, std::move(zero));
+  return Targets(shape_count, std::map<std::string, int>{{"POSITION", accessor}});
+}
+
+}  // namespace
+
+MorphTargetsWritten WriteGltfWithMorphTargets(const std::filesystem::path& source,
+                                              const std::filesystem::path& output, const Rig& rig) {
+  const Format source_format = FormatFromExtension(source);
+  const Format output_format = FormatFromExtension(output);
+  const std::string where = source.string();
+  std::uint64_t file_size = 0;
+  tinygltf::Model model = ParseModel(source, source_format, &file_size, Images::kKeepEncoded);
+  RefuseCompression(model, where);
+
+  const int mesh_index = ChooseMesh(model);
+  if (mesh_index < 0) throw IoError(IoErrorKind::kEmpty, where, "the file has no mesh");
+  const MeshVertices vertices =
+      GroupMeshVertices(model, model.meshes[static_cast<std::size_t>(mesh_index)], where, file_size);
+  MorphTargetsWritten written;
+  written.mesh_name = model.meshes[static_cast<std::size_t>(mesh_index)].name;
+  const std::string mesh_label = "mesh " + std::to_string(mesh_index) +
+                                 (written.mesh_name.empty() ? std::string() : " ('" + written.mesh_name + "')");
+  if (vertices.vertex_count != rig.vertex_count()) {
+    throw IoError(IoErrorKind::kTopologyMismatch, where,
+                  mesh_label + " has " + std::to_string(vertices.vertex_count) + " vertices but the rig has " +
+                      std::to_string(rig.vertex_count()) + ": the rig was not built on this mesh");
+  }
+
+  for (const tinygltf::Primitive& primitive : model.meshes[static_cast<std::size_t>(mesh_index)].primitives) {
+    written.replaced_targets = std::max(written.replaced_targets, primitive.targets.size());
+  }
+  // An animation of the old targets' weights has one value per old target.
+  for (const tinygltf::Animation& animation : model.animations) {
+    for (const tinygltf::AnimationChannel& channel : animation.channels) {
+      const int node = channel.target_node;
+      if (channel.target_path == "weights" && node >= 0 && node < static_cast<int>(model.nodes.size()) &&
+          model.nodes[static_cast<std::size_t>(node)].mesh == mesh_index) {
+        throw IoError(IoErrorKind::kUnsupportedFormat, where,
+                      "animation '" + animation.name + "' animates the morph target weights of " + mesh_label +
+                          ", which the rig's shapes would replace; remove that animation first");
+      }
+    }
+  }
+
+  if (output_format == Format::kBinary) MergeBuffers(&model);
+  BufferBuilder buffer(&model, 0);
+  written.embedded_images = EmbedImages(&model, &buffer);
+
+  std::vector<Targets> block_targets;
+  for (const VertexBlock& block : vertices.blocks) {
+    const bool with_normals = rig.has_normal_deltas() && block.primitive->attributes.count("NORMAL") > 0;
+    block_targets.push_back(
+        AddMorphTargets(&model, &buffer, rig, block.first_vertex, block.vertex_count, with_normals));
+  }
+  std::map<std::size_t, Targets> zero_targets;  // by vertex count
+  tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
+  for (tinygltf::Primitive& primitive : mesh.primitives) {
+    const auto position = primitive.attributes.find("POSITION");
+    const auto block = position == primitive.attributes.end()
+                           ? vertices.block_of_accessor.end()
+                           : vertices.block_of_accessor.find(position->second);
+    if (block != vertices.block_of_accessor.end()) {
+      primitive.targets = block_targets[block->second];
+      // A line or point primitive on the same vertices may lack their normals.
+      if (primitive.attributes.count("NORMAL") == 0) {
+        for (auto& target : primitive.targets) target.erase("NORMAL");
+      }
+      continue;
+    }
+    if (position == primitive.attributes.end() || rig.shape_count() == 0) {
+      primitive.targets.clear();
+      continue;
+    }
+    if (position->second < 0 || position->second >= static_cast<int>(model.accessors.size())) {
+      throw IoError(IoErrorKind::kIndexOutOfRange, where,
+                    mesh_label + ": a primitive's POSITION accessor " + std::to_string(position->second) +
+                        " does not exist");
+    }
+    const std::size_t count = model.accessors[static_cast<std::size_t>(position->second)].count;
+    auto [it, inserted] = zero_targets.try_emplace(count);
+    if (inserted) it->second = ZeroTargets(&model, count, rig.shape_count());
+    primitive.targets = it->second;
+  }
+  mesh.weights.assign(rig.shape_count(), 0.0);
+  mesh.extras = WithTargetNames(mesh.extras, rig);
+  // A node's own weights override the mesh's and must match its target count.
+  for (tinygltf::Node& node : model.nodes) {
+    if (node.mesh == mesh_index) node.weights.clear();
+  }
+
+  WriteModel(output, output_format, model);
+  return written;
+}
+
+}  // namespace facerig
