@@ -734,6 +734,7 @@ Rig ReadGltf(const std::filesystem::path& path) {
   const Format format = FormatFromExtension(path);
   std::uint64_t file_size = 0;
   tinygltf::Model model = ParseModel(path, format, &file_size);
+  gltf_internal::RefuseCompression(model, path.string());
   GltfReader reader(path.string(), std::move(model), file_size);
   return reader.Read();
 }

@@ -115,6 +115,19 @@ Format FormatFromExtension(const std::filesystem::path& path) {
                 "expected a .glb or .gltf extension, got '" + path.extension().string() + "'");
 }
 
+void RefuseCompression(const tinygltf::Model& model, const std::string& path) {
+  for (const char* extension : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
+    auto uses = [extension](const std::vector<std::string>& names) {
+      return std::find(names.begin(), names.end(), extension) != names.end();
+    };
+    if (uses(model.extensionsUsed) || uses(model.extensionsRequired)) {
+      throw IoError(IoErrorKind::kUnsupportedFormat, path,
+                    std::string("the file uses ") + extension +
+                        ": facerig reads and writes uncompressed meshes only (export it uncompressed)");
+    }
+  }
+}
+
 tinygltf::Model ParseModel(const std::filesystem::path& path, Format format, std::uint64_t* file_size,
                            Images images) {
   const std::string where = path.string();

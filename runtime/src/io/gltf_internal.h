@@ -37,6 +37,11 @@ enum class Images {
 tinygltf::Model ParseModel(const std::filesystem::path& path, Format format, std::uint64_t* file_size,
                            Images images = Images::kSkip);
 
+// Throws IoError(kUnsupportedFormat) naming the path when the file uses
+// Draco or meshopt compression: its vertex data is not in plain accessors
+// (a compressed POSITION accessor has no bufferView and would read as zeros).
+void RefuseCompression(const tinygltf::Model& model, const std::string& path);
+
 // Serialises `model` (every buffer embedded: buffer 0 as the BIN chunk of a
 // .glb when it has no uri, the others as data URIs) and writes it atomically.
 // Throws IoError(kWriteFailed) naming the path.

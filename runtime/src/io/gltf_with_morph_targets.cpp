@@ -27,24 +27,10 @@ using gltf_internal::MeshVertices;
 using gltf_internal::ParseModel;
 using gltf_internal::VertexBlock;
 using gltf_internal::WithTargetNames;
+using gltf_internal::RefuseCompression;
 using gltf_internal::WriteModel;
 
 using Targets = std::vector<std::map<std::string, int>>;
-
-bool Contains(const std::vector<std::string>& names, const std::string& name) {
-  return std::find(names.begin(), names.end(), name) != names.end();
-}
-
-// A compressed mesh has no accessor data to read or to keep alongside targets.
-void RefuseCompression(const tinygltf::Model& model, const std::string& path) {
-  for (const char* extension : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
-    if (Contains(model.extensionsUsed, extension) || Contains(model.extensionsRequired, extension)) {
-      throw IoError(IoErrorKind::kUnsupportedFormat, path,
-                    std::string("the file uses ") + extension +
-                        ", which facerig cannot add morph targets to (export it uncompressed)");
-    }
-  }
-}
 
 // A .glb has one BIN chunk: every buffer's bytes go into buffer 0, 4-byte
 // aligned so that the views keep their alignment.

@@ -403,6 +403,15 @@ TEST_CASE("gltf: reader refuses malformed files with the right error", "[gltf]")
         1 << 24;
     REQUIRE_READ_ERROR(WriteCorpusFile("sparse_offset.gltf", bad), IoErrorKind::kIndexOutOfRange);
   }
+  SECTION("compressed meshes (Draco, meshopt): no plain vertex data to read") {
+    for (const char* extension : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
+      json compressed = gltf;
+      compressed["extensionsUsed"] = json::array({extension});
+      compressed["extensionsRequired"] = json::array({extension});
+      REQUIRE_READ_ERROR(WriteCorpusFile(std::string(extension) + ".gltf", compressed),
+                         IoErrorKind::kUnsupportedFormat);
+    }
+  }
   SECTION("indices out of range") {
     Bytes bad = glb_bytes;
     const Glb glb = SplitGlb(glb_bytes);
