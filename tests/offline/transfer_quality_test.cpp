@@ -29,6 +29,9 @@ using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 constexpr std::size_t kFaceLast = 9409;
 constexpr std::size_t kSkinLast = 11248;
 constexpr std::size_t kInnerLast = 24591;
+constexpr std::uint32_t kGumsFirst = 14062;
+constexpr std::uint32_t kTeethFirst = 17039;
+constexpr std::uint32_t kTeethLast = 21451;
 constexpr std::size_t kLidLast = 17039;
 constexpr std::uint32_t kSeed = 6;
 
@@ -78,6 +81,7 @@ struct NewIntersections {
   std::size_t skin = 0;
   std::size_t skin_inner = 0;
   std::size_t inner = 0;
+  std::size_t gums_teeth = 0;  // of inner: teeth through gums
 };
 
 NewIntersections CountNew(const Pairs& expression, const Pairs& neutral) {
@@ -93,6 +97,11 @@ NewIntersections CountNew(const Pairs& expression, const Pairs& neutral) {
       ++count.skin_inner;
     } else {
       ++count.inner;
+      auto part = [&](std::uint32_t t) {
+        const std::uint32_t v = triangles[t][0];
+        return v >= kGumsFirst && v < kTeethFirst ? 1 : v >= kTeethFirst && v < kTeethLast ? 2 : 0;
+      };
+      if (part(pair.first) * part(pair.second) == 2) ++count.gums_teeth;
     }
   }
   return count;
@@ -158,6 +167,17 @@ TEST_CASE("Transferred expressions add no more self-intersections than the templ
       INFO(rig.shape_name(s) << " " << kind_names[k]);
       CHECK(count[k].skin <= 2 * reference + 10);
     }
+    // The jaw shapes move the lower teeth with the gums. Solved as gradients
+    // and placed each on its own, the gums of this face ended 0.8 mm off in
+    // jawOpen and 956 new gums x teeth pairs appeared (truth 100); moved as
+    // one rigid body, none (jawLeft/Right 32, truth 37 / 34).
+    if (rig.shape_name(s).starts_with("jaw")) {
+      WARN(rig.shape_name(s) << ": new gums x teeth pairs, truth " << count[kTruth].gums_teeth << ", classic "
+                             << count[kClassic].gums_teeth << ", identity " << count[kIdentity].gums_teeth);
+      for (int k : {kClassic, kIdentity}) {
+        CHECK(count[k].gums_teeth <= count[kTruth].gums_teeth + count[kTruth].gums_teeth / 10 + 5);
+      }
+    }
   }
   WARN("new skin x skin pairs over 53 shapes: template "
        << total[kTemplate].skin << ", truth " << total[kTruth].skin << ", classic " << total[kClassic].skin
@@ -174,44 +194,6 @@ TEST_CASE("Transferred expressions add no more self-intersections than the templ
     CHECK(total[k].skin <= total[kTemplate].skin + total[kTemplate].skin / 10);
     CHECK(total[k].skin <= total[kTruth].skin + total[kTruth].skin / 4);
     CHECK(total[k].skin_inner <= total[kTruth].skin_inner + total[kTruth].skin_inner / 10);
-  }
-}
-
-TEST_CASE("The jaw shapes move the lower teeth with the gums (shared data)",
-          "[transfer_quality][self_intersection][shared-data]") {
-  // Teeth and gums are separate parts; solved as gradients and placed each on
-  // its own, the gums of this face ended 0.8 mm off in jawOpen and 956 new
-  // gums x teeth pairs appeared (truth 100). Moved as one rigid body: none.
-  const facerig::Rig& rig = facerig::test::IctRig();
-  const Transfers& data = IctTransfers();
-  const auto triangles = rig.triangles();
-  constexpr std::uint32_t kGumsFirst = 14062;
-  constexpr std::uint32_t kTeethFirst = 17039;
-  constexpr std::uint32_t kTeethLast = 21451;
-  auto gums_teeth = [&](std::span<const glm::vec3> pose, const Pairs& neutral) {
-    std::size_t count = 0;
-    for (const auto& pair : IntersectingPairs(pose)) {
-      if (std::binary_search(neutral.begin(), neutral.end(), pair)) continue;
-      const std::uint32_t a = triangles[pair.first][0];
-      const std::uint32_t b = triangles[pair.second][0];
-      const bool a_gums = a >= kGumsFirst && a < kTeethFirst;
-      const bool b_gums = b >= kGumsFirst && b < kTeethFirst;
-      const bool a_teeth = a >= kTeethFirst && a < kTeethLast;
-      const bool b_teeth = b >= kTeethFirst && b < kTeethLast;
-      if ((a_gums && b_teeth) || (a_teeth && b_gums)) ++count;
-    }
-    return count;
-  };
-  const Pairs face_neutral = IntersectingPairs(data.face);
-  for (const char* name : {"jawOpen", "jawLeft", "jawRight", "jawForward"}) {
-    const std::size_t s = *rig.FindShape(name);
-    const std::size_t truth = gums_teeth(data.truth[s], face_neutral);
-    const std::size_t classic = gums_teeth(data.classic[s], face_neutral);
-    const std::size_t identity = gums_teeth(data.identity[s], face_neutral);
-    WARN(name << ": new gums x teeth pairs, truth " << truth << ", classic " << classic << ", identity "
-              << identity);
-    CHECK(classic <= truth + truth / 10 + 5);
-    CHECK(identity <= truth + truth / 10 + 5);
   }
 }
 
