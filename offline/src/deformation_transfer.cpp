@@ -5,6 +5,7 @@
 #include <cmath>
 #include <exception>
 #include <numeric>
+#include <atomic>
 #include <thread>
 
 #include <Eigen/Dense>
@@ -794,16 +795,18 @@ DeformationTransferResult DeformationTransfer(
   const std::size_t count = source_expressions.size();
   result.expressions.resize(count);
   result.residuals.assign(count, 0.0);
-  // Contiguous blocks of expressions, one per thread: each expression is
-  // solved on its own, so the results do not depend on the split.
   const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(params.threads),
                                                     std::max<std::size_t>(count, 1));
   const DeformationTransferData::Impl& impl = *data.impl;
   std::vector<std::exception_ptr> failures(threads);
+  // Each expression goes to the next free thread (their costs differ: the
+  // jaw's solve is the largest); each is solved on its own, so the results
+  // do not depend on the split.
+  std::atomic<std::size_t> next{0};
   auto run = [&](std::size_t t) {
     try {
       DeformationTransferData::Impl::Scratch scratch;
-      for (std::size_t k = count * t / threads; k < count * (t + 1) / threads; ++k) {
+      for (std::size_t k = next++; k < count; k = next++) {
         result.residuals[k] = impl.Solve(source_expressions[k], result.expressions[k], scratch);
       }
     } catch (...) {
