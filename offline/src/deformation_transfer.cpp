@@ -1,11 +1,12 @@
 #include "facerig/offline/deformation_transfer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <exception>
 #include <numeric>
-#include <atomic>
+#include <optional>
 #include <thread>
 
 #include <Eigen/Dense>
@@ -13,6 +14,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <glm/common.hpp>
+
+#include "expression_contacts.h"
 
 namespace facerig {
 
@@ -132,6 +135,8 @@ struct DeformationTransferData::Impl {
   // part's vertices and gauge vertex (nearest its centroid).
   double still_fraction = 0.0;
   double rigid_tolerance = 0.0;
+  double contact_weight = 0.0;  // absolute
+  std::optional<ExpressionContactFinder> contact_finder;  // with contact_weight > 0
   Eigen::SparseMatrix<double> full_system;
   std::vector<char> is_static_anchor;
   std::vector<std::uint32_t> component_of_vertex;
@@ -177,6 +182,9 @@ struct DeformationTransferData::Impl {
       std::size_t group;  // index of the first fit with the same motion
     };
     std::vector<RigidFit> rigid_fits;
+    std::vector<ExpressionContact> contacts;
+    std::vector<char> contact_free;  // free_index >= 0
+    ExpressionContactFinder::Scratch contact_scratch;
     std::vector<Eigen::Triplet<double>> triplets;
     Eigen::SparseMatrix<double> system;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
@@ -272,6 +280,9 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   }
   if (!(params.rigid_tolerance >= 0.0) || !(params.rigid_tolerance < 1.0)) {
     throw TransferInputError("params", "rigid_tolerance must be in [0, 1)");
+  }
+  if (!(params.contact_weight >= 0.0) || !std::isfinite(params.contact_weight)) {
+    throw TransferInputError("params", "contact_weight must be finite and >= 0");
   }
 
   auto impl = std::make_unique<DeformationTransferData::Impl>();
@@ -479,6 +490,10 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
     if (params.displacement_prior > 0.0) {
       impl->prior = params.displacement_prior * impl->full_system.diagonal().mean();
     }
+    if (params.contact_weight > 0.0) {
+      impl->contact_weight = params.contact_weight * impl->full_system.diagonal().mean();
+      impl->contact_finder.emplace(impl->source_neutral, impl->triangles, impl->component_of_vertex);
+    }
   }
 
   const Clock::time_point factorize_start = Clock::now();
@@ -633,6 +648,30 @@ void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> 
     }
     if (prior > 0.0) {
       for (std::int32_t f = 0; f < free_count; ++f) scratch.triplets.emplace_back(f, f, prior);
+    }
+    // Contacts: w |x_moving - x_partner - offset|^2, a pinned end on the right-hand side.
+    if (contact_finder) {
+      scratch.contact_free.resize(n);
+      for (std::size_t v = 0; v < n; ++v) scratch.contact_free[v] = scratch.free_index[v] >= 0;
+      contact_finder->Find(expression, std::sqrt(largest2), scratch.contact_free, scratch.contacts,
+                           scratch.contact_scratch);
+    }
+    for (const ExpressionContact& contact : scratch.contacts) {
+      const std::int32_t a = scratch.free_index[contact.moving];  // free: Find's moving ends are
+      const std::int32_t b = scratch.free_index[contact.partner];
+      const glm::vec3 offset = static_cast<float>(displacement_scale) * contact.offset;
+      const Eigen::RowVector3d weighted_offset = contact_weight * Eigen::RowVector3d(offset.x, offset.y, offset.z);
+      scratch.triplets.emplace_back(a, a, contact_weight);
+      scratch.rhs.row(a) += weighted_offset;
+      if (b >= 0) {
+        scratch.triplets.emplace_back(b, b, contact_weight);
+        scratch.triplets.emplace_back(a, b, -contact_weight);
+        scratch.triplets.emplace_back(b, a, -contact_weight);
+        scratch.rhs.row(b) -= weighted_offset;
+      } else {
+        const glm::vec3 p = out[contact.partner];  // pinned, placed above
+        scratch.rhs.row(a) += contact_weight * Eigen::RowVector3d(p.x, p.y, p.z);
+      }
     }
     scratch.system.resize(free_count, free_count);
     scratch.system.setFromTriplets(scratch.triplets.begin(), scratch.triplets.end());

@@ -94,7 +94,7 @@ void Usage() {
   std::fprintf(stderr,
                "usage: facerig-bench transfer [--ict DIR] [--faces N] [--seed N] [--threads N]\n"
                "                              [--static-threshold F] [--scaled-normal] [--prior W] [--no-area]\n"
-               "                              [--still F]\n"
+               "                              [--still F] [--contact W]\n"
                "                              [--per-shape] [--json FILE]\n");
 }
 
@@ -128,6 +128,8 @@ int RunTransferBenchmark(int argc, char** argv) {
       params.static_threshold = std::strtof(argv[++i], nullptr);
     } else if (arg == "--still" && has_value) {
       params.still_fraction = std::strtod(argv[++i], nullptr);
+    } else if (arg == "--contact" && has_value) {
+      params.contact_weight = std::strtod(argv[++i], nullptr);
     } else if (arg == "--prior" && has_value) {
       params.displacement_prior = std::strtod(argv[++i], nullptr);
     } else if (arg == "--scaled-normal") {

@@ -122,6 +122,15 @@ struct DeformationTransferParams {
   // whole) went through them: 956 new gums x teeth pairs against the truth's
   // 100. 0: off.
   double rigid_tolerance = 0.05;
+  // With still pinning (still_fraction > 0): where the template's expression
+  // brings together two vertices of one part that face each other across an
+  // opening (the lids on a blink; expression_contacts.h has the rule), the
+  // transferred expression keeps their offset, with this weight relative to
+  // the system's mean diagonal. Gradients alone stop a lid short when the
+  // target's eye is shaped differently: on ICT with its eyes opened 1.5x
+  // taller, eyeBlink left a gap of 12% of the eye width (template 2.1%), 3.2%
+  // with contacts. 0: off.
+  double contact_weight = 10.0;
   // Worker threads for DeformationTransfer (>= 1).
   int threads = 2;
 };

@@ -1,0 +1,118 @@
+// Contacts across an opening (offline/src/expression_contacts.h) on a sheet
+// with a slit: the slit's upper edge closing onto its lower edge is a
+// contact; the same motion on a sheet without the slit is skin compressing,
+// not a contact.
+#include "expression_contacts.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+#include <vector>
+
+#include "facerig/offline/deformation_transfer.h"
+
+namespace {
+
+constexpr std::uint32_t kColumns = 11;  // x = 0..10
+constexpr std::uint32_t kRows = 7;      // y = 0..6
+constexpr std::uint32_t kSlitRow = 3;   // the slit lies between rows 3 and 4 ...
+constexpr std::uint32_t kSlitFirst = 2;  // ... from x = 2 to x = 8
+constexpr std::uint32_t kSlitLast = 8;
+
+std::uint32_t Vertex(std::uint32_t x, std::uint32_t y) { return x + kColumns * y; }
+
+struct Sheet {
+  std::vector<glm::vec3> neutral;
+  std::vector<facerig::Triangle> triangles;
+  std::vector<std::uint32_t> component;
+};
+
+Sheet MakeSheet(bool slit) {
+  Sheet sheet;
+  for (std::uint32_t y = 0; y < kRows; ++y) {
+    for (std::uint32_t x = 0; x < kColumns; ++x) sheet.neutral.emplace_back(x, y, 0.0f);
+  }
+  for (std::uint32_t y = 0; y + 1 < kRows; ++y) {
+    for (std::uint32_t x = 0; x + 1 < kColumns; ++x) {
+      if (slit && y == kSlitRow && x >= kSlitFirst && x < kSlitLast) continue;
+      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y), Vertex(x + 1, y + 1)});
+      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y + 1), Vertex(x, y + 1)});
+    }
+  }
+  facerig::ConnectedComponents(sheet.neutral.size(), sheet.triangles, sheet.component);
+  return sheet;
+}
+
+// The rows above the slit come down: the slit's upper edge by 0.98 (it stops
+// 0.02 above the lower edge), the row above it half as far, away from the
+// slit's ends.
+std::vector<glm::vec3> CloseSlit(const Sheet& sheet) {
+  std::vector<glm::vec3> expression = sheet.neutral;
+  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
+    expression[Vertex(x, kSlitRow + 1)].y -= 0.98f;
+    expression[Vertex(x, kSlitRow + 2)].y -= 0.49f;
+  }
+  return expression;
+}
+
+}  // namespace
+
+TEST_CASE("Expression contacts: a slit closing is a contact", "[expression_contacts]") {
+  const Sheet sheet = MakeSheet(true);
+  const std::vector<glm::vec3> expression = CloseSlit(sheet);
+  const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
+  const std::vector<char> free(sheet.neutral.size(), 1);
+  std::vector<facerig::ExpressionContact> contacts;
+  facerig::ExpressionContactFinder::Scratch scratch;
+  finder.Find(expression, 0.98f, free, contacts, scratch);
+  // Each vertex of the upper edge meets the one below it, 0.02 above it.
+  REQUIRE(contacts.size() == kSlitLast - kSlitFirst - 1);
+  for (const facerig::ExpressionContact& contact : contacts) {
+    const std::uint32_t x = contact.moving % kColumns;
+    CHECK(contact.moving == Vertex(x, kSlitRow + 1));
+    CHECK(contact.partner == Vertex(x, kSlitRow));
+    CHECK(glm::length(contact.offset - glm::vec3(0.0f, 0.02f, 0.0f)) < 1e-5f);
+  }
+  // Vertices not taken as moving ends make no contact.
+  std::vector<char> none(sheet.neutral.size(), 0);
+  finder.Find(expression, 0.98f, none, contacts, scratch);
+  CHECK(contacts.empty());
+  // The same scratch gives the same answer again (its path marks are reset).
+  finder.Find(expression, 0.98f, free, contacts, scratch);
+  CHECK(contacts.size() == kSlitLast - kSlitFirst - 1);
+}
+
+TEST_CASE("Expression contacts: skin pressed together without an opening is none", "[expression_contacts]") {
+  const Sheet sheet = MakeSheet(false);
+  const std::vector<glm::vec3> expression = CloseSlit(sheet);
+  const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
+  const std::vector<char> free(sheet.neutral.size(), 1);
+  std::vector<facerig::ExpressionContact> contacts;
+  facerig::ExpressionContactFinder::Scratch scratch;
+  finder.Find(expression, 0.98f, free, contacts, scratch);
+  CHECK(contacts.empty());
+}
+
+TEST_CASE("Expression contacts: a surface between the pair blocks the contact", "[expression_contacts]") {
+  // The slit sheet plus a flap of the same part standing in the slit: the
+  // upper edge would pass through it.
+  Sheet sheet = MakeSheet(true);
+  const auto first_flap = static_cast<std::uint32_t>(sheet.neutral.size());
+  sheet.neutral.emplace_back(kSlitFirst, kSlitRow + 0.5f, -1.0f);
+  sheet.neutral.emplace_back(kSlitLast, kSlitRow + 0.5f, -1.0f);
+  sheet.neutral.emplace_back(kSlitLast, kSlitRow + 0.5f, 1.0f);
+  sheet.neutral.emplace_back(kSlitFirst, kSlitRow + 0.5f, 1.0f);
+  sheet.triangles.push_back({first_flap, first_flap + 1, first_flap + 2});
+  sheet.triangles.push_back({first_flap, first_flap + 2, first_flap + 3});
+  // Joined to the sheet at one corner, far from the slit's middle.
+  sheet.triangles.push_back({first_flap, Vertex(kSlitFirst, kSlitRow), Vertex(kSlitFirst, kSlitRow + 1)});
+  facerig::ConnectedComponents(sheet.neutral.size(), sheet.triangles, sheet.component);
+  REQUIRE(sheet.component[first_flap] == sheet.component[0]);
+  std::vector<glm::vec3> expression = CloseSlit(sheet);
+  const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
+  const std::vector<char> free(sheet.neutral.size(), 1);
+  std::vector<facerig::ExpressionContact> contacts;
+  facerig::ExpressionContactFinder::Scratch scratch;
+  finder.Find(expression, 0.98f, free, contacts, scratch);
+  CHECK(contacts.empty());
+}
