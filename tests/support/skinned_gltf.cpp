@@ -9,6 +9,7 @@
 #include <iterator>
 #include <map>
 #include <string>
+#include <string_view>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -16,6 +17,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "facerig/runtime/io/atomic_file.h"
+#include "support/base64.h"
 
 namespace facerig::test {
 namespace {
@@ -28,39 +30,6 @@ constexpr std::array<unsigned char, 76> kPng = {
     0x00, 0x00, 0x13, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9C, 0x63, 0xF8, 0xCF, 0xC0, 0xC0, 0x00, 0xC2, 0x0C,
     0xFF, 0x81, 0x80, 0x01, 0x00, 0x25, 0xE9, 0x05, 0xFB, 0xA8, 0x7D, 0xF2, 0x2D, 0x00, 0x00, 0x00, 0x00,
     0x49, 0x45, 0x4E, 0x44, 0xAE, 0x42, 0x60, 0x82};
-
-constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
-std::string Base64(std::span<const unsigned char> data) {
-  std::string out;
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    std::uint32_t chunk = std::uint32_t{data[i]} << 16;
-    if (i + 1 < data.size()) chunk |= std::uint32_t{data[i + 1]} << 8;
-    if (i + 2 < data.size()) chunk |= data[i + 2];
-    out += kBase64[(chunk >> 18) & 63];
-    out += kBase64[(chunk >> 12) & 63];
-    out += i + 1 < data.size() ? kBase64[(chunk >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kBase64[chunk & 63] : '=';
-  }
-  return out;
-}
-
-std::vector<unsigned char> FromBase64(const std::string& text) {
-  std::vector<unsigned char> out;
-  std::uint32_t bits = 0;
-  int count = 0;
-  for (char c : text) {
-    const char* found = std::strchr(kBase64, c);
-    if (c == '=' || c == '\0' || found == nullptr) break;
-    bits = (bits << 6) | static_cast<std::uint32_t>(found - kBase64);
-    count += 6;
-    if (count >= 8) {
-      count -= 8;
-      out.push_back(static_cast<unsigned char>((bits >> count) & 0xFF));
-    }
-  }
-  return out;
-}
 
 // Accessors and views appended to one buffer, as an exporter lays them out.
 class Builder {
@@ -206,11 +175,11 @@ void WriteSkinnedGltf(const std::filesystem::path& path, const std::vector<Skinn
     image["bufferView"] = b.View(kPng);
     image["mimeType"] = "image/png";
   } else {
-    image["uri"] = "data:image/png;base64," + Base64(kPng);
+    image["uri"] = "data:image/png;base64," + Base64Encode(kPng);
   }
 
   json buffer = {{"byteLength", b.data_.size()}};
-  if (!binary) buffer["uri"] = "data:application/octet-stream;base64," + Base64(b.data_);
+  if (!binary) buffer["uri"] = "data:application/octet-stream;base64," + Base64Encode(b.data_);
   json document = {
       {"asset", {{"version", "2.0"}, {"generator", "facerig test exporter"}}},
       {"extensionsUsed", {"KHR_materials_emissive_strength"}},
@@ -285,7 +254,7 @@ GltfFile ReadGltfFile(const std::filesystem::path& path) {
   for (const json& buffer : file.document["buffers"]) {
     const std::string uri = buffer.value("uri", "");
     const std::size_t comma = uri.find(',');
-    file.buffers.push_back(uri.empty() ? bin : FromBase64(uri.substr(comma + 1)));
+    file.buffers.push_back(uri.empty() ? bin : Base64Decode(std::string_view(uri).substr(comma + 1)));
   }
   return file;
 }

@@ -18,6 +18,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "support/base64.h"
 #include "support/gltf_validator.h"
 #include "support/test_meshes.h"
 
@@ -85,21 +86,6 @@ std::size_t ElementOffset(const Glb& glb, int accessor, std::size_t element, std
   const json& view = glb.document["bufferViews"][a["bufferView"].get<int>()];
   return glb.bin_start + view.value("byteOffset", std::size_t{0}) + a.value("byteOffset", std::size_t{0}) +
          element * element_size;
-}
-
-std::string Base64(const std::vector<unsigned char>& data) {
-  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < data.size(); i += 3) {
-    std::uint32_t chunk = std::uint32_t{data[i]} << 16;
-    if (i + 1 < data.size()) chunk |= std::uint32_t{data[i + 1]} << 8;
-    if (i + 2 < data.size()) chunk |= data[i + 2];
-    out += kAlphabet[(chunk >> 18) & 63];
-    out += kAlphabet[(chunk >> 12) & 63];
-    out += i + 1 < data.size() ? kAlphabet[(chunk >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kAlphabet[chunk & 63] : '=';
-  }
-  return out;
 }
 
 // The kind of IoError that reading `path` throws (nullopt when it reads), and
@@ -298,7 +284,7 @@ TEST_CASE("gltf: reads dense targets, separate vertex sets and defaults", "[gltf
   json document = {
       {"asset", {{"version", "2.0"}}},
       {"buffers",
-       {{{"byteLength", data.size()}, {"uri", "data:application/octet-stream;base64," + Base64(data)}}}},
+       {{{"byteLength", data.size()}, {"uri", "data:application/octet-stream;base64," + test::Base64Encode(data)}}}},
       {"bufferViews", {view(0, 48), view(48, 36), view(84, 48), view(132, 36), view(168, 6)}},
       {"accessors",
        {vec3(0, 4),
