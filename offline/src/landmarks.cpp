@@ -18,6 +18,7 @@
 #include <glm/mat3x3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "eye_openings.h"
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/registration_error.h"
 #include "facerig/offline/rigid_align.h"
@@ -253,101 +254,6 @@ struct Detection {
   dlib::rectangle rect;
   bool found() const { return std::isfinite(score); }
 };
-
-// Boundary loops of the mesh (holes: eye openings, an open mouth, the neck),
-// as vertex chains. Non-manifold corners end a chain early.
-std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3> positions,
-                                                     std::span<const Triangle> triangles) {
-  std::vector<std::uint64_t> keys;
-  keys.reserve(triangles.size() * 3);
-  auto key = [](std::uint32_t a, std::uint32_t b) {
-    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-  };
-  for (const Triangle& t : triangles) {
-    for (std::size_t e = 0; e < 3; ++e) keys.push_back(key(t[e], t[(e + 1) % 3]));
-  }
-  std::sort(keys.begin(), keys.end());
-  constexpr std::uint32_t kNone = 0xffffffffu;
-  std::vector<std::uint32_t> next(positions.size(), kNone);
-  for (const Triangle& t : triangles) {
-    for (std::size_t e = 0; e < 3; ++e) {
-      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
-      if (a == b) continue;
-      const auto range = std::equal_range(keys.begin(), keys.end(), key(a, b));
-      if (range.second - range.first == 1 && next[a] == kNone) next[a] = b;
-    }
-  }
-  std::vector<std::uint8_t> visited(positions.size(), 0);
-  std::vector<std::vector<std::uint32_t>> loops;
-  for (std::uint32_t start = 0; start < next.size(); ++start) {
-    if (next[start] == kNone || visited[start]) continue;
-    std::vector<std::uint32_t> loop;
-    std::uint32_t v = start;
-    while (v != kNone && !visited[v]) {
-      visited[v] = 1;
-      loop.push_back(v);
-      v = next[v];
-    }
-    if (v == start && loop.size() >= 6) loops.push_back(std::move(loop));
-  }
-  return loops;
-}
-
-// Paper 004, section 3.3: where an eye is an opening in the mesh, its
-// corners are the ends of the opening's first principal axis (dlib's corner
-// points wander along the lid margins). Returns how many corners moved.
-int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                      std::vector<glm::vec3>& points) {
-  const std::vector<std::vector<std::uint32_t>> loops = BoundaryLoops(positions, triangles);
-  int moved = 0;
-  for (const auto& [first, last] : {std::pair<std::size_t, std::size_t>{36, 39}, {42, 45}}) {
-    glm::vec3 centre(0.0f);
-    for (std::size_t k = first; k < first + 6; ++k) centre += points[k] / 6.0f;
-    const float width = glm::length(points[first] - points[last]);
-    const std::vector<std::uint32_t>* best = nullptr;
-    float best_distance = 0.5f * width;
-    for (const auto& loop : loops) {
-      glm::vec3 c(0.0f);
-      float extent = 0.0f;
-      for (std::uint32_t v : loop) c += positions[v] / static_cast<float>(loop.size());
-      for (std::uint32_t v : loop) extent = std::max(extent, glm::length(positions[v] - c));
-      const float distance = glm::length(c - centre);
-      if (distance < best_distance && extent < 1.0f * width && extent > 0.25f * width) {
-        best_distance = distance;
-        best = &loop;
-      }
-    }
-    if (best == nullptr) continue;
-    glm::vec3 c(0.0f);
-    for (std::uint32_t v : *best) c += positions[v] / static_cast<float>(best->size());
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (std::uint32_t v : *best) {
-      const glm::vec3 d = positions[v] - c;
-      const Eigen::Vector3d e(d.x, d.y, d.z);
-      covariance += e * e.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-    const Eigen::Vector3d axis = eigen.eigenvectors().col(2);  // largest eigenvalue
-    const glm::vec3 width_axis(static_cast<float>(axis.x()), static_cast<float>(axis.y()),
-                               static_cast<float>(axis.z()));
-    std::uint32_t lo = (*best)[0], hi = (*best)[0];
-    for (std::uint32_t v : *best) {
-      if (glm::dot(positions[v] - c, width_axis) < glm::dot(positions[lo] - c, width_axis)) lo = v;
-      if (glm::dot(positions[v] - c, width_axis) > glm::dot(positions[hi] - c, width_axis)) hi = v;
-    }
-    const bool lo_is_first = glm::length(positions[lo] - points[first]) + glm::length(positions[hi] - points[last]) <
-                             glm::length(positions[hi] - points[first]) + glm::length(positions[lo] - points[last]);
-    const glm::vec3 new_first = positions[lo_is_first ? lo : hi];
-    const glm::vec3 new_last = positions[lo_is_first ? hi : lo];
-    // Only a small correction: a far-away extreme means the loop is not this eye.
-    if (glm::length(new_first - points[first]) < 0.3f * width && glm::length(new_last - points[last]) < 0.3f * width) {
-      points[first] = new_first;
-      points[last] = new_last;
-      moved += 2;
-    }
-  }
-  return moved;
-}
 
 }  // namespace
 
@@ -628,7 +534,10 @@ LandmarkResult LandmarkDetector::Detect(std::span<const glm::vec3> positions,
     result.landmarks.indices[k] = static_cast<std::uint32_t>(k);
     result.pixels[k] = pixel;
   }
-  if (params.correct_eye_corners) {
+  if (params.fit_eyes_to_openings) {
+    result.eyes_fitted = FitEyesToOpenings(positions, triangles, result.landmarks.points);
+  }
+  if (params.correct_eye_corners && result.eyes_fitted < 2) {
     result.corrected = CorrectEyeCorners(positions, triangles, result.landmarks.points);
   }
   result.views_tried = impl.views_tried;

@@ -158,6 +158,24 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
         use_landmarks ? std::span<const glm::vec3>(target_landmarks) : std::span<const glm::vec3>(),
         params.rigid, nullptr);
     result.rigid = rigid.transform;
+    // Landmarks laid out unlike a face's (a grid on a sheet) can make the
+    // best similarity shrink the template to a point.
+    if (use_landmarks) {
+      auto spread = [](std::span<const glm::vec3> points) {
+        glm::vec3 centre(0.0f);
+        for (const glm::vec3& p : points) centre += p / static_cast<float>(points.size());
+        double sum = 0.0;
+        for (const glm::vec3& p : points) sum += glm::dot(p - centre, p - centre);
+        return std::sqrt(sum / static_cast<double>(points.size()));
+      };
+      const double expected_scale = spread(target_landmarks) / spread(source_landmarks);
+      if (!(result.rigid.scale > 0.01 * expected_scale)) {
+        throw InvalidInputError("non-rigid ICP: the landmarks do not match the template's: aligning them shrinks "
+                                "the template to a point (scale " + std::to_string(result.rigid.scale) +
+                                ", landmark residual " + std::to_string(rigid.landmark_rms) +
+                                "); is the target a face, and are the landmarks right?");
+      }
+    }
   }
   result.timings.rigid_seconds = Seconds(rigid_start);
 

@@ -76,13 +76,17 @@ int RunLandmarksCommand(int argc, char** argv) {
     const LandmarkResult result = detector.Detect(mesh.positions, mesh.triangles);
     if (!debug_png.empty()) WritePng(debug_png, DrawLandmarks(result));
     WriteLandmarksJson(output, result.landmarks);
-    std::printf("wrote %s (68 landmarks; %d views tried, %d snapped off holes, detector score %.2f; %.3f s)\n",
-                output.c_str(), result.views_tried, result.snapped, result.detector_score, result.seconds);
+    std::printf(
+        "wrote %s (68 landmarks; %d views tried, %d snapped off holes, %d eyes fitted to openings, detector score "
+        "%.2f; %.3f s)\n",
+        output.c_str(), result.views_tried, result.snapped, result.eyes_fitted, result.detector_score,
+        result.seconds);
     if (!report_path.empty()) {
       nlohmann::json report;
       report["mesh"] = mesh_path;
       report["vertices"] = mesh.positions.size();
       report["views_tried"] = result.views_tried;
+      report["eyes_fitted_to_openings"] = result.eyes_fitted;
       report["snapped"] = result.snapped;
       report["detector_score"] = result.detector_score;
       report["seconds"] = {{"load_mesh", load_seconds}, {"load_model", model_seconds}, {"detect", result.seconds}};

@@ -135,45 +135,24 @@ float SideOfShape(const Rig& rig, std::string_view name) {
   return weighted_x > 0.0 ? 1.0f : -1.0f;
 }
 
-// dlib's eye points (36-41: the eye at -x, outer corner first, upper lid,
-// inner corner, lower lid; 42-47 the other) at thirds of the head's lid margins.
-void SetEyePointsFromLidMargins(std::span<const glm::vec3> positions, const DefaultHeadFeatures& features,
-                                FaceLandmarks& landmarks) {
-  for (int side = 0; side < 2; ++side) {
-    const std::size_t eye = (features.eye_centres[0].x < 0.0f) == (side == 0) ? 0 : 1;
-    // Margin points ordered by x: at fraction f from the -x end.
-    auto at = [&](const std::vector<std::uint32_t>& margin, float f) {
-      const bool increasing = positions[margin.front()].x < positions[margin.back()].x;
-      const float g = increasing ? f : 1.0f - f;
-      return positions[margin[static_cast<std::size_t>(g * static_cast<float>(margin.size() - 1) + 0.5f)]];
-    };
-    const std::size_t first = side == 0 ? 36 : 42;
-    // Side 0: 37, 38 run from the outer (-x) end inwards; side 1 (43, 44) from the inner (-x) end outwards:
-    // both run along +x, so thirds from the -x end in order. 40, 41 run back along -x.
-    landmarks.points[first + 1] = at(features.upper_lid[eye], 1.0f / 3.0f);
-    landmarks.points[first + 2] = at(features.upper_lid[eye], 2.0f / 3.0f);
-    landmarks.points[first + 4] = at(features.lower_lid[eye], 2.0f / 3.0f);
-    landmarks.points[first + 5] = at(features.lower_lid[eye], 1.0f / 3.0f);
-  }
-}
-
 }  // namespace
 
 TEST_CASE("(shared data) build: the ICT template onto the built-in default head, another topology, with detected "
-          "landmarks (eye points from its lid margins): eyes blink, the jaw opens, the smile is on its side",
+          "landmarks: eyes blink, the jaw opens, the smile is on its side",
           "[shared-data]") {
   const Rig& ict = test::IctRig();
   DefaultHeadFeatures features;
   RawRig head = RigBuilder::ToRaw(BuildDefaultHead(&features));
   head.shapes.clear();  // only the template's shapes, none of the head's own
 
+  // dlib misses this stylized head's eyes (2.8 cm wide against 2.1, the
+  // upper lids on the brows); its eyes are holes in the skin, and the eye
+  // points go onto their margins (LandmarkParams::fit_eyes_to_openings).
+  // Without that, the template's eye opening registered above the head's and
+  // its blink did not close the head's eyes.
   LandmarkDetector detector;
-  LandmarkResult detected = detector.Detect(head.positions, head.triangles);
-  // dlib places the lids of this plain, lid-less head about 4 mm too high
-  // (measured), which registers the template's eye opening above the head's:
-  // as a user would, the eye points come from a manual file, here the head's
-  // own lid margins; the rest stays detected.
-  SetEyePointsFromLidMargins(head.positions, features, detected.landmarks);
+  const LandmarkResult detected = detector.Detect(head.positions, head.triangles);
+  CHECK(detected.eyes_fitted == 2);
   const BuildRigResult built =
       BuildRig(ict, head, PairLandmarks(IctLandmarkVertices(), detected.landmarks));
   const std::optional<Rig> rig = RigBuilder::Build(built.rig);
@@ -193,7 +172,9 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
     const double other_after = MeanPairGap(closed, features.upper_lid[1 - eye], features.lower_lid[1 - eye]);
     std::printf("default head %s: lid gap %.3f -> %.3f cm (other eye %.3f -> %.3f)\n", blink, open_gap, closed_gap,
                 other_open, other_after);
-    CHECK(closed_gap < 0.5 * open_gap);  // ICT's blink closes its own eye fully: see the closing note
+    // Measured: 0.586 -> 0.20 cm (0.19 with the eye points set by hand from
+    // the margins; 0.26 before the transfer kept the lids' contact).
+    CHECK(closed_gap < 0.4 * open_gap);
     CHECK(other_after > 0.9 * other_open);
   }
   const std::vector<glm::vec3> jaw_open = ApplyShape(*rig, "jawOpen");

@@ -1,0 +1,40 @@
+// Eye landmarks from the mesh's own eye openings. Where an eye is a hole in
+// the face mesh (a separate eyeball behind it: most game and scanned heads),
+// the hole's boundary is the lid margins, a better guide than a 2D detector
+// trained on photographs: on the built-in stylized head dlib put the eye
+// 2.8 cm wide and its lower lid 6 mm above the real margin.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "facerig/runtime/rig.h"
+
+namespace facerig {
+
+// Boundary loops of the mesh (holes: eye openings, an open mouth, the neck),
+// as vertex chains of at least 6 vertices. Non-manifold corners end a chain early.
+std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3> positions,
+                                                     std::span<const Triangle> triangles);
+
+// Paper 004, section 3.3: where an eye is an opening in the mesh, its
+// corners (dlib 36/39, 42/45) are the ends of the opening's first principal
+// axis. Moves only corners within 0.3 eye widths. Returns how many moved.
+int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                      std::vector<glm::vec3>& points);
+
+// All six points of each eye (dlib 36-41, 42-47) onto the opening near them:
+// the corners at the ends of its principal axis, the lid points on its upper
+// and lower chains at the detected points' places along that axis. An eye is
+// fitted to the largest opening whose centre lies within 0.75 of the detected
+// eye width of the detected eye's centre and whose size is 0.2 to 0.8 of that
+// width (an iris may be a hole too), unless a point would move farther than
+// 0.75 of the width (dlib put the stylized head's upper lid 1.7 cm high). points: the 68 landmarks. Returns how
+// many eyes were fitted.
+int FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                      std::vector<glm::vec3>& points);
+
+}  // namespace facerig
