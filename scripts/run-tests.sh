@@ -8,5 +8,7 @@ scripts/install-deps.sh
 build=${FACERIG_BUILD_DIR:-build}
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DFACERIG_WARNINGS_AS_ERRORS=ON \
   ${FACERIG_CMAKE_ARGS:-}
-cmake --build "$build" -j "$(nproc)"
+# FACERIG_BUILD_TARGETS (space-separated): build only these (CI's sanitizer
+# stage builds the test binaries, not the benchmark tool).
+cmake --build "$build" -j "$(nproc)" ${FACERIG_BUILD_TARGETS:+--target $FACERIG_BUILD_TARGETS}
 ctest --test-dir "$build" -j "$(nproc)" --output-on-failure "$@"
