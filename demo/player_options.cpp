@@ -28,7 +28,7 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
                       [--size WxH] [--duration S] [--lead-in S] [--say TEXT] [--hud] ...
 
   --rig FILE       .glb, .gltf, .frig or an OBJ template folder
-                   (default: data/default_head.frig, else ../shared/data/ict-facekit)
+                   (default: the built-in head the build generates, else ../shared/data/ict-facekit)
   --say TEXT       speak TEXT at start
   --voice V        espeak-ng voice / language (default en-us)
   --emotion E[:I]  joy, sadness, fear, anger, surprise or disgust at intensity I (default 0.7)
@@ -133,7 +133,7 @@ PlayerOptions ParseOptions(const std::vector<std::string>& args) {
 }
 
 std::filesystem::path DefaultRigPath() {
-  const std::filesystem::path default_head = std::filesystem::path(FACERIG_SOURCE_DIR) / "data/default_head.frig";
+  const std::filesystem::path default_head = FACERIG_DEFAULT_HEAD;
   std::error_code error;
   if (std::filesystem::exists(default_head, error)) return default_head;
   return std::filesystem::path(FACERIG_SHARED_DATA_DIR) / "ict-facekit";

@@ -52,7 +52,7 @@ struct PlayerOptions {
 PlayerOptions ParseOptions(const std::vector<std::string>& args);
 std::string UsageText();
 
-// data/default_head.frig in the source tree when it exists, else the
+// the built-in head the build generates (build/data/default_head.frig) when it exists, else the
 // ICT-FaceKit folder under the shared data directory.
 std::filesystem::path DefaultRigPath();
 

@@ -45,7 +45,7 @@ struct CrowdMember {
 
 int RunCrowdBenchmark(int argc, char** argv) {
   std::size_t count = 100;
-  std::string rig_path = std::string(FACERIG_SOURCE_DATA_DIR) + "/default_head.frig";
+  std::string rig_path = FACERIG_DEFAULT_HEAD;
   if (!std::filesystem::exists(rig_path)) rig_path = FACERIG_DEFAULT_ICT_DIR;
   std::string json_path;
   bool with_normals = false;

@@ -161,7 +161,7 @@ void Inspect(const facerig::Rig& rig) {
               dense * static_cast<double>(entry_bytes - 4) / 1e6);
 }
 
-// --- default-head: regenerates data/default_head.{glb,frig} (and previews) ---
+// --- default-head: writes default_head.{glb,frig} (the build runs it into build/data) and previews ---
 int DefaultHeadCommand(int argc, char** argv) {
   std::string out_dir, preview_dir;
   int preview_size = 256;

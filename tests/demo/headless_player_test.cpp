@@ -145,11 +145,8 @@ TEST_CASE("Player: headless Hello world on ICT-FaceKit (shared data)", "[demo][s
 }
 
 TEST_CASE("Player: headless Hello world on the default head", "[demo]") {
-  const std::filesystem::path rig = std::filesystem::path(FACERIG_SOURCE_DIR) / "data/default_head.frig";
-  if (!std::filesystem::exists(rig)) {
-    WARN("data/default_head.frig not found: skipping the default-head part");
-    return;
-  }
+  const std::filesystem::path rig = FACERIG_DEFAULT_HEAD;  // generated with the player
+  REQUIRE(std::filesystem::exists(rig));
   CheckHelloWorld(rig, "default_head");
 }
 

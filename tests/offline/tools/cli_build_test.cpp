@@ -45,7 +45,7 @@ test::CommandOutcome Build(const std::vector<std::string>& arguments) {
   return test::RunCommand(cli::RunBuildCommand, all);
 }
 
-fs::path DefaultHead() { return fs::path(FACERIG_SOURCE_DIR) / "data" / "default_head.frig"; }
+fs::path DefaultHead() { return FACERIG_DEFAULT_HEAD; }
 
 }  // namespace
 

@@ -70,7 +70,7 @@ void WriteSphere(const fs::path& path) {
   WriteObj(path, positions, {}, {}, triangles, {});
 }
 
-fs::path DefaultHead() { return fs::path(FACERIG_SOURCE_DIR) / "data" / "default_head.frig"; }
+fs::path DefaultHead() { return FACERIG_DEFAULT_HEAD; }
 
 // The ICT template as the cached .frig of the tests (support/test_meshes.h):
 // loads in ~0.1 s instead of importing 54 OBJs.
