@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/displacement_transfer.h"
+#include "margin_alignment.h"
 
 namespace facerig {
 namespace {
@@ -100,6 +101,20 @@ std::vector<Triangle> RegistrationTriangles(std::span<const glm::vec3> positions
     if (has_triangles[p] && area[p] < min_fraction * largest) ++parts_left_out;
   }
   return kept;
+}
+
+// The margins the mapping snaps the target's rims to: those aligned onto
+// the target's rims, with the direction towards their partner in the fit.
+std::vector<TemplateRim> TemplateRims(std::span<const OpeningMargin> margins, std::span<const std::uint32_t> aligned,
+                                      std::span<const glm::vec3> fitted) {
+  std::vector<TemplateRim> rims;
+  for (const OpeningMargin& margin : margins) {
+    if (!std::binary_search(aligned.begin(), aligned.end(), margin.vertex)) continue;
+    const glm::vec3 across = fitted[margin.partner] - fitted[margin.vertex];
+    const float length = glm::length(across);
+    if (length > 0.0f) rims.push_back({margin.vertex, across / length});
+  }
+  return rims;
 }
 
 }  // namespace
@@ -223,6 +238,16 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
         std::to_string(params.max_residual_mean_percent) + " %); is the target a face, and are the landmarks right?");
   }
 
+  MarginAlignmentResult aligned;
+  std::vector<OpeningMargin> margins;
+  if (params.align_margins_to_openings) {
+    margins = FindOpeningMargins(template_rig);
+    aligned = AlignMarginsToOpenings(result.registration.positions, template_rig.triangles(), margins,
+                                     target.positions, target.triangles);
+    result.margin_vertices_aligned = aligned.aligned_vertices;
+    result.margin_mean_correction = aligned.mean_correction;
+  }
+
   // 2. Transfer in the template's frame.
   const auto transfer_start = std::chrono::steady_clock::now();
   report("transfer", 0, 1);
@@ -273,8 +298,10 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
   std::string problem;
   std::optional<Rig> fitted_rig = RigBuilder::Build(fitted, &problem);
   if (!fitted_rig) throw InvalidInputError("the transferred template rig is invalid: " + problem);
+  const std::vector<TemplateRim> rims =
+      TemplateRims(margins, aligned.aligned, result.registration.positions);
   result.mapping = ComputeTopologyMapping(result.registration.positions, template_rig.triangles(), target.positions,
-                                          target.triangles, params.mapping);
+                                          target.triangles, params.mapping, rims);
   result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
   result.fitted_rig = std::move(fitted);
   result.timings.mapping_seconds = SecondsSince(mapping_start);

@@ -61,17 +61,9 @@ struct PartSurface {
   std::vector<std::uint32_t> template_triangle;
 };
 
-// Where each target vertex looks for its template point: the vertex itself,
-// or, on a boundary (the rim of a mouth or eye opening), a point `inset`
-// (target units) into its own lip or lid, along the surface towards its
-// neighbours. The rims are where a fitted template is least exact: the seam
-// of closed lips sits a millimetre off, so the rim vertex itself is as near
-// to the other lip as to its own, and would take the wrong lip's motion.
-std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                                   std::span<const glm::vec3> normals, float inset) {
-  std::vector<glm::vec3> queries(positions.begin(), positions.end());
-  if (inset <= 0.0f) return queries;
-  // Boundary edges: used by one triangle.
+// Vertices on the mesh's boundary (an edge used by one triangle): the rims
+// of mouth and eye openings, the neck.
+std::vector<std::uint8_t> BoundaryVertices(std::size_t vertex_count, std::span<const Triangle> triangles) {
   std::vector<std::uint64_t> edges;
   edges.reserve(triangles.size() * 3);
   for (const Triangle& t : triangles) {
@@ -81,7 +73,7 @@ std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::sp
     }
   }
   std::sort(edges.begin(), edges.end());
-  std::vector<std::uint8_t> on_boundary(positions.size(), 0);
+  std::vector<std::uint8_t> on_boundary(vertex_count, 0);
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
     while (j < edges.size() && edges[j] == edges[i]) ++j;
@@ -91,24 +83,111 @@ std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::sp
     }
     i = j;
   }
-  std::vector<glm::vec3> neighbour_sum(positions.size(), glm::vec3(0.0f));
+  return on_boundary;
+}
+
+// Per boundary vertex: the unit direction away from the rim into its own
+// lip or lid (towards its neighbours' centroid, in the tangent plane); zero
+// elsewhere.
+std::vector<glm::vec3> InwardFromRim(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                     std::span<const glm::vec3> normals, std::span<const std::uint8_t> on_boundary) {
+  std::vector<glm::vec3> inward(positions.size(), glm::vec3(0.0f));
   std::vector<float> neighbour_count(positions.size(), 0.0f);
   for (const Triangle& t : triangles) {
     for (std::size_t k = 0; k < 3; ++k) {
       if (!on_boundary[t[k]]) continue;
-      neighbour_sum[t[k]] += positions[t[(k + 1) % 3]] + positions[t[(k + 2) % 3]];
+      inward[t[k]] += positions[t[(k + 1) % 3]] + positions[t[(k + 2) % 3]];
       neighbour_count[t[k]] += 2.0f;
     }
   }
   for (std::size_t v = 0; v < positions.size(); ++v) {
     if (!on_boundary[v] || neighbour_count[v] == 0.0f) continue;
-    // Away from the rim: towards the neighbours' centroid, in the tangent plane.
-    glm::vec3 direction = neighbour_sum[v] / neighbour_count[v] - positions[v];
+    glm::vec3 direction = inward[v] / neighbour_count[v] - positions[v];
     direction -= glm::dot(direction, normals[v]) * normals[v];
     const float length = glm::length(direction);
-    if (length > 0.0f) queries[v] = positions[v] + (inset / length) * direction;
+    inward[v] = length > 0.0f ? direction / length : glm::vec3(0.0f);
   }
+  return inward;
+}
+
+// Where each target vertex looks for its template point: the vertex itself,
+// or, on a boundary (the rim of a mouth or eye opening), a point `inset`
+// (target units) into its own lip or lid. The rims are where a fitted
+// template is least exact: the seam of closed lips sits a millimetre off, so
+// the rim vertex itself is as near to the other lip as to its own, and would
+// take the wrong lip's motion.
+std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::span<const glm::vec3> inward,
+                                   float inset) {
+  std::vector<glm::vec3> queries(positions.begin(), positions.end());
+  for (std::size_t v = 0; v < positions.size(); ++v) queries[v] += inset * inward[v];
   return queries;
+}
+
+// An edge of the template between two rim vertices, as a side of one of its
+// triangles (slots first and second of triangle `triangle`), and the
+// direction from it into the opening.
+struct TemplateRimEdge {
+  std::uint32_t triangle;
+  std::uint8_t first;
+  std::uint8_t second;
+  glm::vec3 into_opening;
+};
+
+std::vector<TemplateRimEdge> TemplateRimEdges(std::span<const Triangle> triangles,
+                                              std::span<const TemplateRim> rims) {
+  std::vector<TemplateRimEdge> edges;
+  if (rims.empty()) return edges;
+  const auto rim_of = [&](std::uint32_t v) -> const TemplateRim* {
+    const auto it = std::lower_bound(rims.begin(), rims.end(), v,
+                                     [](const TemplateRim& r, std::uint32_t x) { return r.vertex < x; });
+    return it != rims.end() && it->vertex == v ? &*it : nullptr;
+  };
+  std::vector<std::uint64_t> seen;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (std::uint8_t e = 0; e < 3; ++e) {
+      const auto next = static_cast<std::uint8_t>((e + 1) % 3);
+      const std::uint32_t a = triangles[t][e], b = triangles[t][next];
+      const TemplateRim* rim_a = rim_of(a);
+      const TemplateRim* rim_b = rim_of(b);
+      // Both ends opening the same way (not across a lid corner).
+      if (!rim_a || !rim_b || glm::dot(rim_a->into_opening, rim_b->into_opening) < 0.5f) continue;
+      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+      seen.push_back(key);
+      const glm::vec3 sum = rim_a->into_opening + rim_b->into_opening;
+      const float length = glm::length(sum);
+      if (length > 0.0f) edges.push_back({static_cast<std::uint32_t>(t), e, next, sum / length});
+    }
+  }
+  return edges;
+}
+
+// The nearest point to p on the template's rim edges that open the way
+// `into_opening` does (cos >= min_facing), as a hit on the edge's triangle;
+// triangle -1 when none lies within max_distance.
+ClosestPointHit NearestOnRim(glm::vec3 p, glm::vec3 into_opening, std::span<const glm::vec3> fitted,
+                             std::span<const Triangle> triangles, std::span<const TemplateRimEdge> edges,
+                             float min_facing, float max_distance) {
+  ClosestPointHit best;
+  best.distance = max_distance;
+  for (const TemplateRimEdge& edge : edges) {
+    if (glm::dot(edge.into_opening, into_opening) < min_facing) continue;
+    const Triangle& t = triangles[edge.triangle];
+    const glm::vec3 a = fitted[t[edge.first]], b = fitted[t[edge.second]];
+    const glm::vec3 ab = b - a;
+    const float length2 = glm::dot(ab, ab);
+    const float along = length2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) : 0.0f;
+    const glm::vec3 point = a + along * ab;
+    const float distance = glm::length(p - point);
+    if (distance > best.distance) continue;
+    best.triangle = static_cast<std::int32_t>(edge.triangle);
+    best.barycentrics = glm::vec3(0.0f);
+    best.barycentrics[edge.first] = 1.0f - along;
+    best.barycentrics[edge.second] = along;
+    best.point = point;
+    best.distance = distance;
+  }
+  return best;
 }
 
 }  // namespace
@@ -117,7 +196,8 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
                                        std::span<const Triangle> template_triangles,
                                        std::span<const glm::vec3> target_positions,
                                        std::span<const Triangle> target_triangles,
-                                       const TopologyMappingParams& params) {
+                                       const TopologyMappingParams& params,
+                                       std::span<const TemplateRim> template_rims) {
   CheckTarget(target_positions, target_triangles);
   if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
     throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
@@ -174,8 +254,18 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
 
   std::vector<glm::vec3> target_normals(n);
   ComputeVertexNormals(target_positions, target_triangles, target_normals);
-  const std::vector<glm::vec3> queries =
-      QueryPoints(target_positions, target_triangles, target_normals, params.boundary_inset * diagonal);
+  const std::vector<std::uint8_t> on_boundary = BoundaryVertices(n, target_triangles);
+  const std::vector<glm::vec3> inward = InwardFromRim(target_positions, target_triangles, target_normals, on_boundary);
+  const std::vector<glm::vec3> queries = QueryPoints(target_positions, inward, params.boundary_inset * diagonal);
+  for (std::size_t i = 0; i < template_rims.size(); ++i) {
+    if (template_rims[i].vertex >= fitted_template.size() ||
+        (i > 0 && !(template_rims[i - 1].vertex < template_rims[i].vertex))) {
+      throw InvalidInputError("topology mapping: template rim vertex " + std::to_string(template_rims[i].vertex) +
+                              " out of range or out of order (" + std::to_string(fitted_template.size()) +
+                              " vertices)");
+    }
+  }
+  const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_rims);
 
   TopologyMapping mapping;
   mapping.triangle.resize(n);
@@ -185,7 +275,15 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
   for (std::size_t v = 0; v < n; ++v) {
     ClosestPointHit hit = nearest[v];
     const PartSurface* surface = surface_of_part[target_part_of_vertex[v]];
-    if (surface) {
+    const ClosestPointHit on_rim =
+        on_boundary[v] && !rim_edges.empty()
+            ? NearestOnRim(target_positions[v], -inward[v], fitted_template, template_triangles, rim_edges,
+                           params.rim_min_facing, params.rim_snap_distance * diagonal)
+            : ClosestPointHit{};
+    if (on_rim.triangle >= 0) {
+      hit = on_rim;
+      ++mapping.rim_vertices;
+    } else if (surface) {
       ClosestPointHit facing =
           surface->query->FindFacing(queries[v], target_normals[v], params.min_normal_dot, zero);
       if (facing.triangle < 0) {

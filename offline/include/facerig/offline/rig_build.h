@@ -65,6 +65,12 @@ struct BuildRigParams {
   // is at least this fraction of the largest part's (the skin; not separate
   // eyeballs, teeth or lashes, which the template has parts of its own for).
   double registration_min_part_area = 0.1;
+  // Before the transfer, move the fitted template's lid margins (vertices
+  // that meet across an opening in one of its expressions) onto the target's
+  // rims where the target's openings are holes (margin_alignment.h): the
+  // registration fits surfaces, not rims, and a margin left a millimetre off
+  // made the stylized head's blink stop short.
+  bool align_margins_to_openings = true;
   // Called with a stage name ("register", "transfer", "map") and progress in it.
   std::function<void(const char* stage, std::size_t done, std::size_t total)> progress;
 };
@@ -86,6 +92,10 @@ struct BuildRigResult {
   TopologyMapping mapping;
   std::size_t transfer_anchors = 0;  // deformation transfer: anchored vertices
   std::size_t target_parts_left_out = 0;  // small target parts not registered onto (BuildRig)
+  // align_margins_to_openings: template margin vertices moved onto a target
+  // rim, and their mean move (target units).
+  std::size_t margin_vertices_aligned = 0;
+  double margin_mean_correction = 0.0;
   // How far the fit moved the template's region from its rigidly aligned
   // shape: mean distance, % of the region's diagonal.
   double deformation_percent = 0.0;

@@ -42,6 +42,20 @@ struct TopologyMappingParams {
   // look for their template point this far (fraction of the fitted template's
   // diagonal; 0.003 is 1.4 mm on ICT-FaceKit) inside their own lip or lid.
   float boundary_inset = 0.003f;
+  // Target boundary vertices within this fraction of the fitted template's
+  // diagonal of a rim edge of the template (both ends in template_rims, see
+  // ComputeTopologyMapping) that opens the same way (cos >= rim_min_facing)
+  // take their point on that edge instead, with no inset: the upper rim of
+  // an eye or a mouth moves as the template's upper margin.
+  float rim_snap_distance = 0.002f;
+  float rim_min_facing = 0.5f;
+};
+
+// A fitted template vertex on the margin of an opening (an eyelid's, a lip's)
+// and the unit direction from it across the opening, in the target's frame.
+struct TemplateRim {
+  std::uint32_t vertex;
+  glm::vec3 into_opening;
 };
 
 struct TopologyMapping {
@@ -54,17 +68,20 @@ struct TopologyMapping {
   std::size_t partial_vertices = 0;  // 0 < weight < 1
   std::size_t unmapped_vertices = 0;  // weight 0
   std::size_t facing_fallbacks = 0;  // no facing triangle near: plain nearest used
+  std::size_t rim_vertices = 0;      // target boundary vertices mapped onto a template rim edge
   double mean_distance = 0.0;        // over full-weight vertices, target units
 };
 
 // fitted_template: template positions registered onto the target (target
-// frame and units); template_triangles: the template's triangles.
+// frame and units); template_triangles: the template's triangles;
+// template_rims: the template's margins, by increasing vertex, or empty.
 // \throw InvalidInputError on empty meshes, indices out of range, NaN.
 TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
                                        std::span<const Triangle> template_triangles,
                                        std::span<const glm::vec3> target_positions,
                                        std::span<const Triangle> target_triangles,
-                                       const TopologyMappingParams& params = {});
+                                       const TopologyMappingParams& params = {},
+                                       std::span<const TemplateRim> template_rims = {});
 
 // Per-vertex template values (deltas: #template vertices) -> per target vertex
 // (weight * barycentric interpolation). target_values gets #target vertices.

@@ -1,0 +1,274 @@
+#include "margin_alignment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <queue>
+#include <utility>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <glm/geometric.hpp>
+
+#include "expression_contacts.h"
+#include "facerig/offline/deformation_transfer.h"
+
+namespace facerig {
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+
+// A boundary edge of the target (used by one triangle: the rim of a hole) and
+// the direction from it into the hole, in its triangle's plane.
+struct RimEdge {
+  glm::vec3 a;
+  glm::vec3 b;
+  glm::vec3 into_opening;
+};
+
+std::vector<RimEdge> RimEdges(std::span<const glm::vec3> positions, std::span<const Triangle> triangles) {
+  struct Side {
+    std::uint64_t key;
+    std::uint32_t a, b, opposite;
+  };
+  std::vector<Side> sides;
+  sides.reserve(triangles.size() * 3);
+  for (const Triangle& t : triangles) {
+    for (std::size_t e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+      sides.push_back({key, a, b, t[(e + 2) % 3]});
+    }
+  }
+  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return x.key < y.key; });
+  std::vector<RimEdge> rims;
+  for (std::size_t i = 0; i < sides.size();) {
+    std::size_t j = i;
+    while (j < sides.size() && sides[j].key == sides[i].key) ++j;
+    if (j - i == 1) {
+      const glm::vec3 a = positions[sides[i].a], b = positions[sides[i].b];
+      const glm::vec3 edge = b - a;
+      glm::vec3 inward = positions[sides[i].opposite] - a;
+      const float edge_length2 = glm::dot(edge, edge);
+      if (edge_length2 > 0.0f) inward -= glm::dot(inward, edge) / edge_length2 * edge;
+      const float length = glm::length(inward);
+      if (length > 0.0f) rims.push_back({a, b, -inward / length});
+    }
+    i = j;
+  }
+  return rims;
+}
+
+glm::vec3 ClosestOnSegment(glm::vec3 p, glm::vec3 a, glm::vec3 b) {
+  const glm::vec3 ab = b - a;
+  const float length2 = glm::dot(ab, ab);
+  if (!(length2 > 0.0f)) return a;
+  return a + std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) * ab;
+}
+
+// Vertex neighbours over the triangles' edges (compressed rows).
+void Neighbours(std::size_t vertex_count, std::span<const Triangle> triangles, std::vector<std::uint32_t>& begin,
+                std::vector<std::uint32_t>& neighbours) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  pairs.reserve(triangles.size() * 6);
+  for (const Triangle& t : triangles) {
+    for (std::size_t e = 0; e < 3; ++e) {
+      pairs.emplace_back(t[e], t[(e + 1) % 3]);
+      pairs.emplace_back(t[(e + 1) % 3], t[e]);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  begin.assign(vertex_count + 1, 0);
+  for (const auto& [from, to] : pairs) ++begin[from + 1];
+  for (std::size_t v = 0; v < vertex_count; ++v) begin[v + 1] += begin[v];
+  neighbours.resize(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) neighbours[i] = pairs[i].second;
+}
+
+float Median(std::vector<float> values) {
+  if (values.empty()) return 0.0f;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+}  // namespace
+
+std::vector<OpeningMargin> FindOpeningMargins(const Rig& template_rig) {
+  const std::span<const glm::vec3> neutral = template_rig.positions();
+  const std::size_t n = neutral.size();
+  std::vector<std::uint32_t> component;
+  ConnectedComponents(n, template_rig.triangles(), component);
+  const ExpressionContactFinder finder(neutral, template_rig.triangles(), component);
+  ExpressionContactFinder::Scratch scratch;
+  const std::vector<char> every_vertex(n, 1);
+  std::vector<glm::vec3> expression;
+  std::vector<ExpressionContact> contacts;
+  std::vector<std::uint32_t> partner_of(n, kNone);
+  for (std::size_t s = 0; s < template_rig.shape_count(); ++s) {
+    const BlendShapeView shape = template_rig.shape(s);
+    expression.assign(neutral.begin(), neutral.end());
+    float largest = 0.0f;
+    for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+      expression[shape.vertex_indices[i]] += shape.position_deltas[i];
+      largest = std::max(largest, glm::length(shape.position_deltas[i]));
+    }
+    if (!(largest > 0.0f)) continue;
+    finder.Find(expression, largest, every_vertex, contacts, scratch);
+    for (const ExpressionContact& contact : contacts) {
+      if (partner_of[contact.moving] == kNone) partner_of[contact.moving] = contact.partner;
+      if (partner_of[contact.partner] == kNone) partner_of[contact.partner] = contact.moving;
+    }
+  }
+  std::vector<OpeningMargin> margins;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (partner_of[v] != kNone) margins.push_back({static_cast<std::uint32_t>(v), partner_of[v]});
+  }
+  return margins;
+}
+
+MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::span<const Triangle> template_triangles,
+                                             std::span<const OpeningMargin> margins,
+                                             std::span<const glm::vec3> target_positions,
+                                             std::span<const Triangle> target_triangles,
+                                             const MarginAlignmentParams& params) {
+  MarginAlignmentResult result;
+  const std::vector<RimEdge> rims = RimEdges(target_positions, target_triangles);
+  if (rims.empty() || margins.empty()) return result;
+
+  // Each margin vertex onto the nearest rim point that faces the same way.
+  const std::size_t n = fitted.size();
+  std::vector<std::optional<glm::vec3>> rim_point(n);
+  for (const OpeningMargin& margin : margins) {
+    const glm::vec3 p = fitted[margin.vertex];
+    const glm::vec3 across = fitted[margin.partner] - p;
+    const float opening = glm::length(across);
+    if (!(opening > 0.0f)) continue;
+    const glm::vec3 direction = across / opening;
+    float best = params.max_distance * opening;
+    for (const RimEdge& rim : rims) {
+      if (glm::dot(direction, rim.into_opening) < params.min_facing) continue;
+      const glm::vec3 x = ClosestOnSegment(p, rim.a, rim.b);
+      const float distance = glm::length(x - p);
+      if (distance < best) {
+        best = distance;
+        rim_point[margin.vertex] = x;
+      }
+    }
+  }
+  // Kept where the partner found a rim point too, across an opening of
+  // about the same size and direction: the stylized head's lips are a slit
+  // 0.5 mm wide, not the opening that ICT's lips roll across.
+  struct Match {
+    std::uint32_t vertex;
+    glm::vec3 correction;
+    float opening;
+  };
+  std::vector<Match> matches;
+  for (const OpeningMargin& margin : margins) {
+    if (!rim_point[margin.vertex] || !rim_point[margin.partner]) continue;
+    const glm::vec3 across = fitted[margin.partner] - fitted[margin.vertex];
+    const glm::vec3 rim_across = *rim_point[margin.partner] - *rim_point[margin.vertex];
+    const float opening = glm::length(across);
+    const float rim_opening = glm::length(rim_across);
+    if (rim_opening < params.min_opening_ratio * opening || rim_opening > opening / params.min_opening_ratio) continue;
+    if (glm::dot(across, rim_across) < params.min_facing * opening * rim_opening) continue;
+    matches.push_back({margin.vertex, *rim_point[margin.vertex] - fitted[margin.vertex], opening});
+  }
+  if (matches.empty()) return result;
+  std::vector<float> sizes, openings;
+  for (const Match& m : matches) {
+    sizes.push_back(glm::length(m.correction));
+    openings.push_back(m.opening);
+  }
+  const float limit = params.max_correction_over_median * Median(sizes);
+  std::erase_if(matches, [&](const Match& m) { return glm::length(m.correction) > limit; });
+  const float reach = params.reach * Median(openings);
+
+  // The band: vertices within `reach` of an aligned margin vertex along the
+  // template's edges (multi-source Dijkstra).
+  std::vector<std::uint32_t> begin, neighbours;
+  Neighbours(n, template_triangles, begin, neighbours);
+  constexpr std::int32_t kFixed = -2;
+  constexpr std::int32_t kOutside = -1;
+  std::vector<std::int32_t> unknown(n, kOutside);  // band vertex -> unknown index
+  std::vector<glm::vec3> correction(n, glm::vec3(0.0f));
+  std::vector<float> distance(n, std::numeric_limits<float>::infinity());
+  using Entry = std::pair<float, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  for (const Match& m : matches) {
+    unknown[m.vertex] = kFixed;
+    correction[m.vertex] = m.correction;
+    distance[m.vertex] = 0.0f;
+    queue.emplace(0.0f, m.vertex);
+  }
+  std::vector<std::uint32_t> band;
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    if (unknown[v] == kOutside) {
+      unknown[v] = static_cast<std::int32_t>(band.size());
+      band.push_back(v);
+    }
+    for (std::uint32_t k = begin[v]; k < begin[v + 1]; ++k) {
+      const std::uint32_t w = neighbours[k];
+      const float through_v = d + glm::length(fitted[w] - fitted[v]);
+      if (through_v < reach && through_v < distance[w]) {
+        distance[w] = through_v;
+        queue.emplace(through_v, w);
+      }
+    }
+  }
+
+  // Harmonic in the band (uniform weights): the aligned margins fixed, zero
+  // beyond the band.
+  if (!band.empty()) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(band.size()), 3);
+    for (std::size_t i = 0; i < band.size(); ++i) {
+      const std::uint32_t v = band[i];
+      const auto row = static_cast<Eigen::Index>(i);
+      triplets.emplace_back(row, row, static_cast<double>(begin[v + 1] - begin[v]));
+      for (std::uint32_t k = begin[v]; k < begin[v + 1]; ++k) {
+        const std::uint32_t w = neighbours[k];
+        if (unknown[w] >= 0) {
+          triplets.emplace_back(row, unknown[w], -1.0);
+        } else if (unknown[w] == kFixed) {
+          rhs.row(row) += Eigen::RowVector3d(correction[w].x, correction[w].y, correction[w].z);
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(band.size()),
+                                          static_cast<Eigen::Index>(band.size()));
+    laplacian.setFromTriplets(triplets.begin(), triplets.end());
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+    if (solver.info() == Eigen::Success) {
+      const Eigen::MatrixXd solution = solver.solve(rhs);
+      for (std::size_t i = 0; i < band.size(); ++i) {
+        const auto row = static_cast<Eigen::Index>(i);
+        correction[band[i]] = glm::vec3(static_cast<float>(solution(row, 0)), static_cast<float>(solution(row, 1)),
+                                        static_cast<float>(solution(row, 2)));
+      }
+    }
+  }
+  for (std::size_t v = 0; v < n; ++v) {
+    if (unknown[v] == kOutside) continue;
+    fitted[v] += correction[v];
+    if (glm::length(correction[v]) > 0.0f) ++result.moved_vertices;
+  }
+  result.aligned_vertices = matches.size();
+  for (const Match& m : matches) result.aligned.push_back(m.vertex);
+  std::sort(result.aligned.begin(), result.aligned.end());
+  for (const Match& m : matches) {
+    const double size = glm::length(m.correction);
+    result.mean_correction += size / static_cast<double>(matches.size());
+    result.max_correction = std::max(result.max_correction, size);
+  }
+  return result;
+}
+
+}  // namespace facerig

@@ -1,0 +1,123 @@
+// The fitted template's lid margins onto the target's rims
+// (offline/src/margin_alignment.h), on sheets with a slit: the template's
+// slit closes in its one expression; the target's slit is the same hole with
+// its rims moved.
+#include "margin_alignment.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+#include <optional>
+#include <vector>
+
+#include "facerig/runtime/rig_builder.h"
+
+namespace {
+
+constexpr std::uint32_t kColumns = 11;  // x = 0..10
+constexpr std::uint32_t kRows = 7;      // y = 0..6
+constexpr std::uint32_t kSlitRow = 3;   // the slit lies between rows 3 and 4 ...
+constexpr std::uint32_t kSlitFirst = 2;  // ... from x = 2 to x = 8
+constexpr std::uint32_t kSlitLast = 8;
+
+std::uint32_t Vertex(std::uint32_t x, std::uint32_t y) { return x + kColumns * y; }
+
+// A sheet whose rows lie at row_y[y]; with_slit: no triangles across the
+// slit, so it is a hole.
+facerig::RawRig MakeSheet(const std::vector<float>& row_y, bool with_slit) {
+  facerig::RawRig sheet;
+  for (std::uint32_t y = 0; y < kRows; ++y) {
+    for (std::uint32_t x = 0; x < kColumns; ++x) sheet.positions.emplace_back(x, row_y[y], 0.0f);
+  }
+  for (std::uint32_t y = 0; y + 1 < kRows; ++y) {
+    for (std::uint32_t x = 0; x + 1 < kColumns; ++x) {
+      if (with_slit && y == kSlitRow && x >= kSlitFirst && x < kSlitLast) continue;
+      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y), Vertex(x + 1, y + 1)});
+      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y + 1), Vertex(x, y + 1)});
+    }
+  }
+  return sheet;
+}
+
+const std::vector<float> kEvenRows = {0, 1, 2, 3, 4, 5, 6};
+
+// The template: the slit's upper edge comes down onto the lower one (a blink).
+facerig::Rig MakeTemplate() {
+  facerig::RawRig sheet = MakeSheet(kEvenRows, true);
+  std::vector<glm::vec3> deltas(sheet.positions.size(), glm::vec3(0.0f));
+  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
+    deltas[Vertex(x, kSlitRow + 1)].y = -0.98f;
+    deltas[Vertex(x, kSlitRow + 2)].y = -0.49f;
+  }
+  sheet.shapes.push_back(facerig::MakeSparseShape("blink", deltas, {}, 1e-6f));
+  std::optional<facerig::Rig> rig = facerig::RigBuilder::Build(sheet);
+  REQUIRE(rig.has_value());
+  return std::move(*rig);
+}
+
+}  // namespace
+
+TEST_CASE("Margin alignment: the template's closing slit is its margins", "[margin_alignment]") {
+  const facerig::Rig rig = MakeTemplate();
+  const std::vector<facerig::OpeningMargin> margins = facerig::FindOpeningMargins(rig);
+  // The upper edge's moving vertices and the lower edge's below them, each
+  // with the other as partner.
+  REQUIRE(margins.size() == 2 * (kSlitLast - kSlitFirst - 1));
+  for (const facerig::OpeningMargin& margin : margins) {
+    const std::uint32_t x = margin.vertex % kColumns;
+    const std::uint32_t y = margin.vertex / kColumns;
+    CHECK(x > kSlitFirst);
+    CHECK(x < kSlitLast);
+    CHECK(margin.partner == Vertex(x, y == kSlitRow ? kSlitRow + 1 : kSlitRow));
+  }
+}
+
+TEST_CASE("Margin alignment: margins go onto the target's rims, the sheet follows and fades",
+          "[margin_alignment]") {
+  const facerig::Rig rig = MakeTemplate();
+  const std::vector<facerig::OpeningMargin> margins = facerig::FindOpeningMargins(rig);
+  std::vector<glm::vec3> fitted(rig.positions().begin(), rig.positions().end());
+  // The target's slit is narrower: its lower rim 0.2 higher, its upper 0.1 lower.
+  const facerig::RawRig target = MakeSheet({0, 1, 2, 3.2f, 3.9f, 5, 6}, true);
+  facerig::MarginAlignmentParams params;
+  params.reach = 1.5f;  // openings (here 1): the rows next to the slit's, not the ones beyond
+  const facerig::MarginAlignmentResult result = facerig::AlignMarginsToOpenings(
+      fitted, rig.triangles(), margins, target.positions, target.triangles, params);
+  CHECK(result.aligned_vertices == margins.size());
+  CHECK(result.max_correction == Approx(0.2).margin(1e-5));
+  for (const facerig::OpeningMargin& margin : margins) {
+    // Onto the rim straight below or above.
+    CHECK(glm::length(fitted[margin.vertex] - target.positions[margin.vertex]) < 1e-5f);
+  }
+  // Outside the margins: the next rows move part of the way, in the same
+  // direction; 1.5 openings away along the edges, nothing moves.
+  const glm::vec3 above = fitted[Vertex(5, kSlitRow + 2)] - rig.positions()[Vertex(5, kSlitRow + 2)];
+  CHECK(above.y < 0.0f);
+  CHECK(above.y > -0.1f);
+  const glm::vec3 below = fitted[Vertex(5, kSlitRow - 1)] - rig.positions()[Vertex(5, kSlitRow - 1)];
+  CHECK(below.y > 0.0f);
+  CHECK(below.y < 0.2f);
+  for (std::uint32_t x = 0; x < kColumns; ++x) {
+    for (std::uint32_t y : {0u, 1u, kRows - 1}) CHECK(fitted[Vertex(x, y)] == rig.positions()[Vertex(x, y)]);
+  }
+}
+
+TEST_CASE("Margin alignment: no rim of a like opening, nothing moves", "[margin_alignment]") {
+  const facerig::Rig rig = MakeTemplate();
+  const std::vector<facerig::OpeningMargin> margins = facerig::FindOpeningMargins(rig);
+  SECTION("the target has no hole there") {
+    const facerig::RawRig target = MakeSheet(kEvenRows, false);
+    std::vector<glm::vec3> fitted(rig.positions().begin(), rig.positions().end());
+    const auto result =
+        facerig::AlignMarginsToOpenings(fitted, rig.triangles(), margins, target.positions, target.triangles);
+    CHECK(result.aligned_vertices == 0);
+    CHECK(std::equal(fitted.begin(), fitted.end(), rig.positions().begin()));
+  }
+  SECTION("the target's slit is a tenth as wide (lips that touch, not an open eye)") {
+    const facerig::RawRig target = MakeSheet({0, 1, 2, 3.45f, 3.55f, 5, 6}, true);
+    std::vector<glm::vec3> fitted(rig.positions().begin(), rig.positions().end());
+    const auto result =
+        facerig::AlignMarginsToOpenings(fitted, rig.triangles(), margins, target.positions, target.triangles);
+    CHECK(result.aligned_vertices == 0);
+    CHECK(std::equal(fitted.begin(), fitted.end(), rig.positions().begin()));
+  }
+}

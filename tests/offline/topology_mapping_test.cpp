@@ -1,0 +1,109 @@
+// Blend shapes onto the target's own vertices (topology_mapping.h): rim
+// vertices of an opening take the motion of the template's margin on their
+// side, not of a point inside their lid.
+#include "facerig/offline/topology_mapping.h"
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+#include <vector>
+
+namespace {
+
+constexpr std::uint32_t kColumns = 11;  // x = 0..10
+constexpr std::uint32_t kRows = 7;      // y = 0..6
+constexpr std::uint32_t kSlitRow = 3;   // a hole between rows 3 and 4 from x = 2 to 8
+constexpr std::uint32_t kSlitFirst = 2;
+constexpr std::uint32_t kSlitLast = 8;
+
+std::uint32_t Vertex(std::uint32_t x, std::uint32_t y) { return x + kColumns * y; }
+
+struct Sheet {
+  std::vector<glm::vec3> positions;
+  std::vector<facerig::Triangle> triangles;
+};
+
+Sheet MakeSlitSheet() {
+  Sheet sheet;
+  for (std::uint32_t y = 0; y < kRows; ++y) {
+    for (std::uint32_t x = 0; x < kColumns; ++x) sheet.positions.emplace_back(x, y, 0.0f);
+  }
+  for (std::uint32_t y = 0; y + 1 < kRows; ++y) {
+    for (std::uint32_t x = 0; x + 1 < kColumns; ++x) {
+      if (y == kSlitRow && x >= kSlitFirst && x < kSlitLast) continue;
+      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y), Vertex(x + 1, y + 1)});
+      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y + 1), Vertex(x, y + 1)});
+    }
+  }
+  return sheet;
+}
+
+// A blink: the slit's upper edge down by 0.98, the row above by half.
+std::vector<glm::vec3> BlinkDeltas() {
+  std::vector<glm::vec3> deltas(kColumns * kRows, glm::vec3(0.0f));
+  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
+    deltas[Vertex(x, kSlitRow + 1)].y = -0.98f;
+    deltas[Vertex(x, kSlitRow + 2)].y = -0.49f;
+  }
+  return deltas;
+}
+
+// The slit's edges as template rims, each towards the other edge; flipped:
+// the wrong way.
+std::vector<facerig::TemplateRim> SlitRims(bool flipped) {
+  std::vector<facerig::TemplateRim> rims;
+  const float sign = flipped ? -1.0f : 1.0f;
+  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) rims.push_back({Vertex(x, kSlitRow), {0, sign, 0}});
+  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) rims.push_back({Vertex(x, kSlitRow + 1), {0, -sign, 0}});
+  return rims;
+}
+
+std::vector<glm::vec3> MappedBlink(const Sheet& sheet, std::span<const facerig::TemplateRim> rims,
+                                   std::size_t* rim_vertices) {
+  const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(
+      sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, {}, rims);
+  *rim_vertices = mapping.rim_vertices;
+  std::vector<glm::vec3> mapped;
+  facerig::MapVertexValues(mapping, sheet.triangles, BlinkDeltas(), mapped);
+  return mapped;
+}
+
+}  // namespace
+
+TEST_CASE("Topology mapping: rim vertices take their own margin's motion", "[topology_mapping]") {
+  const Sheet sheet = MakeSlitSheet();  // the target is the template's own sheet
+  const std::vector<glm::vec3> template_deltas = BlinkDeltas();
+  std::size_t rim_vertices = 0;
+
+  // Without rims, a rim vertex looks from slightly inside its lid
+  // (boundary_inset) and moves less than the margin.
+  const std::vector<glm::vec3> plain = MappedBlink(sheet, {}, &rim_vertices);
+  CHECK(rim_vertices == 0);
+  const glm::vec3 upper_rim = plain[Vertex(5, kSlitRow + 1)];
+  CHECK(upper_rim.y > -0.97f);
+
+  // With them, every rim vertex along the margins moves exactly as its margin.
+  const std::vector<facerig::TemplateRim> rims = SlitRims(false);
+  const std::vector<glm::vec3> snapped = MappedBlink(sheet, rims, &rim_vertices);
+  CHECK(rim_vertices == rims.size());
+  for (const facerig::TemplateRim& rim : rims) {
+    CHECK(glm::length(snapped[rim.vertex] - template_deltas[rim.vertex]) < 1e-5f);
+  }
+
+  // Rims that open the other way are not the target rims' side: as without.
+  const std::vector<facerig::TemplateRim> flipped = SlitRims(true);
+  const std::vector<glm::vec3> wrong_way = MappedBlink(sheet, flipped, &rim_vertices);
+  CHECK(rim_vertices == 0);
+  CHECK(glm::length(wrong_way[Vertex(5, kSlitRow + 1)] - upper_rim) < 1e-6f);
+}
+
+TEST_CASE("Topology mapping: template rims out of range or out of order are refused", "[topology_mapping]") {
+  const Sheet sheet = MakeSlitSheet();
+  const std::vector<facerig::TemplateRim> out_of_range = {{kColumns * kRows, {0, 1, 0}}};
+  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
+                                                    sheet.triangles, {}, out_of_range),
+                    Catch::Contains("template rim vertex 77"));
+  const std::vector<facerig::TemplateRim> unordered = {{Vertex(4, 4), {0, -1, 0}}, {Vertex(3, 4), {0, -1, 0}}};
+  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
+                                                    sheet.triangles, {}, unordered),
+                    Catch::Contains("out of order"));
+}
