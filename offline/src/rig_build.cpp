@@ -238,6 +238,8 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
         std::to_string(params.max_residual_mean_percent) + " %); is the target a face, and are the landmarks right?");
   }
 
+  // The margin alignment counts as part of the transfer stage.
+  const auto transfer_start = std::chrono::steady_clock::now();
   MarginAlignmentResult aligned;
   std::vector<OpeningMargin> margins;
   if (params.align_margins_to_openings) {
@@ -249,7 +251,6 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
   }
 
   // 2. Transfer in the template's frame.
-  const auto transfer_start = std::chrono::steady_clock::now();
   report("transfer", 0, 1);
   const SimilarityTransform to_target = result.registration.rigid;
   const SimilarityTransform to_template = to_target.Inverse();
