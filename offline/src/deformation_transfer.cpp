@@ -183,7 +183,6 @@ struct DeformationTransferData::Impl {
     };
     std::vector<RigidFit> rigid_fits;
     std::vector<ExpressionContact> contacts;
-    std::vector<char> contact_free;  // free_index >= 0
     ExpressionContactFinder::Scratch contact_scratch;
     std::vector<Eigen::Triplet<double>> triplets;
     Eigen::SparseMatrix<double> system;
@@ -651,9 +650,7 @@ void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> 
     }
     // Contacts: w |x_moving - x_partner - offset|^2, a pinned end on the right-hand side.
     if (contact_finder) {
-      scratch.contact_free.resize(n);
-      for (std::size_t v = 0; v < n; ++v) scratch.contact_free[v] = scratch.free_index[v] >= 0;
-      contact_finder->Find(expression, std::sqrt(largest2), scratch.contact_free, scratch.contacts,
+      contact_finder->Find(expression, std::sqrt(largest2), scratch.free_index, scratch.contacts,
                            scratch.contact_scratch);
     }
     for (const ExpressionContact& contact : scratch.contacts) {

@@ -112,8 +112,8 @@ ExpressionContactFinder::ExpressionContactFinder(std::span<const glm::vec3> neut
 }
 
 void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float largest_motion,
-                                   std::span<const char> free, std::vector<ExpressionContact>& contacts,
-                                   Scratch& scratch) const {
+                                   std::span<const std::int32_t> free_index,
+                                   std::vector<ExpressionContact>& contacts, Scratch& scratch) const {
   contacts.clear();
   if (!(largest_motion > 0.0f)) return;
   const std::size_t n = expression.size();
@@ -123,7 +123,7 @@ void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float 
   glm::vec3 lo(std::numeric_limits<float>::max());
   glm::vec3 hi(-std::numeric_limits<float>::max());
   for (std::size_t u = 0; u < n; ++u) {
-    if (free[u] && glm::length(expression[u] - neutral_[u]) > moving_threshold) {
+    if (free_index[u] >= 0 && glm::length(expression[u] - neutral_[u]) > moving_threshold) {
       lo = glm::min(lo, expression[u]);
       hi = glm::max(hi, expression[u]);
     }
@@ -140,7 +140,7 @@ void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float 
   if (scratch.path_length.size() != n) scratch.path_length.assign(n, kUnvisited);
 
   for (std::uint32_t u = 0; u < n; ++u) {
-    if (!free[u]) continue;
+    if (free_index[u] < 0) continue;
     const glm::vec3 motion = expression[u] - neutral_[u];
     const float moved = glm::length(motion);
     if (!(moved > moving_threshold)) continue;

@@ -57,10 +57,12 @@ class ExpressionContactFinder {
                           std::span<const std::uint32_t> component_of_vertex);
 
   // The contacts of one expression (#V positions), whose largest vertex
-  // motion is largest_motion, into contacts (cleared first). Only vertices
-  // with free[u] != 0 are taken as moving ends (the rest are placed otherwise).
-  void Find(std::span<const glm::vec3> expression, float largest_motion, std::span<const char> free,
-            std::vector<ExpressionContact>& contacts, Scratch& scratch) const;
+  // motion is largest_motion, into contacts (cleared first). free_index
+  // (#V): the solve's unknown of each vertex, -1 where it is placed otherwise
+  // (pinned); only vertices with free_index[u] >= 0 are taken as moving ends.
+  void Find(std::span<const glm::vec3> expression, float largest_motion,
+            std::span<const std::int32_t> free_index, std::vector<ExpressionContact>& contacts,
+            Scratch& scratch) const;
 
  private:
   // True when the shortest edge path from u to v at rest is longer than limit.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <queue>
@@ -104,7 +105,7 @@ std::vector<OpeningMargin> FindOpeningMargins(const Rig& template_rig) {
   ConnectedComponents(n, template_rig.triangles(), component);
   const ExpressionContactFinder finder(neutral, template_rig.triangles(), component);
   ExpressionContactFinder::Scratch scratch;
-  const std::vector<char> every_vertex(n, 1);
+  const std::vector<std::int32_t> every_vertex(n, 0);  // each a moving end (free_index >= 0)
   std::vector<glm::vec3> expression;
   std::vector<ExpressionContact> contacts;
   std::vector<std::uint32_t> partner_of(n, kNone);

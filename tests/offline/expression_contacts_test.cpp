@@ -5,6 +5,8 @@
 #include "expression_contacts.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <numeric>
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 #include <vector>
@@ -55,13 +57,20 @@ std::vector<glm::vec3> CloseSlit(const Sheet& sheet) {
   return expression;
 }
 
+// Every vertex an unknown of the solve (free_index 0..n-1), so any may be a moving end.
+std::vector<std::int32_t> AllFree(std::size_t vertex_count) {
+  std::vector<std::int32_t> free_index(vertex_count);
+  std::iota(free_index.begin(), free_index.end(), 0);
+  return free_index;
+}
+
 }  // namespace
 
 TEST_CASE("Expression contacts: a slit closing is a contact", "[expression_contacts]") {
   const Sheet sheet = MakeSheet(true);
   const std::vector<glm::vec3> expression = CloseSlit(sheet);
   const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
-  const std::vector<char> free(sheet.neutral.size(), 1);
+  const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
   std::vector<facerig::ExpressionContact> contacts;
   facerig::ExpressionContactFinder::Scratch scratch;
   finder.Find(expression, 0.98f, free, contacts, scratch);
@@ -73,8 +82,8 @@ TEST_CASE("Expression contacts: a slit closing is a contact", "[expression_conta
     CHECK(contact.partner == Vertex(x, kSlitRow));
     CHECK(glm::length(contact.offset - glm::vec3(0.0f, 0.02f, 0.0f)) < 1e-5f);
   }
-  // Vertices not taken as moving ends make no contact.
-  std::vector<char> none(sheet.neutral.size(), 0);
+  // Pinned vertices (free_index -1) are not taken as moving ends: no contact.
+  const std::vector<std::int32_t> none(sheet.neutral.size(), -1);
   finder.Find(expression, 0.98f, none, contacts, scratch);
   CHECK(contacts.empty());
   // The same scratch gives the same answer again (its path marks are reset).
@@ -86,7 +95,7 @@ TEST_CASE("Expression contacts: skin pressed together without an opening is none
   const Sheet sheet = MakeSheet(false);
   const std::vector<glm::vec3> expression = CloseSlit(sheet);
   const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
-  const std::vector<char> free(sheet.neutral.size(), 1);
+  const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
   std::vector<facerig::ExpressionContact> contacts;
   facerig::ExpressionContactFinder::Scratch scratch;
   finder.Find(expression, 0.98f, free, contacts, scratch);
@@ -110,7 +119,7 @@ TEST_CASE("Expression contacts: a surface between the pair blocks the contact", 
   REQUIRE(sheet.component[first_flap] == sheet.component[0]);
   std::vector<glm::vec3> expression = CloseSlit(sheet);
   const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
-  const std::vector<char> free(sheet.neutral.size(), 1);
+  const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
   std::vector<facerig::ExpressionContact> contacts;
   facerig::ExpressionContactFinder::Scratch scratch;
   finder.Find(expression, 0.98f, free, contacts, scratch);
