@@ -136,7 +136,7 @@ struct DeformationTransferData::Impl {
   double still_fraction = 0.0;
   double rigid_tolerance = 0.0;
   double contact_weight = 0.0;  // absolute
-  std::optional<ExpressionContactFinder> contact_finder;  // with contact_weight > 0
+  std::optional<ExpressionContactFinder> contact_finder;  // with contact_weight > 0 (and still pinning)
   Eigen::SparseMatrix<double> full_system;
   std::vector<char> is_static_anchor;
   std::vector<std::uint32_t> component_of_vertex;
@@ -188,7 +188,7 @@ struct DeformationTransferData::Impl {
     Eigen::SparseMatrix<double> system;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   };
-  // One expression: returns the residual.
+  // One expression: returns the residual; scratch.contacts holds the contacts kept.
   double Solve(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
                Scratch& scratch) const;
   // The free vertices' positions with this expression's still vertices pinned.
@@ -513,6 +513,7 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   data.component_count = component_count;
   data.floating_components = impl->floating_parts.size();
   data.regularized_triangles = regularized;
+  data.contacts_active = impl->contact_finder.has_value();
   data.impl = std::move(impl);
   data.precompute_seconds = SecondsSince(start);
 }
@@ -521,6 +522,7 @@ double DeformationTransferData::Impl::Solve(std::span<const glm::vec3> expressio
                                            std::vector<glm::vec3>& out, Scratch& scratch) const {
   const std::size_t n = target_neutral.size();
   const Eigen::Index free_count = coupling.rows();
+  scratch.contacts.clear();
   // Right-hand side U^T S, accumulated per vertex (x y z contiguous).
   scratch.desired.resize(triangles.size());
   scratch.accumulated.assign(3 * n, 0.0);
@@ -824,6 +826,7 @@ DeformationTransferResult DeformationTransfer(
   result.anchor_count = data.anchor_count;
   result.floating_components = data.floating_components;
   result.regularized_triangles = data.regularized_triangles;
+  result.contacts_active = data.contacts_active;
   result.precompute_seconds = data.precompute_seconds;
   result.factorize_seconds = data.factorize_seconds;
 
@@ -831,6 +834,7 @@ DeformationTransferResult DeformationTransfer(
   const std::size_t count = source_expressions.size();
   result.expressions.resize(count);
   result.residuals.assign(count, 0.0);
+  result.contact_counts.assign(count, 0);
   const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(params.threads),
                                                     std::max<std::size_t>(count, 1));
   const DeformationTransferData::Impl& impl = *data.impl;
@@ -844,6 +848,7 @@ DeformationTransferResult DeformationTransfer(
       DeformationTransferData::Impl::Scratch scratch;
       for (std::size_t k = next++; k < count; k = next++) {
         result.residuals[k] = impl.Solve(source_expressions[k], result.expressions[k], scratch);
+        result.contact_counts[k] = scratch.contacts.size();
       }
     } catch (...) {
       failures[t] = std::current_exception();  // rethrown on the calling thread

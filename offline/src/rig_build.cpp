@@ -39,10 +39,11 @@ Units InferTargetUnits(Units template_units, double scale) {
 }
 
 // The template's expressions on `fitted` (template frame, template topology),
-// as sparse shapes, by the chosen method.
+// as sparse shapes, by the chosen method; the deformation transfer's anchor
+// and contact counts into built.
 std::vector<RawBlendShape> TransferExpressions(const Rig& template_rig, std::span<const glm::vec3> fitted,
                                                std::uint32_t region_vertex_count, const BuildRigParams& params,
-                                               std::size_t& anchors) {
+                                               BuildRigResult& built) {
   if (params.mode == BuildMode::kDisplacement) {
     const DisplacementMatrices matrices = ComputeDisplacementMatrices(template_rig);
     DisplacementTransferParams displacement;
@@ -56,7 +57,10 @@ std::vector<RawBlendShape> TransferExpressions(const Rig& template_rig, std::spa
   transfer.mode = params.mode == BuildMode::kClassic ? TransferMode::kClassic : TransferMode::kIdentityGradient;
   DeformationTransferResult result;
   RawRig transferred = TransferRig(template_rig, fitted, transfer, &result);
-  anchors = result.anchor_count;
+  built.transfer_anchors = result.anchor_count;
+  built.transfer_contacts_active = result.contacts_active;
+  built.transfer_contacts =
+      std::accumulate(result.contact_counts.begin(), result.contact_counts.end(), std::size_t{0});
   return std::move(transferred.shapes);
 }
 
@@ -269,8 +273,7 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
         "landmarks right?");
   }
   std::vector<RawBlendShape> shapes = TransferExpressions(template_rig, fitted_in_template,
-                                                          region_vertex_count, params,
-                                                          result.transfer_anchors);
+                                                          region_vertex_count, params, result);
   // The template-topology result in the template's frame (for averages,
   // caricatures and identity morphs of several fits).
   result.template_frame_rig = RigBuilder::ToRaw(template_rig);

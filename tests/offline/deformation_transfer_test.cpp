@@ -5,8 +5,10 @@
 #include <mutex>
 #include <random>
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
@@ -51,6 +53,27 @@ TinyMesh Grid(int n, float bump) {
     }
   }
   return mesh;
+}
+
+// Grid(11, 0) with a slit between rows 3 and 4 from x = 2 to x = 8, and an
+// expression closing it: the slit's upper edge comes down 0.98 (stopping 0.02
+// above its lower edge), the row above it half as far, away from the ends.
+TinyMesh SlitGrid() {
+  TinyMesh mesh = Grid(11, 0.0f);
+  std::erase_if(mesh.triangles, [&mesh](const facerig::Triangle& t) {
+    const glm::vec3 low = glm::min(mesh.positions[t[0]], glm::min(mesh.positions[t[1]], mesh.positions[t[2]]));
+    return low.y == 3.0f && low.x >= 2.0f && low.x < 8.0f;
+  });
+  return mesh;
+}
+
+std::vector<glm::vec3> CloseSlit(const TinyMesh& mesh) {
+  std::vector<glm::vec3> expression = mesh.positions;
+  for (glm::vec3& p : expression) {
+    if (p.x > 2.0f && p.x < 8.0f && p.y == 4.0f) p.y -= 0.98f;
+    if (p.x > 2.0f && p.x < 8.0f && p.y == 5.0f) p.y -= 0.49f;
+  }
+  return expression;
 }
 
 float MaxDistance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
@@ -316,6 +339,28 @@ TEST_CASE("What the template leaves still stays still, without static anchors", 
   CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, target.positions, source.triangles,
                                                expressions, params),
                   facerig::TransferInputError);
+}
+
+TEST_CASE("The result says whether contacts acted and how many pairs each expression kept",
+          "[deformation_transfer]") {
+  const TinyMesh source = SlitGrid();
+  REQUIRE(source.triangles.size() == 2 * 10 * 10 - 2 * 6);
+  std::vector<glm::vec3> target = source.positions;
+  for (glm::vec3& p : target) p.y *= 1.2f;  // a taller slit
+  const Meshes expressions{source.positions, CloseSlit(source)};
+  facerig::DeformationTransferParams params;
+  const facerig::DeformationTransferResult with_contacts =
+      facerig::DeformationTransfer(source.positions, target, source.triangles, expressions, params);
+  CHECK(with_contacts.contacts_active);
+  // The neutral closes nothing; the slit's 5 moving upper-edge vertices each meet the one below.
+  CHECK(with_contacts.contact_counts == std::vector<std::size_t>{0, 5});
+
+  SECTION("contact_weight 0 turns them off") { params.contact_weight = 0.0; }
+  SECTION("without still pinning they cannot act, and the result says so") { params.still_fraction = 0.0; }
+  const facerig::DeformationTransferResult without =
+      facerig::DeformationTransfer(source.positions, target, source.triangles, expressions, params);
+  CHECK_FALSE(without.contacts_active);
+  CHECK(without.contact_counts == std::vector<std::size_t>{0, 0});
 }
 
 TEST_CASE("Parts the template moves by one rigid motion move rigidly together", "[deformation_transfer]") {

@@ -129,7 +129,10 @@ struct DeformationTransferParams {
   // the system's mean diagonal. Gradients alone stop a lid short when the
   // target's eye is shaped differently: on ICT with its eyes opened 1.5x
   // taller, eyeBlink left a gap of 12% of the eye width (template 2.1%), 3.2%
-  // with contacts. 0: off.
+  // with contacts. 0: off. Without still pinning (still_fraction 0) no
+  // contacts are kept whatever this weight: the one factorization shared by
+  // all expressions cannot take each expression's own contacts (the
+  // result's contacts_active says whether they acted).
   double contact_weight = 10.0;
   // Worker threads for DeformationTransfer (>= 1).
   int threads = 2;
@@ -151,6 +154,8 @@ struct DeformationTransferData {
   std::size_t component_count = 0;     // connected parts of the mesh
   std::size_t floating_components = 0;  // parts anchored by their mean displacement
   std::size_t regularized_triangles = 0;  // needle / degenerate triangles clamped
+  // Contacts are kept: contact_weight > 0 and still pinning on (still_fraction > 0).
+  bool contacts_active = false;
   double factorize_seconds = 0.0;
   double precompute_seconds = 0.0;  // total, including the factorization
 
@@ -184,6 +189,12 @@ struct DeformationTransferResult {
   std::size_t anchor_count = 0;
   std::size_t floating_components = 0;
   std::size_t regularized_triangles = 0;
+  // Whether contacts acted (DeformationTransferData::contacts_active: false
+  // when contact_weight is 0 or still_fraction is 0), and per expression the
+  // contact pairs kept (0 where the template's expression closes no opening;
+  // all 0 when !contacts_active).
+  bool contacts_active = false;
+  std::vector<std::size_t> contact_counts;
   double precompute_seconds = 0.0;  // including the factorization
   double factorize_seconds = 0.0;
   double solve_seconds = 0.0;  // all expressions

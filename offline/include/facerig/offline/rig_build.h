@@ -91,6 +91,10 @@ struct BuildRigResult {
   NonrigidIcpResult registration;
   TopologyMapping mapping;
   std::size_t transfer_anchors = 0;  // deformation transfer: anchored vertices
+  // Deformation transfer: whether contacts acted (DeformationTransferResult::
+  // contacts_active; false in displacement mode), and the pairs kept over all expressions.
+  bool transfer_contacts_active = false;
+  std::size_t transfer_contacts = 0;
   std::size_t target_parts_left_out = 0;  // small target parts not registered onto (BuildRig)
   // align_margins_to_openings: template margin vertices moved onto a target
   // rim, and their mean move (target units).
