@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <random>
 #include <string>
@@ -481,6 +482,30 @@ TEST_CASE("Invalid inputs throw typed errors naming the mesh", "[deformation_tra
   std::vector<glm::vec3> out;
   CHECK_THROWS_AS(facerig::SolveDeformationTransfer(data, source.positions, out),
                   facerig::TransferInputError);
+}
+
+TEST_CASE("A negative, NaN or infinite contact_weight is refused, naming it", "[deformation_transfer]") {
+  // A transfer that keeps contacts when the weight is valid (still pinning on, a slit closing).
+  const TinyMesh source = SlitGrid();
+  const Meshes expressions{CloseSlit(source)};
+  facerig::DeformationTransferParams params;
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  for (const double weight : {-1.0, std::numeric_limits<double>::quiet_NaN(), kInfinity, -kInfinity}) {
+    INFO("contact_weight " << weight);
+    params.contact_weight = weight;
+    try {
+      facerig::DeformationTransfer(source.positions, source.positions, source.triangles, expressions, params);
+      FAIL_CHECK("no exception");
+    } catch (const facerig::TransferInputError& error) {
+      CHECK(error.mesh() == "params");
+      CHECK(std::string(error.what()).find("contact_weight") != std::string::npos);
+    } catch (const std::exception& error) {
+      FAIL_CHECK("not a TransferInputError: " << error.what());
+    }
+  }
+  params.contact_weight = 0.0;  // off, not an error
+  CHECK_NOTHROW(facerig::DeformationTransfer(source.positions, source.positions, source.triangles, expressions,
+                                             params));
 }
 
 TEST_CASE("TransferRig builds a rig with the template's shapes on the target", "[deformation_transfer]") {
