@@ -5,9 +5,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "cli_common.h"
@@ -25,48 +28,66 @@ constexpr const char* kBuildUsage =
     "usage: facerig build --template DIR|RIG --target MESH -o OUT.glb [--frig OUT.frig] [--obj-dir DIR]\n"
     "                     [--mode classic|identity|displacement] [--landmarks LM.json] [--json REPORT]\n"
     "                     [--units mm|cm|m] [--template-topology FIT.frig] [--shape-predictor F]\n"
+    "                     [--no-contacts] [--no-eye-fit]\n"
     "  Builds the template's blend shapes on the target mesh's own vertices: landmarks (detected, or\n"
     "  --landmarks) -> registration -> transfer (deformation transfer classic / identity-gradient, or\n"
     "  displacement matrices) -> mapped onto the target. --units: the target's units when its file does\n"
     "  not say (default: inferred from the registration's scale). --template-topology also writes the\n"
     "  rig on the template's vertices, in the template's frame and units (for average, caricature, morph).\n"
     "  A glTF target written to .glb/.gltf keeps its skin, nodes, materials, textures and animations: the\n"
-    "  output is the target's own document with the shapes added as morph targets.\n";
+    "  output is the target's own document with the shapes added as morph targets.\n"
+    "  --no-contacts: transfer without contacts (where a template expression closes an opening, as the\n"
+    "  lids on a blink, the target's closes as far). --no-eye-fit: keep the detector's eye landmarks\n"
+    "  instead of fitting them to the mesh's eye openings (holes in the skin).\n";
 
 struct BuildOptions {
   std::string template_path, target_path, output, frig, obj_dir, landmarks, report, shape_predictor,
       template_topology;
   BuildMode mode = BuildMode::kClassic;
   Units units = Units::kUnknown;
+  bool contacts = true;  // DeformationTransferParams::contact_weight left at its default, else 0
+  bool fit_eyes_to_openings = true;  // LandmarkParams::fit_eyes_to_openings
+};
+
+// The options whose value is a path, and where it goes.
+constexpr std::pair<std::string_view, std::string BuildOptions::*> kPathOptions[] = {
+    {"--template", &BuildOptions::template_path},
+    {"--target", &BuildOptions::target_path},
+    {"-o", &BuildOptions::output},
+    {"--frig", &BuildOptions::frig},
+    {"--template-topology", &BuildOptions::template_topology},
+    {"--obj-dir", &BuildOptions::obj_dir},
+    {"--landmarks", &BuildOptions::landmarks},
+    {"--json", &BuildOptions::report},
+    {"--shape-predictor", &BuildOptions::shape_predictor},
 };
 
 // Returns false (after printing why) on a bad command line.
 bool ParseBuildOptions(int argc, char** argv, BuildOptions& options) {
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--no-contacts") {
+      options.contacts = false;
+      continue;
+    }
+    if (arg == "--no-eye-fit") {
+      options.fit_eyes_to_openings = false;
+      continue;
+    }
+    const auto* path_option = std::find_if(std::begin(kPathOptions), std::end(kPathOptions),
+                                           [&arg](const auto& option) { return option.first == arg; });
+    const bool path = path_option != std::end(kPathOptions);
+    if (!path && arg != "--mode" && arg != "--units") {
+      std::fprintf(stderr, "facerig build: unknown option %s\n", arg.c_str());
+      return false;
+    }
     if (i + 1 >= argc) {
       std::fprintf(stderr, "facerig build: %s needs a value\n", arg.c_str());
       return false;
     }
     const std::string value = argv[++i];
-    if (arg == "--template") {
-      options.template_path = value;
-    } else if (arg == "--target") {
-      options.target_path = value;
-    } else if (arg == "-o") {
-      options.output = value;
-    } else if (arg == "--frig") {
-      options.frig = value;
-    } else if (arg == "--template-topology") {
-      options.template_topology = value;
-    } else if (arg == "--obj-dir") {
-      options.obj_dir = value;
-    } else if (arg == "--landmarks") {
-      options.landmarks = value;
-    } else if (arg == "--json") {
-      options.report = value;
-    } else if (arg == "--shape-predictor") {
-      options.shape_predictor = value;
+    if (path) {
+      options.*(path_option->second) = value;
     } else if (arg == "--mode") {
       const std::optional<BuildMode> mode = ParseBuildMode(value);
       if (!mode) {
@@ -81,9 +102,6 @@ bool ParseBuildOptions(int argc, char** argv, BuildOptions& options) {
         return false;
       }
       options.units = *units;
-    } else {
-      std::fprintf(stderr, "facerig build: unknown option %s\n", arg.c_str());
-      return false;
     }
   }
   if (options.template_path.empty() || options.target_path.empty() || options.output.empty()) {
@@ -184,17 +202,21 @@ int RunBuildCommand(int argc, char** argv) {
     const auto landmark_start = std::chrono::steady_clock::now();
     LandmarkParams landmark_params;
     if (!options.shape_predictor.empty()) landmark_params.shape_predictor = options.shape_predictor;
+    landmark_params.fit_eyes_to_openings = options.fit_eyes_to_openings;
     std::optional<LandmarkDetector> detector;
     auto get_detector = [&]() -> LandmarkDetector& {
       if (!detector) detector.emplace(landmark_params);
       return *detector;
     };
     FaceLandmarks target_landmarks;
+    int target_eyes_fitted = 0;
     if (!options.landmarks.empty()) {
       target_landmarks = ReadLandmarksJson(options.landmarks);
     } else {
       std::fputs("detecting landmarks on the target...\n", stderr);
-      target_landmarks = get_detector().Detect(target.positions, target.triangles).landmarks;
+      LandmarkResult detected = get_detector().Detect(target.positions, target.triangles);
+      target_landmarks = std::move(detected.landmarks);
+      target_eyes_fitted = detected.eyes_fitted;
     }
     const std::vector<std::uint32_t> template_vertex_of = HasKnownLandmarkVertices(template_rig)
                                                               ? IctLandmarkVertices()
@@ -204,6 +226,7 @@ int RunBuildCommand(int argc, char** argv) {
 
     BuildRigParams params;
     params.mode = options.mode;
+    if (!options.contacts) params.transfer.contact_weight = 0.0;
     params.progress = [](const char* stage, std::size_t done, std::size_t total) { ProgressBar(stage, done, total); };
     const BuildRigResult built = BuildRig(template_rig, std::move(target), landmarks, params);
     std::string problem;
@@ -239,6 +262,8 @@ int RunBuildCommand(int argc, char** argv) {
       report["shapes"] = rig->shape_count();
       report["units"] = ToString(rig->units());
       report["landmarks"] = options.landmarks.empty() ? "detected" : options.landmarks;
+      report["options"] = {{"contacts", options.contacts}, {"eye_fit", options.fit_eyes_to_openings}};
+      report["target_eyes_fitted"] = target_eyes_fitted;  // detected eyes put on the target's eye openings
       report["registration"] = {{"residual_percent_of_diagonal",
                                  {{"mean", residual.mean_percent},
                                   {"p95", residual.p95_percent},
@@ -247,6 +272,8 @@ int RunBuildCommand(int argc, char** argv) {
                                 {"rigid_scale", built.registration.rigid.scale},
                                 {"iterations_per_stage", built.registration.iterations_per_stage}};
       report["transfer_anchors"] = built.transfer_anchors;
+      report["transfer_contacts"] = {{"active", built.transfer_contacts_active},
+                                     {"pairs", built.transfer_contacts}};
       report["mapping"] = {{"full_weight_vertices", built.mapping.full_vertices},
                            {"partial_weight_vertices", built.mapping.partial_vertices},
                            {"unmapped_vertices", built.mapping.unmapped_vertices},

@@ -8,6 +8,7 @@ namespace facerig::cli {
 //               [--obj-dir DIR] [--mode classic|identity|displacement]
 //               [--landmarks LM.json] [--json REPORT] [--units mm|cm|m]
 //               [--template-topology FIT.frig] [--shape-predictor F]
+//               [--no-contacts] [--no-eye-fit]
 // argv[0] is the program, argv[1] "build". Returns the exit code (0 ok,
 // 1 failure, 2 usage).
 int RunBuildCommand(int argc, char** argv);

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
@@ -159,6 +161,39 @@ TEST_CASE("(shared data) facerig build: a skinned glTF target keeps its skin, no
   CHECK(rig.FindShape("jawOpen").has_value());
 }
 
+TEST_CASE("facerig build: --no-contacts and --no-eye-fit turn off contacts and eyes fitted to openings",
+          "[cli]") {
+  // The built-in head onto itself (about 6 s a build): its eyes are holes in
+  // the skin, and its eyeBlink shapes close them (contacts).
+  const fs::path folder = test::FreshOutputFolder("cli_build_switches");
+  const std::string head = DefaultHead().string();
+  const auto build_report = [&](const std::string& name, std::vector<std::string> switches) {
+    std::vector<std::string> arguments{"--template", head, "--target", head, "-o",
+                                       (folder / (name + ".frig")).string(), "--json",
+                                       (folder / (name + ".json")).string()};
+    arguments.insert(arguments.end(), switches.begin(), switches.end());
+    const test::CommandOutcome outcome = Build(arguments);
+    INFO(outcome.error_output);
+    REQUIRE(outcome.exit_code == 0);
+    std::ifstream file(folder / (name + ".json"));
+    return nlohmann::json::parse(file);
+  };
+  const nlohmann::json defaults = build_report("defaults", {});
+  CHECK(defaults["options"]["contacts"] == true);
+  CHECK(defaults["options"]["eye_fit"] == true);
+  CHECK(defaults["target_eyes_fitted"] == 2);
+  CHECK(defaults["transfer_contacts"]["active"] == true);
+  CHECK(defaults["transfer_contacts"]["pairs"].get<int>() > 0);
+
+  const nlohmann::json off = build_report("off", {"--no-contacts", "--no-eye-fit"});
+  CHECK(off["options"]["contacts"] == false);
+  CHECK(off["options"]["eye_fit"] == false);
+  CHECK(off["target_eyes_fitted"] == 0);
+  CHECK(off["transfer_contacts"]["active"] == false);
+  CHECK(off["transfer_contacts"]["pairs"] == 0);
+  CHECK(LoadRig(folder / "off.frig").shape_count() == LoadRig(folder / "defaults.frig").shape_count());
+}
+
 TEST_CASE("facerig build: bad command lines and bad input fail clearly and write nothing", "[cli]") {
   const fs::path folder = test::FreshOutputFolder("cli_build_bad");
   const std::string head = DefaultHead().string();
@@ -171,6 +206,18 @@ TEST_CASE("facerig build: bad command lines and bad input fail clearly and write
     CHECK(mode.exit_code == 2);
     CHECK(mode.error_output.find("'magic'") != std::string::npos);
     CHECK(Build({"--template", head, "--target", head, "-o", out, "--units", "inches"}).exit_code == 2);
+    // An unknown switch is named, wherever it is (last, it is not taken for an option missing its value).
+    for (const std::vector<std::string>& arguments :
+         {std::vector<std::string>{"--template", head, "--no-contact", "--target", head, "-o", out},
+          std::vector<std::string>{"--template", head, "--target", head, "-o", out, "--no-contact"}}) {
+      const test::CommandOutcome unknown = Build(arguments);
+      CHECK(unknown.exit_code == 2);
+      CHECK(unknown.error_output.find("unknown option --no-contact\n") != std::string::npos);
+      CHECK(unknown.error_output.find("[--no-contacts] [--no-eye-fit]") != std::string::npos);  // the usage
+    }
+    const test::CommandOutcome no_value = Build({"--template", head, "--target", head, "-o", out, "--json"});
+    CHECK(no_value.exit_code == 2);
+    CHECK(no_value.error_output.find("--json needs a value") != std::string::npos);
   }
   SECTION("a missing target names the file") {
     const test::CommandOutcome outcome =
