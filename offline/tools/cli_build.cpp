@@ -274,7 +274,11 @@ int RunBuildCommand(int argc, char** argv) {
       report["transfer_anchors"] = built.transfer_anchors;
       report["transfer_contacts"] = {{"active", built.transfer_contacts_active},
                                      {"pairs", built.transfer_contacts}};
+      // Template lid margins moved onto the target's eye rims before the transfer.
+      report["margin_alignment"] = {{"vertices", built.margin_vertices_aligned},
+                                    {"mean_move", built.margin_mean_correction}};
       report["mapping"] = {{"full_weight_vertices", built.mapping.full_vertices},
+                           {"rim_vertices", built.mapping.rim_vertices},
                            {"partial_weight_vertices", built.mapping.partial_vertices},
                            {"unmapped_vertices", built.mapping.unmapped_vertices},
                            {"facing_fallbacks", built.mapping.facing_fallbacks},

@@ -184,6 +184,10 @@ TEST_CASE("facerig build: --no-contacts and --no-eye-fit turn off contacts and e
   CHECK(defaults["target_eyes_fitted"] == 2);
   CHECK(defaults["transfer_contacts"]["active"] == true);
   CHECK(defaults["transfer_contacts"]["pairs"].get<int>() > 0);
+  // Its lid margins (the blinks' contacts) lie on its own eye rims already.
+  CHECK(defaults["margin_alignment"]["vertices"].get<int>() > 0);
+  CHECK(defaults["margin_alignment"]["mean_move"].get<double>() < 0.01);
+  CHECK(defaults["mapping"]["rim_vertices"].get<int>() > 0);
 
   const nlohmann::json off = build_report("off", {"--no-contacts", "--no-eye-fit"});
   CHECK(off["options"]["contacts"] == false);
