@@ -8,6 +8,8 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "mesh_edges.h"
+
 namespace facerig {
 
 namespace {
@@ -93,22 +95,7 @@ ExpressionContactFinder::ExpressionContactFinder(std::span<const glm::vec3> neut
   for (std::size_t j = 0; j < triangles.size(); ++j) {
     for_each_cell(j, [&](std::size_t c) { grid_triangles_[filled[c]++] = static_cast<std::uint32_t>(j); });
   }
-  // Each vertex's neighbours along triangle edges (compressed rows, duplicates removed).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  edges.reserve(6 * triangles.size());
-  for (const Triangle& t : triangles) {
-    for (int k = 0; k < 3; ++k) {
-      edges.emplace_back(t[k], t[(k + 1) % 3]);
-      edges.emplace_back(t[(k + 1) % 3], t[k]);
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  neighbour_begin_.assign(neutral.size() + 1, 0);
-  for (const auto& [from, to] : edges) ++neighbour_begin_[from + 1];
-  for (std::size_t v = 0; v < neutral.size(); ++v) neighbour_begin_[v + 1] += neighbour_begin_[v];
-  neighbours_.reserve(edges.size());
-  for (const auto& edge : edges) neighbours_.push_back(edge.second);
+  VertexNeighbours(neutral.size(), triangles, neighbour_begin_, neighbours_);
 }
 
 void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float largest_motion,

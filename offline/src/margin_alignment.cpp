@@ -14,12 +14,12 @@
 
 #include "expression_contacts.h"
 #include "facerig/offline/deformation_transfer.h"
+#include "mesh_edges.h"
 
 namespace facerig {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-
 
 // A boundary edge of the target (used by one triangle: the rim of a hole) and
 // the direction from it into the hole, in its triangle's plane.
@@ -30,34 +30,15 @@ struct RimEdge {
 };
 
 std::vector<RimEdge> RimEdges(std::span<const glm::vec3> positions, std::span<const Triangle> triangles) {
-  struct Side {
-    std::uint64_t key;
-    std::uint32_t a, b, opposite;
-  };
-  std::vector<Side> sides;
-  sides.reserve(triangles.size() * 3);
-  for (const Triangle& t : triangles) {
-    for (std::size_t e = 0; e < 3; ++e) {
-      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
-      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-      sides.push_back({key, a, b, t[(e + 2) % 3]});
-    }
-  }
-  std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) { return x.key < y.key; });
   std::vector<RimEdge> rims;
-  for (std::size_t i = 0; i < sides.size();) {
-    std::size_t j = i;
-    while (j < sides.size() && sides[j].key == sides[i].key) ++j;
-    if (j - i == 1) {
-      const glm::vec3 a = positions[sides[i].a], b = positions[sides[i].b];
-      const glm::vec3 edge = b - a;
-      glm::vec3 inward = positions[sides[i].opposite] - a;
-      const float edge_length2 = glm::dot(edge, edge);
-      if (edge_length2 > 0.0f) inward -= glm::dot(inward, edge) / edge_length2 * edge;
-      const float length = glm::length(inward);
-      if (length > 0.0f) rims.push_back({a, b, -inward / length});
-    }
-    i = j;
+  for (const BoundarySide& side : BoundarySides(triangles)) {
+    const glm::vec3 a = positions[side.a], b = positions[side.b];
+    const glm::vec3 edge = b - a;
+    glm::vec3 inward = positions[side.opposite] - a;
+    const float edge_length2 = glm::dot(edge, edge);
+    if (edge_length2 > 0.0f) inward -= glm::dot(inward, edge) / edge_length2 * edge;
+    const float length = glm::length(inward);
+    if (length > 0.0f) rims.push_back({a, b, -inward / length});
   }
   return rims;
 }
@@ -67,26 +48,6 @@ glm::vec3 ClosestOnSegment(glm::vec3 p, glm::vec3 a, glm::vec3 b) {
   const float length2 = glm::dot(ab, ab);
   if (!(length2 > 0.0f)) return a;
   return a + std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) * ab;
-}
-
-// Vertex neighbours over the triangles' edges (compressed rows).
-void Neighbours(std::size_t vertex_count, std::span<const Triangle> triangles, std::vector<std::uint32_t>& begin,
-                std::vector<std::uint32_t>& neighbours) {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  pairs.reserve(triangles.size() * 6);
-  for (const Triangle& t : triangles) {
-    for (std::size_t e = 0; e < 3; ++e) {
-      pairs.emplace_back(t[e], t[(e + 1) % 3]);
-      pairs.emplace_back(t[(e + 1) % 3], t[e]);
-    }
-  }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  begin.assign(vertex_count + 1, 0);
-  for (const auto& [from, to] : pairs) ++begin[from + 1];
-  for (std::size_t v = 0; v < vertex_count; ++v) begin[v + 1] += begin[v];
-  neighbours.resize(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) neighbours[i] = pairs[i].second;
 }
 
 float Median(std::vector<float> values) {
@@ -192,7 +153,7 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
   // The band: vertices within `reach` of an aligned margin vertex along the
   // template's edges (multi-source Dijkstra).
   std::vector<std::uint32_t> begin, neighbours;
-  Neighbours(n, template_triangles, begin, neighbours);
+  VertexNeighbours(n, template_triangles, begin, neighbours);
   constexpr std::int32_t kFixed = -2;
   constexpr std::int32_t kOutside = -1;
   std::vector<std::int32_t> unknown(n, kOutside);  // band vertex -> unknown index

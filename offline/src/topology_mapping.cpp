@@ -12,6 +12,7 @@
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/registration_error.h"
+#include "mesh_edges.h"
 
 namespace facerig {
 namespace {
@@ -64,25 +65,8 @@ struct PartSurface {
 // Vertices on the mesh's boundary (an edge used by one triangle): the rims
 // of mouth and eye openings, the neck.
 std::vector<std::uint8_t> BoundaryVertices(std::size_t vertex_count, std::span<const Triangle> triangles) {
-  std::vector<std::uint64_t> edges;
-  edges.reserve(triangles.size() * 3);
-  for (const Triangle& t : triangles) {
-    for (std::size_t e = 0; e < 3; ++e) {
-      const std::uint32_t a = std::min(t[e], t[(e + 1) % 3]), b = std::max(t[e], t[(e + 1) % 3]);
-      edges.push_back((static_cast<std::uint64_t>(a) << 32) | b);
-    }
-  }
-  std::sort(edges.begin(), edges.end());
   std::vector<std::uint8_t> on_boundary(vertex_count, 0);
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) {
-      on_boundary[edges[i] >> 32] = 1;
-      on_boundary[edges[i] & 0xffffffffu] = 1;
-    }
-    i = j;
-  }
+  for (const BoundarySide& side : BoundarySides(triangles)) on_boundary[side.a] = on_boundary[side.b] = 1;
   return on_boundary;
 }
 
