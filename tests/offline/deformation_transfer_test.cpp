@@ -193,6 +193,7 @@ TEST_CASE("A rotation of the source transfers exactly", "[deformation_transfer]"
   for (const glm::vec3& p : source.positions) expressions[0].push_back(rotation * p);
   facerig::DeformationTransferParams params;
   params.anchor_vertices = {0};
+  params.displacement_prior = 0.0;  // pure deformation transfer: the prior pulls towards the deltas
   for (bool scaled_normal : {false, true}) {
     params.scaled_normal = scaled_normal;
     const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
@@ -213,6 +214,7 @@ TEST_CASE("A uniform scale of the source transfers exactly with the 4th-vertex f
   for (const glm::vec3& p : source.positions) expressions[0].push_back(centre + 1.5f * (p - centre));
   facerig::DeformationTransferParams params;
   params.anchor_vertices = {0};
+  params.displacement_prior = 0.0;  // pure deformation transfer
   params.scaled_normal = true;  // the normal scales like the edges: the gradient is exactly 1.5 I
   const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
       source.positions, target.positions, source.triangles, expressions, params);
