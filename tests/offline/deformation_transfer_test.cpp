@@ -573,16 +573,16 @@ TEST_CASE("Classic deformation transfer of the ICT rig onto random identities (s
   WARN("3 faces: classic median " << classic_all.median() << " p90 " << classic_all.p90()
                                   << " (issue 6 targets 0.05 / 0.08), identity gradient median "
                                   << identity_all.median() << " p90 " << identity_all.p90());
-  // Regression guards at the level measured (these 3 faces: 0.061 / 0.121;
-  // bench, 8 faces: 0.053 / 0.102): the issue's plain-reference level, not yet
-  // its targets. The error grows with the face's distance from the template
-  // (face 9: 0.106), as the gradients rotate the template's deltas.
-  CHECK(classic_all.median() <= 0.07);
-  CHECK(classic_all.p90() <= 0.14);
+  // Issue 6's targets. Measured on these 3 faces (not the bench's seeds, on
+  // which the prior's weight was chosen): 0.043 / 0.073; without the
+  // displacement prior 0.061 / 0.121. The error grows with the face's
+  // distance from the template (face 9: 0.056 / 0.094).
+  CHECK(classic_all.median() <= 0.05);
+  CHECK(classic_all.p90() <= 0.08);
   CHECK(facerig::Percentile(classic_all.leaks, 0.5) <= 0.01);
   // Measured against each other: on same-topology ICT faces classic is the more accurate.
   CHECK(classic_all.median() < identity_all.median());
-  CHECK(identity_all.median() <= 0.08);
+  CHECK(identity_all.median() <= 0.06);  // measured 0.051
 }
 
 TEST_CASE("eyeBlink closes the lids as far as the template's deltas do (shared data)",
