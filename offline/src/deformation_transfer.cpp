@@ -136,6 +136,7 @@ struct DeformationTransferData::Impl {
   double still_fraction = 0.0;
   double rigid_tolerance = 0.0;
   double contact_weight = 0.0;  // absolute
+  bool close_contacts = true;
   std::optional<ExpressionContactFinder> contact_finder;  // with contact_weight > 0 (and still pinning)
   Eigen::SparseMatrix<double> full_system;
   std::vector<char> is_static_anchor;
@@ -491,6 +492,7 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
     }
     if (params.contact_weight > 0.0) {
       impl->contact_weight = params.contact_weight * impl->full_system.diagonal().mean();
+      impl->close_contacts = params.close_contacts;
       impl->contact_finder.emplace(impl->source_neutral, impl->triangles, impl->component_of_vertex);
     }
   }
@@ -650,7 +652,8 @@ void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> 
     if (prior > 0.0) {
       for (std::int32_t f = 0; f < free_count; ++f) scratch.triplets.emplace_back(f, f, prior);
     }
-    // Contacts: w |x_moving - x_partner - offset|^2, a pinned end on the right-hand side.
+    // Contacts: w |x_moving - x_partner - offset|^2, a pinned end on the right-hand
+    // side; offset 0 when they close.
     if (contact_finder) {
       contact_finder->Find(expression, std::sqrt(largest2), scratch.free_index, scratch.contacts,
                            scratch.contact_scratch);
@@ -658,7 +661,8 @@ void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> 
     for (const ExpressionContact& contact : scratch.contacts) {
       const std::int32_t a = scratch.free_index[contact.moving];  // free: Find's moving ends are
       const std::int32_t b = scratch.free_index[contact.partner];
-      const glm::vec3 offset = static_cast<float>(displacement_scale) * contact.offset;
+      const glm::vec3 offset =
+          close_contacts ? glm::vec3(0.0f) : static_cast<float>(displacement_scale) * contact.offset;
       const Eigen::RowVector3d weighted_offset = contact_weight * Eigen::RowVector3d(offset.x, offset.y, offset.z);
       scratch.triplets.emplace_back(a, a, contact_weight);
       scratch.rhs.row(a) += weighted_offset;

@@ -94,7 +94,7 @@ void Usage() {
   std::fprintf(stderr,
                "usage: facerig-bench transfer [--ict DIR] [--faces N] [--seed N] [--threads N]\n"
                "                              [--static-threshold F] [--scaled-normal] [--prior W] [--no-area]\n"
-               "                              [--still F] [--contact W]\n"
+               "                              [--still F] [--contact W] [--keep-contact-offset]\n"
                "                              [--per-shape] [--json FILE]\n");
 }
 
@@ -130,6 +130,8 @@ int RunTransferBenchmark(int argc, char** argv) {
       params.still_fraction = std::strtod(argv[++i], nullptr);
     } else if (arg == "--contact" && has_value) {
       params.contact_weight = std::strtod(argv[++i], nullptr);
+    } else if (arg == "--keep-contact-offset") {
+      params.close_contacts = false;
     } else if (arg == "--prior" && has_value) {
       params.displacement_prior = std::strtod(argv[++i], nullptr);
     } else if (arg == "--scaled-normal") {
