@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <stdexcept>
 #include <string>
 
@@ -370,6 +371,25 @@ SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> position
   if (result.pairs.size() > params.max_pairs) result.pairs.resize(params.max_pairs);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+float CrossingDepth(const glm::vec3& p1, const glm::vec3& q1, const glm::vec3& r1, const glm::vec3& p2,
+                    const glm::vec3& q2, const glm::vec3& r2) {
+  // The shorter reach of a, b, c to either side of the plane through p, q, r.
+  const auto reach = [](const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec3& p,
+                        const glm::vec3& q, const glm::vec3& r) {
+    const glm::vec3 normal = glm::cross(q - p, r - p);
+    const float length = glm::length(normal);
+    if (!(length > 0.0f)) return 0.0f;
+    const glm::vec3 unit = normal / length;
+    const float da = glm::dot(a - p, unit);
+    const float db = glm::dot(b - p, unit);
+    const float dc = glm::dot(c - p, unit);
+    const float above = std::max(0.0f, std::max(da, std::max(db, dc)));
+    const float below = std::max(0.0f, -std::min(da, std::min(db, dc)));
+    return std::min(above, below);
+  };
+  return std::min(reach(p1, q1, r1, p2, q2, r2), reach(p2, q2, r2, p1, q1, r1));
 }
 
 }  // namespace facerig

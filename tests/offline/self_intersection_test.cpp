@@ -76,6 +76,23 @@ TEST_CASE("Two quads crossing each other: the three triangle pairs that cross", 
   CHECK(Count(soup) == 0);
 }
 
+TEST_CASE("Crossing depth: how far the shallower side pokes through", "[self_intersection]") {
+  // A lies in z = 0, reaching 1 and 2 to either side of B's plane x = 0; B stands
+  // in x = 0 and pokes 0.3 below A's plane, 0.5 above.
+  const glm::vec3 a1{-1, -1, 0}, a2{2, -1, 0}, a3{2, 2, 0};
+  const glm::vec3 b1{0, 0.5f, -0.3f}, b2{0, 1.5f, 0.5f}, b3{0, -0.5f, 0.5f};
+  CHECK(facerig::CrossingDepth(a1, a2, a3, b1, b2, b3) == Approx(0.3f));
+  CHECK(facerig::CrossingDepth(b1, b2, b3, a1, a2, a3) == Approx(0.3f));  // symmetric
+  // Deeper: B's low vertex 0.45 down, its two upper ones 0.5 up.
+  CHECK(facerig::CrossingDepth(a1, a2, a3, b1 - glm::vec3(0, 0, 0.15f), b2, b3) == Approx(0.45f));
+  // B lifted to rest on A's plane, or above it: no depth.
+  const glm::vec3 lift{0, 0, 0.3f};
+  CHECK(facerig::CrossingDepth(a1, a2, a3, b1 + lift, b2 + lift, b3 + lift) == 0.0f);
+  CHECK(facerig::CrossingDepth(a1, a2, a3, b1 + 2.0f * lift, b2 + 2.0f * lift, b3 + 2.0f * lift) == 0.0f);
+  // A degenerate triangle has no plane.
+  CHECK(facerig::CrossingDepth(a1, a2, a1, b1, b2, b3) == 0.0f);
+}
+
 TEST_CASE("Touching without crossing does not count, a hair further in does", "[self_intersection]") {
   const glm::vec3 a{-1, -1, 0}, b{1, -1, 0}, c{1, 1, 0}, d{-1, 1, 0};
   SECTION("an edge resting on the other quad") {

@@ -79,12 +79,13 @@ Pairs IntersectingPairs(std::span<const glm::vec3> positions) {
 // inner parts (lips through teeth, lids through eyeballs), inner x inner.
 struct NewIntersections {
   std::size_t skin = 0;
+  float skin_depth = 0.0f;  // deepest new skin x skin pair (facerig::CrossingDepth), cm
   std::size_t skin_inner = 0;
   std::size_t inner = 0;
   std::size_t gums_teeth = 0;  // of inner: teeth through gums
 };
 
-NewIntersections CountNew(const Pairs& expression, const Pairs& neutral) {
+NewIntersections CountNew(std::span<const glm::vec3> positions, const Pairs& expression, const Pairs& neutral) {
   const auto triangles = facerig::test::IctRig().triangles();
   NewIntersections count;
   for (const auto& pair : expression) {
@@ -93,6 +94,10 @@ NewIntersections CountNew(const Pairs& expression, const Pairs& neutral) {
     const bool second_skin = triangles[pair.second][0] < kSkinLast;
     if (first_skin && second_skin) {
       ++count.skin;
+      const facerig::Triangle& a = triangles[pair.first];
+      const facerig::Triangle& b = triangles[pair.second];
+      count.skin_depth = std::max(count.skin_depth, facerig::CrossingDepth(positions[a[0]], positions[a[1]], positions[a[2]],
+                                                                           positions[b[0]], positions[b[1]], positions[b[2]]));
     } else if (first_skin || second_skin) {
       ++count.skin_inner;
     } else {
@@ -135,16 +140,17 @@ TEST_CASE("Transferred expressions add no more self-intersections than the templ
   std::vector<std::array<NewIntersections, kKinds>> counts(rig.shape_count());
   auto count_shapes = [&](std::size_t first, std::size_t step) {
     for (std::size_t s = first; s < rig.shape_count(); s += step) {
-      counts[s][kTemplate] = CountNew(IntersectingPairs(data.template_expressions[s]), template_neutral);
-      counts[s][kTruth] = CountNew(IntersectingPairs(data.truth[s]), face_neutral);
-      counts[s][kClassic] = CountNew(IntersectingPairs(data.classic[s]), face_neutral);
-      counts[s][kIdentity] = CountNew(IntersectingPairs(data.identity[s]), face_neutral);
+      counts[s][kTemplate] = CountNew(data.template_expressions[s], IntersectingPairs(data.template_expressions[s]), template_neutral);
+      counts[s][kTruth] = CountNew(data.truth[s], IntersectingPairs(data.truth[s]), face_neutral);
+      counts[s][kClassic] = CountNew(data.classic[s], IntersectingPairs(data.classic[s]), face_neutral);
+      counts[s][kIdentity] = CountNew(data.identity[s], IntersectingPairs(data.identity[s]), face_neutral);
     }
   };
   std::thread worker(count_shapes, 1, 2);
   count_shapes(0, 2);
   worker.join();
   NewIntersections total[kKinds];
+  float deepest_excess[kKinds] = {};  // over shapes: new crossing depth beyond template's and truth's
   std::string report;
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {
     const std::array<NewIntersections, kKinds>& count = counts[s];
@@ -154,6 +160,9 @@ TEST_CASE("Transferred expressions add no more self-intersections than the templ
       total[k].inner += count[k].inner;
     }
     const std::size_t reference = std::max(count[kTemplate].skin, count[kTruth].skin);
+    // Counts of crossing pairs grow with small triangles (a lip corner's
+    // crease has 0.9 mm ones); how deep the new crossings go is what shows.
+    const float reference_depth = std::max(count[kTemplate].skin_depth, count[kTruth].skin_depth);
     for (int k : {kClassic, kIdentity}) {
       if (count[k].skin > reference + reference / 10 + 2) {
         report += std::string(rig.shape_name(s)) + " " + kind_names[k] + " " + std::to_string(count[k].skin) +
@@ -162,10 +171,19 @@ TEST_CASE("Transferred expressions add no more self-intersections than the templ
       }
       // Gross failures (lips or lids through each other where neither the
       // template nor the ground truth has it) per shape. Measured on this face:
-      // the worst is jawLeft / jawRight classic, 94 / 98 new pairs against the
-      // template's 59 and the truth's 46 / 66.
-      INFO(rig.shape_name(s) << " " << kind_names[k]);
+      // the worst count is jawLeft / jawRight classic, 84 new pairs against the
+      // template's 59 and the truth's 46 / 66, but they cross by 0.28 mm at
+      // most (template 0.24). The deepest beyond the template's and the
+      // truth's: eyeBlink_L classic 0.50 mm (truth 0.31; the closed lid's
+      // inner corner, 0.22 keeping the template's contact offset), mouthClose
+      // 1.42 (1.13; alone it pushes the lips through each other), jawOpen
+      // identity 0.23 (0).
+      INFO(rig.shape_name(s) << " " << kind_names[k] << ": deepest new crossing " << count[k].skin_depth
+                             << " cm, template " << count[kTemplate].skin_depth << ", truth "
+                             << count[kTruth].skin_depth);
       CHECK(count[k].skin <= 2 * reference + 10);
+      CHECK(count[k].skin_depth <= 1.3f * reference_depth + 0.025f);
+      deepest_excess[k] = std::max(deepest_excess[k], count[k].skin_depth - reference_depth);
     }
     // The jaw shapes move the lower teeth with the gums. Solved as gradients
     // and placed each on its own, the gums of this face ended 0.8 mm off in
@@ -189,6 +207,8 @@ TEST_CASE("Transferred expressions add no more self-intersections than the templ
        << total[kTemplate].inner << ", truth " << total[kTruth].inner << ", classic " << total[kClassic].inner
        << ", identity " << total[kIdentity].inner);
   WARN("shapes with over 10% more new skin pairs than the template and the truth: " << report);
+  WARN("deepest new skin crossing beyond the template's and the truth's, over 53 shapes: classic "
+       << deepest_excess[kClassic] << " cm, identity " << deepest_excess[kIdentity] << " cm");
   for (int k : {kClassic, kIdentity}) {
     INFO(kind_names[k]);
     CHECK(total[k].skin <= total[kTemplate].skin + total[kTemplate].skin / 10);
@@ -218,13 +238,13 @@ TEST_CASE("jawOpen + mouthClose closes the lips as the template does, and eyeBli
   const std::vector<glm::vec3> truth_closed = Combine(data.face, {&data.truth[jaw], &data.truth[close]});
   const facerig::LipGap on_truth = facerig::MeasureLipGap(truth_closed, lips);
   const Pairs face_neutral = IntersectingPairs(data.face);
-  const NewIntersections truth_new = CountNew(IntersectingPairs(truth_closed), face_neutral);
-  const NewIntersections template_new = CountNew(IntersectingPairs(closed), IntersectingPairs(rig.positions()));
+  const NewIntersections truth_new = CountNew(truth_closed, IntersectingPairs(truth_closed), face_neutral);
+  const NewIntersections template_new = CountNew(closed, IntersectingPairs(closed), IntersectingPairs(rig.positions()));
   for (const Meshes* transferred : {&data.classic, &data.identity}) {
     const char* mode = transferred == &data.classic ? "classic" : "identity";
     const std::vector<glm::vec3> result = Combine(data.face, {&(*transferred)[jaw], &(*transferred)[close]});
     const facerig::LipGap gap = facerig::MeasureLipGap(result, lips);
-    const NewIntersections result_new = CountNew(IntersectingPairs(result), face_neutral);
+    const NewIntersections result_new = CountNew(result, IntersectingPairs(result), face_neutral);
     WARN(mode << " jawOpen + mouthClose, " << lips.upper.size() << " lip pairs, gap / mouth width ("
               << lips.mouth_width << " cm): template mean " << on_template.mean_gap << " max "
               << on_template.max_gap << " crossing " << on_template.max_crossing << "; truth mean "

@@ -63,6 +63,15 @@ SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> position
 bool TrianglesCross(const glm::vec3& p1, const glm::vec3& q1, const glm::vec3& r1, const glm::vec3& p2,
                     const glm::vec3& q2, const glm::vec3& r2);
 
+// How deeply two crossing triangles pass through each other, so that a count
+// of crossing pairs (inflated where triangles are small, as in a lip corner's
+// crease) can be told from a visible one: for each triangle, the shorter of
+// the distances its vertices reach on the two sides of the other's plane; the
+// smaller of the two. 0 when a triangle stays on one side or either is
+// degenerate. Two triangles cut through each other by d give d.
+float CrossingDepth(const glm::vec3& p1, const glm::vec3& q1, const glm::vec3& r1, const glm::vec3& p2,
+                    const glm::vec3& q2, const glm::vec3& r2);
+
 // Exact sign (-1, 0, +1) of det[a - d; b - d; c - d] for float inputs: a
 // floating-point filter, then an exact expansion sum of the determinant's 24
 // monomials when the filter cannot decide. Positive when d is below the plane
