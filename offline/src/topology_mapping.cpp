@@ -12,6 +12,7 @@
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/registration_error.h"
+#include "eye_openings.h"
 #include "mesh_edges.h"
 
 namespace facerig {
@@ -186,6 +187,10 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
   if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
     throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
   }
+  if (!(params.rim_smoothing_radius >= 0.0f) || !std::isfinite(params.rim_smoothing_radius)) {
+    throw InvalidInputError("topology mapping: rim_smoothing_radius must be finite and >= 0, not " +
+                            std::to_string(params.rim_smoothing_radius));
+  }
   const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
   const float diagonal = BoundingDiagonalOf(fitted_template);
   const float full = params.full_weight_distance * diagonal;
@@ -252,6 +257,7 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
   const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_rims);
 
   TopologyMapping mapping;
+  std::vector<std::uint8_t> rim_snapped(n, 0);
   mapping.triangle.resize(n);
   mapping.barycentrics.resize(n);
   mapping.weight.resize(n);
@@ -267,6 +273,7 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
     if (on_rim.triangle >= 0) {
       hit = on_rim;
       ++mapping.rim_vertices;
+      rim_snapped[v] = 1;
     } else if (surface) {
       ClosestPointHit facing =
           surface->query->FindFacing(queries[v], target_normals[v], params.min_normal_dot, zero);
@@ -290,6 +297,31 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
     }
   }
   mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
+  if (mapping.rim_vertices > 0 && params.rim_smoothing_radius > 0.0f) {
+    const float radius = params.rim_smoothing_radius * diagonal;
+    for (const std::vector<std::uint32_t>& loop : BoundaryLoops(target_positions, target_triangles)) {
+      if (std::none_of(loop.begin(), loop.end(), [&](std::uint32_t v) { return rim_snapped[v] != 0; })) continue;
+      const std::size_t size = loop.size();
+      float length = 0.0f;
+      for (std::size_t i = 0; i < size; ++i) {
+        length += glm::length(target_positions[loop[(i + 1) % size]] - target_positions[loop[i]]);
+      }
+      // k passes of the (1, 2, 1) / 4 filter: a Gaussian of variance k / 2 vertex spacings squared.
+      const float spacing = length / static_cast<float>(size);
+      TopologyMapping::SmoothedRim rim;
+      const float ratio = spacing > 0.0f ? radius / spacing : 0.0f;
+      rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
+      if (rim.passes == 0) continue;
+      for (std::size_t i = 0; i < size; ++i) {
+        const std::uint32_t v = loop[i];
+        const auto same_side = [&](std::uint32_t w) {
+          return glm::dot(inward[v], inward[w]) >= params.rim_min_facing ? w : v;
+        };
+        rim.vertices.push_back({v, same_side(loop[(i + size - 1) % size]), same_side(loop[(i + 1) % size])});
+      }
+      mapping.smoothed_rims.push_back(std::move(rim));
+    }
+  }
   return mapping;
 }
 
@@ -302,6 +334,17 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
     const glm::vec3 b = mapping.barycentrics[v];
     target_values[v] =
         mapping.weight[v] * (b.x * template_values[t[0]] + b.y * template_values[t[1]] + b.z * template_values[t[2]]);
+  }
+  std::vector<glm::vec3> smoothed;
+  for (const TopologyMapping::SmoothedRim& rim : mapping.smoothed_rims) {
+    smoothed.resize(rim.vertices.size());
+    for (int pass = 0; pass < rim.passes; ++pass) {
+      for (std::size_t i = 0; i < smoothed.size(); ++i) {
+        const TopologyMapping::RimNeighbours& at = rim.vertices[i];
+        smoothed[i] = 0.25f * (target_values[at.previous] + 2.0f * target_values[at.vertex] + target_values[at.next]);
+      }
+      for (std::size_t i = 0; i < smoothed.size(); ++i) target_values[rim.vertices[i].vertex] = smoothed[i];
+    }
   }
 }
 

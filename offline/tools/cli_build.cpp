@@ -37,7 +37,7 @@ constexpr const char* kBuildUsage =
     "  A glTF target written to .glb/.gltf keeps its skin, nodes, materials, textures and animations: the\n"
     "  output is the target's own document with the shapes added as morph targets.\n"
     "  --no-contacts: transfer without contacts (where a template expression closes an opening, as the\n"
-    "  lids on a blink, the target's closes as far). --no-eye-fit: keep the detector's eye landmarks\n"
+    "  lids on a blink, the target's closes too). --no-eye-fit: keep the detector's eye landmarks\n"
     "  instead of fitting them to the mesh's eye openings (holes in the skin).\n";
 
 struct BuildOptions {

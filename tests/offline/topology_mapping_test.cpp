@@ -3,7 +3,11 @@
 // side, not of a point inside their lid.
 #include "facerig/offline/topology_mapping.h"
 
+#include "facerig/offline/registration_error.h"
+
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
 #include <glm/geometric.hpp>
 #include <vector>
 
@@ -59,8 +63,9 @@ std::vector<facerig::TemplateRim> SlitRims(bool flipped) {
 
 std::vector<glm::vec3> MappedBlink(const Sheet& sheet, std::span<const facerig::TemplateRim> rims,
                                    std::size_t* rim_vertices) {
+  facerig::TopologyMappingParams params;
   const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(
-      sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, {}, rims);
+      sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, params, rims);
   *rim_vertices = mapping.rim_vertices;
   std::vector<glm::vec3> mapped;
   facerig::MapVertexValues(mapping, sheet.triangles, BlinkDeltas(), mapped);
@@ -94,6 +99,67 @@ TEST_CASE("Topology mapping: rim vertices take their own margin's motion", "[top
   const std::vector<glm::vec3> wrong_way = MappedBlink(sheet, flipped, &rim_vertices);
   CHECK(rim_vertices == 0);
   CHECK(glm::length(wrong_way[Vertex(5, kSlitRow + 1)] - upper_rim) < 1e-6f);
+}
+
+TEST_CASE("Topology mapping: where the template's margin ends early, the rim is smoothed, not stepped",
+          "[topology_mapping]") {
+  const Sheet sheet = MakeSlitSheet();
+  // A smooth blink: the slit's upper edge down by up to 0.98, a sine along x
+  // that is 0 at the slit's ends, the row above by half.
+  std::vector<glm::vec3> blink(kColumns * kRows, glm::vec3(0.0f));
+  for (std::uint32_t x = kSlitFirst; x <= kSlitLast; ++x) {
+    const float along = std::sin(3.14159265f * static_cast<float>(x - kSlitFirst) / (kSlitLast - kSlitFirst));
+    blink[Vertex(x, kSlitRow + 1)].y = -0.98f * along;
+    blink[Vertex(x, kSlitRow + 2)].y = -0.49f * along;
+  }
+  // Only the right part of the upper margin (x = 5..7) is a template rim, as
+  // when the template's margin ends before the target's rim: x = 3, 4 take a
+  // point inside the lid (a deep inset here, so that it shows) and lag.
+  std::vector<facerig::TemplateRim> rims;
+  for (std::uint32_t x = 5; x < kSlitLast; ++x) rims.push_back({Vertex(x, kSlitRow + 1), {0, -1, 0}});
+  const auto mapped_with = [&](float radius, std::size_t expected_rims) {
+    facerig::TopologyMappingParams params;
+    params.boundary_inset = 0.03f;
+    params.rim_smoothing_radius = radius;
+    const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(
+        sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, params, rims);
+    CHECK(mapping.rim_vertices == 3);
+    CHECK(mapping.smoothed_rims.size() == expected_rims);
+    std::vector<glm::vec3> mapped;
+    facerig::MapVertexValues(mapping, sheet.triangles, blink, mapped);
+    return mapped;
+  };
+  // The jump where snapping starts, beyond the template's own there.
+  const auto extra_step = [&](const std::vector<glm::vec3>& mapped) {
+    const std::uint32_t a = Vertex(4, kSlitRow + 1), b = Vertex(5, kSlitRow + 1);
+    return glm::length((mapped[b] - mapped[a]) - (blink[b] - blink[a]));
+  };
+  const std::vector<glm::vec3> stepped = mapped_with(0.0f, 0);
+  // The default radius is far below this coarse sheet's vertex spacing: left as it is.
+  CHECK(mapped_with(facerig::TopologyMappingParams{}.rim_smoothing_radius, 0) == stepped);
+  // About one vertex spacing (the sheet's diagonal is 11.7 spacings): 2 passes.
+  const std::vector<glm::vec3> smoothed = mapped_with(1.0f / 11.7f, 1);
+  WARN("extra step where the rim starts snapping: " << extra_step(stepped) << " unsmoothed, " << extra_step(smoothed)
+                                                    << " smoothed");
+  CHECK(extra_step(stepped) > 0.1f);
+  CHECK(extra_step(smoothed) < 0.3f * extra_step(stepped));
+  // The lower rim, which faces the other way, takes none of the upper's motion.
+  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
+    INFO("x " << x);
+    CHECK(smoothed[Vertex(x, kSlitRow)] == stepped[Vertex(x, kSlitRow)]);
+  }
+  // Away from the rim nothing changes.
+  for (std::uint32_t v = 0; v < kColumns * kRows; ++v) {
+    if (v / kColumns == kSlitRow || v / kColumns == kSlitRow + 1) continue;
+    CHECK(smoothed[v] == stepped[v]);
+  }
+  for (float bad : {-0.1f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    facerig::TopologyMappingParams params;
+    params.rim_smoothing_radius = bad;
+    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
+                                                    sheet.triangles, params, rims),
+                    facerig::InvalidInputError);
+  }
 }
 
 TEST_CASE("Topology mapping: template rims out of range or out of order are refused", "[topology_mapping]") {
