@@ -201,6 +201,7 @@ int RunTransferBenchmark(int argc, char** argv) {
   std::size_t anchors = 0;
   std::size_t floating = 0;
   std::size_t regularized = 0;
+  bool contacts_active = false;
   try {
     for (int f = 0; f < faces; ++f) {
       const std::vector<glm::vec3> target = RandomIdentity(neutral, identities, rng);
@@ -225,6 +226,7 @@ int RunTransferBenchmark(int argc, char** argv) {
         anchors = result.anchor_count;
         floating = result.floating_components;
         regularized = result.regularized_triangles;
+        contacts_active = result.contacts_active;
         Measure(mode, rig, truth, result.expressions, target, eyes, blinks);
         if (m == 0) {
           previous = result.expressions;
@@ -264,8 +266,17 @@ int RunTransferBenchmark(int argc, char** argv) {
   }
   // Timing of the factorization alone (classic system, last face).
   std::printf("anchors %zu (static threshold %g of the diagonal), floating parts %zu, regularized "
-              "triangles %zu\n\n",
+              "triangles %zu\n",
               anchors, static_cast<double>(params.static_threshold), floating, regularized);
+  const char* contacts = "closing";
+  if (!contacts_active) {
+    // Contacts need still pinning (one factorization per expression).
+    contacts = params.contact_weight > 0.0 ? "off (they need still pinning)" : "off";
+  } else if (!params.close_contacts) {
+    contacts = "keeping the template's offset";
+  }
+  std::printf("still pinning %g, displacement prior %g, contacts %s\n\n", params.still_fraction,
+              params.displacement_prior, contacts);
   std::printf("%-13s %8s %8s %8s %8s %9s %9s %9s %10s\n", "mode", "median", "p90", "max",
               "leak med", "leak p90", "blink gap", "crossing", "seconds");
   report["template"] = ict_dir;
@@ -273,6 +284,9 @@ int RunTransferBenchmark(int argc, char** argv) {
   report["seed"] = seed;
   report["threads"] = params.threads;
   report["anchors"] = anchors;
+  report["contacts_active"] = contacts_active;
+  report["close_contacts"] = params.close_contacts;
+  report["displacement_prior"] = params.displacement_prior;
   report["floating_parts"] = floating;
   report["regularized_triangles"] = regularized;
   report["template_blink_gap"] = template_gap;
