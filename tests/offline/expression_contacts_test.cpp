@@ -12,16 +12,12 @@
 #include <vector>
 
 #include "facerig/offline/deformation_transfer.h"
+#include "support/slit_sheet.h"
 
 namespace {
 
-constexpr std::uint32_t kColumns = 11;  // x = 0..10
-constexpr std::uint32_t kRows = 7;      // y = 0..6
-constexpr std::uint32_t kSlitRow = 3;   // the slit lies between rows 3 and 4 ...
-constexpr std::uint32_t kSlitFirst = 2;  // ... from x = 2 to x = 8
-constexpr std::uint32_t kSlitLast = 8;
-
-std::uint32_t Vertex(std::uint32_t x, std::uint32_t y) { return x + kColumns * y; }
+using facerig::test::SlitSheet;
+using namespace facerig::test::slit;
 
 struct Sheet {
   std::vector<glm::vec3> neutral;
@@ -30,30 +26,18 @@ struct Sheet {
 };
 
 Sheet MakeSheet(bool slit) {
-  Sheet sheet;
-  for (std::uint32_t y = 0; y < kRows; ++y) {
-    for (std::uint32_t x = 0; x < kColumns; ++x) sheet.neutral.emplace_back(x, y, 0.0f);
-  }
-  for (std::uint32_t y = 0; y + 1 < kRows; ++y) {
-    for (std::uint32_t x = 0; x + 1 < kColumns; ++x) {
-      if (slit && y == kSlitRow && x >= kSlitFirst && x < kSlitLast) continue;
-      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y), Vertex(x + 1, y + 1)});
-      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y + 1), Vertex(x, y + 1)});
-    }
-  }
+  SlitSheet grid = facerig::test::MakeSlitSheet(slit);
+  Sheet sheet{std::move(grid.positions), std::move(grid.triangles), {}};
   facerig::ConnectedComponents(sheet.neutral.size(), sheet.triangles, sheet.component);
   return sheet;
 }
 
-// The rows above the slit come down: the slit's upper edge by 0.98 (it stops
-// 0.02 above the lower edge), the row above it half as far, away from the
-// slit's ends.
+// The slit closes (facerig::test::SlitBlinkDeltas): its upper edge stops 0.02
+// above the lower one.
 std::vector<glm::vec3> CloseSlit(const Sheet& sheet) {
   std::vector<glm::vec3> expression = sheet.neutral;
-  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
-    expression[Vertex(x, kSlitRow + 1)].y -= 0.98f;
-    expression[Vertex(x, kSlitRow + 2)].y -= 0.49f;
-  }
+  const std::vector<glm::vec3> blink = facerig::test::SlitBlinkDeltas();
+  for (std::size_t v = 0; v < blink.size(); ++v) expression[v] += blink[v];
   return expression;
 }
 

@@ -10,31 +10,19 @@
 #include <vector>
 
 #include "facerig/runtime/rig_builder.h"
+#include "support/slit_sheet.h"
 
 namespace {
 
-constexpr std::uint32_t kColumns = 11;  // x = 0..10
-constexpr std::uint32_t kRows = 7;      // y = 0..6
-constexpr std::uint32_t kSlitRow = 3;   // the slit lies between rows 3 and 4 ...
-constexpr std::uint32_t kSlitFirst = 2;  // ... from x = 2 to x = 8
-constexpr std::uint32_t kSlitLast = 8;
+using facerig::test::SlitSheet;
+using namespace facerig::test::slit;
 
-std::uint32_t Vertex(std::uint32_t x, std::uint32_t y) { return x + kColumns * y; }
-
-// A sheet whose rows lie at row_y[y]; with_slit: no triangles across the
-// slit, so it is a hole.
+// The slit sheet with its rows at row_y[y]; with_slit false: no hole.
 facerig::RawRig MakeSheet(const std::vector<float>& row_y, bool with_slit) {
+  SlitSheet grid = facerig::test::MakeSlitSheet(with_slit, row_y);
   facerig::RawRig sheet;
-  for (std::uint32_t y = 0; y < kRows; ++y) {
-    for (std::uint32_t x = 0; x < kColumns; ++x) sheet.positions.emplace_back(x, row_y[y], 0.0f);
-  }
-  for (std::uint32_t y = 0; y + 1 < kRows; ++y) {
-    for (std::uint32_t x = 0; x + 1 < kColumns; ++x) {
-      if (with_slit && y == kSlitRow && x >= kSlitFirst && x < kSlitLast) continue;
-      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y), Vertex(x + 1, y + 1)});
-      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y + 1), Vertex(x, y + 1)});
-    }
-  }
+  sheet.positions = std::move(grid.positions);
+  sheet.triangles = std::move(grid.triangles);
   return sheet;
 }
 
@@ -43,12 +31,7 @@ const std::vector<float> kEvenRows = {0, 1, 2, 3, 4, 5, 6};
 // The template: the slit's upper edge comes down onto the lower one (a blink).
 facerig::Rig MakeTemplate() {
   facerig::RawRig sheet = MakeSheet(kEvenRows, true);
-  std::vector<glm::vec3> deltas(sheet.positions.size(), glm::vec3(0.0f));
-  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
-    deltas[Vertex(x, kSlitRow + 1)].y = -0.98f;
-    deltas[Vertex(x, kSlitRow + 2)].y = -0.49f;
-  }
-  sheet.shapes.push_back(facerig::MakeSparseShape("blink", deltas, {}, 1e-6f));
+  sheet.shapes.push_back(facerig::MakeSparseShape("blink", facerig::test::SlitBlinkDeltas(), {}, 1e-6f));
   std::optional<facerig::Rig> rig = facerig::RigBuilder::Build(sheet);
   REQUIRE(rig.has_value());
   return std::move(*rig);

@@ -4,6 +4,7 @@
 #include "facerig/offline/topology_mapping.h"
 
 #include "facerig/offline/registration_error.h"
+#include "support/slit_sheet.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -13,43 +14,8 @@
 
 namespace {
 
-constexpr std::uint32_t kColumns = 11;  // x = 0..10
-constexpr std::uint32_t kRows = 7;      // y = 0..6
-constexpr std::uint32_t kSlitRow = 3;   // a hole between rows 3 and 4 from x = 2 to 8
-constexpr std::uint32_t kSlitFirst = 2;
-constexpr std::uint32_t kSlitLast = 8;
-
-std::uint32_t Vertex(std::uint32_t x, std::uint32_t y) { return x + kColumns * y; }
-
-struct Sheet {
-  std::vector<glm::vec3> positions;
-  std::vector<facerig::Triangle> triangles;
-};
-
-Sheet MakeSlitSheet() {
-  Sheet sheet;
-  for (std::uint32_t y = 0; y < kRows; ++y) {
-    for (std::uint32_t x = 0; x < kColumns; ++x) sheet.positions.emplace_back(x, y, 0.0f);
-  }
-  for (std::uint32_t y = 0; y + 1 < kRows; ++y) {
-    for (std::uint32_t x = 0; x + 1 < kColumns; ++x) {
-      if (y == kSlitRow && x >= kSlitFirst && x < kSlitLast) continue;
-      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y), Vertex(x + 1, y + 1)});
-      sheet.triangles.push_back({Vertex(x, y), Vertex(x + 1, y + 1), Vertex(x, y + 1)});
-    }
-  }
-  return sheet;
-}
-
-// A blink: the slit's upper edge down by 0.98, the row above by half.
-std::vector<glm::vec3> BlinkDeltas() {
-  std::vector<glm::vec3> deltas(kColumns * kRows, glm::vec3(0.0f));
-  for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
-    deltas[Vertex(x, kSlitRow + 1)].y = -0.98f;
-    deltas[Vertex(x, kSlitRow + 2)].y = -0.49f;
-  }
-  return deltas;
-}
+using facerig::test::SlitSheet;
+using namespace facerig::test::slit;
 
 // The slit's edges as template rims, each towards the other edge; flipped:
 // the wrong way.
@@ -61,22 +27,22 @@ std::vector<facerig::TemplateRim> SlitRims(bool flipped) {
   return rims;
 }
 
-std::vector<glm::vec3> MappedBlink(const Sheet& sheet, std::span<const facerig::TemplateRim> rims,
+std::vector<glm::vec3> MappedBlink(const SlitSheet& sheet, std::span<const facerig::TemplateRim> rims,
                                    std::size_t* rim_vertices) {
   facerig::TopologyMappingParams params;
   const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(
       sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, params, rims);
   *rim_vertices = mapping.rim_vertices;
   std::vector<glm::vec3> mapped;
-  facerig::MapVertexValues(mapping, sheet.triangles, BlinkDeltas(), mapped);
+  facerig::MapVertexValues(mapping, sheet.triangles, facerig::test::SlitBlinkDeltas(), mapped);
   return mapped;
 }
 
 }  // namespace
 
 TEST_CASE("Topology mapping: rim vertices take their own margin's motion", "[topology_mapping]") {
-  const Sheet sheet = MakeSlitSheet();  // the target is the template's own sheet
-  const std::vector<glm::vec3> template_deltas = BlinkDeltas();
+  const SlitSheet sheet = facerig::test::MakeSlitSheet();  // the target is the template's own sheet
+  const std::vector<glm::vec3> template_deltas = facerig::test::SlitBlinkDeltas();
   std::size_t rim_vertices = 0;
 
   // Without rims, a rim vertex looks from slightly inside its lid
@@ -103,7 +69,7 @@ TEST_CASE("Topology mapping: rim vertices take their own margin's motion", "[top
 
 TEST_CASE("Topology mapping: where the template's margin ends early, the rim is smoothed, not stepped",
           "[topology_mapping]") {
-  const Sheet sheet = MakeSlitSheet();
+  const SlitSheet sheet = facerig::test::MakeSlitSheet();
   // A smooth blink: the slit's upper edge down by up to 0.98, a sine along x
   // that is 0 at the slit's ends, the row above by half.
   std::vector<glm::vec3> blink(kColumns * kRows, glm::vec3(0.0f));
@@ -163,7 +129,7 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
 }
 
 TEST_CASE("Topology mapping: template rims out of range or out of order are refused", "[topology_mapping]") {
-  const Sheet sheet = MakeSlitSheet();
+  const SlitSheet sheet = facerig::test::MakeSlitSheet();
   const std::vector<facerig::TemplateRim> out_of_range = {{kColumns * kRows, {0, 1, 0}}};
   CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
                                                     sheet.triangles, {}, out_of_range),
