@@ -12,7 +12,7 @@
 //    degrees of its direction, and
 //  - they face each other across an opening: the straight line between them
 //    meets no other triangle of their part, while the shortest path along
-//    mesh edges is more than twice as long.
+//    mesh edges is more than 1.75 times as long.
 // The last rule keeps a lid closing over the eye and drops what is not a
 // contact: ICT's mouthClose, made to be added to jawOpen, alone moves the
 // lower lip 4 cm up in front of the upper lip to the nose (324 pairs, the

@@ -140,7 +140,7 @@ struct DeformationTransferParams {
   // diagonal. Gradients alone stop a lid short when the target's eye is
   // shaped differently: on ICT with its eyes opened 1.5x taller, eyeBlink
   // left a gap of 12% of the eye width (template 2.1%); 3.2% keeping the
-  // offset, 2.2% closing it. 0: off. Without still pinning (still_fraction 0) no
+  // offset, 0.8% closing it. 0: off. Without still pinning (still_fraction 0) no
   // contacts are kept whatever this weight: the one factorization shared by
   // all expressions cannot take each expression's own contacts (the
   // result's contacts_active says whether they acted).
@@ -149,8 +149,8 @@ struct DeformationTransferParams {
   // dropping the offset the template leaves. A blink is meant to close, and
   // ICT-FaceKit's stops short by 2.1% of the eye's width (0.5 mm, under its
   // lashes); a target without lashes shows it. Measured: the worst eye of 8
-  // random ICT faces 0.025 -> 0.017 of the eye width (template 0.021), the
-  // built-in stylized head's upper to lower lid 0.056-0.066 -> 0.033-0.042 cm.
+  // random ICT faces 0.021 -> 0.0075 of the eye width (template 0.021), the
+  // built-in stylized head's upper to lower lid 0.056-0.066 -> 0.031-0.040 cm.
   // The cost: where the template's partner lies below the lower margin row,
   // the lid closes onto it, 0.6 mm below that row on ICT with its eyes
   // opened 1.5x (0.4 mm keeping the offset). false: keep the template's
