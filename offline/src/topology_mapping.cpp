@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <limits>
 #include <memory>
+#include <queue>
 #include <string>
 
 #include <glm/common.hpp>
@@ -175,6 +177,72 @@ ClosestPointHit NearestOnRim(glm::vec3 p, glm::vec3 into_opening, std::span<cons
   return best;
 }
 
+// Distance from rim vertex i to the nearest point of the rim's opposite side
+// (its edges between consecutive loop vertices that both face against i), at
+// positions + deltas (deltas may be null: at rest); 0 when the rim has none.
+// *to_opposite: from vertex i to that point.
+float NearestOppositeSide(const TopologyMapping::Rim& rim, std::size_t i, std::span<const glm::vec3> positions,
+                          const std::vector<glm::vec3>* deltas, glm::vec3* to_opposite = nullptr) {
+  const auto at = [&](std::uint32_t v) { return deltas ? positions[v] + (*deltas)[v] : positions[v]; };
+  const std::size_t size = rim.vertices.size();
+  const glm::vec3 into = rim.into_opening[i];
+  const glm::vec3 p = at(rim.vertices[i].vertex);
+  float best = 0.0f;
+  bool found = false;
+  for (std::size_t j = 0; j < size; ++j) {
+    const std::size_t k = (j + 1) % size;
+    if (glm::dot(into, rim.into_opening[j]) > -0.5f || glm::dot(into, rim.into_opening[k]) > -0.5f) continue;
+    const glm::vec3 a = at(rim.vertices[j].vertex);
+    const glm::vec3 ab = at(rim.vertices[k].vertex) - a;
+    const float length2 = glm::dot(ab, ab);
+    const float along = length2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) : 0.0f;
+    const glm::vec3 q = a + along * ab;
+    const float distance = glm::length(q - p);
+    if (found && distance >= best) continue;
+    found = true;
+    best = distance;
+    if (to_opposite) *to_opposite = q - p;
+  }
+  return best;
+}
+
+// The target vertices that follow rim's closing: each to its nearest rim
+// vertex along mesh edges (rest lengths), within reach times that vertex's
+// rest gap, weighted from 1 there to 0 at the limit (smoothstep).
+void RimBandOf(TopologyMapping::Rim& rim, float reach, std::span<const glm::vec3> positions,
+               const std::vector<std::uint32_t>& neighbour_begin, const std::vector<std::uint32_t>& neighbours) {
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  std::vector<float> distance(positions.size(), kFar);
+  std::vector<std::uint32_t> source(positions.size(), 0);
+  using Entry = std::pair<float, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  for (std::size_t i = 0; i < rim.vertices.size(); ++i) {
+    if (!(rim.rest_gap[i] > 0.0f)) continue;
+    const std::uint32_t v = rim.vertices[i].vertex;
+    distance[v] = 0.0f;
+    source[v] = static_cast<std::uint32_t>(i);
+    queue.emplace(0.0f, v);
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    const float limit = reach * rim.rest_gap[source[v]];
+    if (!(d < limit)) continue;
+    const float t = 1.0f - d / limit;
+    rim.band.push_back({v, source[v], t * t * (3.0f - 2.0f * t)});
+    for (std::uint32_t k = neighbour_begin[v]; k < neighbour_begin[v + 1]; ++k) {
+      const std::uint32_t w = neighbours[k];
+      const float through = d + glm::length(positions[w] - positions[v]);
+      if (through < distance[w]) {
+        distance[w] = through;
+        source[w] = source[v];
+        queue.emplace(through, w);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
@@ -190,6 +258,12 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
   if (!(params.rim_smoothing_radius >= 0.0f) || !std::isfinite(params.rim_smoothing_radius)) {
     throw InvalidInputError("topology mapping: rim_smoothing_radius must be finite and >= 0, not " +
                             std::to_string(params.rim_smoothing_radius));
+  }
+  if (!(params.rim_closing_ratio >= 0.0f && params.rim_closing_ratio < 1.0f) ||
+      !(params.rim_closing_reach > 0.0f) || !std::isfinite(params.rim_closing_reach)) {
+    throw InvalidInputError("topology mapping: rim_closing_ratio must be in [0, 1) and rim_closing_reach finite "
+                            "and > 0, not " + std::to_string(params.rim_closing_ratio) + " and " +
+                            std::to_string(params.rim_closing_reach));
   }
   const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
   const float diagonal = BoundingDiagonalOf(fitted_template);
@@ -297,7 +371,10 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
     }
   }
   mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
-  if (mapping.rim_vertices > 0 && params.rim_smoothing_radius > 0.0f) {
+  if (mapping.rim_vertices > 0) {
+    mapping.rim_closing_ratio = params.rim_closing_ratio;
+    std::vector<std::uint32_t> neighbour_begin, neighbours;
+    if (params.rim_closing_ratio > 0.0f) VertexNeighbours(n, target_triangles, neighbour_begin, neighbours);
     const float radius = params.rim_smoothing_radius * diagonal;
     for (const std::vector<std::uint32_t>& loop : BoundaryLoops(target_positions, target_triangles)) {
       if (std::none_of(loop.begin(), loop.end(), [&](std::uint32_t v) { return rim_snapped[v] != 0; })) continue;
@@ -308,18 +385,25 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
       }
       // k passes of the (1, 2, 1) / 4 filter: a Gaussian of variance k / 2 vertex spacings squared.
       const float spacing = length / static_cast<float>(size);
-      TopologyMapping::SmoothedRim rim;
+      TopologyMapping::Rim rim;
       const float ratio = spacing > 0.0f ? radius / spacing : 0.0f;
       rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
-      if (rim.passes == 0) continue;
       for (std::size_t i = 0; i < size; ++i) {
         const std::uint32_t v = loop[i];
         const auto same_side = [&](std::uint32_t w) {
           return glm::dot(inward[v], inward[w]) >= params.rim_min_facing ? w : v;
         };
         rim.vertices.push_back({v, same_side(loop[(i + size - 1) % size]), same_side(loop[(i + 1) % size])});
+        rim.into_opening.push_back(-inward[v]);
       }
-      mapping.smoothed_rims.push_back(std::move(rim));
+      rim.rest_gap.resize(size);
+      for (std::size_t i = 0; i < size; ++i) {
+        rim.rest_gap[i] = NearestOppositeSide(rim, i, target_positions, nullptr);
+      }
+      if (params.rim_closing_ratio > 0.0f) {
+        RimBandOf(rim, params.rim_closing_reach, target_positions, neighbour_begin, neighbours);
+      }
+      mapping.rims.push_back(std::move(rim));
     }
   }
   return mapping;
@@ -336,7 +420,7 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
         mapping.weight[v] * (b.x * template_values[t[0]] + b.y * template_values[t[1]] + b.z * template_values[t[2]]);
   }
   std::vector<glm::vec3> smoothed;
-  for (const TopologyMapping::SmoothedRim& rim : mapping.smoothed_rims) {
+  for (const TopologyMapping::Rim& rim : mapping.rims) {
     smoothed.resize(rim.vertices.size());
     for (int pass = 0; pass < rim.passes; ++pass) {
       for (std::size_t i = 0; i < smoothed.size(); ++i) {
@@ -344,6 +428,47 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
         smoothed[i] = 0.25f * (target_values[at.previous] + 2.0f * target_values[at.vertex] + target_values[at.next]);
       }
       for (std::size_t i = 0; i < smoothed.size(); ++i) target_values[rim.vertices[i].vertex] = smoothed[i];
+    }
+  }
+}
+
+void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target_positions,
+               std::vector<glm::vec3>& deltas) {
+  const float ratio_limit = mapping.rim_closing_ratio;
+  if (!(ratio_limit > 0.0f)) return;
+  std::vector<glm::vec3> correction, smoothed;
+  for (const TopologyMapping::Rim& rim : mapping.rims) {
+    if (rim.band.empty()) continue;
+    correction.assign(rim.vertices.size(), glm::vec3(0.0f));
+    bool closing = false;
+    for (std::size_t i = 0; i < rim.vertices.size(); ++i) {
+      if (!(rim.rest_gap[i] > 0.0f)) continue;
+      glm::vec3 to_opposite(0.0f);
+      const float distance = NearestOppositeSide(rim, i, target_positions, &deltas, &to_opposite);
+      // Negative where the side has passed the other (it lies back against its direction into the opening).
+      const float gap = glm::dot(to_opposite, rim.into_opening[i]) < 0.0f ? -distance : distance;
+      const float ratio = gap / rim.rest_gap[i];
+      if (!(ratio < ratio_limit)) continue;
+      // Half the way each side (the other side goes its own half); fully from half the limit down.
+      const float t = std::clamp((ratio_limit - ratio) / (0.5f * ratio_limit), 0.0f, 1.0f);
+      correction[i] = t * t * (3.0f - 2.0f * t) * 0.5f * to_opposite;
+      closing = true;
+    }
+    if (!closing) continue;
+    // Smoothed along the rim as the deltas are: the gap left varies vertex to vertex.
+    const std::size_t size = rim.vertices.size();
+    smoothed.resize(size);
+    for (int pass = 0; pass < rim.passes; ++pass) {
+      for (std::size_t i = 0; i < size; ++i) {
+        const TopologyMapping::RimNeighbours& at = rim.vertices[i];
+        const std::size_t previous = at.previous == at.vertex ? i : (i + size - 1) % size;
+        const std::size_t next = at.next == at.vertex ? i : (i + 1) % size;
+        smoothed[i] = 0.25f * (correction[previous] + 2.0f * correction[i] + correction[next]);
+      }
+      correction.swap(smoothed);
+    }
+    for (const TopologyMapping::RimBand& follower : rim.band) {
+      deltas[follower.vertex] += follower.weight * correction[follower.rim_index];
     }
   }
 }
@@ -372,6 +497,7 @@ RawRig MapRigToTarget(const Rig& fitted_rig, const TopologyMapping& mapping, Raw
       template_deltas[shape.vertex_indices[i]] = shape.position_deltas[i];
     }
     MapVertexValues(mapping, fitted_rig.triangles(), template_deltas, target_deltas);
+    CloseRims(mapping, target.positions, target_deltas);
     if (with_normals) {
       expression.resize(n);
       for (std::size_t v = 0; v < n; ++v) expression[v] = target.positions[v] + target_deltas[v];

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <glm/geometric.hpp>
 #include <vector>
 
@@ -83,14 +84,15 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
   // point inside the lid (a deep inset here, so that it shows) and lag.
   std::vector<facerig::TemplateRim> rims;
   for (std::uint32_t x = 5; x < kSlitLast; ++x) rims.push_back({Vertex(x, kSlitRow + 1), {0, -1, 0}});
-  const auto mapped_with = [&](float radius, std::size_t expected_rims) {
+  const auto mapped_with = [&](float radius, int expected_passes) {
     facerig::TopologyMappingParams params;
     params.boundary_inset = 0.03f;
     params.rim_smoothing_radius = radius;
     const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(
         sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, params, rims);
     CHECK(mapping.rim_vertices == 3);
-    CHECK(mapping.smoothed_rims.size() == expected_rims);
+    REQUIRE(mapping.rims.size() == 1);
+    CHECK(mapping.rims[0].passes == expected_passes);
     std::vector<glm::vec3> mapped;
     facerig::MapVertexValues(mapping, sheet.triangles, blink, mapped);
     return mapped;
@@ -104,7 +106,7 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
   // The default radius is far below this coarse sheet's vertex spacing: left as it is.
   CHECK(mapped_with(facerig::TopologyMappingParams{}.rim_smoothing_radius, 0) == stepped);
   // About one vertex spacing (the sheet's diagonal is 11.7 spacings): 2 passes.
-  const std::vector<glm::vec3> smoothed = mapped_with(1.0f / 11.7f, 1);
+  const std::vector<glm::vec3> smoothed = mapped_with(1.0f / 11.7f, 2);
   WARN("extra step where the rim starts snapping: " << extra_step(stepped) << " unsmoothed, " << extra_step(smoothed)
                                                     << " smoothed");
   CHECK(extra_step(stepped) > 0.1f);
@@ -122,6 +124,74 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
   for (float bad : {-0.1f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
     facerig::TopologyMappingParams params;
     params.rim_smoothing_radius = bad;
+    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
+                                                    sheet.triangles, params, rims),
+                    facerig::InvalidInputError);
+  }
+}
+
+TEST_CASE("Topology mapping: a rim whose sides an expression brings together closes, or stops crossing",
+          "[topology_mapping]") {
+  const SlitSheet sheet = facerig::test::MakeSlitSheet();
+  const std::vector<facerig::TemplateRim> rims = SlitRims(false);
+  const facerig::TopologyMapping mapping =
+      facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, {}, rims);
+  REQUIRE(mapping.rims.size() == 1);
+  CHECK(mapping.rims[0].rest_gap[0] > 0.0f);
+  // The slit's upper edge comes down by `drop` of its 1.0 gap, the row above by half.
+  const auto closed_with = [&](float drop) {
+    std::vector<glm::vec3> blink(kColumns * kRows, glm::vec3(0.0f));
+    for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
+      blink[Vertex(x, kSlitRow + 1)].y = -drop;
+      blink[Vertex(x, kSlitRow + 2)].y = -0.5f * drop;
+    }
+    std::vector<glm::vec3> deltas;
+    facerig::MapVertexValues(mapping, sheet.triangles, blink, deltas);
+    std::vector<glm::vec3> before = deltas;
+    facerig::CloseRims(mapping, sheet.positions, deltas);
+    return std::pair{before, deltas};
+  };
+  // The largest gap between the slit's sides, upper minus lower height.
+  const auto widest = [&](const std::vector<glm::vec3>& deltas) {
+    float largest = 0.0f;
+    for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) {
+      const std::uint32_t upper = Vertex(x, kSlitRow + 1), lower = Vertex(x, kSlitRow);
+      const float gap = sheet.positions[upper].y + deltas[upper].y - sheet.positions[lower].y - deltas[lower].y;
+      if (std::abs(gap) > std::abs(largest)) largest = gap;
+    }
+    return largest;
+  };
+  // Nearly closed (10% open): closed, each side moving half.
+  const auto [open10, closed10] = closed_with(0.9f);
+  CHECK(std::abs(widest(open10) - 0.1f) < 1e-4f);
+  CHECK(std::abs(widest(closed10)) < 1e-3f);
+  CHECK(closed10[Vertex(5, kSlitRow)].y == Approx(0.05f).margin(1e-3));
+  // Crossing by 0.1: back to meeting, but for the vertices next to the slit's
+  // ends, whose nearest point on the other side lies on the sloping end edge.
+  const auto [crossed, uncrossed] = closed_with(1.1f);
+  CHECK(widest(crossed) < -0.09f);
+  CHECK(std::abs(widest(uncrossed)) < 0.03f);
+  for (std::uint32_t x = kSlitFirst + 2; x + 1 < kSlitLast; ++x) {
+    const float gap = sheet.positions[Vertex(x, kSlitRow + 1)].y + uncrossed[Vertex(x, kSlitRow + 1)].y -
+                      sheet.positions[Vertex(x, kSlitRow)].y - uncrossed[Vertex(x, kSlitRow)].y;
+    CHECK(std::abs(gap) < 1e-3f);
+  }
+  // Half closed (a squint): left as it is.
+  const auto [half, half_after] = closed_with(0.5f);
+  CHECK(half_after == half);
+  // The rows away from the rim do not move (the lid follows only within half the gap).
+  for (std::uint32_t x = 0; x < kColumns; ++x) CHECK(closed10[Vertex(x, 0)] == open10[Vertex(x, 0)]);
+  // Off: nothing closes.
+  facerig::TopologyMappingParams off;
+  off.rim_closing_ratio = 0.0f;
+  const facerig::TopologyMapping plain =
+      facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, off, rims);
+  std::vector<glm::vec3> deltas = open10;
+  facerig::CloseRims(plain, sheet.positions, deltas);
+  CHECK(deltas == open10);
+  for (float bad : {-0.1f, 1.0f, std::numeric_limits<float>::quiet_NaN()}) {
+    facerig::TopologyMappingParams params;
+    params.rim_closing_ratio = bad;
     CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
                                                     sheet.triangles, params, rims),
                     facerig::InvalidInputError);

@@ -66,6 +66,20 @@ struct TopologyMappingParams {
   // (crossing 0.022-0.039 and 0.054-0.093). A coarse rim (vertices further
   // apart than the radius) is left as it is. 0: off.
   float rim_smoothing_radius = 0.002f;
+  // Where an expression brings a rim's two sides to within this fraction of
+  // their rest distance (the fitted template's lids meeting on a blink), the
+  // target's rim closes: each side moves half the remaining gap towards the
+  // other (or back, where they cross; fully from half this fraction down),
+  // and the lid around follows, fading to nothing rim_closing_reach times the
+  // rest distance away. The template's lid, fitted to a surface, is shaped
+  // unlike the target's: on the built-in head ICT's blink left the closed
+  // upper rim 0.4-1.3 mm above the lower one in the middle (a slit that
+  // showed the eye) and 0.5-2 mm below it at the outer corner; closed, the
+  // upper lid's mean distance to the lower went 0.31-0.40 -> 0.07-0.11 mm,
+  // its deepest crossing 0.1-0.3 -> 0.4-0.5 mm. Other shapes change by at
+  // most 0.7 mm (eyeLookDown, whose lid nearly closes at the corners). 0: off.
+  float rim_closing_ratio = 0.3f;
+  float rim_closing_reach = 0.5f;
 };
 
 // A fitted template vertex on the margin of an opening (an eyelid's, a lip's)
@@ -86,20 +100,32 @@ struct TopologyMapping {
   std::size_t unmapped_vertices = 0;  // weight 0
   std::size_t facing_fallbacks = 0;  // no facing triangle near: plain nearest used
   std::size_t rim_vertices = 0;      // target boundary vertices mapped onto a template rim edge
-  // The target's rims with snapped vertices, smoothed by MapVertexValues
-  // (TopologyMappingParams::rim_smoothing_radius): per rim, its vertices with
-  // their neighbours along it (itself where a neighbour faces another way),
-  // and the number of smoothing passes for its vertex spacing.
+  // The target's rims with snapped vertices (its eye openings, found by the
+  // template's margins): per rim, its vertices with their neighbours along it
+  // (itself where a neighbour faces another way) and the number of smoothing
+  // passes for its vertex spacing (TopologyMappingParams::rim_smoothing_radius,
+  // applied by MapVertexValues); per vertex, the direction into the opening
+  // and the rest distance to the opposite side (0: none), and the target
+  // vertices that follow a closing (rim_closing_ratio, applied by CloseRims).
   struct RimNeighbours {
     std::uint32_t vertex;
     std::uint32_t previous;
     std::uint32_t next;
   };
-  struct SmoothedRim {
+  struct RimBand {
+    std::uint32_t vertex;
+    std::uint32_t rim_index;  // into Rim::vertices: the rim vertex it follows
+    float weight;
+  };
+  struct Rim {
     std::vector<RimNeighbours> vertices;
+    std::vector<glm::vec3> into_opening;
+    std::vector<float> rest_gap;
+    std::vector<RimBand> band;
     int passes = 0;
   };
-  std::vector<SmoothedRim> smoothed_rims;
+  std::vector<Rim> rims;
+  float rim_closing_ratio = 0.0f;
   double mean_distance = 0.0;        // over full-weight vertices, target units
 };
 
@@ -119,6 +145,12 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
 // target_values gets #target vertices.
 void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> template_triangles,
                      std::span<const glm::vec3> template_values, std::vector<glm::vec3>& target_values);
+
+// Closes the target's rims where the mapped deltas (#target vertices) bring
+// their two sides together (TopologyMappingParams::rim_closing_ratio).
+// target_positions: the target's rest positions.
+void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target_positions,
+               std::vector<glm::vec3>& deltas);
 
 // A rig on the target's topology: the target's positions, triangles, UVs,
 // parts and units, with every shape of `fitted_rig` (template topology, already
