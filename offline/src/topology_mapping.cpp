@@ -243,6 +243,19 @@ void RimBandOf(TopologyMapping::Rim& rim, float reach, std::span<const glm::vec3
   }
 }
 
+// rim.passes passes of (previous + 2 self + next) / 4 along the rim; values
+// by index into rim.vertices.
+void SmoothAlongRim(const TopologyMapping::Rim& rim, std::vector<glm::vec3>& values, std::vector<glm::vec3>& scratch) {
+  scratch.resize(values.size());
+  for (int pass = 0; pass < rim.passes; ++pass) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const TopologyMapping::RimNeighbours& at = rim.vertices[i];
+      scratch[i] = 0.25f * (values[at.previous] + 2.0f * values[i] + values[at.next]);
+    }
+    values.swap(scratch);
+  }
+}
+
 }  // namespace
 
 TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
@@ -390,10 +403,10 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
       rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
       for (std::size_t i = 0; i < size; ++i) {
         const std::uint32_t v = loop[i];
-        const auto same_side = [&](std::uint32_t w) {
-          return glm::dot(inward[v], inward[w]) >= params.rim_min_facing ? w : v;
+        const auto same_side = [&](std::size_t j) {
+          return static_cast<std::uint32_t>(glm::dot(inward[v], inward[loop[j]]) >= params.rim_min_facing ? j : i);
         };
-        rim.vertices.push_back({v, same_side(loop[(i + size - 1) % size]), same_side(loop[(i + 1) % size])});
+        rim.vertices.push_back({v, same_side((i + size - 1) % size), same_side((i + 1) % size)});
         rim.into_opening.push_back(-inward[v]);
       }
       rim.rest_gap.resize(size);
@@ -419,16 +432,13 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
     target_values[v] =
         mapping.weight[v] * (b.x * template_values[t[0]] + b.y * template_values[t[1]] + b.z * template_values[t[2]]);
   }
-  std::vector<glm::vec3> smoothed;
+  std::vector<glm::vec3> along_rim, scratch;
   for (const TopologyMapping::Rim& rim : mapping.rims) {
-    smoothed.resize(rim.vertices.size());
-    for (int pass = 0; pass < rim.passes; ++pass) {
-      for (std::size_t i = 0; i < smoothed.size(); ++i) {
-        const TopologyMapping::RimNeighbours& at = rim.vertices[i];
-        smoothed[i] = 0.25f * (target_values[at.previous] + 2.0f * target_values[at.vertex] + target_values[at.next]);
-      }
-      for (std::size_t i = 0; i < smoothed.size(); ++i) target_values[rim.vertices[i].vertex] = smoothed[i];
-    }
+    if (rim.passes == 0) continue;
+    along_rim.clear();
+    for (const TopologyMapping::RimNeighbours& at : rim.vertices) along_rim.push_back(target_values[at.vertex]);
+    SmoothAlongRim(rim, along_rim, scratch);
+    for (std::size_t i = 0; i < along_rim.size(); ++i) target_values[rim.vertices[i].vertex] = along_rim[i];
   }
 }
 
@@ -436,7 +446,7 @@ void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target
                std::vector<glm::vec3>& deltas) {
   const float ratio_limit = mapping.rim_closing_ratio;
   if (!(ratio_limit > 0.0f)) return;
-  std::vector<glm::vec3> correction, smoothed;
+  std::vector<glm::vec3> correction, scratch;
   for (const TopologyMapping::Rim& rim : mapping.rims) {
     if (rim.band.empty()) continue;
     correction.assign(rim.vertices.size(), glm::vec3(0.0f));
@@ -456,17 +466,7 @@ void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target
     }
     if (!closing) continue;
     // Smoothed along the rim as the deltas are: the gap left varies vertex to vertex.
-    const std::size_t size = rim.vertices.size();
-    smoothed.resize(size);
-    for (int pass = 0; pass < rim.passes; ++pass) {
-      for (std::size_t i = 0; i < size; ++i) {
-        const TopologyMapping::RimNeighbours& at = rim.vertices[i];
-        const std::size_t previous = at.previous == at.vertex ? i : (i + size - 1) % size;
-        const std::size_t next = at.next == at.vertex ? i : (i + 1) % size;
-        smoothed[i] = 0.25f * (correction[previous] + 2.0f * correction[i] + correction[next]);
-      }
-      correction.swap(smoothed);
-    }
+    SmoothAlongRim(rim, correction, scratch);
     for (const TopologyMapping::RimBand& follower : rim.band) {
       deltas[follower.vertex] += follower.weight * correction[follower.rim_index];
     }

@@ -102,14 +102,15 @@ struct TopologyMapping {
   std::size_t rim_vertices = 0;      // target boundary vertices mapped onto a template rim edge
   // The target's rims with snapped vertices (its eye openings, found by the
   // template's margins): per rim, its vertices with their neighbours along it
-  // (itself where a neighbour faces another way) and the number of smoothing
+  // (indices into Rim::vertices; itself where a neighbour faces another way)
+  // and the number of smoothing
   // passes for its vertex spacing (TopologyMappingParams::rim_smoothing_radius,
   // applied by MapVertexValues); per vertex, the direction into the opening
   // and the rest distance to the opposite side (0: none), and the target
   // vertices that follow a closing (rim_closing_ratio, applied by CloseRims).
   struct RimNeighbours {
-    std::uint32_t vertex;
-    std::uint32_t previous;
+    std::uint32_t vertex;    // target vertex
+    std::uint32_t previous;  // index into Rim::vertices
     std::uint32_t next;
   };
   struct RimBand {
