@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
-#include <queue>
 #include <utility>
 
 #include <Eigen/SparseCholesky>
@@ -158,32 +157,18 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
   constexpr std::int32_t kOutside = -1;
   std::vector<std::int32_t> unknown(n, kOutside);  // band vertex -> unknown index
   std::vector<glm::vec3> correction(n, glm::vec3(0.0f));
-  std::vector<float> distance(n, std::numeric_limits<float>::infinity());
-  using Entry = std::pair<float, std::uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  std::vector<std::uint32_t> sources;
   for (const Match& m : matches) {
     unknown[m.vertex] = kFixed;
     correction[m.vertex] = m.correction;
-    distance[m.vertex] = 0.0f;
-    queue.emplace(0.0f, m.vertex);
+    sources.push_back(m.vertex);
   }
+  const std::vector<float> reaches(sources.size(), reach);
   std::vector<std::uint32_t> band;
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > distance[v]) continue;
-    if (unknown[v] == kOutside) {
-      unknown[v] = static_cast<std::int32_t>(band.size());
-      band.push_back(v);
-    }
-    for (std::uint32_t k = begin[v]; k < begin[v + 1]; ++k) {
-      const std::uint32_t w = neighbours[k];
-      const float through_v = d + glm::length(fitted[w] - fitted[v]);
-      if (through_v < reach && through_v < distance[w]) {
-        distance[w] = through_v;
-        queue.emplace(through_v, w);
-      }
-    }
+  for (const EdgeReach& at : VerticesWithinReach(fitted, begin, neighbours, sources, reaches)) {
+    if (unknown[at.vertex] != kOutside) continue;
+    unknown[at.vertex] = static_cast<std::int32_t>(band.size());
+    band.push_back(at.vertex);
   }
 
   // Harmonic in the band (uniform weights): the aligned margins fixed, zero

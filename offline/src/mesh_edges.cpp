@@ -1,7 +1,12 @@
 #include "mesh_edges.h"
 
 #include <algorithm>
+#include <functional>
+#include <limits>
+#include <queue>
 #include <utility>
+
+#include <glm/geometric.hpp>
 
 namespace facerig {
 
@@ -47,6 +52,40 @@ void VertexNeighbours(std::size_t vertex_count, std::span<const Triangle> triang
   for (std::size_t v = 0; v < vertex_count; ++v) begin[v + 1] += begin[v];
   neighbours.resize(pairs.size());
   for (std::size_t i = 0; i < pairs.size(); ++i) neighbours[i] = pairs[i].second;
+}
+
+std::vector<EdgeReach> VerticesWithinReach(std::span<const glm::vec3> positions,
+                                           const std::vector<std::uint32_t>& neighbour_begin,
+                                           const std::vector<std::uint32_t>& neighbours,
+                                           std::span<const std::uint32_t> sources, std::span<const float> reach) {
+  std::vector<float> distance(positions.size(), std::numeric_limits<float>::infinity());
+  std::vector<std::uint32_t> source_of(positions.size(), 0);
+  using Entry = std::pair<float, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    distance[sources[i]] = 0.0f;
+    source_of[sources[i]] = static_cast<std::uint32_t>(i);
+    queue.emplace(0.0f, sources[i]);
+  }
+  // Paths longer than the largest reach can keep nothing, so they are not followed.
+  const float farthest = reach.empty() ? 0.0f : *std::max_element(reach.begin(), reach.end());
+  std::vector<EdgeReach> reached;
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    if (d < reach[source_of[v]] || d == 0.0f) reached.push_back({v, d, source_of[v]});
+    for (std::uint32_t k = neighbour_begin[v]; k < neighbour_begin[v + 1]; ++k) {
+      const std::uint32_t w = neighbours[k];
+      const float through = d + glm::length(positions[w] - positions[v]);
+      if (through < farthest && through < distance[w]) {
+        distance[w] = through;
+        source_of[w] = source_of[v];
+        queue.emplace(through, w);
+      }
+    }
+  }
+  return reached;
 }
 
 }  // namespace facerig

@@ -5,7 +5,6 @@
 #include <map>
 #include <limits>
 #include <memory>
-#include <queue>
 #include <string>
 
 #include <glm/common.hpp>
@@ -211,35 +210,17 @@ float NearestOppositeSide(const TopologyMapping::Rim& rim, std::size_t i, std::s
 // rest gap, weighted from 1 there to 0 at the limit (smoothstep).
 void RimBandOf(TopologyMapping::Rim& rim, float reach, std::span<const glm::vec3> positions,
                const std::vector<std::uint32_t>& neighbour_begin, const std::vector<std::uint32_t>& neighbours) {
-  constexpr float kFar = std::numeric_limits<float>::infinity();
-  std::vector<float> distance(positions.size(), kFar);
-  std::vector<std::uint32_t> source(positions.size(), 0);
-  using Entry = std::pair<float, std::uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  std::vector<std::uint32_t> sources, rim_index;
+  std::vector<float> limits;
   for (std::size_t i = 0; i < rim.vertices.size(); ++i) {
     if (!(rim.rest_gap[i] > 0.0f)) continue;
-    const std::uint32_t v = rim.vertices[i].vertex;
-    distance[v] = 0.0f;
-    source[v] = static_cast<std::uint32_t>(i);
-    queue.emplace(0.0f, v);
+    sources.push_back(rim.vertices[i].vertex);
+    rim_index.push_back(static_cast<std::uint32_t>(i));
+    limits.push_back(reach * rim.rest_gap[i]);
   }
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > distance[v]) continue;
-    const float limit = reach * rim.rest_gap[source[v]];
-    if (!(d < limit)) continue;
-    const float t = 1.0f - d / limit;
-    rim.band.push_back({v, source[v], t * t * (3.0f - 2.0f * t)});
-    for (std::uint32_t k = neighbour_begin[v]; k < neighbour_begin[v + 1]; ++k) {
-      const std::uint32_t w = neighbours[k];
-      const float through = d + glm::length(positions[w] - positions[v]);
-      if (through < distance[w]) {
-        distance[w] = through;
-        source[w] = source[v];
-        queue.emplace(through, w);
-      }
-    }
+  for (const EdgeReach& at : VerticesWithinReach(positions, neighbour_begin, neighbours, sources, limits)) {
+    const float t = 1.0f - at.distance / limits[at.source];
+    rim.band.push_back({at.vertex, rim_index[at.source], t * t * (3.0f - 2.0f * t)});
   }
 }
 
