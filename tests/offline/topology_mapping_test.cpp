@@ -196,6 +196,13 @@ TEST_CASE("Topology mapping: a rim whose sides an expression brings together clo
                                                     sheet.triangles, params, rims),
                     facerig::InvalidInputError);
   }
+  for (float bad : {0.0f, -1.0f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    facerig::TopologyMappingParams params;
+    params.rim_closing_reach = bad;
+    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
+                                                    sheet.triangles, params, rims),
+                    facerig::InvalidInputError);
+  }
 }
 
 TEST_CASE("Topology mapping: template rims out of range or out of order are refused", "[topology_mapping]") {
