@@ -8,6 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libglm-dev libtinygltf-dev nlohmann-json3-dev   # runtime
   libeigen3-dev                                    # offline
+  libsuitesparse-dev                               # offline: CHOLMOD sparse Cholesky (registration, transfer)
+  libcli11-dev                                     # tools: one option parser (facerig, facerig-bench, player)
   libopencv-dev libdlib-dev libdlib-data           # offline: rasterizer PNGs, default-head face test
   libespeak-ng-dev espeak-ng-data                  # facerig::espeak (phoneme source)
   # facerig-player: SDL2 window + audio; libepoxy loads GL for GLX/SDL and EGL
