@@ -25,6 +25,7 @@ const char* ToString(CharacterError error) {
     case CharacterError::kNonFiniteTime: return "time is NaN or infinite";
     case CharacterError::kInvalidPhoneme: return "phoneme with a non-finite, negative or backwards time";
     case CharacterError::kTooManyKeys: return "line longer than the character's key capacity";
+    case CharacterError::kInvalidKey: return "the viseme timing params made an invalid viseme key";
     case CharacterError::kStreamFull: return "phoneme stream ring is full";
     case CharacterError::kNotStreaming: return "no stream is open";
   }
@@ -51,7 +52,7 @@ CharacterRig CharacterRig::Build(const Rig& rig, const CharacterRigOptions& opti
 Character::Character(const CharacterRig& rig, const CharacterParams& params)
     : rig_(&rig),
       params_(params),
-      keys_(std::max<std::size_t>(params.key_capacity, 2 * kMaxVisemeKeysPerPhoneme)),
+      track_(std::max<std::size_t>(params.key_capacity, 2 * kMaxVisemeKeysPerPhoneme)),
       phonemes_(std::max<std::size_t>(params.key_capacity, 1)),
       key_stream_(params.timing),
       ring_(new Phoneme[std::max<std::size_t>(params.stream_capacity, 2)]),
@@ -60,16 +61,27 @@ Character::Character(const CharacterRig& rig, const CharacterParams& params)
       speech_weights_(rig.rig().shape_count(), 0.0f),
       weights_(rig.rig().shape_count(), 0.0f) {}
 
-bool Character::AppendPhoneme(const Phoneme& phoneme) {
-  if (key_count_ + kMaxVisemeKeysPerPhoneme > keys_.size() || phoneme_count_ >= phonemes_.size()) {
-    return false;
+VisemeTrackError Character::AppendPhoneme(const Phoneme& phoneme) {
+  if (track_.size() + kMaxVisemeKeysPerPhoneme > track_.capacity() || phoneme_count_ >= phonemes_.size()) {
+    return VisemeTrackError::kFull;
   }
-  const std::optional<std::size_t> written =
-      key_stream_.Push(phoneme, std::span(keys_).subspan(key_count_));
-  if (!written) return false;
-  key_count_ += *written;
+  std::array<VisemeKey, kMaxVisemeKeysPerPhoneme> written_keys;
+  const std::optional<std::size_t> written = key_stream_.Push(phoneme, written_keys);
+  if (!written) return VisemeTrackError::kFull;
+  // The only check of these keys: the per-frame coarticulation trusts the track.
+  if (const VisemeTrackError error = track_.Append(std::span(written_keys).first(*written));
+      error != VisemeTrackError::kNone) {
+    return error;
+  }
   phonemes_[phoneme_count_++] = phoneme;
-  return true;
+  return VisemeTrackError::kNone;
+}
+
+VisemeTrackError Character::FinishKeys() {
+  std::array<VisemeKey, kMaxVisemeKeysPerPhoneme> written_keys;
+  const std::optional<std::size_t> written = key_stream_.Finish(written_keys);
+  if (!written) return VisemeTrackError::kFull;
+  return track_.Append(std::span(written_keys).first(*written));
 }
 
 CharacterError Character::Speak(std::span<const Phoneme> phonemes, double start_time) {
@@ -80,25 +92,34 @@ CharacterError Character::Speak(std::span<const Phoneme> phonemes, double start_
     if (!ValidPhoneme(phoneme) || phoneme.start < previous_start) return CharacterError::kInvalidPhoneme;
     previous_start = phoneme.start;
   }
-  if (phonemes.size() * kMaxVisemeKeysPerPhoneme + kMaxVisemeKeysPerPhoneme > keys_.size() ||
+  if (phonemes.size() * kMaxVisemeKeysPerPhoneme + kMaxVisemeKeysPerPhoneme > track_.capacity() ||
       phonemes.size() > phonemes_.size()) {
     return CharacterError::kTooManyKeys;
   }
   stream_open_.store(false, std::memory_order_release);
   stream_finished_ = true;
-  key_stream_.Reset();
-  key_count_ = 0;
-  phoneme_count_ = 0;
+  ClearLine();
   line_start_ = start_time;
-  for (const Phoneme& phoneme : phonemes) AppendPhoneme(phoneme);
-  if (const auto written = key_stream_.Finish(std::span(keys_).subspan(key_count_))) key_count_ += *written;
+  VisemeTrackError error = VisemeTrackError::kNone;
+  for (const Phoneme& phoneme : phonemes) {
+    if (error == VisemeTrackError::kNone) error = AppendPhoneme(phoneme);
+  }
+  if (error == VisemeTrackError::kNone) error = FinishKeys();
+  if (error != VisemeTrackError::kNone) {
+    ClearLine();
+    return CharacterError::kInvalidKey;  // capacity was checked above: only a bad key is left
+  }
   return CharacterError::kNone;
 }
 
-void Character::BeginStream(double start_time) {
+void Character::ClearLine() {
   key_stream_.Reset();
-  key_count_ = 0;
+  track_.Clear();
   phoneme_count_ = 0;
+}
+
+void Character::BeginStream(double start_time) {
+  ClearLine();
   line_start_ = std::isfinite(start_time) ? start_time : last_time_;
   ring_head_.store(0, std::memory_order_relaxed);
   ring_tail_.store(0, std::memory_order_relaxed);
@@ -127,9 +148,7 @@ CharacterError Character::EndStream() {
 void Character::StopSpeaking() {
   stream_open_.store(false, std::memory_order_release);
   stream_finished_ = true;
-  key_stream_.Reset();
-  key_count_ = 0;
-  phoneme_count_ = 0;
+  ClearLine();
 }
 
 void Character::SetEmotion(Emotion emotion, float target) {
@@ -140,13 +159,7 @@ void Character::RecycleKeysBefore(double line_time) {
   // Keys whose end is farther behind than the coarticulation window can no
   // longer influence the mouth: shift the rest to the front.
   const double horizon = line_time - params_.coarticulation.window - 0.5;
-  std::size_t drop = 0;
-  while (drop < key_count_ && keys_[drop].end < horizon) ++drop;
-  if (drop > 0) {
-    std::move(keys_.begin() + static_cast<std::ptrdiff_t>(drop),
-              keys_.begin() + static_cast<std::ptrdiff_t>(key_count_), keys_.begin());
-    key_count_ -= drop;
-  }
+  track_.DropEndingBefore(horizon);
   std::size_t drop_phonemes = 0;
   while (drop_phonemes < phoneme_count_ &&
          phonemes_[drop_phonemes].start + phonemes_[drop_phonemes].duration < horizon) {
@@ -165,13 +178,15 @@ void Character::DrainStream() {
   std::size_t tail = ring_tail_.load(std::memory_order_relaxed);
   const std::size_t head = ring_head_.load(std::memory_order_acquire);
   while (tail != head) {
-    if (!AppendPhoneme(ring_[tail])) break;  // full even after recycling: retry next frame
+    // Full even after recycling: retry next frame. A bad key (only from bad
+    // timing params) is skipped so the stream keeps flowing.
+    const VisemeTrackError error = AppendPhoneme(ring_[tail]);
+    if (error == VisemeTrackError::kFull) break;
     tail = (tail + 1) % ring_capacity_;
   }
   ring_tail_.store(tail, std::memory_order_release);
   if (ended && tail == head) {
-    if (const auto written = key_stream_.Finish(std::span(keys_).subspan(key_count_))) {
-      key_count_ += *written;
+    if (FinishKeys() != VisemeTrackError::kFull) {
       stream_finished_ = true;
       stream_open_.store(false, std::memory_order_release);
     }
@@ -225,11 +240,11 @@ CharacterError Character::Update(double time) {
   last_time_ = time;
   const double line_time = time - line_start_;
 
-  if (key_count_ + 64 > keys_.size()) RecycleKeysBefore(line_time);
+  if (track_.size() + 64 > track_.capacity()) RecycleKeysBefore(line_time);
   DrainStream();
   UpdateTalkingState(line_time);
 
-  CoarticulationJob coarticulation{keys(), line_time, &params_.coarticulation, &viseme_weights_};
+  CoarticulationJob coarticulation{&track_, line_time, &params_.coarticulation, &viseme_weights_};
   if (coarticulation.Run() != CoarticulationError::kNone) viseme_weights_.fill(0.0f);
 
   VisemeWeightsJob to_rig{&rig_->visemes(), viseme_weights_, params_.jaw_intensity,

@@ -95,9 +95,7 @@ const char* ToString(CoarticulationError error) {
     case CoarticulationError::kInvalidParams: return "coarticulation params out of range";
     case CoarticulationError::kNoOutput: return "no output";
     case CoarticulationError::kNonFiniteTime: return "time is NaN or infinite";
-    case CoarticulationError::kInvalidKey:
-      return "a viseme key has non-finite times, end < start, an unknown viseme or strength outside [0,1]";
-    case CoarticulationError::kKeysOutOfOrder: return "viseme keys are not sorted by start and end";
+    case CoarticulationError::kNoKeys: return "no viseme track";
   }
   return "unknown error";
 }
@@ -107,15 +105,7 @@ CoarticulationError CoarticulationJob::Validate() const {
   if (!params->Valid()) return CoarticulationError::kInvalidParams;
   if (out_weights == nullptr) return CoarticulationError::kNoOutput;
   if (!Finite(time)) return CoarticulationError::kNonFiniteTime;
-  for (std::size_t i = 0; i < keys.size(); ++i) {
-    const VisemeKey& k = keys[i];
-    if (!Finite(k.start) || !Finite(k.end) || k.end < k.start) return CoarticulationError::kInvalidKey;
-    if (static_cast<std::size_t>(k.viseme) >= kVisemeCount) return CoarticulationError::kInvalidKey;
-    if (!(k.strength >= 0.0f && k.strength <= 1.0f)) return CoarticulationError::kInvalidKey;
-    if (i > 0 && (k.start < keys[i - 1].start || k.end < keys[i - 1].end)) {
-      return CoarticulationError::kKeysOutOfOrder;
-    }
-  }
+  if (keys == nullptr) return CoarticulationError::kNoKeys;
   return CoarticulationError::kNone;
 }
 
@@ -128,7 +118,8 @@ CoarticulationError CoarticulationJob::Run() const {
   // form a suffix; walk it until keys start after (time + window).
   const double window_start = time - p.window;
   const double window_end = time + p.window;
-  const auto first = std::partition_point(keys.begin(), keys.end(),
+  const std::span<const VisemeKey> track = keys->keys();
+  const auto first = std::partition_point(track.begin(), track.end(),
                                           [&](const VisemeKey& k) { return k.end < window_start; });
 
   std::array<double, kVisemeCount> weighted{};
@@ -138,7 +129,7 @@ CoarticulationError CoarticulationJob::Run() const {
   double open_pp = 1.0, open_ff = 1.0;
   double hold_distance_pp = std::numeric_limits<double>::infinity();
   double hold_distance_ff = std::numeric_limits<double>::infinity();
-  for (auto it = first; it != keys.end() && it->start <= window_end; ++it) {
+  for (auto it = first; it != track.end() && it->start <= window_end; ++it) {
     const VisemeKey& key = *it;
     const DominanceParams& d = table[static_cast<std::size_t>(key.viseme)];
     const double half = 0.5 * (key.end - key.start);

@@ -456,9 +456,11 @@ TEST_CASE("ICT-FaceKit: a 30 ms p between aa closes the lips while smiling, end 
     const std::vector<facerig::VisemeKey> keys = {{start - 0.15, start, Viseme::kAA, 1.0f},
                                                   {start, start + duration, Viseme::kPP, 1.0f},
                                                   {start + duration, start + duration + 0.15, Viseme::kAA, 1.0f}};
+    facerig::VisemeTrack track;
+    REQUIRE(facerig::VisemeTrack::Make(keys, track) == facerig::VisemeTrackError::kNone);
     facerig::VisemeWeights visemes{};
     auto pose_at = [&](double t) {
-      facerig::CoarticulationJob job{keys, t, &params, &visemes};
+      facerig::CoarticulationJob job{&track, t, &params, &visemes};
       REQUIRE(job.Run() == facerig::CoarticulationError::kNone);
       return stack.Pose(visemes, joy);
     };

@@ -27,6 +27,7 @@
 #include "facerig/runtime/speech/phoneme_visemes.h"
 #include "facerig/runtime/speech/viseme.h"
 #include "facerig/runtime/speech/viseme_mapping.h"
+#include "facerig/runtime/speech/viseme_track.h"
 
 namespace facerig {
 
@@ -85,6 +86,7 @@ enum class CharacterError : std::uint8_t {
   kNonFiniteTime,
   kInvalidPhoneme,  // non-finite or negative start/duration, or starts going backwards
   kTooManyKeys,     // the line needs more than key_capacity keys; nothing changed
+  kInvalidKey,      // the timing params made an invalid viseme key; the line was dropped
   kStreamFull,      // PushPhoneme: the ring is full (Update() has not drained it)
   kNotStreaming,    // PushPhoneme / EndStream without BeginStream
 };
@@ -140,10 +142,12 @@ class Character {
   float blink_left() const { return blink_left_; }
   float blink_right() const { return blink_right_; }
   // Keys of the current line (line time), for tools and tests.
-  std::span<const VisemeKey> keys() const { return std::span(keys_).first(key_count_); }
+  std::span<const VisemeKey> keys() const { return track_.keys(); }
 
  private:
-  bool AppendPhoneme(const Phoneme& phoneme);
+  VisemeTrackError AppendPhoneme(const Phoneme& phoneme);
+  VisemeTrackError FinishKeys();
+  void ClearLine();
   void DrainStream();
   void RecycleKeysBefore(double line_time);
   void UpdateTalkingState(double line_time);
@@ -153,8 +157,7 @@ class Character {
 
   // Current line, in line time (0 = its start on the animation clock).
   double line_start_ = 0.0;
-  std::vector<VisemeKey> keys_;        // capacity params_.key_capacity, first key_count_ used
-  std::size_t key_count_ = 0;
+  VisemeTrack track_;                  // capacity params_.key_capacity
   std::vector<Phoneme> phonemes_;      // same capacity, for current_phoneme()
   std::size_t phoneme_count_ = 0;
   VisemeKeyStream key_stream_;

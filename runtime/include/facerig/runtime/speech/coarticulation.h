@@ -38,6 +38,7 @@
 #include <span>
 
 #include "facerig/runtime/speech/viseme.h"
+#include "facerig/runtime/speech/viseme_track.h"
 
 namespace facerig {
 
@@ -96,8 +97,7 @@ enum class CoarticulationError : std::uint8_t {
   kInvalidParams,    // CoarticulationParams::Valid() is false, or a table entry is out of range
   kNoOutput,
   kNonFiniteTime,
-  kInvalidKey,       // non-finite times, end < start, viseme out of range, strength outside [0,1]
-  kKeysOutOfOrder,   // starts or ends decreasing
+  kNoKeys,           // no track (an empty track is fine)
 };
 
 const char* ToString(CoarticulationError error);
@@ -106,15 +106,16 @@ const char* ToString(CoarticulationError error);
 // nothing, throws nothing and takes no lock. Cost: a binary search plus the
 // keys within `params->window` of `time`.
 struct CoarticulationJob {
-  // Sorted: starts non-decreasing and ends non-decreasing (so the window is
-  // found by binary search); keys may touch or overlap. Empty is valid: the
-  // mouth is at rest (all weights 0).
-  std::span<const VisemeKey> keys;
+  // Keys checked and sorted when they were appended (starts and ends
+  // non-decreasing, so the window is found by binary search). An empty track
+  // is valid: the mouth is at rest (all weights 0).
+  const VisemeTrack* keys = nullptr;
   double time = 0.0;  // seconds, on the keys' clock
   const CoarticulationParams* params = nullptr;
   VisemeWeights* out_weights = nullptr;
 
-  // Checks every input (O(keys.size())) without touching the output.
+  // Checks the inputs without touching the output: O(1) (the params'
+  // fixed-size table, never the keys).
   CoarticulationError Validate() const;
   // Validates, then evaluates. On error the output is left untouched.
   CoarticulationError Run() const;
