@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/rig_file.h"
+#include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/speech/phoneme_source.h"
 #include "headless_player.h"
 #include "player_options.h"
@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   const std::filesystem::path rig_path = options.rig.empty() ? DefaultRigPath() : options.rig;
   std::optional<facerig::Rig> rig;
   try {
-    rig = facerig::LoadRig(rig_path);
+    rig = facerig::LoadRigOrTemplateFolder(rig_path);
   } catch (const std::exception& e) {
     std::cerr << "facerig-player: cannot load the rig " << rig_path.string() << ": " << e.what() << '\n';
     return 1;

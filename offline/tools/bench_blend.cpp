@@ -13,7 +13,7 @@
 #include "facerig/offline/dense_blend.h"
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/rig_file.h"
+#include "facerig/offline/io/template_folder.h"
 #include "support/allocation_counter.h"
 
 namespace {
@@ -127,7 +127,7 @@ int RunBlendBenchmark(int argc, char** argv) {
   options.with_normal_deltas = true;  // so both normal modes can be measured
   facerig::Rig rig;
   try {
-    rig = facerig::LoadRig(rig_path, options);
+    rig = facerig::LoadRigOrTemplateFolder(rig_path, options);
   } catch (const facerig::IoError& error) {
     std::fprintf(stderr, "facerig-bench: %s\n", error.what());
     return 1;

@@ -15,7 +15,7 @@
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/rig_build.h"
-#include "facerig/runtime/io/template_folder.h"
+#include "facerig/offline/io/template_folder.h"
 #include "support/registration_targets.h"
 
 namespace {

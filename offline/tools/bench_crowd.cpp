@@ -15,7 +15,7 @@
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/rig_file.h"
+#include "facerig/offline/io/template_folder.h"
 
 namespace {
 
@@ -70,7 +70,7 @@ int RunCrowdBenchmark(int argc, char** argv) {
 
   facerig::Rig rig;
   try {
-    rig = facerig::LoadRig(rig_path);
+    rig = facerig::LoadRigOrTemplateFolder(rig_path);
   } catch (const facerig::IoError& error) {
     std::fprintf(stderr, "facerig-bench: %s\n", error.what());
     return 1;

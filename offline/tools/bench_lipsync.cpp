@@ -20,7 +20,7 @@
 #include "facerig/runtime/behaviour/blink.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/rig_file.h"
+#include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 
 namespace {
@@ -156,7 +156,7 @@ int RunLipsyncBenchmark(int argc, char** argv) {
   std::vector<std::string> lines;
   std::optional<std::array<std::uint32_t, 2>> lip_vertices;
   try {
-    rig = facerig::LoadRig(rig_path);
+    rig = facerig::LoadRigOrTemplateFolder(rig_path);
     lines = ReadLines(corpus_path);
     lip_vertices = facerig::IctInnerLipVertices(rig_path);
   } catch (const facerig::IoError& error) {

@@ -17,7 +17,7 @@
 #include "facerig/offline/displacement_transfer.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
-#include "facerig/runtime/io/template_folder.h"
+#include "facerig/offline/io/template_folder.h"
 
 namespace {
 

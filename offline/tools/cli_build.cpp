@@ -17,8 +17,9 @@
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/gltf_with_morph_targets.h"
+#include "facerig/offline/io/gltf_with_morph_targets.h"
 #include "facerig/runtime/io/obj.h"
+#include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/io/rig_file.h"
 
 namespace facerig::cli {
@@ -192,7 +193,7 @@ int RunBuildCommand(int argc, char** argv) {
     }
     if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
 
-    const Rig template_rig = LoadRig(options.template_path);
+    const Rig template_rig = LoadRigOrTemplateFolder(options.template_path);
     RawRig target = LoadMeshForEditing(options.target_path, options.units);
     const std::size_t target_vertices = target.positions.size();
     const double load_seconds = SecondsSince(start);

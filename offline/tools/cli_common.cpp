@@ -6,14 +6,14 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
-#include "facerig/runtime/io/rig_file.h"
+#include "facerig/offline/io/template_folder.h"
 
 namespace facerig::cli {
 
 RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units) {
   TemplateImportOptions options;
   options.units = units;
-  RawRig raw = RigBuilder::ToRaw(LoadRig(path, options));
+  RawRig raw = RigBuilder::ToRaw(LoadRigOrTemplateFolder(path, options));
   if (units != Units::kUnknown) raw.units = units;
   return raw;
 }

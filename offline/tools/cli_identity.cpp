@@ -19,6 +19,7 @@
 #include "facerig/offline/caricature.h"
 #include "facerig/offline/displacement_transfer.h"
 #include "facerig/runtime/error.h"
+#include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
 
@@ -145,7 +146,7 @@ int RunAverageCommand(int argc, char** argv) {
     std::optional<Rig> first;
     std::vector<std::vector<glm::vec3>> faces;
     for (const std::string& path : face_paths) {
-      Rig face = LoadRig(path);
+      Rig face = LoadRigOrTemplateFolder(path);
       if (first) {
         CheckSameTopology(*first, face_paths[0], face, path);
       } else if (face.vertex_count() < 3) {
@@ -224,8 +225,8 @@ int RunCaricatureCommand(int argc, char** argv) {
   try {
     const auto start = std::chrono::steady_clock::now();
     CheckOutputsWritable(output, report_path);
-    const Rig rig = LoadRig(rig_path);
-    const Rig average_rig = LoadRig(average_path);
+    const Rig rig = LoadRigOrTemplateFolder(rig_path);
+    const Rig average_rig = LoadRigOrTemplateFolder(average_path);
     CheckSameTopology(rig, rig_path, average_rig, average_path);
     std::vector<glm::vec3> average(average_rig.positions().begin(), average_rig.positions().end());
     double alignment_rms = 0.0;
@@ -296,8 +297,8 @@ int RunMorphCommand(int argc, char** argv) {
   try {
     const auto start = std::chrono::steady_clock::now();
     CheckOutputsWritable(output, report_path);
-    const Rig template_rig = LoadRig(template_path);
-    const Rig target_rig = LoadRig(target_path);
+    const Rig template_rig = LoadRigOrTemplateFolder(template_path);
+    const Rig target_rig = LoadRigOrTemplateFolder(target_path);
     CheckSameTopology(template_rig, template_path, target_rig, target_path);
     if (target_rig.FindShape(kIdentityMorphShape)) {
       throw std::runtime_error(target_path + " already has a shape called " + kIdentityMorphShape);

@@ -21,7 +21,7 @@
 #include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
-#include "facerig/runtime/io/rig_file.h"
+#include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig::cli {
@@ -127,7 +127,7 @@ int RunRegisterCommand(int argc, char** argv) {
   }
   try {
     const auto start = std::chrono::steady_clock::now();
-    const Rig rig = LoadRig(template_path);
+    const Rig rig = LoadRigOrTemplateFolder(template_path);
     const RawRig target = LoadMeshForEditing(target_path);
     const double load_seconds = SecondsSince(start);
     std::fprintf(stderr, "template %zu vertices, target %zu vertices (%.2f s to load)\n", rig.vertex_count(),

@@ -19,7 +19,7 @@
 #include "facerig/offline/default_head.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/rig_file.h"
-#include "facerig/runtime/io/template_folder.h"
+#include "facerig/offline/io/template_folder.h"
 
 namespace {
 
@@ -122,7 +122,7 @@ facerig::Rig Load(const std::string& path, const Arguments& args) {
                 report.dropped_entries, report.largest_dropped, report.uv_seam_vertices);
     return rig;
   }
-  return facerig::LoadRig(path, args.folder);
+  return facerig::LoadRigOrTemplateFolder(path, args.folder);
 }
 
 void Inspect(const facerig::Rig& rig) {

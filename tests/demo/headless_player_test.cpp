@@ -13,7 +13,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "facerig/runtime/io/rig_file.h"
+#include "facerig/offline/io/template_folder.h"
 #include "media_writer.h"
 #include "player_options.h"
 
@@ -54,7 +54,7 @@ double Rms(const facerig::SpeechLine& line, double t0, double t1) {
 }
 
 void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& name) {
-  const facerig::Rig rig = facerig::LoadRig(rig_path);
+  const facerig::Rig rig = facerig::LoadRigOrTemplateFolder(rig_path);
   const std::filesystem::path out = std::filesystem::path(FACERIG_TEST_OUTPUT_DIR) / ("player_" + name);
   std::filesystem::remove_all(out);
   PlayerOptions options;

@@ -1,5 +1,7 @@
 # Installs the build tree into a scratch prefix, then configures, builds and
-# runs tests/package/consumer against it with find_package(facerig).
+# runs tests/package/consumer (every component; LoadRig from runtime_io) and
+# tests/package/runtime_only (COMPONENTS runtime, with tinygltf and
+# nlohmann_json unfindable) against it with find_package(facerig).
 # -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=... -D RIG=...
 file(REMOVE_RECURSE ${WORK_DIR})
 function(run)
@@ -14,3 +16,7 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/consumer -B ${WORK_DIR}/buil
     -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release)
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run(${WORK_DIR}/build/consumer ${RIG})
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/runtime_only -B ${WORK_DIR}/build_runtime_only
+    -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/build_runtime_only)
+run(${WORK_DIR}/build_runtime_only/runtime_only ${RIG})

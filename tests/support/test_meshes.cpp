@@ -8,7 +8,9 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/frig.h"
-#include "facerig/runtime/io/template_folder.h"
+#if FACERIG_TEST_TEMPLATE_FOLDERS
+#include "facerig/offline/io/template_folder.h"
+#endif
 
 namespace facerig::test {
 
@@ -76,8 +78,12 @@ const Rig& IctRig() {
         // A damaged cache: import again below.
       }
     }
+#if FACERIG_TEST_TEMPLATE_FOLDERS
     rig = ImportTemplateFolder(IctDir());
     WriteFrig(cache, rig);
+#else
+    throw std::runtime_error("the ICT-FaceKit rig is a template folder: reading it needs FACERIG_BUILD_OFFLINE");
+#endif
   });
   return rig;
 }

@@ -14,7 +14,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/rig_builder.h"
-#include "gltf_internal.h"
+#include "facerig/runtime/io/gltf_internal.h"
 
 namespace facerig {
 namespace {

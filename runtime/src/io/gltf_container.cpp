@@ -12,7 +12,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
-#include "gltf_internal.h"
+#include "facerig/runtime/io/gltf_internal.h"
 
 namespace facerig::gltf_internal {
 namespace {

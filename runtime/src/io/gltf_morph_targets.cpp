@@ -6,7 +6,7 @@
 
 #include <glm/common.hpp>
 
-#include "gltf_internal.h"
+#include "facerig/runtime/io/gltf_internal.h"
 
 namespace facerig::gltf_internal {
 

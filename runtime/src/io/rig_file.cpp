@@ -21,8 +21,7 @@ std::string LowerExtension(const std::filesystem::path& path) {
 
 }  // namespace
 
-Rig LoadRig(const std::filesystem::path& path, const TemplateImportOptions& folder_options) {
-  if (std::filesystem::is_directory(path)) return ImportTemplateFolder(path, folder_options);
+Rig LoadRig(const std::filesystem::path& path, const ObjLoadOptions& obj_options) {
   const std::string ext = LowerExtension(path);
   if (ext == ".frig") return ReadFrig(path);
   if (ext == ".glb" || ext == ".gltf") return ReadGltf(path);
@@ -34,8 +33,8 @@ Rig LoadRig(const std::filesystem::path& path, const TemplateImportOptions& fold
     raw.uvs = std::move(mesh.uvs);
     raw.triangles = std::move(mesh.triangles);
     raw.parts = std::move(mesh.parts);
-    raw.units = folder_options.units;
-    raw.up_axis = folder_options.up_axis;
+    raw.units = obj_options.units;
+    raw.up_axis = obj_options.up_axis;
     // A file that leaves some vertex without a normal gets all normals
     // recomputed: mixing given and computed normals would show seams.
     if (std::any_of(raw.normals.begin(), raw.normals.end(),
@@ -48,7 +47,7 @@ Rig LoadRig(const std::filesystem::path& path, const TemplateImportOptions& fold
     return std::move(*rig);
   }
   throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
-                "unknown extension '" + ext + "' (expected a folder, .obj, .glb, .gltf or .frig)");
+                "unknown extension '" + ext + "' (expected .obj, .glb, .gltf or .frig)");
 }
 
 void SaveRig(const std::filesystem::path& path, const Rig& rig) {

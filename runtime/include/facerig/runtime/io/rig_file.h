@@ -1,17 +1,22 @@
-// Loading and saving rigs by path: the format comes from the extension, or a
-// directory is imported as a template folder.
+// Loading and saving rigs by path, the format from the extension. Part of
+// facerig::runtime_io (tinygltf for glTF); a folder of OBJs (a template) is
+// imported by facerig::offline (facerig/offline/io/template_folder.h).
 #pragma once
 
 #include <filesystem>
 
-#include "facerig/runtime/io/template_folder.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
 
-// A directory (template folder of OBJs), .obj (neutral only, no shapes),
-// .glb, .gltf or .frig. Throws IoError.
-Rig LoadRig(const std::filesystem::path& path, const TemplateImportOptions& folder_options = {});
+// What an .obj file does not say about itself.
+struct ObjLoadOptions {
+  Units units = Units::kUnknown;
+  UpAxis up_axis = UpAxis::kY;
+};
+
+// .obj (neutral only, no shapes), .glb, .gltf or .frig. Throws IoError.
+Rig LoadRig(const std::filesystem::path& path, const ObjLoadOptions& obj_options = {});
 // .obj (neutral only), .glb, .gltf or .frig. Throws IoError.
 void SaveRig(const std::filesystem::path& path, const Rig& rig);
 

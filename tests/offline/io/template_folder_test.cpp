@@ -1,4 +1,4 @@
-#include "facerig/runtime/io/template_folder.h"
+#include "facerig/offline/io/template_folder.h"
 
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>

@@ -1,4 +1,4 @@
-#include "facerig/runtime/io/gltf_with_morph_targets.h"
+#include "facerig/offline/io/gltf_with_morph_targets.h"
 
 #include <filesystem>
 #include <string>

@@ -1,4 +1,4 @@
-#include "facerig/runtime/io/template_folder.h"
+#include "facerig/offline/io/template_folder.h"
 
 #include <algorithm>
 #include <thread>
@@ -9,6 +9,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
@@ -190,6 +191,11 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
   if (!rig) throw IoError(IoErrorKind::kInvalidRig, folder.string(), problem);
   if (report) *report = local;
   return std::move(*rig);
+}
+
+Rig LoadRigOrTemplateFolder(const fs::path& path, const TemplateImportOptions& options) {
+  if (fs::is_directory(path)) return ImportTemplateFolder(path, options);
+  return LoadRig(path, ObjLoadOptions{options.units, options.up_axis});
 }
 
 }  // namespace facerig

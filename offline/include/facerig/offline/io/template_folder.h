@@ -1,5 +1,6 @@
 // Import of a "folder of OBJs" template rig: one neutral OBJ plus one OBJ per
-// expression with the same topology (e.g. ICT-FaceKit).
+// expression with the same topology (e.g. ICT-FaceKit). Build-time only, so
+// it lives in facerig::offline, not in the runtime's readers.
 #pragma once
 
 #include <cstddef>
@@ -50,6 +51,11 @@ struct TemplateImportReport {
 Rig ImportTemplateFolder(const std::filesystem::path& folder,
                          const TemplateImportOptions& options = {},
                          TemplateImportReport* report = nullptr);
+
+// A directory is imported as a template folder; any other path is read by
+// LoadRig (runtime_io) by its extension, an .obj with `options`' units and up
+// axis. Throws IoError.
+Rig LoadRigOrTemplateFolder(const std::filesystem::path& path, const TemplateImportOptions& options = {});
 
 // Matches a file name against a glob with `*` and `?`.
 bool GlobMatch(std::string_view pattern, std::string_view name);

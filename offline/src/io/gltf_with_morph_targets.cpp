@@ -1,4 +1,4 @@
-#include "facerig/runtime/io/gltf_with_morph_targets.h"
+#include "facerig/offline/io/gltf_with_morph_targets.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "facerig/runtime/error.h"
-#include "gltf_internal.h"
+#include "facerig/runtime/io/gltf_internal.h"
 
 namespace facerig {
 namespace {

@@ -1,7 +1,9 @@
 // Pieces shared by the glTF reader and the two writers (a fresh document from
 // a rig, and an artist's document with morph targets added): the container
 // (parsing and atomic serialising), which mesh and vertices a rig comes from,
-// and the morph target accessors. Private to runtime/src/io.
+// and the morph target accessors. Used by facerig::runtime_io and by
+// facerig::offline's writer into an artist's glTF; exposes tinygltf types, so
+// it is no stable API.
 #pragma once
 
 #include <cstddef>
