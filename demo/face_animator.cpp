@@ -12,18 +12,9 @@
 namespace facerig::player {
 namespace {
 
-// splitmix64: a tiny, seedable, deterministic generator (headless frames must repeat).
-double NextUniform(std::uint64_t* state) {
-  std::uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * (1.0 / 9007199254740992.0);
-}
-
-float SmoothStep(float x) {
-  x = std::clamp(x, 0.0f, 1.0f);
-  return x * x * (3.0f - 2.0f * x);
+CharacterParams WithGaze(CharacterParams params, bool saccades) {
+  params.gaze.enabled = params.gaze.enabled && saccades;
+  return params;
 }
 
 }  // namespace
@@ -32,23 +23,11 @@ FaceAnimator::FaceAnimator(const Rig& rig, const IdleLifeParams& idle, const Cha
     : rig_(&rig),
       idle_(idle),
       character_rig_(CharacterRig::Build(rig)),
-      character_(character_rig_, params),
+      character_(character_rig_, WithGaze(params, idle.saccades)),
       weights_(rig.shape_count(), 0.0f),
       positions_(rig.positions().begin(), rig.positions().end()),
       normals_(rig.vertex_count()),
-      rng_(idle.seed),
       up_(rig.up_axis() == UpAxis::kZ ? 2 : 1) {
-  static const char* const kEyeNames[kEyeShapeCount] = {
-      "eyeLookIn_L", "eyeLookOut_L", "eyeLookUp_L", "eyeLookDown_L",
-      "eyeLookIn_R", "eyeLookOut_R", "eyeLookUp_R", "eyeLookDown_R"};
-  has_eye_shapes_ = true;
-  for (int i = 0; i < kEyeShapeCount; ++i) {
-    const std::optional<std::size_t> shape = rig.FindShape(kEyeNames[i]);
-    eye_shapes_[i] = shape ? static_cast<int>(*shape) : -1;
-    has_eye_shapes_ = has_eye_shapes_ && shape.has_value();
-  }
-  next_saccade_ = idle_.saccade_min_interval +
-                  NextUniform(&rng_) * (idle_.saccade_max_interval - idle_.saccade_min_interval);
   ComputeVertexNormals(positions_, rig.triangles(), normals_);
   FindMouth();
 }
@@ -92,47 +71,10 @@ float FaceAnimator::LipAperture() const {
   return mean_up(upper_lip_) - mean_up(lower_lip_) - neutral_aperture_;
 }
 
-void FaceAnimator::UpdateSaccades(double time) {
-  if (time < last_time_) {  // a seek backwards restarts the idle life, deterministically
-    rng_ = idle_.seed;
-    next_saccade_ = idle_.saccade_min_interval +
-                    NextUniform(&rng_) * (idle_.saccade_max_interval - idle_.saccade_min_interval);
-    saccade_start_ = 0.0;
-    gaze_from_[0] = gaze_from_[1] = gaze_to_[0] = gaze_to_[1] = 0.0f;
-  }
-  last_time_ = time;
-  while (time >= next_saccade_) {
-    gaze_from_[0] = gaze_to_[0];
-    gaze_from_[1] = gaze_to_[1];
-    // Mostly small glances around the centre; now and then back to the middle.
-    const bool recentre = NextUniform(&rng_) < 0.3;
-    gaze_to_[0] = recentre ? 0.0f : static_cast<float>(NextUniform(&rng_) * 2.0 - 1.0);
-    gaze_to_[1] = recentre ? 0.0f : static_cast<float>(NextUniform(&rng_) * 1.2 - 0.6);
-    saccade_start_ = next_saccade_;
-    next_saccade_ += idle_.saccade_min_interval +
-                     NextUniform(&rng_) * (idle_.saccade_max_interval - idle_.saccade_min_interval);
-  }
-  // A saccade takes ~40 ms.
-  const float t = SmoothStep(static_cast<float>((time - saccade_start_) / 0.04));
-  for (int i = 0; i < 2; ++i) gaze_[i] = gaze_from_[i] + (gaze_to_[i] - gaze_from_[i]) * t;
-
-  const float a = idle_.saccade_amplitude;
-  const float right = std::max(gaze_[0], 0.0f) * a, left = std::max(-gaze_[0], 0.0f) * a;
-  const float up = std::max(gaze_[1], 0.0f) * a, down = std::max(-gaze_[1], 0.0f) * a;
-  // Looking to the character's left: the left eye looks out, the right eye in.
-  const float targets[kEyeShapeCount] = {right, left, up, down, left, right, up, down};
-  for (int i = 0; i < kEyeShapeCount; ++i) {
-    float& w = weights_[static_cast<std::size_t>(eye_shapes_[i])];
-    // Added to what Character set (e.g. eyeLookDown from a blink or emotion).
-    w = std::min(1.0f, w + targets[i]);
-  }
-}
-
 void FaceAnimator::Update(double time, FrameTimer* timer) {
   character_.Update(time);
   const std::span<const float> character_weights = character_.weights();
   std::copy(character_weights.begin(), character_weights.end(), weights_.begin());
-  if (idle_.saccades && has_eye_shapes_) UpdateSaccades(time);
   if (idle_.head_motion) {
     // Incommensurate slow sines: never repeats visibly, zero at time 0.
     const auto t = static_cast<float>(time);

@@ -1,6 +1,5 @@
 // One character's per-frame animation: Character::Update (speech, emotions,
-// blinks), idle life (eye saccades, head motion), then BlendJob positions and
-// recomputed normals. Also finds the rig's mouth, for the camera, the tests
+// blinks, gaze), head motion, then BlendJob positions and recomputed normals. Also finds the rig's mouth, for the camera, the tests
 // and the HUD. Buffers are sized once in the constructor; Update allocates nothing.
 #pragma once
 
@@ -20,12 +19,8 @@ namespace facerig::player {
 
 struct IdleLifeParams {
   bool head_motion = true;  // slow smooth head rotation (model matrix)
-  bool saccades = true;     // eyeLook* targets every min..max seconds
+  bool saccades = true;     // Character's gaze (CharacterParams::gaze.enabled)
   float head_degrees = 2.5f;
-  double saccade_min_interval = 0.5;
-  double saccade_max_interval = 3.0;
-  float saccade_amplitude = 0.35f;  // eyeLook* weight at the largest target
-  std::uint64_t seed = 7;
 };
 
 class FaceAnimator {
@@ -52,7 +47,7 @@ class FaceAnimator {
   // Head rotation in scene axes (Y up, +Z towards the viewer), about the neck;
   // identity with head_motion off and at time 0.
   const glm::mat4& head_rotation() const { return head_rotation_; }
-  bool has_eye_shapes() const { return has_eye_shapes_; }
+  bool has_eye_shapes() const { return character_rig_.gaze_shapes().has_value(); }
 
   // Centre of the lips in the neutral mesh (rig units), from the vertices that
   // the lip shapes move most; nullopt when the rig has no lip shapes.
@@ -63,7 +58,6 @@ class FaceAnimator {
 
  private:
   void FindMouth();
-  void UpdateSaccades(double time);
 
   const Rig* rig_;
   IdleLifeParams idle_;
@@ -73,20 +67,6 @@ class FaceAnimator {
   std::vector<glm::vec3> positions_;
   std::vector<glm::vec3> normals_;
   glm::mat4 head_rotation_{1.0f};
-
-  // eyeLook{In,Out,Up,Down}_{L,R}: -1 when the rig lacks the shape.
-  enum EyeShape { kInL, kOutL, kUpL, kDownL, kInR, kOutR, kUpR, kDownR, kEyeShapeCount };
-  int eye_shapes_[kEyeShapeCount];
-  bool has_eye_shapes_ = false;
-  // Saccade state: current gaze (x: right of the face, y: up), its target, the
-  // previous target and when the current one started.
-  std::uint64_t rng_ = 0;
-  double next_saccade_ = 0.0;
-  double saccade_start_ = 0.0;
-  float gaze_from_[2] = {0.0f, 0.0f};
-  float gaze_to_[2] = {0.0f, 0.0f};
-  float gaze_[2] = {0.0f, 0.0f};
-  double last_time_ = -1.0;
 
   std::optional<glm::vec3> mouth_center_;
   std::vector<std::uint32_t> upper_lip_, lower_lip_;

@@ -46,6 +46,18 @@ CharacterRig CharacterRig::Build(const Rig& rig, const CharacterRigOptions& opti
   if (!result.blink_left_ || !result.blink_right_) {
     result.warnings_.push_back("no eyeBlink_L / eyeBlink_R shapes: the character will not blink");
   }
+  std::array<std::uint32_t, kGazeShapeCount> gaze{};
+  bool all_gaze_shapes = true;
+  for (std::size_t i = 0; i < kGazeShapeCount; ++i) {
+    const std::optional<std::size_t> shape = rig.FindShape(kGazeShapeNames[i]);
+    all_gaze_shapes = all_gaze_shapes && shape.has_value();
+    if (shape) gaze[i] = static_cast<std::uint32_t>(*shape);
+  }
+  if (all_gaze_shapes) {
+    result.gaze_shapes_ = gaze;
+  } else {
+    result.warnings_.push_back("not all eight eyeLook* shapes: the eyes will not move");
+  }
   return result;
 }
 
@@ -58,6 +70,7 @@ Character::Character(const CharacterRig& rig, const CharacterParams& params)
       ring_(new Phoneme[std::max<std::size_t>(params.stream_capacity, 2)]),
       ring_capacity_(std::max<std::size_t>(params.stream_capacity, 2)),
       blink_state_(params.seed),
+      gaze_state_(params.seed),
       speech_weights_(rig.rig().shape_count(), 0.0f),
       weights_(rig.rig().shape_count(), 0.0f) {}
 
@@ -258,14 +271,7 @@ CharacterError Character::Update(double time) {
     std::copy(speech_weights_.begin(), speech_weights_.end(), weights_.begin());
   }
 
-  BlinkJob blink{&params_.blink, &blink_state_, time, talking_, at_pause_, &blink_left_, &blink_right_};
-  if (blink.Run() != BlinkError::kNone) blink_left_ = blink_right_ = 0.0f;
-  // Blinks go on top: a lid closes fully even when an emotion squints or widens.
-  if (const auto left = rig_->blink_left()) weights_[*left] = std::max(weights_[*left], blink_left_);
-  if (const auto right = rig_->blink_right()) weights_[*right] = std::max(weights_[*right], blink_right_);
-  for (float& w : weights_) {
-    if (w < params_.weight_epsilon) w = 0.0f;
-  }
+  UpdateEyes(time);
   return CharacterError::kNone;
 }
 
@@ -275,6 +281,32 @@ Viseme Character::dominant_viseme() const {
     if (viseme_weights_[v] > viseme_weights_[best]) best = v;
   }
   return viseme_weights_[best] > 0.05f ? static_cast<Viseme>(best) : Viseme::kSil;
+}
+
+void Character::UpdateEyes(double time) {
+  BlinkJob blink{&params_.blink, &blink_state_, time, talking_, at_pause_, &blink_left_, &blink_right_};
+  if (blink.Run() != BlinkError::kNone) blink_left_ = blink_right_ = 0.0f;
+  GazeJob gaze{&params_.gaze, &gaze_state_, time, &gaze_channels_};
+  if (gaze.Run() != GazeError::kNone) gaze_channels_.fill(0.0f);
+
+  std::array<ChannelLayer, 2> layers{};
+  std::size_t layer_count = 0;
+  std::size_t blink_count = 0;
+  if (const auto left = rig_->blink_left()) blink_values_[blink_count++] = {static_cast<std::uint32_t>(*left), blink_left_};
+  if (const auto right = rig_->blink_right()) {
+    blink_values_[blink_count++] = {static_cast<std::uint32_t>(*right), blink_right_};
+  }
+  // Blinks go on top: a lid closes fully even when an emotion squints or widens.
+  layers[layer_count++] = {ChannelRule::kMax, std::span(blink_values_).first(blink_count)};
+  if (const auto& shapes = rig_->gaze_shapes()) {
+    for (std::size_t i = 0; i < kGazeShapeCount; ++i) gaze_values_[i] = {(*shapes)[i], gaze_channels_[i]};
+    // Added to what the emotions set (e.g. eyeLookDown from sadness).
+    layers[layer_count++] = {ChannelRule::kAdd, gaze_values_};
+  }
+  CombineChannelsJob combine{weights_, std::span(layers).first(layer_count), params_.weight_epsilon, weights_};
+  if (combine.Run() != CombineChannelsError::kNone) {
+    for (float& w : weights_) w = w < params_.weight_epsilon ? 0.0f : w;
+  }
 }
 
 }  // namespace facerig

@@ -24,7 +24,9 @@ facerig::Rig MakeArkitGridRig() {
       "mouthPress_R",   "mouthRollLower", "mouthRollUpper",  "mouthSmile_L",     "mouthSmile_R",
       "mouthStretch_L", "mouthStretch_R", "mouthUpperUp_L",  "mouthUpperUp_R",   "mouthLowerDown_L",
       "mouthLowerDown_R", "eyeBlink_L",   "eyeBlink_R",      "cheekSquint_L",    "cheekSquint_R",
-      "browInnerUp_L",  "browInnerUp_R",  "eyeWide_L",       "eyeWide_R"};
+      "browInnerUp_L",  "browInnerUp_R",  "eyeWide_L",       "eyeWide_R",        "eyeLookIn_L",
+      "eyeLookOut_L",   "eyeLookUp_L",    "eyeLookDown_L",   "eyeLookIn_R",      "eyeLookOut_R",
+      "eyeLookUp_R",    "eyeLookDown_R"};
   facerig::RawRig raw = facerig::test::MakeGridRawRig(12, static_cast<int>(names.size()));
   for (std::size_t s = 0; s < names.size(); ++s) raw.shapes[s].name = names[s];
   return std::move(*facerig::RigBuilder::Build(std::move(raw)));
@@ -211,3 +213,30 @@ TEST_CASE("Character: a rig without ARKit shapes degrades with warnings", "[char
   for (double t = 0.0; t < 1.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
   for (float w : character.weights()) REQUIRE(w == 0.0f);
 }
+
+TEST_CASE("Character: idle gaze moves the eyeLook shapes, deterministically for a seed", "[character][gaze]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  REQUIRE(character_rig.gaze_shapes().has_value());
+  facerig::CharacterParams params;
+  params.seed = 9;
+  Character a(character_rig, params), b(character_rig, params);
+  params.gaze.enabled = false;
+  Character still(character_rig, params);
+  bool looked = false;
+  for (double t = 0.0; t < 10.0; t += 1.0 / 60) {
+    REQUIRE(a.Update(t) == CharacterError::kNone);
+    REQUIRE(b.Update(t) == CharacterError::kNone);
+    REQUIRE(still.Update(t) == CharacterError::kNone);
+    for (const char* name : facerig::kGazeShapeNames) {
+      REQUIRE(Weight(rig, a, name) == Weight(rig, b, name));
+      REQUIRE(Weight(rig, still, name) == 0.0f);
+      looked = looked || Weight(rig, a, name) > 0.05f;
+    }
+    // The gaze the weights came from: looking right turns the left eye in.
+    const facerig::Gaze gaze = a.gaze();
+    if (gaze.x > 0.2f) REQUIRE(Weight(rig, a, "eyeLookIn_L") > 0.0f);
+  }
+  REQUIRE(looked);
+}
+

@@ -1,6 +1,7 @@
 // A talking character: phonemes -> coarticulated visemes -> rig weights, with
-// emotions layered on speech and blinks on top, driven by an animation clock
-// (the audio playback position; see audio_clock.h).
+// emotions layered on speech, then blinks and idle gaze (saccades) through the
+// weight channels (weight_channels.h), driven by an animation clock (the audio
+// playback position; see audio_clock.h).
 //
 // CharacterRig holds what is built once per rig (viseme and emotion mappings,
 // blink shapes); many Characters may share one. A Character is the
@@ -21,6 +22,8 @@
 
 #include "facerig/runtime/behaviour/blink.h"
 #include "facerig/runtime/behaviour/emotion.h"
+#include "facerig/runtime/behaviour/gaze.h"
+#include "facerig/runtime/behaviour/weight_channels.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/speech/coarticulation.h"
 #include "facerig/runtime/speech/phoneme.h"
@@ -50,6 +53,8 @@ class CharacterRig {
   // eyeBlink_L / eyeBlink_R shape indices, when the rig has them.
   std::optional<std::size_t> blink_left() const { return blink_left_; }
   std::optional<std::size_t> blink_right() const { return blink_right_; }
+  // eyeLook* shape indices in GazeShape order, when the rig has all eight.
+  const std::optional<std::array<std::uint32_t, kGazeShapeCount>>& gaze_shapes() const { return gaze_shapes_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
@@ -57,6 +62,7 @@ class CharacterRig {
   VisemeMapping visemes_;
   EmotionRig emotions_;
   std::optional<std::size_t> blink_left_, blink_right_;
+  std::optional<std::array<std::uint32_t, kGazeShapeCount>> gaze_shapes_;
   std::vector<std::string> warnings_;
 };
 
@@ -64,9 +70,10 @@ struct CharacterParams {
   CoarticulationParams coarticulation;
   VisemeTimingParams timing;
   BlinkParams blink;
+  GazeParams gaze;
   float jaw_intensity = 1.0f;  // JALI jaw, [0, 4]
   float lip_intensity = 1.0f;  // JALI lip, [0, 4]
-  std::uint64_t seed = 0;      // blinks
+  std::uint64_t seed = 0;      // blinks and gaze
   // Viseme keys held at once. A key is ~24 bytes; 8192 covers a line of
   // about 4000 phonemes (several minutes of speech). Longer streams recycle
   // keys that are behind the clock.
@@ -141,6 +148,8 @@ class Character {
   bool at_pause() const { return at_pause_; }
   float blink_left() const { return blink_left_; }
   float blink_right() const { return blink_right_; }
+  // Where the eyes look (GazeJob), also when the rig has no eyeLook* shapes.
+  Gaze gaze() const { return gaze_state_.gaze(); }
   // Keys of the current line (line time), for tools and tests.
   std::span<const VisemeKey> keys() const { return track_.keys(); }
 
@@ -151,6 +160,7 @@ class Character {
   void DrainStream();
   void RecycleKeysBefore(double line_time);
   void UpdateTalkingState(double line_time);
+  void UpdateEyes(double time);
 
   const CharacterRig* rig_;
   CharacterParams params_;
@@ -176,6 +186,10 @@ class Character {
   double last_time_ = 0.0;
   EmotionState emotion_state_;
   BlinkState blink_state_;
+  GazeState gaze_state_;
+  GazeChannels gaze_channels_{};
+  std::array<ChannelValue, 2> blink_values_{};               // eyeBlink_L, eyeBlink_R
+  std::array<ChannelValue, kGazeShapeCount> gaze_values_{};  // eyeLook*
   VisemeWeights viseme_weights_{};
   std::vector<float> speech_weights_;
   std::vector<float> weights_;
