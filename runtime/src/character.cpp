@@ -71,6 +71,7 @@ Character::Character(const CharacterRig& rig, const CharacterParams& params)
       ring_capacity_(std::max<std::size_t>(params.stream_capacity, 2)),
       blink_state_(params.seed),
       gaze_state_(params.seed),
+      emotion_values_(rig.emotions().channel_count()),
       speech_weights_(rig.rig().shape_count(), 0.0f),
       weights_(rig.rig().shape_count(), 0.0f) {}
 
@@ -265,13 +266,8 @@ CharacterError Character::Update(double time) {
   if (to_rig.Run() != VisemeWeightsJobError::kNone) std::fill(speech_weights_.begin(), speech_weights_.end(), 0.0f);
 
   emotion_state_.Advance(dt);
-  EmotionLayerJob layer{&rig_->emotions(), emotion_state_.intensity, LipContactWeight(viseme_weights_),
-                        speech_weights_, weights_};
-  if (layer.Run() != EmotionLayerJobError::kNone) {
-    std::copy(speech_weights_.begin(), speech_weights_.end(), weights_.begin());
-  }
-
-  UpdateEyes(time);
+  UpdateBehaviours(time);
+  CombineWeights();
   return CharacterError::kNone;
 }
 
@@ -283,29 +279,43 @@ Viseme Character::dominant_viseme() const {
   return viseme_weights_[best] > 0.05f ? static_cast<Viseme>(best) : Viseme::kSil;
 }
 
-void Character::UpdateEyes(double time) {
+void Character::UpdateBehaviours(double time) {
+  EmotionChannelsJob emotions{&rig_->emotions(), emotion_state_.intensity, LipContactWeight(viseme_weights_),
+                              emotion_values_};
+  emotion_value_count_ = emotions.Run() == EmotionChannelsJobError::kNone ? emotion_values_.size() : 0;
+
   BlinkJob blink{&params_.blink, &blink_state_, time, talking_, at_pause_, &blink_left_, &blink_right_};
   if (blink.Run() != BlinkError::kNone) blink_left_ = blink_right_ = 0.0f;
-  GazeJob gaze{&params_.gaze, &gaze_state_, time, &gaze_channels_};
-  if (gaze.Run() != GazeError::kNone) gaze_channels_.fill(0.0f);
-
-  std::array<ChannelLayer, 2> layers{};
-  std::size_t layer_count = 0;
-  std::size_t blink_count = 0;
-  if (const auto left = rig_->blink_left()) blink_values_[blink_count++] = {static_cast<std::uint32_t>(*left), blink_left_};
+  blink_value_count_ = 0;
+  if (const auto left = rig_->blink_left()) {
+    blink_values_[blink_value_count_++] = {static_cast<std::uint32_t>(*left), blink_left_};
+  }
   if (const auto right = rig_->blink_right()) {
-    blink_values_[blink_count++] = {static_cast<std::uint32_t>(*right), blink_right_};
+    blink_values_[blink_value_count_++] = {static_cast<std::uint32_t>(*right), blink_right_};
   }
-  // Blinks go on top: a lid closes fully even when an emotion squints or widens.
-  layers[layer_count++] = {ChannelRule::kMax, std::span(blink_values_).first(blink_count)};
+
+  GazeChannels gaze_channels{};
+  GazeJob gaze{&params_.gaze, &gaze_state_, time, &gaze_channels};
+  if (gaze.Run() != GazeError::kNone) gaze_channels.fill(0.0f);
+  gaze_value_count_ = 0;
   if (const auto& shapes = rig_->gaze_shapes()) {
-    for (std::size_t i = 0; i < kGazeShapeCount; ++i) gaze_values_[i] = {(*shapes)[i], gaze_channels_[i]};
-    // Added to what the emotions set (e.g. eyeLookDown from sadness).
-    layers[layer_count++] = {ChannelRule::kAdd, gaze_values_};
+    for (std::size_t i = 0; i < kGazeShapeCount; ++i) gaze_values_[i] = {(*shapes)[i], gaze_channels[i]};
+    gaze_value_count_ = kGazeShapeCount;
   }
-  CombineChannelsJob combine{weights_, std::span(layers).first(layer_count), params_.weight_epsilon, weights_};
+}
+
+void Character::CombineWeights() {
+  const std::array<ChannelLayer, 3> layers = {{
+      {ChannelRule::kAdd, std::span(emotion_values_).first(emotion_value_count_)},
+      // Blinks after the emotions: a lid closes fully even when an emotion squints or widens.
+      {ChannelRule::kMax, std::span(blink_values_).first(blink_value_count_)},
+      // Gaze adds to what the emotions set (e.g. eyeLookDown from sadness).
+      {ChannelRule::kAdd, std::span(gaze_values_).first(gaze_value_count_)},
+  }};
+  CombineChannelsJob combine{speech_weights_, layers, params_.weight_epsilon, weights_};
   if (combine.Run() != CombineChannelsError::kNone) {
-    for (float& w : weights_) w = w < params_.weight_epsilon ? 0.0f : w;
+    // Only a non-finite speech weight gets here: show the rest pose.
+    std::fill(weights_.begin(), weights_.end(), 0.0f);
   }
 }
 

@@ -266,48 +266,40 @@ bool EmotionState::Advance(double dt) {
   return true;
 }
 
-const char* ToString(EmotionLayerJobError error) {
+const char* ToString(EmotionChannelsJobError error) {
   switch (error) {
-    case EmotionLayerJobError::kNone: return "no error";
-    case EmotionLayerJobError::kNoEmotions: return "no emotion rig";
-    case EmotionLayerJobError::kIntensityCountMismatch: return "intensity count is not 6";
-    case EmotionLayerJobError::kInvalidIntensity: return "an intensity or lip_contact is NaN, infinite or outside [0,1]";
-    case EmotionLayerJobError::kWeightCountMismatch: return "weight span size differs from the rig's shape count";
-    case EmotionLayerJobError::kNonFiniteWeight: return "a speech weight is NaN or infinite";
+    case EmotionChannelsJobError::kNone: return "no error";
+    case EmotionChannelsJobError::kNoEmotions: return "no emotion rig";
+    case EmotionChannelsJobError::kIntensityCountMismatch: return "intensity count is not 6";
+    case EmotionChannelsJobError::kInvalidIntensity:
+      return "an intensity or lip_contact is NaN, infinite or outside [0,1]";
+    case EmotionChannelsJobError::kValueCountMismatch: return "output size differs from the emotion channel count";
   }
   return "unknown error";
 }
 
-EmotionLayerJobError EmotionLayerJob::Validate() const {
-  if (emotions == nullptr) return EmotionLayerJobError::kNoEmotions;
-  if (intensities.size() != kEmotionCount) return EmotionLayerJobError::kIntensityCountMismatch;
+EmotionChannelsJobError EmotionChannelsJob::Validate() const {
+  if (emotions == nullptr) return EmotionChannelsJobError::kNoEmotions;
+  if (intensities.size() != kEmotionCount) return EmotionChannelsJobError::kIntensityCountMismatch;
   for (float i : intensities) {
-    if (!(i >= 0.0f && i <= 1.0f)) return EmotionLayerJobError::kInvalidIntensity;
+    if (!(i >= 0.0f && i <= 1.0f)) return EmotionChannelsJobError::kInvalidIntensity;
   }
-  if (!(lip_contact >= 0.0f && lip_contact <= 1.0f)) return EmotionLayerJobError::kInvalidIntensity;
-  const std::size_t n = emotions->rig_shape_count();
-  if (speech_weights.size() != n || out_weights.size() != n) return EmotionLayerJobError::kWeightCountMismatch;
-  for (float w : speech_weights) {
-    if (!std::isfinite(w)) return EmotionLayerJobError::kNonFiniteWeight;
-  }
-  return EmotionLayerJobError::kNone;
+  if (!(lip_contact >= 0.0f && lip_contact <= 1.0f)) return EmotionChannelsJobError::kInvalidIntensity;
+  if (out_values.size() != emotions->channel_count()) return EmotionChannelsJobError::kValueCountMismatch;
+  return EmotionChannelsJobError::kNone;
 }
 
-EmotionLayerJobError EmotionLayerJob::Run() const {
-  if (const EmotionLayerJobError e = Validate(); e != EmotionLayerJobError::kNone) return e;
-  if (speech_weights.data() != out_weights.data()) {
-    std::copy(speech_weights.begin(), speech_weights.end(), out_weights.begin());
-  }
+EmotionChannelsJobError EmotionChannelsJob::Run() const {
+  if (const EmotionChannelsJobError e = Validate(); e != EmotionChannelsJobError::kNone) return e;
   const float keep_opening = 1.0f - lip_contact;
+  std::size_t next = 0;
   for (std::size_t e = 0; e < kEmotionCount; ++e) {
     const float intensity = intensities[e];
-    if (intensity == 0.0f) continue;
     for (const EmotionContribution& c : emotions->contributions(static_cast<Emotion>(e))) {
-      out_weights[c.shape] += intensity * c.weight * (c.opens_lips ? keep_opening : 1.0f);
+      out_values[next++] = {c.shape, intensity * c.weight * (c.opens_lips ? keep_opening : 1.0f)};
     }
   }
-  for (float& w : out_weights) w = std::clamp(w, 0.0f, 1.0f);
-  return EmotionLayerJobError::kNone;
+  return EmotionChannelsJobError::kNone;
 }
 
 }  // namespace facerig

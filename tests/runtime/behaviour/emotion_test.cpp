@@ -20,13 +20,48 @@
 #include "support/test_meshes.h"
 
 using facerig::Emotion;
-using facerig::EmotionLayerJob;
-using facerig::EmotionLayerJobError;
+using facerig::ChannelLayer;
+using facerig::ChannelRule;
+using facerig::ChannelValue;
+using facerig::CombineChannelsError;
+using facerig::CombineChannelsJob;
+using facerig::EmotionChannelsJob;
+using facerig::EmotionChannelsJobError;
 using facerig::Viseme;
 
 namespace {
 
 constexpr std::size_t Index(Emotion e) { return static_cast<std::size_t>(e); }
+
+// Emotions over speech as Character layers them: EmotionChannelsJob, then
+// CombineChannelsJob with the speech as base. Channel storage sized once.
+struct EmotionLayer {
+  explicit EmotionLayer(const facerig::EmotionRig& rig) : emotions(&rig), values(rig.channel_count()) {}
+
+  // The emotion job's error, or kNone and the combine's error in *combined.
+  EmotionChannelsJobError Run(std::span<const float> intensities, float lip_contact, std::span<const float> speech,
+                              std::span<float> out, CombineChannelsError* combined = nullptr) {
+    const EmotionChannelsJobError error = EmotionChannelsJob{emotions, intensities, lip_contact, values}.Run();
+    if (error != EmotionChannelsJobError::kNone) return error;
+    const ChannelLayer layer{ChannelRule::kAdd, values};
+    const CombineChannelsError combine = CombineChannelsJob{speech, std::span(&layer, 1), 0.0f, out}.Run();
+    if (combined != nullptr) *combined = combine;
+    return error;
+  }
+
+  const facerig::EmotionRig* emotions;
+  std::vector<ChannelValue> values;
+};
+
+CombineChannelsError LayerEmotions(const facerig::EmotionRig& rig, std::span<const float> intensities,
+                                   float lip_contact, std::span<const float> speech, std::span<float> out) {
+  EmotionLayer layer(rig);
+  CombineChannelsError combined = CombineChannelsError::kInvalidValue;
+  if (layer.Run(intensities, lip_contact, speech, out, &combined) != EmotionChannelsJobError::kNone) {
+    return CombineChannelsError::kInvalidValue;
+  }
+  return combined;
+}
 
 facerig::Rig NamedRig(const std::vector<std::string>& names) {
   facerig::RawRig raw = facerig::test::MakeGridRawRig(6, static_cast<int>(names.size()));
@@ -168,9 +203,8 @@ struct IctStack {
                     bool protect_contact = true) {
     facerig::VisemeWeightsJob speech_job{&mapping.mapping, visemes, 1.0f, 1.0f, false, speech};
     REQUIRE(speech_job.Run() == facerig::VisemeWeightsJobError::kNone);
-    EmotionLayerJob layer{&emotions.emotions, emo,
-                          protect_contact ? facerig::LipContactWeight(visemes) : 0.0f, speech, weights};
-    REQUIRE(layer.Run() == EmotionLayerJobError::kNone);
+    REQUIRE(LayerEmotions(emotions.emotions, emo, protect_contact ? facerig::LipContactWeight(visemes) : 0.0f,
+                          speech, weights) == CombineChannelsError::kNone);
     facerig::BlendJob blend{&rig, weights, facerig::NormalMode::kNone, positions, {}};
     REQUIRE(blend.Run() == facerig::BlendJobError::kNone);
     return Measure(positions);
@@ -308,7 +342,7 @@ TEST_CASE("EmotionState attack and release", "[emotion]") {
   REQUIRE(state.intensity == before.intensity);
 }
 
-TEST_CASE("EmotionLayerJob adds, combines, clamps and protects lip contact", "[emotion]") {
+TEST_CASE("Emotion channels add, combine, clamp and protect lip contact", "[emotion]") {
   const facerig::Rig rig = NamedRig({"mouthSmile_L", "mouthSmile_R", "jawOpen", "eyeWide_L", "eyeWide_R",
                                      "browInnerUp", "browOuterUp_L", "browOuterUp_R"});
   const facerig::EmotionRigResult emotions = facerig::BuildEmotionRig(rig);
@@ -322,70 +356,76 @@ TEST_CASE("EmotionLayerJob adds, combines, clamps and protects lip contact", "[e
   std::vector<float> speech(rig.shape_count(), 0.0f), out(rig.shape_count(), -5.0f);
   speech[jaw] = 0.6f;
   speech[smile] = 0.5f;
-  EmotionLayerJob job{&emotions.emotions, intensity, 0.0f, speech, out};
-  REQUIRE(job.Run() == EmotionLayerJobError::kNone);
+  EmotionLayer layer(emotions.emotions);
+  CombineChannelsError combined = CombineChannelsError::kInvalidValue;
+  const auto run = [&](float lip_contact) {
+    REQUIRE(layer.Run(intensity, lip_contact, speech, out, &combined) == EmotionChannelsJobError::kNone);
+    REQUIRE(combined == CombineChannelsError::kNone);
+  };
+  run(0.0f);
   REQUIRE(out[smile] == 1.0f);                                    // 0.5 + 0.8, clamped
   REQUIRE(out[jaw] == Approx(0.6f + 0.5f * 0.25f + 0.5f * 0.15f));  // speech + surprise + fear
   REQUIRE(out[wide] == Approx(0.5f * 0.8f + 0.5f * 0.8f));          // several emotions sum...
   intensity[Index(Emotion::kSurprise)] = 1.0f;
-  REQUIRE(job.Run() == EmotionLayerJobError::kNone);
+  run(0.0f);
   REQUIRE(out[wide] == 1.0f);  // ...and clamp per shape
 
   // Full lip contact: the lip-opening emotion parts vanish, the smile stays.
-  job.lip_contact = 1.0f;
-  REQUIRE(job.Run() == EmotionLayerJobError::kNone);
+  run(1.0f);
   REQUIRE(out[jaw] == Approx(0.6f));
   REQUIRE(out[smile] == 1.0f);
-  job.lip_contact = 0.5f;
-  REQUIRE(job.Run() == EmotionLayerJobError::kNone);
+  run(0.5f);
   REQUIRE(out[jaw] == Approx(0.6f + 0.5f * (0.25f + 0.075f)));
 
   // In place.
   std::vector<float> in_place = speech;
-  EmotionLayerJob same{&emotions.emotions, intensity, 0.0f, in_place, in_place};
-  REQUIRE(same.Run() == EmotionLayerJobError::kNone);
+  REQUIRE(LayerEmotions(emotions.emotions, intensity, 0.0f, in_place, in_place) == CombineChannelsError::kNone);
   REQUIRE(in_place[smile] == 1.0f);
   REQUIRE(in_place[jaw] == Approx(0.6f + 0.25f + 0.075f));
 
   facerig::test::AllocationCounter counter;
-  for (int i = 0; i < 100; ++i) REQUIRE(job.Run() == EmotionLayerJobError::kNone);
+  for (int i = 0; i < 100; ++i) run(0.5f);
   REQUIRE(counter.count() == 0);
 }
 
-TEST_CASE("EmotionLayerJob invalid inputs", "[emotion]") {
+TEST_CASE("Emotion channels: invalid inputs", "[emotion]") {
   const facerig::Rig rig = NamedRig({"mouthSmile_L", "jawOpen"});
   const facerig::EmotionRigResult emotions = facerig::BuildEmotionRig(rig);
   std::array<float, facerig::kEmotionCount> intensity{};
   std::vector<float> speech(rig.shape_count(), 0.1f), out(rig.shape_count(), 0.5f);
   const std::vector<float> untouched = out;
-  auto make = [&] { return EmotionLayerJob{&emotions.emotions, intensity, 0.0f, speech, out}; };
-  EmotionLayerJob job = make();
+  std::vector<ChannelValue> values(emotions.emotions.channel_count(), ChannelValue{0, 0.25f});
+  const std::vector<ChannelValue> values_untouched = values;
+  auto make = [&] { return EmotionChannelsJob{&emotions.emotions, intensity, 0.0f, values}; };
+  EmotionChannelsJob job = make();
   job.emotions = nullptr;
-  REQUIRE(job.Run() == EmotionLayerJobError::kNoEmotions);
+  REQUIRE(job.Run() == EmotionChannelsJobError::kNoEmotions);
   job = make();
   job.intensities = std::span<const float>(intensity).first(5);
-  REQUIRE(job.Run() == EmotionLayerJobError::kIntensityCountMismatch);
+  REQUIRE(job.Run() == EmotionChannelsJobError::kIntensityCountMismatch);
   job.intensities = {};
-  REQUIRE(job.Run() == EmotionLayerJobError::kIntensityCountMismatch);
+  REQUIRE(job.Run() == EmotionChannelsJobError::kIntensityCountMismatch);
   job = make();
   job.lip_contact = std::numeric_limits<float>::quiet_NaN();
-  REQUIRE(job.Run() == EmotionLayerJobError::kInvalidIntensity);
+  REQUIRE(job.Run() == EmotionChannelsJobError::kInvalidIntensity);
   job = make();
-  job.speech_weights = {};
-  REQUIRE(job.Run() == EmotionLayerJobError::kWeightCountMismatch);
-  job = make();
-  job.out_weights = std::span<float>(out).first(1);
-  REQUIRE(job.Run() == EmotionLayerJobError::kWeightCountMismatch);
-  speech[1] = std::numeric_limits<float>::infinity();
-  job = make();
-  REQUIRE(job.Run() == EmotionLayerJobError::kNonFiniteWeight);
-  speech[1] = 0.1f;
+  job.out_values = std::span(values).first(values.size() - 1);
+  REQUIRE(job.Run() == EmotionChannelsJobError::kValueCountMismatch);
   intensity[2] = 1.5f;
   job = make();
-  REQUIRE(job.Run() == EmotionLayerJobError::kInvalidIntensity);
-  REQUIRE(out == untouched);
-  REQUIRE(std::string(facerig::ToString(EmotionLayerJobError::kInvalidIntensity)).find("lip_contact") !=
+  REQUIRE(job.Run() == EmotionChannelsJobError::kInvalidIntensity);
+  intensity[2] = 0.0f;
+  REQUIRE(values == values_untouched);
+  REQUIRE(std::string(facerig::ToString(EmotionChannelsJobError::kInvalidIntensity)).find("lip_contact") !=
           std::string::npos);
+
+  // The speech side is the combine's to check: sizes, then finiteness.
+  REQUIRE(LayerEmotions(emotions.emotions, intensity, 0.0f, {}, out) == CombineChannelsError::kWeightCountMismatch);
+  REQUIRE(LayerEmotions(emotions.emotions, intensity, 0.0f, speech, std::span<float>(out).first(1)) ==
+          CombineChannelsError::kWeightCountMismatch);
+  speech[1] = std::numeric_limits<float>::infinity();
+  REQUIRE(LayerEmotions(emotions.emotions, intensity, 0.0f, speech, out) == CombineChannelsError::kInvalidValue);
+  REQUIRE(out == untouched);
 }
 
 TEST_CASE("ICT-FaceKit: emotions resolve, and p/b/m and f/v survive every emotion (shared data)",

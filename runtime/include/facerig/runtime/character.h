@@ -160,7 +160,9 @@ class Character {
   void DrainStream();
   void RecycleKeysBefore(double line_time);
   void UpdateTalkingState(double line_time);
-  void UpdateEyes(double time);
+  // The behaviours' weight channels at `time`, then speech + channels -> weights_.
+  void UpdateBehaviours(double time);
+  void CombineWeights();
 
   const CharacterRig* rig_;
   CharacterParams params_;
@@ -187,9 +189,12 @@ class Character {
   EmotionState emotion_state_;
   BlinkState blink_state_;
   GazeState gaze_state_;
-  GazeChannels gaze_channels_{};
-  std::array<ChannelValue, 2> blink_values_{};               // eyeBlink_L, eyeBlink_R
-  std::array<ChannelValue, kGazeShapeCount> gaze_values_{};  // eyeLook*
+  // Weight channels, sized once: emotions (one per contribution), blinks
+  // (eyeBlink_L, eyeBlink_R), gaze (eyeLook*); the counts in use this frame.
+  std::vector<ChannelValue> emotion_values_;
+  std::array<ChannelValue, 2> blink_values_{};
+  std::array<ChannelValue, kGazeShapeCount> gaze_values_{};
+  std::size_t emotion_value_count_ = 0, blink_value_count_ = 0, gaze_value_count_ = 0;
   VisemeWeights viseme_weights_{};
   std::vector<float> speech_weights_;
   std::vector<float> weights_;

@@ -1,8 +1,9 @@
 // Emotions: the six basic expressions (Ekman) as per-rig weight recipes, an
 // EmotionState that moves each intensity toward its target with attack and
-// release times, and the EmotionLayerJob that layers them over speech.
+// release times, and the EmotionChannelsJob that turns them into weight
+// channels layered over speech (weight_channels.h, rule kAdd).
 //
-// Layering (EmotionLayerJob):
+// Layering (EmotionChannelsJob, then CombineChannelsJob with speech as base):
 //   final[s] = clamp01(speech[s] + sum_e I_e * weight(e,s) * k_s),
 //   k_s = 1 - lip_contact   for shapes that open the lips,   1 otherwise,
 // where lip_contact = LipContactWeight(viseme weights) (coarticulation.h) is 1
@@ -27,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "facerig/runtime/behaviour/weight_channels.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -71,6 +73,8 @@ class EmotionRig {
  public:
   std::span<const EmotionContribution> contributions(Emotion emotion) const;
   std::size_t rig_shape_count() const { return rig_shape_count_; }
+  // Contributions of all emotions: the size of EmotionChannelsJob's output.
+  std::size_t channel_count() const { return entries_.size(); }
   bool empty() const { return entries_.empty(); }
 
  private:
@@ -110,30 +114,29 @@ struct EmotionState {
   bool Advance(double dt);
 };
 
-enum class EmotionLayerJobError : std::uint8_t {
+enum class EmotionChannelsJobError : std::uint8_t {
   kNone,
   kNoEmotions,
   kIntensityCountMismatch,  // intensities.size() != kEmotionCount
   kInvalidIntensity,        // an intensity or lip_contact NaN, infinite or outside [0,1]
-  kWeightCountMismatch,     // speech_weights or out_weights size != emotions->rig_shape_count()
-  kNonFiniteWeight,         // a speech weight is NaN or infinite
+  kValueCountMismatch,      // out_values.size() != emotions->channel_count()
 };
 
-const char* ToString(EmotionLayerJobError error);
+const char* ToString(EmotionChannelsJobError error);
 
-// Layers emotions over speech (see the formula at the top). speech_weights may
-// be the same span as out_weights (in place). Every output shape is clamped to
-// [0,1]. Owns no memory; Run() allocates nothing, throws nothing, takes no lock.
-struct EmotionLayerJob {
+// The emotions' weight channels (see the formula at the top): one value per
+// contribution of the EmotionRig, in its order; combine them over speech with
+// ChannelRule::kAdd. Owns no memory; Run() allocates nothing, throws nothing,
+// takes no lock.
+struct EmotionChannelsJob {
   const EmotionRig* emotions = nullptr;
-  std::span<const float> intensities;     // kEmotionCount (EmotionState::intensity)
-  float lip_contact = 0.0f;               // LipContactWeight(viseme weights)
-  std::span<const float> speech_weights;  // rig shape count (VisemeWeightsJob's output)
-  std::span<float> out_weights;           // rig shape count
+  std::span<const float> intensities;  // kEmotionCount (EmotionState::intensity)
+  float lip_contact = 0.0f;            // LipContactWeight(viseme weights)
+  std::span<ChannelValue> out_values;  // emotions->channel_count()
 
-  EmotionLayerJobError Validate() const;
+  EmotionChannelsJobError Validate() const;
   // Validates, then writes. On error the output is left untouched.
-  EmotionLayerJobError Run() const;
+  EmotionChannelsJobError Run() const;
 };
 
 }  // namespace facerig

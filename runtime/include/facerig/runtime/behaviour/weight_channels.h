@@ -1,8 +1,8 @@
 // How behaviours reach the rig weights: the speech's dense weights (visemes
-// mapped to the rig, with emotions layered in by EmotionLayerJob) are the
-// base, and every other behaviour (blinks, gaze) writes values into channels
-// (rig shapes found by name when the CharacterRig is built), each layer with
-// a blend rule. CombineChannelsJob is the one place that merges them.
+// mapped to the rig, VisemeWeightsJob) are the base, and every other
+// behaviour (emotions, blinks, gaze) writes values into channels (rig shapes
+// found by name when the CharacterRig is built), each layer with a blend
+// rule. CombineChannelsJob is the one place that merges them.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +19,7 @@ enum class ChannelRule : std::uint8_t {
 struct ChannelValue {
   std::uint32_t shape = 0;  // index into the rig's shapes
   float value = 0.0f;       // in [0,1]
+  friend bool operator==(const ChannelValue&, const ChannelValue&) = default;
 };
 
 struct ChannelLayer {
