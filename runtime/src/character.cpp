@@ -26,8 +26,6 @@ const char* ToString(CharacterError error) {
     case CharacterError::kInvalidPhoneme: return "phoneme with a non-finite, negative or backwards time";
     case CharacterError::kTooManyKeys: return "line longer than the character's key capacity";
     case CharacterError::kInvalidKey: return "the viseme timing params made an invalid viseme key";
-    case CharacterError::kStreamFull: return "phoneme stream ring is full";
-    case CharacterError::kNotStreaming: return "no stream is open";
   }
   return "unknown error";
 }
@@ -67,8 +65,6 @@ Character::Character(const CharacterRig& rig, const CharacterParams& params)
       track_(std::max<std::size_t>(params.key_capacity, 2 * kMaxVisemeKeysPerPhoneme)),
       phonemes_(std::max<std::size_t>(params.key_capacity, 1)),
       key_stream_(params.timing),
-      ring_(new Phoneme[std::max<std::size_t>(params.stream_capacity, 2)]),
-      ring_capacity_(std::max<std::size_t>(params.stream_capacity, 2)),
       blink_state_(params.seed),
       gaze_state_(params.seed),
       emotion_values_(rig.emotions().channel_count()),
@@ -110,8 +106,6 @@ CharacterError Character::Speak(std::span<const Phoneme> phonemes, double start_
       phonemes.size() > phonemes_.size()) {
     return CharacterError::kTooManyKeys;
   }
-  stream_open_.store(false, std::memory_order_release);
-  stream_finished_ = true;
   ClearLine();
   line_start_ = start_time;
   VisemeTrackError error = VisemeTrackError::kNone;
@@ -132,36 +126,7 @@ void Character::ClearLine() {
   phoneme_count_ = 0;
 }
 
-void Character::BeginStream(double start_time) {
-  ClearLine();
-  line_start_ = std::isfinite(start_time) ? start_time : last_time_;
-  ring_head_.store(0, std::memory_order_relaxed);
-  ring_tail_.store(0, std::memory_order_relaxed);
-  stream_ended_.store(false, std::memory_order_relaxed);
-  stream_finished_ = false;
-  stream_open_.store(true, std::memory_order_release);
-}
-
-CharacterError Character::PushPhoneme(const Phoneme& phoneme) {
-  if (!stream_open_.load(std::memory_order_acquire)) return CharacterError::kNotStreaming;
-  if (!ValidPhoneme(phoneme)) return CharacterError::kInvalidPhoneme;
-  const std::size_t head = ring_head_.load(std::memory_order_relaxed);
-  const std::size_t next = (head + 1) % ring_capacity_;
-  if (next == ring_tail_.load(std::memory_order_acquire)) return CharacterError::kStreamFull;
-  ring_[head] = phoneme;
-  ring_head_.store(next, std::memory_order_release);
-  return CharacterError::kNone;
-}
-
-CharacterError Character::EndStream() {
-  if (!stream_open_.load(std::memory_order_acquire)) return CharacterError::kNotStreaming;
-  stream_ended_.store(true, std::memory_order_release);
-  return CharacterError::kNone;
-}
-
 void Character::StopSpeaking() {
-  stream_open_.store(false, std::memory_order_release);
-  stream_finished_ = true;
   ClearLine();
 }
 
@@ -169,55 +134,16 @@ void Character::SetEmotion(Emotion emotion, float target) {
   emotion_state_.SetTarget(emotion, std::clamp(std::isfinite(target) ? target : 0.0f, 0.0f, 1.0f));
 }
 
-void Character::RecycleKeysBefore(double line_time) {
-  // Keys whose end is farther behind than the coarticulation window can no
-  // longer influence the mouth: shift the rest to the front.
-  const double horizon = line_time - params_.coarticulation.window - 0.5;
-  track_.DropEndingBefore(horizon);
-  std::size_t drop_phonemes = 0;
-  while (drop_phonemes < phoneme_count_ &&
-         phonemes_[drop_phonemes].start + phonemes_[drop_phonemes].duration < horizon) {
-    ++drop_phonemes;
-  }
-  if (drop_phonemes > 0) {
-    std::move(phonemes_.begin() + static_cast<std::ptrdiff_t>(drop_phonemes),
-              phonemes_.begin() + static_cast<std::ptrdiff_t>(phoneme_count_), phonemes_.begin());
-    phoneme_count_ -= drop_phonemes;
-  }
-}
-
-void Character::DrainStream() {
-  if (stream_finished_) return;
-  const bool ended = stream_ended_.load(std::memory_order_acquire);
-  std::size_t tail = ring_tail_.load(std::memory_order_relaxed);
-  const std::size_t head = ring_head_.load(std::memory_order_acquire);
-  while (tail != head) {
-    // Full even after recycling: retry next frame. A bad key (only from bad
-    // timing params) is skipped so the stream keeps flowing.
-    const VisemeTrackError error = AppendPhoneme(ring_[tail]);
-    if (error == VisemeTrackError::kFull) break;
-    tail = (tail + 1) % ring_capacity_;
-  }
-  ring_tail_.store(tail, std::memory_order_release);
-  if (ended && tail == head) {
-    if (FinishKeys() != VisemeTrackError::kFull) {
-      stream_finished_ = true;
-      stream_open_.store(false, std::memory_order_release);
-    }
-  }
-}
-
 void Character::UpdateTalkingState(double line_time) {
   const std::span<const VisemeKey> keys = this->keys();
-  const bool streaming = !stream_finished_;
   if (keys.empty()) {
-    talking_ = streaming;
+    talking_ = false;
     at_pause_ = false;
     current_phoneme_ = nullptr;
     return;
   }
-  talking_ = streaming || (line_time >= keys.front().start - params_.coarticulation.contact_anticipation &&
-                           line_time <= keys.back().end + params_.coarticulation.contact_release);
+  talking_ = line_time >= keys.front().start - params_.coarticulation.contact_anticipation &&
+             line_time <= keys.back().end + params_.coarticulation.contact_release;
   // The key under the clock: the last one starting at or before line_time.
   const auto after = std::upper_bound(keys.begin(), keys.end(), line_time,
                                       [](double t, const VisemeKey& key) { return t < key.start; });
@@ -225,7 +151,7 @@ void Character::UpdateTalkingState(double line_time) {
   if (talking_ && after != keys.begin()) {
     const VisemeKey& key = *(after - 1);
     const bool in_gap = line_time > key.end &&
-                        (after == keys.end() ? streaming : after->start - key.end > params_.pause_gap);
+                        after != keys.end() && after->start - key.end > params_.pause_gap;
     at_pause_ = (key.viseme == Viseme::kSil && key.end - key.start > params_.pause_gap &&
                  line_time <= key.end) ||
                 in_gap;
@@ -254,8 +180,6 @@ CharacterError Character::Update(double time) {
   last_time_ = time;
   const double line_time = time - line_start_;
 
-  if (track_.size() + 64 > track_.capacity()) RecycleKeysBefore(line_time);
-  DrainStream();
   UpdateTalkingState(line_time);
 
   CoarticulationJob coarticulation{&track_, line_time, &params_.coarticulation, &viseme_weights_};

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <limits>
-#include <thread>
 
 #include <catch2/catch.hpp>
 
@@ -108,33 +107,7 @@ TEST_CASE("Character: smiling does not stop the lips closing on p", "[character]
   REQUIRE(Weight(rig, character, "mouthSmile_L") > 0.3f);  // still smiling
 }
 
-TEST_CASE("Character: streaming gives the same mouth as schedule-ahead", "[character]") {
-  const facerig::Rig rig = MakeArkitGridRig();
-  const CharacterRig character_rig = CharacterRig::Build(rig);
-  const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
-  Character ahead(character_rig);
-  REQUIRE(ahead.Speak(line, 0.5) == CharacterError::kNone);
-
-  Character streamed(character_rig);
-  streamed.BeginStream(0.5);
-  std::thread producer([&] {
-    for (const Phoneme& phoneme : line) {
-      while (streamed.PushPhoneme(phoneme) == CharacterError::kStreamFull) std::this_thread::yield();
-    }
-    streamed.EndStream();
-  });
-  producer.join();
-  REQUIRE(streamed.Update(0.5) == CharacterError::kNone);  // drains the ring
-  REQUIRE(streamed.keys().size() == ahead.keys().size());
-  for (double t = 0.5; t < 2.0; t += 1.0 / 60) {
-    REQUIRE(ahead.Update(t) == CharacterError::kNone);
-    REQUIRE(streamed.Update(t) == CharacterError::kNone);
-    for (std::size_t s = 0; s < rig.shape_count(); ++s) REQUIRE(streamed.weights()[s] == ahead.weights()[s]);
-  }
-  REQUIRE(streamed.PushPhoneme(line[0]) == CharacterError::kNotStreaming);
-}
-
-TEST_CASE("Character: Speak, streaming and Update allocate nothing", "[character][allocation]") {
+TEST_CASE("Character: Speak and Update allocate nothing", "[character][allocation]") {
   const facerig::Rig rig = MakeArkitGridRig();
   const CharacterRig character_rig = CharacterRig::Build(rig);
   Character character(character_rig);
@@ -143,9 +116,7 @@ TEST_CASE("Character: Speak, streaming and Update allocate nothing", "[character
   REQUIRE(character.Speak(line, 0.0) == CharacterError::kNone);
   character.SetEmotion(facerig::Emotion::kSurprise, 0.7f);
   for (double t = 0.0; t < 3.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
-  character.BeginStream(3.0);
-  for (const Phoneme& phoneme : line) REQUIRE(character.PushPhoneme(phoneme) == CharacterError::kNone);
-  REQUIRE(character.EndStream() == CharacterError::kNone);
+  REQUIRE(character.Speak(line, 3.0) == CharacterError::kNone);  // a new line replaces the old
   for (double t = 3.0; t < 5.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
   REQUIRE(counter.count() == 0);
 }

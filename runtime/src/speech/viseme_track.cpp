@@ -58,10 +58,4 @@ VisemeTrackError VisemeTrack::Append(std::span<const VisemeKey> keys) {
   return VisemeTrackError::kNone;
 }
 
-void VisemeTrack::DropEndingBefore(double time) {
-  std::size_t drop = 0;
-  while (drop < keys_.size() && keys_[drop].end < time) ++drop;
-  keys_.erase(keys_.begin(), keys_.begin() + static_cast<std::ptrdiff_t>(drop));
-}
-
 }  // namespace facerig

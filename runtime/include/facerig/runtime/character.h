@@ -6,15 +6,13 @@
 // CharacterRig holds what is built once per rig (viseme and emotion mappings,
 // blink shapes); many Characters may share one. A Character is the
 // per-character context: every buffer is sized in its constructor, and
-// Speak(), Update() and the streaming calls allocate nothing, throw nothing
+// Speak() and Update() allocate nothing, throw nothing
 // and take no lock (a test counts operator new). Results are deterministic
 // for a given phoneme track, sequence of times and seed.
 #pragma once
 
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -74,12 +72,10 @@ struct CharacterParams {
   float jaw_intensity = 1.0f;  // JALI jaw, [0, 4]
   float lip_intensity = 1.0f;  // JALI lip, [0, 4]
   std::uint64_t seed = 0;      // blinks and gaze
-  // Viseme keys held at once. A key is ~24 bytes; 8192 covers a line of
-  // about 4000 phonemes (several minutes of speech). Longer streams recycle
-  // keys that are behind the clock.
+  // Viseme keys held at once: a line of up to (key_capacity / 2 - 1)
+  // phonemes. A key is ~24 bytes; 8192 covers about 4000 phonemes (several
+  // minutes of speech).
   std::size_t key_capacity = 8192;
-  // Phonemes in flight between a streaming source's thread and Update().
-  std::size_t stream_capacity = 1024;
   // A silence between keys longer than this is a pause (blinks favour pauses).
   double pause_gap = 0.12;
   // Output weights below this are set to 0, so the blend skips shapes whose
@@ -94,8 +90,6 @@ enum class CharacterError : std::uint8_t {
   kInvalidPhoneme,  // non-finite or negative start/duration, or starts going backwards
   kTooManyKeys,     // the line needs more than key_capacity keys; nothing changed
   kInvalidKey,      // the timing params made an invalid viseme key; the line was dropped
-  kStreamFull,      // PushPhoneme: the ring is full (Update() has not drained it)
-  kNotStreaming,    // PushPhoneme / EndStream without BeginStream
 };
 
 const char* ToString(CharacterError error);
@@ -110,16 +104,6 @@ class Character {
   // time 0 is `start_time` on the animation clock (seconds). On error nothing
   // changes. Call from the thread that calls Update().
   CharacterError Speak(std::span<const Phoneme> phonemes, double start_time);
-
-  // Streaming mode: BeginStream (Update's thread) clears the current line and
-  // sets its start on the animation clock; then a producer thread (e.g. the
-  // TTS callback) calls PushPhoneme for each phoneme in time order and
-  // EndStream at the end. The hand-over is a lock-free single-producer,
-  // single-consumer ring; Update() drains it. Call BeginStream before the
-  // producer starts and not while it is still pushing the previous stream.
-  void BeginStream(double start_time);
-  CharacterError PushPhoneme(const Phoneme& phoneme);
-  CharacterError EndStream();
 
   // Stops speaking at once (the mouth relaxes over the next frames).
   void StopSpeaking();
@@ -143,7 +127,7 @@ class Character {
   // The phoneme under the clock at the last Update, if any.
   const Phoneme* current_phoneme() const { return current_phoneme_; }
   // True between the first and last key of the current line (with the
-  // coarticulation window), and while a stream is open.
+  // coarticulation window).
   bool talking() const { return talking_; }
   bool at_pause() const { return at_pause_; }
   float blink_left() const { return blink_left_; }
@@ -157,8 +141,6 @@ class Character {
   VisemeTrackError AppendPhoneme(const Phoneme& phoneme);
   VisemeTrackError FinishKeys();
   void ClearLine();
-  void DrainStream();
-  void RecycleKeysBefore(double line_time);
   void UpdateTalkingState(double line_time);
   // The behaviours' weight channels at `time`, then speech + channels -> weights_.
   void UpdateBehaviours(double time);
@@ -173,15 +155,6 @@ class Character {
   std::vector<Phoneme> phonemes_;      // same capacity, for current_phoneme()
   std::size_t phoneme_count_ = 0;
   VisemeKeyStream key_stream_;
-
-  // Streaming ring (single producer, single consumer).
-  std::unique_ptr<Phoneme[]> ring_;
-  std::size_t ring_capacity_ = 0;
-  std::atomic<std::size_t> ring_head_{0};  // next slot the producer writes
-  std::atomic<std::size_t> ring_tail_{0};  // next slot the consumer reads
-  std::atomic<bool> stream_open_{false};
-  std::atomic<bool> stream_ended_{false};
-  bool stream_finished_ = true;  // consumer side: Finish() done for this stream
 
   // Per-frame state and outputs.
   bool has_time_ = false;

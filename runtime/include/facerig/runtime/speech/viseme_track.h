@@ -1,6 +1,6 @@
 // A time-ordered track of viseme keys, each checked once when it is appended,
 // so that CoarticulationJob can trust the track every frame without scanning
-// it. Fixed capacity: appending, dropping and clearing allocate nothing.
+// it. Fixed capacity: appending and clearing allocate nothing.
 #pragma once
 
 #include <cstddef>
@@ -34,8 +34,6 @@ class VisemeTrack {
   // Appends all of `keys` or, on error, none of them: O(keys.size()).
   VisemeTrackError Append(std::span<const VisemeKey> keys);
   void Clear() { keys_.clear(); }
-  // Drops the leading keys that end before `time`; the rest stay in order.
-  void DropEndingBefore(double time);
 
   std::span<const VisemeKey> keys() const { return keys_; }
   std::size_t size() const { return keys_.size(); }
