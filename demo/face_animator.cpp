@@ -72,7 +72,7 @@ float FaceAnimator::LipAperture() const {
 }
 
 void FaceAnimator::Update(double time, FrameTimer* timer) {
-  character_.Update(time);
+  character_.Update(Seconds(time));
   const std::span<const float> character_weights = character_.weights();
   std::copy(character_weights.begin(), character_weights.end(), weights_.begin());
   if (idle_.head_motion) {

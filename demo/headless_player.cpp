@@ -60,7 +60,7 @@ HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::os
   for (const auto& [emotion, intensity] : options.emotions) animator.character().SetEmotion(emotion, intensity);
   result.speech_start = options.lead_in;
   if (!result.speech.phonemes.empty()) {
-    const CharacterError speak = animator.character().Speak(result.speech.phonemes, result.speech_start);
+    const CharacterError speak = animator.character().Speak(result.speech.phonemes, Seconds(result.speech_start));
     if (speak != CharacterError::kNone) throw std::runtime_error(std::string("Speak: ") + ToString(speak));
   }
   FaceRenderer renderer(rig);
@@ -79,7 +79,7 @@ HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::os
   }
 
   const double duration =
-      options.duration.value_or(std::max(1.0, options.lead_in + result.speech.audio_duration() + 0.6));
+      options.duration.value_or(std::max(1.0, options.lead_in + result.speech.audio_duration().count() + 0.6));
   const int frame_count = std::max(1, static_cast<int>(std::ceil(duration * options.fps - 1e-9)));
   FrameTimer timer(static_cast<std::size_t>(frame_count));
   Image image;

@@ -285,7 +285,7 @@ int RunWindow(const Rig& rig, const std::string& rig_name, const PlayerOptions& 
         std::cerr << message << '\n';
       } else {
         const double start = audio.is_open() ? audio.Play(result->line.audio) : clock.Now(WallSeconds());
-        const CharacterError error = animator.character().Speak(result->line.phonemes, start);
+        const CharacterError error = animator.character().Speak(result->line.phonemes, Seconds(start));
         message = error == CharacterError::kNone ? "\"" + result->text + "\"" : std::string("Speak: ") + ToString(error);
       }
     }

@@ -88,8 +88,8 @@ int RunCrowdBenchmark(int argc, char** argv) {
     member.character = std::make_unique<facerig::Character>(character_rig, params);
     const facerig::SpeechLine& line = lines[i % lines.size()];
     member.offset = 0.37 * static_cast<double>(i % 11);  // characters start at different times
-    member.line_length = line.audio_duration();
-    (void)member.character->Speak(line.phonemes, member.offset);
+    member.line_length = line.audio_duration().count();
+    (void)member.character->Speak(line.phonemes, facerig::Seconds(member.offset));
     member.character->SetEmotion(static_cast<facerig::Emotion>(i % facerig::kEmotionCount), 0.5f);
     member.positions.resize(rig.vertex_count());
     member.normals.resize(rig.vertex_count());
@@ -103,7 +103,7 @@ int RunCrowdBenchmark(int argc, char** argv) {
     const auto frame_start = Clock::now();
     for (CrowdMember& member : crowd) {
       const auto t0 = Clock::now();
-      (void)member.character->Update(time);
+      (void)member.character->Update(facerig::Seconds(time));
       const auto t1 = Clock::now();
       const facerig::BlendJob job{&rig, member.character->weights(),
                                   with_normals ? facerig::NormalMode::kRecompute : facerig::NormalMode::kNone,

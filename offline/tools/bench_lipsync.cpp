@@ -194,19 +194,19 @@ int RunLipsyncBenchmark(int argc, char** argv) {
       return 1;
     }
     facerig::Character character(character_rig, params);
-    if (character.Speak(line.phonemes, 0.0) != facerig::CharacterError::kNone) {
+    if (character.Speak(line.phonemes, facerig::Seconds(0.0)) != facerig::CharacterError::kNone) {
       std::fprintf(stderr, "facerig-bench: cannot schedule '%s'\n", text.c_str());
       return 1;
     }
 
     // Aperture at 1 kHz over the line (+0.3 s of release).
-    const double duration = line.audio_duration() + 0.3;
+    const double duration = line.audio_duration().count() + 0.3;
     const auto samples = static_cast<std::size_t>(duration / kSampleStep) + 1;
     std::vector<double> aperture(samples);
     for (std::size_t i = 0; i < samples; ++i) {
       const double t = static_cast<double>(i) * kSampleStep;
       const auto update_start = Clock::now();
-      (void)character.Update(t);
+      (void)character.Update(facerig::Seconds(t));
       if (i % 17 == 0) {
         update_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - update_start).count());
       }
@@ -220,9 +220,9 @@ int RunLipsyncBenchmark(int argc, char** argv) {
       const auto map = facerig::LookupPhonemeVisemes(phoneme.language.view(), phoneme.symbol.view());
       if (!map || map->count == 0 || map->visemes[0] != facerig::Viseme::kPP) continue;
       ++bilabials;
-      const double begin = phoneme.start -
+      const double begin = phoneme.start.count() -
                            (map->has(facerig::PhonemeVisemes::kUnvoicedStop) ? params.timing.stop_closure : 0.0);
-      const double end = phoneme.start + std::max(phoneme.duration, params.timing.min_duration);
+      const double end = phoneme.start.count() + std::max(phoneme.duration.count(), params.timing.min_duration);
       double lowest = max_aperture;
       for (double t = std::max(0.0, begin); t <= end; t += kSampleStep) {
         lowest = std::min(lowest, aperture[std::min(samples - 1, static_cast<std::size_t>(t / kSampleStep + 0.5))]);
@@ -239,7 +239,7 @@ int RunLipsyncBenchmark(int argc, char** argv) {
     }
 
     // Cross-correlation of aperture and audio RMS on a 5 ms grid (pooled over lines).
-    const auto hops = static_cast<std::size_t>(line.audio_duration() / kEnvelopeHop);
+    const auto hops = static_cast<std::size_t>(line.audio_duration().count() / kEnvelopeHop);
     std::vector<double> envelope = RmsEnvelope(line, hops);
     std::vector<double> mouth(hops);
     for (std::size_t h = 0; h < hops; ++h) mouth[h] = aperture[std::min(samples - 1, h * 5)];
@@ -266,7 +266,7 @@ int RunLipsyncBenchmark(int argc, char** argv) {
     const auto start = Clock::now();
     const facerig::SpeechLine line = source.Synthesize(kTwentyWords, voice);
     facerig::Character character(character_rig, params);
-    (void)character.Speak(line.phonemes, 0.0);
+    (void)character.Speak(line.phonemes, facerig::Seconds(0.0));
     tts_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
   }
 

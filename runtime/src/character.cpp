@@ -13,8 +13,8 @@ std::optional<std::size_t> FirstShape(const Rig& rig, std::string_view name) {
 }
 
 bool ValidPhoneme(const Phoneme& phoneme) {
-  return std::isfinite(phoneme.start) && std::isfinite(phoneme.duration) && phoneme.start >= 0.0 &&
-         phoneme.duration >= 0.0;
+  return std::isfinite(phoneme.start.count()) && std::isfinite(phoneme.duration.count()) &&
+         phoneme.start >= Seconds(0.0) && phoneme.duration >= Seconds(0.0);
 }
 
 }  // namespace
@@ -94,10 +94,10 @@ VisemeTrackError Character::FinishKeys() {
   return track_.Append(std::span(written_keys).first(*written));
 }
 
-CharacterError Character::Speak(std::span<const Phoneme> phonemes, double start_time) {
-  if (!std::isfinite(start_time)) return CharacterError::kNonFiniteTime;
+CharacterError Character::Speak(std::span<const Phoneme> phonemes, Seconds start_time) {
+  if (!std::isfinite(start_time.count())) return CharacterError::kNonFiniteTime;
   // Check first so that a refused line changes nothing.
-  double previous_start = 0.0;
+  Seconds previous_start(0.0);
   for (const Phoneme& phoneme : phonemes) {
     if (!ValidPhoneme(phoneme) || phoneme.start < previous_start) return CharacterError::kInvalidPhoneme;
     previous_start = phoneme.start;
@@ -134,7 +134,7 @@ void Character::SetEmotion(Emotion emotion, float target) {
   emotion_state_.SetTarget(emotion, std::clamp(std::isfinite(target) ? target : 0.0f, 0.0f, 1.0f));
 }
 
-void Character::UpdateTalkingState(double line_time) {
+void Character::UpdateTalkingState(Seconds line_time) {
   const std::span<const VisemeKey> keys = this->keys();
   if (keys.empty()) {
     talking_ = false;
@@ -142,43 +142,44 @@ void Character::UpdateTalkingState(double line_time) {
     current_phoneme_ = nullptr;
     return;
   }
-  talking_ = line_time >= keys.front().start - params_.coarticulation.contact_anticipation &&
-             line_time <= keys.back().end + params_.coarticulation.contact_release;
+  talking_ = line_time >= keys.front().start - Seconds(params_.coarticulation.contact_anticipation) &&
+             line_time <= keys.back().end + Seconds(params_.coarticulation.contact_release);
+  const Seconds pause_gap(params_.pause_gap);
   // The key under the clock: the last one starting at or before line_time.
   const auto after = std::upper_bound(keys.begin(), keys.end(), line_time,
-                                      [](double t, const VisemeKey& key) { return t < key.start; });
+                                      [](Seconds t, const VisemeKey& key) { return t < key.start; });
   at_pause_ = false;
   if (talking_ && after != keys.begin()) {
     const VisemeKey& key = *(after - 1);
     const bool in_gap = line_time > key.end &&
-                        after != keys.end() && after->start - key.end > params_.pause_gap;
-    at_pause_ = (key.viseme == Viseme::kSil && key.end - key.start > params_.pause_gap &&
+                        after != keys.end() && after->start - key.end > pause_gap;
+    at_pause_ = (key.viseme == Viseme::kSil && key.end - key.start > pause_gap &&
                  line_time <= key.end) ||
                 in_gap;
   }
   const std::span<const Phoneme> phonemes = std::span(phonemes_).first(phoneme_count_);
   const auto next = std::upper_bound(phonemes.begin(), phonemes.end(), line_time,
-                                     [](double t, const Phoneme& p) { return t < p.start; });
+                                     [](Seconds t, const Phoneme& p) { return t < p.start; });
   current_phoneme_ = nullptr;
   if (next != phonemes.begin()) {
     const Phoneme& phoneme = *(next - 1);
-    if (line_time <= phoneme.start + std::max(phoneme.duration, 1e-3)) current_phoneme_ = &phoneme;
+    if (line_time <= phoneme.start + std::max(phoneme.duration, Seconds(1e-3))) current_phoneme_ = &phoneme;
   }
 }
 
-CharacterError Character::Update(double time) {
-  if (!std::isfinite(time)) return CharacterError::kNonFiniteTime;
+CharacterError Character::Update(Seconds time) {
+  if (!std::isfinite(time.count())) return CharacterError::kNonFiniteTime;
   double dt = 0.0;
   if (has_time_) {
     if (time < last_time_) {
       blink_state_.ForgetTime();  // a seek: blinks restart rather than refuse
     } else {
-      dt = time - last_time_;
+      dt = (time - last_time_).count();
     }
   }
   has_time_ = true;
   last_time_ = time;
-  const double line_time = time - line_start_;
+  const Seconds line_time = time - line_start_;
 
   UpdateTalkingState(line_time);
 
@@ -190,7 +191,7 @@ CharacterError Character::Update(double time) {
   if (to_rig.Run() != VisemeWeightsJobError::kNone) std::fill(speech_weights_.begin(), speech_weights_.end(), 0.0f);
 
   emotion_state_.Advance(dt);
-  UpdateBehaviours(time);
+  UpdateBehaviours(time.count());
   CombineWeights();
   return CharacterError::kNone;
 }

@@ -45,8 +45,8 @@ double MeanDifference(const Image& a, const Image& b, int x0, int y0, int x1, in
 
 // RMS of the audio (full scale 1) over [t0, t1] seconds.
 double Rms(const facerig::SpeechLine& line, double t0, double t1) {
-  const auto first = static_cast<std::size_t>(std::clamp(t0, 0.0, line.audio_duration()) * line.sample_rate);
-  const auto last = static_cast<std::size_t>(std::clamp(t1, 0.0, line.audio_duration()) * line.sample_rate);
+  const auto first = static_cast<std::size_t>(std::clamp(t0, 0.0, line.audio_duration().count()) * line.sample_rate);
+  const auto last = static_cast<std::size_t>(std::clamp(t1, 0.0, line.audio_duration().count()) * line.sample_rate);
   if (last <= first) return 0.0;
   double sum = 0.0;
   for (std::size_t i = first; i < last; ++i) sum += std::pow(line.audio[i] / 32768.0, 2);
@@ -75,7 +75,7 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   // The default duration covers the lead-in, the speech and 0.6 s of rest after it.
   const double start = result.speech_start;
   REQUIRE(result.frames.size() ==
-          static_cast<std::size_t>(std::ceil((start + speech.audio_duration() + 0.6) * kFps - 1e-9)));
+          static_cast<std::size_t>(std::ceil((start + speech.audio_duration().count() + 0.6) * kFps - 1e-9)));
 
   // The WAV is exactly the synthesized speech.
   int wav_rate = 0;
@@ -102,13 +102,15 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   REQUIRE(my > kHeight / 3);
   REQUIRE(my < kHeight);
   double peak_rms = 0.0;
-  for (double t = 0.0; t < speech.audio_duration(); t += 0.01) peak_rms = std::max(peak_rms, Rms(speech, t, t + 0.02));
+  for (double t = 0.0; t < speech.audio_duration().count(); t += 0.01) {
+    peak_rms = std::max(peak_rms, Rms(speech, t, t + 0.02));
+  }
   const double voiced_threshold = 0.2 * peak_rms;
   double voiced_change = 0.0, rest_change = 0.0;
   for (std::size_t i = 0; i < result.frames.size(); ++i) {
     const double t = static_cast<double>(i) / kFps - start;  // audio time
     const bool voiced = Rms(speech, t - 0.02, t + 0.02) > voiced_threshold;
-    const bool after = t > speech.audio_duration() + 0.4;
+    const bool after = t > speech.audio_duration().count() + 0.4;
     if (!voiced && !after) continue;
     const Image frame = facerig::player::ReadPng(result.frames[i]);
     const double change = MeanDifference(frame, neutral, mx - r, my - r, mx + r + 1, my + r + 1);

@@ -44,23 +44,25 @@ bool IsPause(const Phoneme& p) { return p.symbol.view().front() == '_' || p.symb
 // Structural checks every synthesized line must pass.
 void CheckLine(const SpeechLine& line) {
   CHECK(line.sample_rate == EspeakPhonemeSource::kSampleRate);
-  const double end = line.audio_duration();
+  const double end = line.audio_duration().count();
   double previous = 0.0;
   for (std::size_t i = 0; i < line.phonemes.size(); ++i) {
     const Phoneme& p = line.phonemes[i];
-    INFO(i << " " << p.symbol.view() << " at " << p.start);
-    CHECK(p.start >= previous);
-    CHECK(p.start <= end + 1e-9);
-    CHECK(p.duration >= 0.0);
-    CHECK(p.start + p.duration <= end + 1e-6);
-    if (i + 1 < line.phonemes.size()) CHECK(p.start + p.duration == Approx(line.phonemes[i + 1].start));
+    INFO(i << " " << p.symbol.view() << " at " << p.start.count());
+    CHECK(p.start.count() >= previous);
+    CHECK(p.start.count() <= end + 1e-9);
+    CHECK(p.duration.count() >= 0.0);
+    CHECK(p.start.count() + p.duration.count() <= end + 1e-6);
+    if (i + 1 < line.phonemes.size()) {
+      CHECK(p.start.count() + p.duration.count() == Approx(line.phonemes[i + 1].start.count()));
+    }
     CHECK_FALSE(p.symbol.empty());
     CHECK(p.symbol.view().front() != '(');  // language switches are not phonemes
-    previous = p.start;
+    previous = p.start.count();
   }
   if (!line.phonemes.empty()) {
     const Phoneme& last = line.phonemes.back();
-    CHECK(last.start + last.duration == Approx(end).margin(1e-6));
+    CHECK(last.start.count() + last.duration.count() == Approx(end).margin(1e-6));
   }
 }
 
@@ -160,14 +162,14 @@ TEST_CASE("espeak: phonemes are consistent with the text (none dropped)", "[espe
     while (last > 0 && IsPause(line.phonemes[last - 1])) --last;
     REQUIRE(last > 0);
     const Phoneme& final_sound = line.phonemes[last - 1];
-    const double speech_end = final_sound.start + final_sound.duration;
-    CHECK(line.audio_duration() - speech_end < 0.5);
+    const double speech_end = final_sound.start.count() + final_sound.duration.count();
+    CHECK(line.audio_duration().count() - speech_end < 0.5);
     const auto tail_begin = static_cast<std::size_t>((speech_end + 0.05) * line.sample_rate);
     CHECK(Rms(line.audio, tail_begin, line.audio.size()) <
           0.05 * Rms(line.audio, 0, line.audio.size()));
     // No long stretch of speech without a phoneme event.
     for (std::size_t i = 0; i + 1 < last; ++i) {
-      if (!IsPause(line.phonemes[i])) CHECK(line.phonemes[i].duration < 0.4);
+      if (!IsPause(line.phonemes[i])) CHECK(line.phonemes[i].duration.count() < 0.4);
     }
   }
 }
@@ -184,7 +186,7 @@ class Recorder final : public SpeechStreamReceiver {
   }
   void OnPhoneme(const Phoneme& phoneme) override {
     // Delivered in order, and never ahead of the audio by more than a chunk.
-    if (!phonemes.empty()) ordered = ordered && phoneme.start >= phonemes.back().start;
+    if (!phonemes.empty()) ordered = ordered && phoneme.start.count() >= phonemes.back().start.count();
     phonemes.push_back(phoneme);
   }
   void OnEnd() override { ++ends; }
@@ -216,7 +218,7 @@ TEST_CASE("espeak: streaming gives the same phonemes as schedule-ahead", "[espea
       CHECK(recorder.phonemes[i].symbol == line.phonemes[i].symbol);
       CHECK(recorder.phonemes[i].language == line.phonemes[i].language);
       CHECK(recorder.phonemes[i].word_start == line.phonemes[i].word_start);
-      CHECK(recorder.phonemes[i].start == Approx(line.phonemes[i].start).margin(0.02));
+      CHECK(recorder.phonemes[i].start.count() == Approx(line.phonemes[i].start.count()).margin(0.02));
     }
   }
 }
@@ -289,7 +291,7 @@ TEST_CASE("espeak: many threads synthesize concurrently with correct results", "
       // trailing silence by up to one buffer (~50 ms) after a voice change.
       CHECK(std::abs(double(got.audio.size()) - double(want.audio.size())) <
             0.05 * double(want.audio.size()));
-      CHECK(got.phonemes.back().start == Approx(want.phonemes.back().start).epsilon(0.05));
+      CHECK(got.phonemes.back().start.count() == Approx(want.phonemes.back().start.count()).epsilon(0.05));
     }
   }
 }
@@ -336,7 +338,7 @@ TEST_CASE("espeak: bad input is safe", "[espeak]") {
     CHECK(recorder.starts == 0);
     const SpeechLine line = source.Synthesize(big.substr(0, 2000), "en-us");
     CheckLine(line);
-    CHECK(line.audio_duration() > 60.0);
+    CHECK(line.audio_duration().count() > 60.0);
   }
   SECTION("invalid UTF-8, emoji, control characters, NUL") {
     const std::vector<std::string> texts = {
@@ -381,11 +383,11 @@ TEST_CASE("espeak: timing corrections are visible on a real line", "[espeak]") {
     const auto pp = std::find_if(keys.begin(), keys.end(),
                                  [](const VisemeKey& k) { return k.viseme == Viseme::kPP; });
     REQUIRE(pp != keys.end());
-    CHECK(pp->start == Approx(p->start - params.stop_closure).margin(1e-9));
-    CHECK(pp->start < p->start - 0.03);
+    CHECK(pp->start.count() == Approx(p->start.count() - params.stop_closure).margin(1e-9));
+    CHECK(pp->start.count() < p->start.count() - 0.03);
     // The event marks the release: the 45 ms before it are (nearly) silent.
     const auto at = [&](double t) { return static_cast<std::size_t>(t * line.sample_rate); };
-    CHECK(Rms(line.audio, at(p->start - 0.035), at(p->start - 0.005)) <
+    CHECK(Rms(line.audio, at(p->start.count() - 0.035), at(p->start.count() - 0.005)) <
           0.1 * Rms(line.audio, 0, line.audio.size()));
     // The t closure, too.
     const auto t = std::find_if(line.phonemes.begin(), line.phonemes.end(),
@@ -394,7 +396,7 @@ TEST_CASE("espeak: timing corrections are visible on a real line", "[espeak]") {
     const auto dd = std::find_if(keys.begin(), keys.end(),
                                  [](const VisemeKey& k) { return k.viseme == Viseme::kDD; });
     REQUIRE(dd != keys.end());
-    CHECK(dd->start < t->start - 0.03);
+    CHECK(dd->start.count() < t->start.count() - 0.03);
   }
   SECTION("a lot: the vowel after l starts earlier") {
     const SpeechLine line = source.Synthesize("a lot", "en-us");
@@ -406,11 +408,11 @@ TEST_CASE("espeak: timing corrections are visible on a real line", "[espeak]") {
     REQUIRE(LookupPhonemeVisemes("en-us", vowel.symbol.view())->has(PhonemeVisemes::kVowel));
     const auto key = std::find_if(keys.begin(), keys.end(), [&](const VisemeKey& k) {
       return k.viseme == LookupPhonemeVisemes("en-us", vowel.symbol.view())->visemes[0] &&
-             k.end > vowel.start;
+             k.end.count() > vowel.start.count();
     });
     REQUIRE(key != keys.end());
-    CHECK(key->start < vowel.start - 0.03);
-    CHECK(key->start >= line.phonemes[l].start);
+    CHECK(key->start.count() < vowel.start.count() - 0.03);
+    CHECK(key->start.count() >= line.phonemes[l].start.count());
   }
 }
 

@@ -26,10 +26,10 @@ TEST_CASE("espeak-ng speech closes the ICT lips on every p/b/m and opens them on
                            "I am happy, but Tim moved the tub."}) {
     const facerig::SpeechLine line = source.Synthesize(text, "en-us");
     facerig::Character character(character_rig, params);
-    REQUIRE(character.Speak(line.phonemes, 0.0) == facerig::CharacterError::kNone);
+    REQUIRE(character.Speak(line.phonemes, facerig::Seconds(0.0)) == facerig::CharacterError::kNone);
     std::vector<float> aperture;
-    for (double t = 0.0; t < line.audio_duration() + 0.5; t += 0.001) {
-      REQUIRE(character.Update(t) == facerig::CharacterError::kNone);
+    for (double t = 0.0; t < line.audio_duration().count() + 0.5; t += 0.001) {
+      REQUIRE(character.Update(facerig::Seconds(t)) == facerig::CharacterError::kNone);
       aperture.push_back(probe.Aperture(character.weights()));
     }
     const float widest = *std::max_element(aperture.begin(), aperture.end());
@@ -41,13 +41,13 @@ TEST_CASE("espeak-ng speech closes the ICT lips on every p/b/m and opens them on
       if (!map || map->count == 0 || map->visemes[0] != facerig::Viseme::kPP) continue;
       ++bilabials;
       const bool stop = map->has(facerig::PhonemeVisemes::kUnvoicedStop);
-      const double begin = phoneme.start - (stop ? params.timing.stop_closure : 0.0);
-      const double end = phoneme.start + std::max(phoneme.duration, params.timing.min_duration);
+      const double begin = phoneme.start.count() - (stop ? params.timing.stop_closure : 0.0);
+      const double end = phoneme.start.count() + std::max(phoneme.duration.count(), params.timing.min_duration);
       float lowest = widest;
       for (double t = std::max(0.0, begin); t <= end; t += 0.001) {
         lowest = std::min(lowest, aperture[std::min(aperture.size() - 1, static_cast<std::size_t>(t * 1000.0 + 0.5))]);
       }
-      INFO(phoneme.symbol.view() << " at " << phoneme.start << " s");
+      INFO(phoneme.symbol.view() << " at " << phoneme.start.count() << " s");
       REQUIRE(lowest <= 0.05f * widest);
     }
   }

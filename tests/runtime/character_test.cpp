@@ -12,6 +12,7 @@ using facerig::Character;
 using facerig::CharacterError;
 using facerig::CharacterRig;
 using facerig::Phoneme;
+using facerig::Seconds;
 using facerig::Viseme;
 
 namespace {
@@ -33,8 +34,8 @@ facerig::Rig MakeArkitGridRig() {
 
 Phoneme MakePhoneme(double start, double duration, const char* symbol) {
   Phoneme phoneme;
-  phoneme.start = start;
-  phoneme.duration = duration;
+  phoneme.start = Seconds(start);
+  phoneme.duration = Seconds(duration);
   phoneme.symbol.assign(symbol);
   phoneme.language.assign("en-us");
   return phoneme;
@@ -58,15 +59,16 @@ TEST_CASE("Character: p/b/m close the lips between open vowels", "[character]") 
   const CharacterRig character_rig = CharacterRig::Build(rig);
   Character character(character_rig);
   const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
-  REQUIRE(character.Speak(line, 1.0) == CharacterError::kNone);
+  REQUIRE(character.Speak(line, Seconds(1.0)) == CharacterError::kNone);
 
   // Scan the line at 1 ms: each bilabial's interval (shifted by the stop
   // closure for p) holds an instant with full PP and no jaw opening.
   for (std::size_t i : {2u, 4u, 6u}) {
     float best_pp = 0.0f;
     float jaw_at_best = 1.0f;
-    for (double t = line[i].start - 0.06; t <= line[i].start + line[i].duration + 1e-9; t += 0.001) {
-      REQUIRE(character.Update(1.0 + t) == CharacterError::kNone);
+    const double start = line[i].start.count(), end = start + line[i].duration.count();
+    for (double t = start - 0.06; t <= end + 1e-9; t += 0.001) {
+      REQUIRE(character.Update(Seconds(1.0 + t)) == CharacterError::kNone);
       const float pp = character.viseme_weights()[static_cast<std::size_t>(Viseme::kPP)];
       if (pp > best_pp) {
         best_pp = pp;
@@ -78,13 +80,13 @@ TEST_CASE("Character: p/b/m close the lips between open vowels", "[character]") 
     REQUIRE(jaw_at_best < 0.05f);
   }
   // The open vowels open the jaw.
-  REQUIRE(character.Update(1.0 + 0.32) == CharacterError::kNone);
+  REQUIRE(character.Update(Seconds(1.0 + 0.32)) == CharacterError::kNone);
   REQUIRE(Weight(rig, character, "jawOpen") > 0.2f);
   REQUIRE(character.talking());
   REQUIRE(character.current_phoneme() != nullptr);
   REQUIRE(character.current_phoneme()->symbol.view() == "A:");
   // After the line the mouth rests.
-  REQUIRE(character.Update(1.0 + 2.0) == CharacterError::kNone);
+  REQUIRE(character.Update(Seconds(1.0 + 2.0)) == CharacterError::kNone);
   REQUIRE(Weight(rig, character, "jawOpen") < 1e-3f);
   REQUIRE_FALSE(character.talking());
 }
@@ -94,13 +96,13 @@ TEST_CASE("Character: smiling does not stop the lips closing on p", "[character]
   const CharacterRig character_rig = CharacterRig::Build(rig);
   Character character(character_rig);
   character.SetEmotion(facerig::Emotion::kJoy, 1.0f);
-  for (double t = 0.0; t < 2.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
+  for (double t = 0.0; t < 2.0; t += 1.0 / 60) REQUIRE(character.Update(Seconds(t)) == CharacterError::kNone);
   REQUIRE(Weight(rig, character, "mouthSmile_L") > 0.3f);
   const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
-  REQUIRE(character.Speak(line, 2.0) == CharacterError::kNone);
+  REQUIRE(character.Speak(line, Seconds(2.0)) == CharacterError::kNone);
   float best_pp = 0.0f;
   for (double t = 0.18; t < 0.27; t += 0.001) {
-    REQUIRE(character.Update(2.0 + t) == CharacterError::kNone);
+    REQUIRE(character.Update(Seconds(2.0 + t)) == CharacterError::kNone);
     best_pp = std::max(best_pp, character.viseme_weights()[static_cast<std::size_t>(Viseme::kPP)]);
   }
   REQUIRE(best_pp == Approx(1.0f));
@@ -113,11 +115,11 @@ TEST_CASE("Character: Speak and Update allocate nothing", "[character][allocatio
   Character character(character_rig);
   const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
   facerig::test::AllocationCounter counter;
-  REQUIRE(character.Speak(line, 0.0) == CharacterError::kNone);
+  REQUIRE(character.Speak(line, Seconds(0.0)) == CharacterError::kNone);
   character.SetEmotion(facerig::Emotion::kSurprise, 0.7f);
-  for (double t = 0.0; t < 3.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
-  REQUIRE(character.Speak(line, 3.0) == CharacterError::kNone);  // a new line replaces the old
-  for (double t = 3.0; t < 5.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
+  for (double t = 0.0; t < 3.0; t += 1.0 / 60) REQUIRE(character.Update(Seconds(t)) == CharacterError::kNone);
+  REQUIRE(character.Speak(line, Seconds(3.0)) == CharacterError::kNone);  // a new line replaces the old
+  for (double t = 3.0; t < 5.0; t += 1.0 / 60) REQUIRE(character.Update(Seconds(t)) == CharacterError::kNone);
   REQUIRE(counter.count() == 0);
 }
 
@@ -132,9 +134,9 @@ TEST_CASE("Character: deterministic for a seed, blinks at rest", "[character]") 
   bool differs = false;
   float max_blink = 0.0f;
   for (double t = 0.0; t < 30.0; t += 1.0 / 60) {
-    REQUIRE(a.Update(t) == CharacterError::kNone);
-    REQUIRE(b.Update(t) == CharacterError::kNone);
-    REQUIRE(c.Update(t) == CharacterError::kNone);
+    REQUIRE(a.Update(Seconds(t)) == CharacterError::kNone);
+    REQUIRE(b.Update(Seconds(t)) == CharacterError::kNone);
+    REQUIRE(c.Update(Seconds(t)) == CharacterError::kNone);
     REQUIRE(a.blink_left() == b.blink_left());
     differs = differs || a.blink_left() != c.blink_left();
     max_blink = std::max(max_blink, Weight(rig, a, "eyeBlink_L"));
@@ -150,28 +152,28 @@ TEST_CASE("Character: bad input is refused or safe", "[character][malformed]") {
   params.key_capacity = 24;  // room for the 9-phoneme line, not for 40
   Character character(character_rig, params);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  REQUIRE(character.Update(nan) == CharacterError::kNonFiniteTime);
-  REQUIRE(character.Update(std::numeric_limits<double>::infinity()) == CharacterError::kNonFiniteTime);
-  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), nan) == CharacterError::kNonFiniteTime);
+  REQUIRE(character.Update(Seconds(nan)) == CharacterError::kNonFiniteTime);
+  REQUIRE(character.Update(Seconds(std::numeric_limits<double>::infinity())) == CharacterError::kNonFiniteTime);
+  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), Seconds(nan)) == CharacterError::kNonFiniteTime);
 
   std::vector<Phoneme> bad = OpenVowelsAroundBilabials();
-  bad[3].start = 0.01;  // backwards
-  REQUIRE(character.Speak(bad, 0.0) == CharacterError::kInvalidPhoneme);
+  bad[3].start = Seconds(0.01);  // backwards
+  REQUIRE(character.Speak(bad, Seconds(0.0)) == CharacterError::kInvalidPhoneme);
   bad = OpenVowelsAroundBilabials();
-  bad[2].duration = nan;
-  REQUIRE(character.Speak(bad, 0.0) == CharacterError::kInvalidPhoneme);
+  bad[2].duration = Seconds(nan);
+  REQUIRE(character.Speak(bad, Seconds(0.0)) == CharacterError::kInvalidPhoneme);
 
   std::vector<Phoneme> long_line;
   for (int i = 0; i < 40; ++i) long_line.push_back(MakePhoneme(0.1 * i, 0.1, i % 2 ? "p" : "a#"));
-  REQUIRE(character.Speak(long_line, 0.0) == CharacterError::kTooManyKeys);
+  REQUIRE(character.Speak(long_line, Seconds(0.0)) == CharacterError::kTooManyKeys);
   REQUIRE(character.keys().empty());  // nothing changed
 
   // Time going backwards (a seek) is accepted; the character is not stuck.
-  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), 0.0) == CharacterError::kNone);
-  REQUIRE(character.Update(0.5) == CharacterError::kNone);
-  REQUIRE(character.Update(0.2) == CharacterError::kNone);
-  REQUIRE(character.Update(5.0) == CharacterError::kNone);
-  REQUIRE(character.Update(6.0) == CharacterError::kNone);
+  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), Seconds(0.0)) == CharacterError::kNone);
+  REQUIRE(character.Update(Seconds(0.5)) == CharacterError::kNone);
+  REQUIRE(character.Update(Seconds(0.2)) == CharacterError::kNone);
+  REQUIRE(character.Update(Seconds(5.0)) == CharacterError::kNone);
+  REQUIRE(character.Update(Seconds(6.0)) == CharacterError::kNone);
   for (float w : character.weights()) REQUIRE(std::isfinite(w));
 }
 
@@ -180,8 +182,8 @@ TEST_CASE("Character: a rig without ARKit shapes degrades with warnings", "[char
   const CharacterRig character_rig = CharacterRig::Build(rig);
   REQUIRE_FALSE(character_rig.warnings().empty());
   Character character(character_rig);
-  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), 0.0) == CharacterError::kNone);
-  for (double t = 0.0; t < 1.0; t += 1.0 / 60) REQUIRE(character.Update(t) == CharacterError::kNone);
+  REQUIRE(character.Speak(OpenVowelsAroundBilabials(), Seconds(0.0)) == CharacterError::kNone);
+  for (double t = 0.0; t < 1.0; t += 1.0 / 60) REQUIRE(character.Update(Seconds(t)) == CharacterError::kNone);
   for (float w : character.weights()) REQUIRE(w == 0.0f);
 }
 
@@ -196,9 +198,9 @@ TEST_CASE("Character: idle gaze moves the eyeLook shapes, deterministically for 
   Character still(character_rig, params);
   bool looked = false;
   for (double t = 0.0; t < 10.0; t += 1.0 / 60) {
-    REQUIRE(a.Update(t) == CharacterError::kNone);
-    REQUIRE(b.Update(t) == CharacterError::kNone);
-    REQUIRE(still.Update(t) == CharacterError::kNone);
+    REQUIRE(a.Update(Seconds(t)) == CharacterError::kNone);
+    REQUIRE(b.Update(Seconds(t)) == CharacterError::kNone);
+    REQUIRE(still.Update(Seconds(t)) == CharacterError::kNone);
     for (const char* name : facerig::kGazeShapeNames) {
       REQUIRE(Weight(rig, a, name) == Weight(rig, b, name));
       REQUIRE(Weight(rig, still, name) == 0.0f);

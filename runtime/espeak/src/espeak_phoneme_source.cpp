@@ -72,8 +72,8 @@ class LineCollector {
   // Delivers the last phoneme (it runs to the end of the audio).
   void Finish() {
     if (has_pending_) {
-      const double end = static_cast<double>(samples_) / EspeakPhonemeSource::kSampleRate;
-      pending_.duration = std::max(0.0, end - pending_.start);
+      const Seconds end = SamplesToSeconds(samples_, EspeakPhonemeSource::kSampleRate);
+      pending_.duration = std::max(Seconds(0.0), end - pending_.start);
       receiver_.OnPhoneme(pending_);
       has_pending_ = false;
     }
@@ -108,7 +108,7 @@ class LineCollector {
       if (sample > static_cast<long>(before + count)) base_ = sample - static_cast<long>(before);
     }
     const long relative = std::max(0L, sample - base_);
-    double start = static_cast<double>(relative) / EspeakPhonemeSource::kSampleRate;
+    Seconds start = SamplesToSeconds(static_cast<std::size_t>(relative), EspeakPhonemeSource::kSampleRate);
     if (has_pending_) {
       start = std::max(start, pending_.start);
       pending_.duration = start - pending_.start;

@@ -104,7 +104,7 @@ CoarticulationError CoarticulationJob::Validate() const {
   if (params == nullptr) return CoarticulationError::kNoParams;
   if (!params->Valid()) return CoarticulationError::kInvalidParams;
   if (out_weights == nullptr) return CoarticulationError::kNoOutput;
-  if (!Finite(time)) return CoarticulationError::kNonFiniteTime;
+  if (!Finite(time.count())) return CoarticulationError::kNonFiniteTime;
   if (keys == nullptr) return CoarticulationError::kNoKeys;
   return CoarticulationError::kNone;
 }
@@ -116,8 +116,8 @@ CoarticulationError CoarticulationJob::Run() const {
 
   // Ends are non-decreasing, so the keys that end at or after (time - window)
   // form a suffix; walk it until keys start after (time + window).
-  const double window_start = time - p.window;
-  const double window_end = time + p.window;
+  const Seconds window_start = time - Seconds(p.window);
+  const Seconds window_end = time + Seconds(p.window);
   const std::span<const VisemeKey> track = keys->keys();
   const auto first = std::partition_point(track.begin(), track.end(),
                                           [&](const VisemeKey& k) { return k.end < window_start; });
@@ -132,8 +132,8 @@ CoarticulationError CoarticulationJob::Run() const {
   for (auto it = first; it != track.end() && it->start <= window_end; ++it) {
     const VisemeKey& key = *it;
     const DominanceParams& d = table[static_cast<std::size_t>(key.viseme)];
-    const double half = 0.5 * (key.end - key.start);
-    const double offset = time - (key.start + half);  // < 0: before the centre
+    const double half = 0.5 * (key.end - key.start).count();
+    const double offset = (time - key.start).count() - half;  // < 0: before the centre
     const double tau = std::max(0.0, std::abs(offset) - static_cast<double>(p.hold_fraction) * half);
     const double rate = offset < 0.0 ? d.anticipatory_rate : d.carryover_rate;
     const double dominance = d.magnitude * std::exp(-rate * PowExponent(tau, d.exponent));

@@ -206,8 +206,8 @@ class TrackReader {
         return p;
       };
       Phoneme phoneme;
-      phoneme.start = Time(Field(item, at, "start"), field_path("start"), "start");
-      phoneme.duration = Time(Field(item, at, "duration"), field_path("duration"), "duration");
+      phoneme.start = Seconds(Time(Field(item, at, "start"), field_path("start"), "start"));
+      phoneme.duration = Seconds(Time(Field(item, at, "duration"), field_path("duration"), "duration"));
       const std::string symbol =
           String(Field(item, at, "symbol"), field_path("symbol"), 8, "symbol");
       if (symbol.empty()) Fail(IoErrorKind::kParse, field_path("symbol"), "symbol is empty");
@@ -223,10 +223,10 @@ class TrackReader {
       }
       if (!line.phonemes.empty() && phoneme.start < line.phonemes.back().start) {
         Fail(IoErrorKind::kParse, field_path("start"),
-             "start goes backwards (" + std::to_string(phoneme.start) + " s after " +
-                 std::to_string(line.phonemes.back().start) + " s)");
+             "start goes backwards (" + std::to_string(phoneme.start.count()) + " s after " +
+                 std::to_string(line.phonemes.back().start.count()) + " s)");
       }
-      if (phoneme.start + phoneme.duration > kPhonemeTrackMaxSeconds) {
+      if ((phoneme.start + phoneme.duration).count() > kPhonemeTrackMaxSeconds) {
         Fail(IoErrorKind::kAbsurdCount, field_path("duration"), "phoneme ends after 24 hours");
       }
       line.phonemes.push_back(phoneme);
@@ -277,9 +277,9 @@ std::string FormatPhonemeTrack(const SpeechLine& line, std::string_view audio_pa
   for (std::size_t i = 0; i < line.phonemes.size(); ++i) {
     const Phoneme& p = line.phonemes[i];
     out += i == 0 ? "\n    {\"start\": " : ",\n    {\"start\": ";
-    AppendNumber(out, p.start);
+    AppendNumber(out, p.start.count());
     out += ", \"duration\": ";
-    AppendNumber(out, p.duration);
+    AppendNumber(out, p.duration.count());
     out += ", \"symbol\": " +
            Json(std::string(p.symbol.view())).dump(-1, ' ', false, Json::error_handler_t::replace);
     if (p.word_start) out += ", \"word_start\": true";
@@ -295,12 +295,12 @@ std::string FormatPhonemeTrack(const SpeechLine& line, std::string_view audio_pa
 void WritePhonemeTrack(const std::filesystem::path& path, const SpeechLine& line,
                        std::string_view audio_path) {
   // Refuse what the reader would refuse, before touching the file.
-  double previous = 0.0;
+  Seconds previous(0.0);
   for (std::size_t i = 0; i < line.phonemes.size(); ++i) {
     const Phoneme& p = line.phonemes[i];
     const std::string where = "phoneme " + std::to_string(i) + ": ";
-    if (!std::isfinite(p.start) || !std::isfinite(p.duration) || p.start < 0.0 ||
-        p.duration < 0.0) {
+    if (!std::isfinite(p.start.count()) || !std::isfinite(p.duration.count()) || p.start.count() < 0.0 ||
+        p.duration.count() < 0.0) {
       throw IoError(IoErrorKind::kNonFinite, path.string(),
                     where + "start and duration must be finite and >= 0");
     }

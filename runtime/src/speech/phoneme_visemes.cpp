@@ -337,10 +337,10 @@ std::optional<std::size_t> VisemeKeyStream::Push(const Phoneme& phoneme,
   }
 
   // Repair times so that one bad event cannot derail the whole track.
-  double start = phoneme.start;
+  double start = phoneme.start.count();
   if (!IsFinite(start) || start < 0.0) start = last_reported_start_;
   start = std::max(start, last_reported_start_);
-  double duration = phoneme.duration;
+  double duration = phoneme.duration.count();
   if (!IsFinite(duration) || duration < 0.0) duration = 0.0;
   last_reported_start_ = start;
 
@@ -404,11 +404,11 @@ std::size_t VisemeKeyStream::EmitPending(double next_start, std::span<VisemeKey>
     // measured from the reported release; a vowel's lead is its true start.
     const double from = pending_map_.has(F::kVowel) ? start : pending_reported_;
     const double middle = std::clamp(from + split * (end - from), start, end);
-    out[0] = {start, middle, pending_map_.visemes[0], strength};
-    out[1] = {middle, end, pending_map_.visemes[1], strength};
+    out[0] = {Seconds(start), Seconds(middle), pending_map_.visemes[0], strength};
+    out[1] = {Seconds(middle), Seconds(end), pending_map_.visemes[1], strength};
     return 2;
   }
-  out[0] = {start, end, pending_map_.visemes[0], strength};
+  out[0] = {Seconds(start), Seconds(end), pending_map_.visemes[0], strength};
   return 1;
 }
 

@@ -6,7 +6,7 @@ namespace facerig {
 namespace {
 
 VisemeTrackError CheckKey(const VisemeKey& key, const VisemeKey* previous) {
-  if (!std::isfinite(key.start) || !std::isfinite(key.end) || key.end < key.start) {
+  if (!std::isfinite(key.start.count()) || !std::isfinite(key.end.count()) || key.end < key.start) {
     return VisemeTrackError::kInvalidKey;
   }
   if (static_cast<std::size_t>(key.viseme) >= kVisemeCount) return VisemeTrackError::kInvalidKey;

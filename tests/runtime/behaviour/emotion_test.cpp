@@ -31,6 +31,11 @@ using facerig::Viseme;
 
 namespace {
 
+// A key from times in seconds.
+facerig::VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
+  return {facerig::Seconds(start), facerig::Seconds(end), viseme, strength};
+}
+
 constexpr std::size_t Index(Emotion e) { return static_cast<std::size_t>(e); }
 
 // Emotions over speech as Character layers them: EmotionChannelsJob, then
@@ -493,14 +498,14 @@ TEST_CASE("ICT-FaceKit: a 30 ms p between aa closes the lips while smiling, end 
   const facerig::CoarticulationParams params;
   for (double duration : {0.02, 0.03, 0.04}) {
     const double start = 1.0 + 0.007;  // off the frame grid
-    const std::vector<facerig::VisemeKey> keys = {{start - 0.15, start, Viseme::kAA, 1.0f},
-                                                  {start, start + duration, Viseme::kPP, 1.0f},
-                                                  {start + duration, start + duration + 0.15, Viseme::kAA, 1.0f}};
+    const std::vector<facerig::VisemeKey> keys = {Key(start - 0.15, start, Viseme::kAA, 1.0f),
+                                                  Key(start, start + duration, Viseme::kPP, 1.0f),
+                                                  Key(start + duration, start + duration + 0.15, Viseme::kAA, 1.0f)};
     facerig::VisemeTrack track;
     REQUIRE(facerig::VisemeTrack::Make(keys, track) == facerig::VisemeTrackError::kNone);
     facerig::VisemeWeights visemes{};
     auto pose_at = [&](double t) {
-      facerig::CoarticulationJob job{&track, t, &params, &visemes};
+      facerig::CoarticulationJob job{&track, facerig::Seconds(t), &params, &visemes};
       REQUIRE(job.Run() == facerig::CoarticulationError::kNone);
       return stack.Pose(visemes, joy);
     };

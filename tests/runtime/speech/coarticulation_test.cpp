@@ -19,6 +19,11 @@ using facerig::VisemeWeights;
 
 namespace {
 
+// A key from times in seconds.
+VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
+  return {facerig::Seconds(start), facerig::Seconds(end), viseme, strength};
+}
+
 constexpr std::size_t Index(Viseme v) { return static_cast<std::size_t>(v); }
 
 VisemeTrack Track(std::span<const VisemeKey> keys) {
@@ -30,7 +35,7 @@ VisemeTrack Track(std::span<const VisemeKey> keys) {
 VisemeWeights Evaluate(std::span<const VisemeKey> keys, double time, const CoarticulationParams& params) {
   VisemeWeights out{};
   const VisemeTrack track = Track(keys);
-  CoarticulationJob job{&track, time, &params, &out};
+  CoarticulationJob job{&track, facerig::Seconds(time), &params, &out};
   REQUIRE(job.Run() == CoarticulationError::kNone);
   return out;
 }
@@ -46,9 +51,9 @@ bool FullContact(const VisemeWeights& w, Viseme target) {
 // "a <contact> a": open vowels of `vowel_duration` around a short contact key.
 std::vector<VisemeKey> Sandwich(Viseme vowel, Viseme contact, double start, double duration,
                                 float strength = 1.0f, double vowel_duration = 0.2) {
-  return {{start - vowel_duration, start, vowel, 1.0f},
-          {start, start + duration, contact, strength},
-          {start + duration, start + duration + vowel_duration, vowel, 1.0f}};
+  return {Key(start - vowel_duration, start, vowel, 1.0f),
+          Key(start, start + duration, contact, strength),
+          Key(start + duration, start + duration + vowel_duration, vowel, 1.0f)};
 }
 
 }  // namespace
@@ -72,7 +77,7 @@ TEST_CASE("Coarticulation defaults are valid and the window hides only negligibl
 TEST_CASE("Coarticulation: a lone vowel peaks at its centre and the mouth rests far away",
           "[coarticulation]") {
   const CoarticulationParams params;
-  const std::vector<VisemeKey> keys = {{1.0, 1.2, Viseme::kAA, 1.0f}};
+  const std::vector<VisemeKey> keys = {Key(1.0, 1.2, Viseme::kAA, 1.0f)};
   const VisemeWeights centre = Evaluate(keys, 1.1, params);
   REQUIRE(centre[Index(Viseme::kAA)] > 0.99f);
   const VisemeWeights far = Evaluate(keys, 3.0, params);
@@ -81,7 +86,7 @@ TEST_CASE("Coarticulation: a lone vowel peaks at its centre and the mouth rests 
   for (float w : before) REQUIRE(w == 0.0f);
 
   // Key strength scales the target.
-  const std::vector<VisemeKey> weak = {{1.0, 1.2, Viseme::kAA, 0.5f}};
+  const std::vector<VisemeKey> weak = {Key(1.0, 1.2, Viseme::kAA, 0.5f)};
   REQUIRE(Evaluate(weak, 1.1, params)[Index(Viseme::kAA)] == Approx(0.5f).margin(0.01));
   // Articulation strength scales every weight.
   CoarticulationParams mumbled = params;
@@ -92,16 +97,16 @@ TEST_CASE("Coarticulation: a lone vowel peaks at its centre and the mouth rests 
 TEST_CASE("Coarticulation anticipates: lips round before the sound more than they stay after",
           "[coarticulation]") {
   const CoarticulationParams params;
-  const std::vector<VisemeKey> keys = {{0.0, 0.3, Viseme::kSil, 1.0f},
-                                       {0.3, 0.4, Viseme::kOU, 1.0f},
-                                       {0.4, 0.7, Viseme::kSil, 1.0f}};
+  const std::vector<VisemeKey> keys = {Key(0.0, 0.3, Viseme::kSil, 1.0f),
+                                       Key(0.3, 0.4, Viseme::kOU, 1.0f),
+                                       Key(0.4, 0.7, Viseme::kSil, 1.0f)};
   const double lead = 0.06;
   const float before = Evaluate(keys, 0.3 - lead, params)[Index(Viseme::kOU)];
   const float after = Evaluate(keys, 0.4 + lead, params)[Index(Viseme::kOU)];
   REQUIRE(before > 0.05f);
   REQUIRE(before > 1.5f * after);
   // Neighbours blend: a tongue consonant between rounded vowels takes their shape.
-  const std::vector<VisemeKey> coo = {{0.0, 0.1, Viseme::kKK, 1.0f}, {0.1, 0.3, Viseme::kOU, 1.0f}};
+  const std::vector<VisemeKey> coo = {Key(0.0, 0.1, Viseme::kKK, 1.0f), Key(0.1, 0.3, Viseme::kOU, 1.0f)};
   REQUIRE(Evaluate(coo, 0.05, params)[Index(Viseme::kOU)] > 0.1f);
 }
 
@@ -153,10 +158,10 @@ TEST_CASE("Coarticulation: adjacent PP and FF each reach full contact at their c
   const CoarticulationParams params;
   for (double d : {0.0, 0.01, 0.02, 0.03, 0.05}) {
     // "a m f a" ("comfort") with two short contacts back to back.
-    const std::vector<VisemeKey> keys = {{0.8, 1.0, Viseme::kAA, 1.0f},
-                                         {1.0, 1.0 + d, Viseme::kPP, 1.0f},
-                                         {1.0 + d, 1.0 + 2 * d, Viseme::kFF, 1.0f},
-                                         {1.0 + 2 * d, 1.2 + 2 * d, Viseme::kAA, 1.0f}};
+    const std::vector<VisemeKey> keys = {Key(0.8, 1.0, Viseme::kAA, 1.0f),
+                                         Key(1.0, 1.0 + d, Viseme::kPP, 1.0f),
+                                         Key(1.0 + d, 1.0 + 2 * d, Viseme::kFF, 1.0f),
+                                         Key(1.0 + 2 * d, 1.2 + 2 * d, Viseme::kAA, 1.0f)};
     if (d == 0.0) continue;  // two zero-length keys at one instant: only one can win
     INFO("duration " << d);
     REQUIRE(FullContact(Evaluate(keys, 1.0 + 0.5 * d, params), Viseme::kPP));
@@ -173,7 +178,7 @@ TEST_CASE("Coarticulation output is bounded and continuous over a sentence", "[c
   double t = 0.0;
   for (std::size_t i = 0; i < std::size(seq); ++i) {
     const double d = 0.03 + 0.02 * static_cast<double>(i % 5);
-    keys.push_back({t, t + d, seq[i], 1.0f});
+    keys.push_back(Key(t, t + d, seq[i], 1.0f));
     t += d;
   }
   VisemeWeights previous = Evaluate(keys, -0.1, params);
@@ -206,14 +211,14 @@ TEST_CASE("CoarticulationJob::Run does not allocate", "[coarticulation]") {
   std::vector<VisemeKey> keys;
   for (int i = 0; i < 400; ++i) {
     const Viseme v = static_cast<Viseme>(i % static_cast<int>(facerig::kVisemeCount));
-    keys.push_back({i * 0.07, i * 0.07 + 0.07, v, 1.0f});
+    keys.push_back(Key(i * 0.07, i * 0.07 + 0.07, v, 1.0f));
   }
   VisemeWeights out{};
   const VisemeTrack track = Track(keys);
-  CoarticulationJob job{&track, 0.0, &params, &out};
+  CoarticulationJob job{&track, facerig::Seconds(0.0), &params, &out};
   facerig::test::AllocationCounter counter;
   for (int frame = 0; frame < 600; ++frame) {
-    job.time = frame / 60.0;
+    job.time = facerig::Seconds(frame / 60.0);
     REQUIRE(job.Run() == CoarticulationError::kNone);
   }
   REQUIRE(counter.count() == 0);
@@ -221,12 +226,13 @@ TEST_CASE("CoarticulationJob::Run does not allocate", "[coarticulation]") {
 
 TEST_CASE("CoarticulationJob invalid inputs", "[coarticulation]") {
   const CoarticulationParams params;
-  const VisemeTrack keys = Track(std::vector<VisemeKey>{{0.0, 0.1, Viseme::kAA, 1.0f}, {0.1, 0.2, Viseme::kPP, 1.0f}});
+  const VisemeTrack keys =
+      Track(std::vector<VisemeKey>{Key(0.0, 0.1, Viseme::kAA, 1.0f), Key(0.1, 0.2, Viseme::kPP, 1.0f)});
   VisemeWeights out;
   out.fill(7.0f);
   const VisemeWeights untouched = out;
   auto run = [&](const VisemeTrack* k, double time, const CoarticulationParams* p, VisemeWeights* o) {
-    return CoarticulationJob{k, time, p, o}.Run();
+    return CoarticulationJob{k, facerig::Seconds(time), p, o}.Run();
   };
 
   REQUIRE(run(&keys, std::numeric_limits<double>::quiet_NaN(), &params, &out) ==

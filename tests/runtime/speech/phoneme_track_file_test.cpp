@@ -22,8 +22,8 @@ SpeechLine SampleLine() {
   auto add = [&](double start, double duration, std::string_view symbol, bool word,
                  std::string_view language = "en-us") {
     Phoneme p;
-    p.start = start;
-    p.duration = duration;
+    p.start = facerig::Seconds(start);
+    p.duration = facerig::Seconds(duration);
     p.symbol.assign(symbol);
     p.language.assign(language);
     p.word_start = word;
@@ -74,8 +74,8 @@ TEST_CASE("Phoneme track: write then read gives the same line", "[speech][track]
     INFO(i);
     const Phoneme& a = line.phonemes[i];
     const Phoneme& b = track.line.phonemes[i];
-    CHECK(a.start == b.start);  // shortest round-trip formatting: exact
-    CHECK(a.duration == b.duration);
+    CHECK(a.start.count() == b.start.count());  // shortest round-trip formatting: exact
+    CHECK(a.duration.count() == b.duration.count());
     CHECK(a.symbol == b.symbol);
     CHECK(a.language == b.language);
     CHECK(a.word_start == b.word_start);
@@ -98,7 +98,7 @@ TEST_CASE("Phoneme track: minimal file, optional fields", "[speech][track]") {
   REQUIRE(track.line.phonemes.size() == 2);
   CHECK(track.line.phonemes[0].language.view() == "en");
   CHECK(track.line.phonemes[1].language.view() == "en-gb");
-  CHECK(track.line.phonemes[1].duration == 0.0);
+  CHECK(track.line.phonemes[1].duration.count() == 0.0);
 }
 
 TEST_CASE("Phoneme track: errors name the file, JSON path and line", "[speech][track]") {
@@ -159,10 +159,10 @@ TEST_CASE("Phoneme track: missing file and refused writes", "[speech][track]") {
   const auto path = test::OutputPath("track_refused.json");
   WritePhonemeTrack(path, SampleLine());
   SpeechLine bad = SampleLine();
-  bad.phonemes[2].start = std::numeric_limits<double>::quiet_NaN();
+  bad.phonemes[2].start = facerig::Seconds(std::numeric_limits<double>::quiet_NaN());
   CHECK_THROWS_AS(WritePhonemeTrack(path, bad), IoError);
   bad = SampleLine();
-  bad.phonemes[2].start = 0.01;  // backwards
+  bad.phonemes[2].start = facerig::Seconds(0.01);  // backwards
   CHECK_THROWS_AS(WritePhonemeTrack(path, bad), IoError);
   // The earlier file is untouched.
   CHECK(ReadPhonemeTrack(path).line.phonemes.size() == SampleLine().phonemes.size());

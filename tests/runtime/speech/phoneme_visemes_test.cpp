@@ -16,8 +16,8 @@ namespace {
 Phoneme Ph(double start, double duration, std::string_view symbol,
            std::string_view language = "en-us", bool word_start = false) {
   Phoneme p;
-  p.start = start;
-  p.duration = duration;
+  p.start = facerig::Seconds(start);
+  p.duration = facerig::Seconds(duration);
   p.symbol.assign(symbol);
   p.language.assign(language);
   p.word_start = word_start;
@@ -30,7 +30,8 @@ std::vector<Phoneme> Track(std::initializer_list<std::pair<double, std::string_v
   std::vector<Phoneme> track;
   for (const auto& [start, symbol] : events) track.push_back(Ph(start, 0.0, symbol, language));
   for (std::size_t i = 0; i < track.size(); ++i) {
-    track[i].duration = (i + 1 < track.size() ? track[i + 1].start : end) - track[i].start;
+    const double next = i + 1 < track.size() ? track[i + 1].start.count() : end;
+    track[i].duration = facerig::Seconds(next - track[i].start.count());
   }
   return track;
 }
@@ -199,14 +200,14 @@ TEST_CASE("Keys: unvoiced stop closure starts before the release event", "[speec
   const auto keys = PhonemesToVisemeKeys(track, params);
   REQUIRE(keys.size() == 5);
   CHECK(keys[1].viseme == Viseme::kPP);
-  CHECK(keys[1].start == Approx(0.110 - params.stop_closure));
-  CHECK(keys[1].end == Approx(0.143));
-  CHECK(keys[0].end == Approx(keys[1].start));  // the vowel before gives way
+  CHECK(keys[1].start.count() == Approx(0.110 - params.stop_closure));
+  CHECK(keys[1].end.count() == Approx(0.143));
+  CHECK(keys[0].end.count() == Approx(keys[1].start.count()));  // the vowel before gives way
   CHECK(keys[3].viseme == Viseme::kDD);
-  CHECK(keys[3].start == Approx(0.340 - params.stop_closure));
+  CHECK(keys[3].start.count() == Approx(0.340 - params.stop_closure));
   // Voiced b keeps its event time.
   const auto voiced = PhonemesToVisemeKeys(Track({{0.0, "a#"}, {0.110, "b"}, {0.2, "I"}}, 0.3));
-  CHECK(voiced[1].start == Approx(0.110));
+  CHECK(voiced[1].start.count() == Approx(0.110));
 }
 
 TEST_CASE("Keys: vowels after l r n m w j start earlier", "[speech][visemes]") {
@@ -215,20 +216,20 @@ TEST_CASE("Keys: vowels after l r n m w j start earlier", "[speech][visemes]") {
   const auto keys = PhonemesToVisemeKeys(Track({{0.0, "_"}, {0.1, "l"}, {0.2, "eI"}}, 0.4), params);
   REQUIRE(keys.size() == 4);
   CHECK(keys[1].viseme == Viseme::kNN);
-  CHECK(keys[1].end == Approx(0.2 - params.vowel_lag));
+  CHECK(keys[1].end.count() == Approx(0.2 - params.vowel_lag));
   CHECK(keys[2].viseme == Viseme::kE);
-  CHECK(keys[2].start == Approx(0.2 - params.vowel_lag));
+  CHECK(keys[2].start.count() == Approx(0.2 - params.vowel_lag));
   CHECK(keys[3].viseme == Viseme::kIH);
-  CHECK(keys[3].end == Approx(0.4));
+  CHECK(keys[3].end.count() == Approx(0.4));
   // Not after other consonants.
   const auto after_s = PhonemesToVisemeKeys(Track({{0.1, "s"}, {0.2, "eI"}}, 0.4), params);
-  CHECK(after_s[1].start == Approx(0.2));
+  CHECK(after_s[1].start.count() == Approx(0.2));
   // Bounded by the previous phoneme's start (+ its minimum duration).
   const auto short_m = PhonemesToVisemeKeys(Track({{0.1, "m"}, {0.12, "a"}}, 0.3), params);
-  CHECK(short_m[1].start == Approx(0.12));
+  CHECK(short_m[1].start.count() == Approx(0.12));
   const auto mid_m = PhonemesToVisemeKeys(Track({{0.1, "m"}, {0.15, "a"}}, 0.3), params);
-  CHECK(mid_m[1].start == Approx(0.1 + params.min_duration));
-  CHECK(mid_m[0].end == Approx(mid_m[1].start));
+  CHECK(mid_m[1].start.count() == Approx(0.1 + params.min_duration));
+  CHECK(mid_m[0].end.count() == Approx(mid_m[1].start.count()));
 }
 
 TEST_CASE("Keys: zero-length events get a minimum duration without overlap", "[speech][visemes]") {
@@ -237,16 +238,16 @@ TEST_CASE("Keys: zero-length events get a minimum duration without overlap", "[s
   std::vector<Phoneme> track = {Ph(0.0, 0.0, "d"), Ph(0.1, 0.1, "a")};
   auto keys = PhonemesToVisemeKeys(track, params);
   REQUIRE(keys.size() == 2);
-  CHECK(keys[0].end == Approx(params.min_duration));
+  CHECK(keys[0].end.count() == Approx(params.min_duration));
   // Squeezed: ends where the next key starts.
   track = {Ph(0.0, 0.0, "d"), Ph(0.01, 0.1, "a")};
   keys = PhonemesToVisemeKeys(track, params);
-  CHECK(keys[0].end == Approx(0.01));
+  CHECK(keys[0].end.count() == Approx(0.01));
   // A zero-length last phoneme.
   track = {Ph(0.0, 0.1, "a"), Ph(0.1, 0.0, "_")};
   keys = PhonemesToVisemeKeys(track, params);
-  CHECK(keys[1].end == Approx(0.1 + params.min_duration));
-  for (const VisemeKey& key : keys) CHECK(key.end >= key.start);
+  CHECK(keys[1].end.count() == Approx(0.1 + params.min_duration));
+  for (const VisemeKey& key : keys) CHECK(key.end.count() >= key.start.count());
 }
 
 TEST_CASE("Keys: order, no overlap, marks hold the previous key", "[speech][visemes]") {
@@ -257,8 +258,8 @@ TEST_CASE("Keys: order, no overlap, marks hold the previous key", "[speech][vise
   const auto keys = PhonemesToVisemeKeys(track);
   REQUIRE(!keys.empty());
   for (std::size_t i = 0; i < keys.size(); ++i) {
-    CHECK(keys[i].end >= keys[i].start);
-    if (i > 0) CHECK(keys[i].start >= keys[i - 1].end - 1e-12);
+    CHECK(keys[i].end.count() >= keys[i].start.count());
+    if (i > 0) CHECK(keys[i].start.count() >= keys[i - 1].end.count() - 1e-12);
     CHECK(keys[i].strength >= 0.0f);
     CHECK(keys[i].strength <= 1.0f);
   }
@@ -266,7 +267,7 @@ TEST_CASE("Keys: order, no overlap, marks hold the previous key", "[speech][vise
   std::size_t ou = 0;
   while (keys[ou].viseme != Viseme::kOU) ++ou;
   CHECK(keys[ou + 1].viseme == Viseme::kOU);  // w
-  CHECK(keys[ou].end == Approx(0.36));
+  CHECK(keys[ou].end.count() == Approx(0.36));
 }
 
 TEST_CASE("Keys: bad times are repaired, never crash", "[speech][visemes]") {
@@ -279,10 +280,10 @@ TEST_CASE("Keys: bad times are repaired, never crash", "[speech][visemes]") {
   REQUIRE(keys.size() == 7);
   for (std::size_t i = 0; i < keys.size(); ++i) {
     INFO(i);
-    CHECK(std::isfinite(keys[i].start));
-    CHECK(std::isfinite(keys[i].end));
-    CHECK(keys[i].end >= keys[i].start);
-    if (i > 0) CHECK(keys[i].start >= keys[i - 1].end - 1e-12);
+    CHECK(std::isfinite(keys[i].start.count()));
+    CHECK(std::isfinite(keys[i].end.count()));
+    CHECK(keys[i].end.count() >= keys[i].start.count());
+    if (i > 0) CHECK(keys[i].start.count() >= keys[i - 1].end.count() - 1e-12);
   }
   CHECK(PhonemesToVisemeKeys(std::vector<Phoneme>{}).empty());
 }
@@ -317,8 +318,8 @@ TEST_CASE("VisemeKeyStream: same keys as the batch, no allocation, clean when fu
   for (std::size_t i = 0; i < used; ++i) {
     INFO(i);
     CHECK(storage[i].viseme == batch[i].viseme);
-    CHECK(storage[i].start == batch[i].start);
-    CHECK(storage[i].end == batch[i].end);
+    CHECK(storage[i].start.count() == batch[i].start.count());
+    CHECK(storage[i].end.count() == batch[i].end.count());
   }
   // Finish twice: nothing more. Reset starts a new line.
   CHECK(*stream.Finish(storage) == 0);

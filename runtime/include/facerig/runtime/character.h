@@ -101,9 +101,9 @@ class Character {
   Character& operator=(const Character&) = delete;
 
   // Schedule-ahead mode: replaces what is being said by a whole line whose
-  // time 0 is `start_time` on the animation clock (seconds). On error nothing
+  // time 0 is `start_time` on the animation clock. On error nothing
   // changes. Call from the thread that calls Update().
-  CharacterError Speak(std::span<const Phoneme> phonemes, double start_time);
+  CharacterError Speak(std::span<const Phoneme> phonemes, Seconds start_time);
 
   // Stops speaking at once (the mouth relaxes over the next frames).
   void StopSpeaking();
@@ -113,11 +113,11 @@ class Character {
   void SetEmotion(Emotion emotion, float target);
   EmotionState& emotion_state() { return emotion_state_; }
 
-  // Per frame: computes the rig weights at animation time `time` (seconds).
+  // Per frame: computes the rig weights at animation time `time`.
   // Times may go backwards (a seek or restart): speech follows the time,
   // blinks restart their clock. A non-finite time is refused and the previous
   // weights are kept.
-  CharacterError Update(double time);
+  CharacterError Update(Seconds time);
 
   // The rig weights of the last Update, one per rig shape, in [0,1].
   std::span<const float> weights() const { return weights_; }
@@ -141,7 +141,7 @@ class Character {
   VisemeTrackError AppendPhoneme(const Phoneme& phoneme);
   VisemeTrackError FinishKeys();
   void ClearLine();
-  void UpdateTalkingState(double line_time);
+  void UpdateTalkingState(Seconds line_time);
   // The behaviours' weight channels at `time`, then speech + channels -> weights_.
   void UpdateBehaviours(double time);
   void CombineWeights();
@@ -150,7 +150,7 @@ class Character {
   CharacterParams params_;
 
   // Current line, in line time (0 = its start on the animation clock).
-  double line_start_ = 0.0;
+  Seconds line_start_{0.0};
   VisemeTrack track_;                  // capacity params_.key_capacity
   std::vector<Phoneme> phonemes_;      // same capacity, for current_phoneme()
   std::size_t phoneme_count_ = 0;
@@ -158,7 +158,7 @@ class Character {
 
   // Per-frame state and outputs.
   bool has_time_ = false;
-  double last_time_ = 0.0;
+  Seconds last_time_{0.0};
   EmotionState emotion_state_;
   BlinkState blink_state_;
   GazeState gaze_state_;

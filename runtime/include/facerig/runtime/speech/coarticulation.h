@@ -110,7 +110,7 @@ struct CoarticulationJob {
   // non-decreasing, so the window is found by binary search). An empty track
   // is valid: the mouth is at rest (all weights 0).
   const VisemeTrack* keys = nullptr;
-  double time = 0.0;  // seconds, on the keys' clock
+  Seconds time{0.0};  // on the keys' clock
   const CoarticulationParams* params = nullptr;
   VisemeWeights* out_weights = nullptr;
 

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "facerig/runtime/speech/seconds.h"
+
 namespace facerig {
 
 // A short, fixed-size, zero-terminated name: phoneme symbols are at most 8
@@ -35,8 +37,8 @@ using PhonemeSymbol = ShortName<8>;
 using LanguageName = ShortName<15>;
 
 struct Phoneme {
-  double start = 0.0;     // seconds from the start of the line's audio
-  double duration = 0.0;  // seconds; may be 0 (espeak-ng reports some events with no length)
+  Seconds start{0.0};     // from the start of the line's audio
+  Seconds duration{0.0};  // may be 0 (espeak-ng reports some events with no length)
   PhonemeSymbol symbol;   // the source's own name, e.g. espeak-ng "aI", "p", "_:" (pause)
   LanguageName language;  // voice / language the symbol belongs to, e.g. "en-us"
   bool word_start = false;
@@ -50,9 +52,7 @@ struct SpeechLine {
   std::vector<std::int16_t> audio;     // mono
   std::vector<Phoneme> phonemes;
 
-  double audio_duration() const {
-    return sample_rate > 0 ? static_cast<double>(audio.size()) / sample_rate : 0.0;
-  }
+  Seconds audio_duration() const { return SamplesToSeconds(audio.size(), sample_rate); }
 };
 
 }  // namespace facerig

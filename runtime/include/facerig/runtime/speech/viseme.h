@@ -6,6 +6,8 @@
 #include <optional>
 #include <string_view>
 
+#include "facerig/runtime/speech/seconds.h"
+
 namespace facerig {
 
 enum class Viseme : std::uint8_t {
@@ -38,8 +40,8 @@ namespace facerig {
 
 // One viseme target in time, made from one phoneme (or half of a diphthong).
 struct VisemeKey {
-  double start = 0.0;  // seconds
-  double end = 0.0;    // seconds; end >= start (end == start for zero-length events)
+  Seconds start{0.0};
+  Seconds end{0.0};  // end >= start (end == start for zero-length events)
   Viseme viseme = Viseme::kSil;
   // Stress / emphasis in [0,1] (1 = full articulation), e.g. lower for
   // unstressed function-word vowels.
