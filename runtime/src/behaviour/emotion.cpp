@@ -4,10 +4,6 @@
 #include <cctype>
 #include <cmath>
 
-#include <nlohmann/json.hpp>
-
-#include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/speech/viseme_mapping.h"
 
 namespace facerig {
@@ -105,9 +101,6 @@ std::string OpenerKey(std::string_view name) {
   return s;
 }
 
-[[noreturn]] void Fail(const std::string& source, const std::string& field, const std::string& what) {
-  throw IoError(IoErrorKind::kParse, source, field + ": " + what);
-}
 
 }  // namespace
 
@@ -161,44 +154,6 @@ std::span<const EmotionContribution> EmotionRig::contributions(Emotion emotion) 
   return std::span<const EmotionContribution>(entries_).subspan(offsets_[e], offsets_[e + 1] - offsets_[e]);
 }
 
-EmotionOverrides ParseEmotionJson(std::string_view text, const std::string& source) {
-  const nlohmann::json json = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
-  if (json.is_discarded()) throw IoError(IoErrorKind::kParse, source, "not valid JSON");
-  if (!json.is_object()) throw IoError(IoErrorKind::kParse, source, "expected an object keyed by emotion name");
-  EmotionOverrides overrides;
-  for (const auto& [key, shapes] : json.items()) {
-    const std::optional<Emotion> emotion = ParseEmotion(key);
-    if (!emotion) Fail(source, key, "unknown emotion (expected joy, sadness, fear, anger, surprise, disgust)");
-    if (!shapes.is_object()) Fail(source, key, "expected an object of shape name -> weight");
-    std::vector<NamedEmotionWeight> list;
-    for (const auto& [shape, value] : shapes.items()) {
-      const std::string field = key + "." + shape;
-      NamedEmotionWeight entry;
-      entry.shape = shape;
-      const nlohmann::json* weight = &value;
-      if (value.is_object()) {
-        const auto w = value.find("weight");
-        if (w == value.end()) Fail(source, field, "missing \"weight\"");
-        weight = &*w;
-        if (const auto o = value.find("opens_lips"); o != value.end()) {
-          if (!o->is_boolean()) Fail(source, field + ".opens_lips", "expected true or false");
-          entry.opens_lips = o->get<bool>();
-        }
-      }
-      if (!weight->is_number()) Fail(source, field, "weight is not a number");
-      const double w = weight->get<double>();
-      if (!std::isfinite(w) || w < 0.0 || w > 1.0) Fail(source, field, "weight outside [0,1]");
-      entry.weight = static_cast<float>(w);
-      list.push_back(std::move(entry));
-    }
-    overrides.emotions[static_cast<std::size_t>(*emotion)] = std::move(list);
-  }
-  return overrides;
-}
-
-EmotionOverrides ReadEmotionFile(const std::filesystem::path& path) {
-  return ParseEmotionJson(ReadFileText(path, 16u << 20), path.string());
-}
 
 EmotionRigResult BuildEmotionRig(const Rig& rig, const EmotionOverrides* overrides) {
   EmotionRigResult result;

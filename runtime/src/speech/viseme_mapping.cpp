@@ -4,11 +4,6 @@
 #include <cctype>
 #include <cmath>
 
-#include <nlohmann/json.hpp>
-
-#include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
-
 namespace facerig {
 namespace {
 
@@ -134,9 +129,6 @@ std::optional<std::size_t> FindVisemeTarget(const Rig& rig, Viseme v) {
   return std::nullopt;
 }
 
-[[noreturn]] void Fail(const std::string& source, const std::string& field, const std::string& what) {
-  throw IoError(IoErrorKind::kParse, source, field + ": " + what);
-}
 
 }  // namespace
 
@@ -203,54 +195,6 @@ std::vector<std::size_t> FindShapesByArkitName(const Rig& rig, std::string_view 
   return found;
 }
 
-VisemeMappingOverrides ParseVisemeMappingJson(std::string_view text, const std::string& source) {
-  const nlohmann::json json = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
-  if (json.is_discarded()) throw IoError(IoErrorKind::kParse, source, "not valid JSON");
-  if (!json.is_object()) throw IoError(IoErrorKind::kParse, source, "expected an object keyed by viseme name");
-  VisemeMappingOverrides overrides;
-  for (const auto& [key, shapes] : json.items()) {
-    const std::optional<Viseme> viseme = ParseViseme(key);
-    if (!viseme) {
-      Fail(source, key, "unknown viseme (expected sil, PP, FF, TH, DD, kk, CH, SS, nn, RR, aa, E, ih, oh, ou)");
-    }
-    if (!shapes.is_object()) Fail(source, key, "expected an object of shape name -> weight");
-    std::vector<NamedShapeWeight> list;
-    for (const auto& [shape, value] : shapes.items()) {
-      const std::string field = key + "." + shape;
-      NamedShapeWeight entry;
-      entry.shape = shape;
-      const nlohmann::json* weight = &value;
-      if (value.is_object()) {
-        const auto w = value.find("weight");
-        if (w == value.end()) Fail(source, field, "missing \"weight\"");
-        weight = &*w;
-        if (const auto ch = value.find("channel"); ch != value.end()) {
-          if (!ch->is_string()) Fail(source, field + ".channel", "expected \"jaw\" or \"lip\"");
-          const std::string name = ch->get<std::string>();
-          if (name == "jaw") {
-            entry.channel = MappingChannel::kJaw;
-          } else if (name == "lip") {
-            entry.channel = MappingChannel::kLip;
-          } else {
-            Fail(source, field + ".channel", "expected \"jaw\" or \"lip\", got \"" + name + "\"");
-          }
-        }
-      }
-      if (!weight->is_number()) Fail(source, field, "weight is not a number");
-      const double w = weight->get<double>();
-      if (!std::isfinite(w) || w < 0.0 || w > 1.0) Fail(source, field, "weight outside [0,1]");
-      entry.weight = static_cast<float>(w);
-      list.push_back(std::move(entry));
-    }
-    overrides.visemes[static_cast<std::size_t>(*viseme)] = std::move(list);
-  }
-  return overrides;
-}
-
-VisemeMappingOverrides ReadVisemeMappingFile(const std::filesystem::path& path) {
-  // Mapping files are a few kilobytes; refuse anything absurd before parsing.
-  return ParseVisemeMappingJson(ReadFileText(path, 16u << 20), path.string());
-}
 
 VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOptions& options) {
   VisemeMappingResult result;

@@ -13,6 +13,7 @@
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/shape_mapping_files.h"
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/speech/coarticulation.h"
 #include "facerig/runtime/speech/viseme_mapping.h"

@@ -10,6 +10,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/shape_mapping_files.h"
 #include "facerig/runtime/rig_builder.h"
 #include "support/allocation_counter.h"
 #include "support/test_meshes.h"

@@ -21,7 +21,6 @@
 
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <optional>
 #include <span>
 #include <string>
@@ -61,12 +60,6 @@ struct EmotionOverrides {
   std::array<std::optional<std::vector<NamedEmotionWeight>>, kEmotionCount> emotions;
 };
 
-// Reads an emotion file: a JSON object keyed by emotion name, each an object
-// of shape name -> weight in [0,1], or shape name -> {"weight": w,
-// "opens_lips": bool}. Example: {"joy": {"mouthSmile_L": 0.9, "mouthSmile_R": 0.9}}.
-// Throws IoError naming the file and the offending field.
-EmotionOverrides ReadEmotionFile(const std::filesystem::path& path);
-EmotionOverrides ParseEmotionJson(std::string_view text, const std::string& source);
 
 // The emotions' recipes resolved for one rig. Immutable.
 class EmotionRig {

@@ -21,7 +21,6 @@
 
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <optional>
 #include <span>
 #include <string>
@@ -63,14 +62,6 @@ struct VisemeMappingOverrides {
   std::array<std::optional<std::vector<NamedShapeWeight>>, kVisemeCount> visemes;
 };
 
-// Reads a mapping file: a JSON object keyed by viseme name ("sil", "PP", ...,
-// as ToString(Viseme)), each an object of shape name -> weight in [0,1], or
-// shape name -> {"weight": w, "channel": "jaw" | "lip"}. Example:
-//   {"PP": {"mouthClose": 1.0, "jawOpen": 0.1}, "aa": {"jawOpen": {"weight": 0.7, "channel": "jaw"}}}
-// Throws IoError naming the file and the offending field.
-VisemeMappingOverrides ReadVisemeMappingFile(const std::filesystem::path& path);
-// The same from text; `source` names it in errors.
-VisemeMappingOverrides ParseVisemeMappingJson(std::string_view text, const std::string& source);
 
 struct VisemeMappingOptions {
   VisemeMappingStyle style = VisemeMappingStyle::kAuto;
