@@ -4,7 +4,7 @@
 #include <cctype>
 #include <cmath>
 
-#include "facerig/runtime/speech/viseme_mapping.h"
+#include "facerig/runtime/shape_names.h"
 
 namespace facerig {
 namespace {
@@ -76,57 +76,31 @@ constexpr std::string_view kLipOpeners[] = {
     "mouthshrugupper", "mouthupperup",   "mouthlowerdown", "nosesneer",     "mouthpress",
 };
 
-std::string Lower(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
 // Lower case, side suffix and namespace prefix removed; jawLeft/jawRight are
 // shapes of their own, not sides, and become "jaw_l"/"jaw_r".
 std::string OpenerKey(std::string_view name) {
-  std::string s = Lower(name);
-  char side = 0;
-  for (const auto& [suffix, which] : {std::pair<std::string_view, char>{"left", 'l'}, {"right", 'r'},
-                                      {"_l", 'l'}, {"_r", 'r'}, {".l", 'l'}, {".r", 'r'}}) {
-    if (s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0) {
-      s.resize(s.size() - suffix.size());
-      while (!s.empty() && (s.back() == '_' || s.back() == '.')) s.pop_back();
-      side = which;
-      break;
-    }
-  }
-  if (const std::size_t dot = s.rfind('.'); dot != std::string::npos) s.erase(0, dot + 1);
-  if (s == "jaw" && side != 0) return side == 'l' ? "jaw_l" : "jaw_r";
-  return s;
+  const CanonicalShapeName canonical = CanonicalShapeNameOf(name);
+  if (canonical.base == "jaw" && canonical.side != 0) return canonical.side == 'l' ? "jaw_l" : "jaw_r";
+  return canonical.base;
 }
-
 
 }  // namespace
 
 struct EmotionRigBuilder {
-  std::array<std::vector<EmotionContribution>, kEmotionCount> lists;
+  ContributionTable<EmotionContribution, kEmotionCount>::Builder table;
 
   void Add(Emotion e, std::size_t shape, float weight, bool opens_lips) {
-    auto& list = lists[static_cast<std::size_t>(e)];
-    for (EmotionContribution& c : list) {
-      if (c.shape == shape) {
-        c.weight = std::max(c.weight, weight);
-        c.opens_lips = c.opens_lips || opens_lips;
-        return;
-      }
-    }
-    list.push_back({static_cast<std::uint32_t>(shape), weight, opens_lips});
+    table.Add(static_cast<std::size_t>(e), {static_cast<std::uint32_t>(shape), weight, opens_lips},
+              [](EmotionContribution& existing, const EmotionContribution& c) {
+                existing.weight = std::max(existing.weight, c.weight);
+                existing.opens_lips = existing.opens_lips || c.opens_lips;
+              });
   }
 
-  EmotionRig Finish(std::size_t rig_shape_count) {
+  EmotionRig Finish(std::size_t rig_shape_count) const {
     EmotionRig rig;
     rig.rig_shape_count_ = rig_shape_count;
-    for (std::size_t e = 0; e < kEmotionCount; ++e) {
-      rig.offsets_[e] = static_cast<std::uint32_t>(rig.entries_.size());
-      rig.entries_.insert(rig.entries_.end(), lists[e].begin(), lists[e].end());
-    }
-    rig.offsets_[kEmotionCount] = static_cast<std::uint32_t>(rig.entries_.size());
+    rig.table_ = table.Freeze();
     return rig;
   }
 };
@@ -149,9 +123,7 @@ bool OpensLips(std::string_view arkit_name) {
 }
 
 std::span<const EmotionContribution> EmotionRig::contributions(Emotion emotion) const {
-  const auto e = static_cast<std::size_t>(emotion);
-  if (e >= kEmotionCount) return {};
-  return std::span<const EmotionContribution>(entries_).subspan(offsets_[e], offsets_[e + 1] - offsets_[e]);
+  return table_.of(static_cast<std::size_t>(emotion));
 }
 
 
@@ -160,20 +132,12 @@ EmotionRigResult BuildEmotionRig(const Rig& rig, const EmotionOverrides* overrid
   EmotionRigBuilder builder;
   std::vector<std::string> missing;
   auto add = [&](Emotion e, const std::string& name, float weight, std::optional<bool> opens_lips) {
-    const std::vector<std::size_t> found = FindShapesByArkitName(rig, name);
-    if (found.empty() && std::find(missing.begin(), missing.end(), name) == missing.end()) {
-      missing.push_back(name);
-    }
-    for (std::size_t s : found) builder.Add(e, s, weight, opens_lips.value_or(OpensLips(name)));
+    for (std::size_t s : FindShapesNotingMissing(rig, name, missing)) builder.Add(e, s, weight, opens_lips.value_or(OpensLips(name)));
   };
   for (const RecipeEntry& r : kRecipes) {
     const auto e = static_cast<std::size_t>(r.emotion);
     if (overrides != nullptr && overrides->emotions[e]) continue;
-    const std::string_view shape = r.shape;
-    add(r.emotion, std::string(shape), r.weight, std::nullopt);
-    if (shape.size() > 2 && shape.substr(shape.size() - 2) == "_L") {
-      add(r.emotion, std::string(shape.substr(0, shape.size() - 2)) + "_R", r.weight, std::nullopt);
-    }
+    for (const std::string& name : WithRightTwin(r.shape)) add(r.emotion, name, r.weight, std::nullopt);
   }
   if (overrides != nullptr) {
     for (std::size_t e = 0; e < kEmotionCount; ++e) {
@@ -186,7 +150,7 @@ EmotionRigResult BuildEmotionRig(const Rig& rig, const EmotionOverrides* overrid
   for (const std::string& name : missing) result.warnings.push_back("emotions: rig has no shape " + name);
   for (std::size_t e = 0; e < kEmotionCount; ++e) {
     const bool replaced = overrides != nullptr && overrides->emotions[e].has_value();
-    if (builder.lists[e].empty() && !replaced) {
+    if (builder.table.list(e).empty() && !replaced) {
       result.warnings.push_back("emotion " + std::string(kNames[e]) + " moves no shape on this rig");
     }
   }

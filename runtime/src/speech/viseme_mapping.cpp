@@ -69,43 +69,10 @@ constexpr ArkitEntry kArkitMapping[] = {
     {Viseme::kOU, "mouthFunnel", 0.30f},
 };
 
-std::string Lower(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-bool EndsWith(std::string_view s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
-}
-
-// Lower case, side suffix as "_l"/"_r", namespace prefix ("blendShape1.") removed.
-struct CanonicalName {
-  std::string base;
-  char side = 0;  // 'l', 'r' or 0
-  std::string full() const { return side ? base + '_' + side : base; }
-};
-
-CanonicalName Canonical(std::string_view name) {
-  std::string s = Lower(name);
-  CanonicalName out;
-  for (const auto& [suffix, side] : {std::pair<std::string_view, char>{"left", 'l'}, {"right", 'r'},
-                                     {"_l", 'l'}, {"_r", 'r'}, {".l", 'l'}, {".r", 'r'}}) {
-    if (s.size() > suffix.size() && EndsWith(s, suffix)) {
-      s.resize(s.size() - suffix.size());
-      while (!s.empty() && (s.back() == '_' || s.back() == '.')) s.pop_back();
-      out.side = side;
-      break;
-    }
-  }
-  if (const std::size_t dot = s.rfind('.'); dot != std::string::npos) s.erase(0, dot + 1);
-  out.base = std::move(s);
-  return out;
-}
 
 // The per-viseme target names a rig may use for viseme v (lower case, no prefix).
 bool MatchesVisemeTarget(std::string_view canonical, Viseme v) {
-  const std::string own = Lower(ToString(v));
+  const std::string own = LowerAscii(ToString(v));
   if (canonical == own) return true;
   switch (v) {
     case Viseme::kIH: return canonical == "i";
@@ -117,7 +84,7 @@ bool MatchesVisemeTarget(std::string_view canonical, Viseme v) {
 
 std::optional<std::size_t> FindVisemeTarget(const Rig& rig, Viseme v) {
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {
-    std::string name = Lower(rig.shape_name(s));
+    std::string name = LowerAscii(rig.shape_name(s));
     if (const std::size_t dot = name.rfind('.'); dot != std::string::npos) name.erase(0, dot + 1);
     if (name.rfind("viseme_", 0) == 0) {
       name.erase(0, 7);
@@ -134,66 +101,33 @@ std::optional<std::size_t> FindVisemeTarget(const Rig& rig, Viseme v) {
 
 // Accumulates contributions per viseme, then freezes them into a mapping.
 struct VisemeMappingBuilder {
-  std::array<std::vector<ShapeContribution>, kVisemeCount> lists;
+  ContributionTable<ShapeContribution, kVisemeCount>::Builder table;
 
   void Add(Viseme v, std::size_t shape, float weight, MappingChannel channel) {
-    auto& list = lists[static_cast<std::size_t>(v)];
-    for (ShapeContribution& c : list) {
-      if (c.shape == shape) {  // e.g. "_L" and "_R" that resolve to one unsided shape
-        c.weight = std::max(c.weight, weight);
-        return;
-      }
-    }
-    list.push_back({static_cast<std::uint32_t>(shape), weight, channel});
+    table.Add(static_cast<std::size_t>(v), {static_cast<std::uint32_t>(shape), weight, channel},
+              [](ShapeContribution& existing, const ShapeContribution& c) {
+                existing.weight = std::max(existing.weight, c.weight);
+              });
   }
 
-  VisemeMapping Finish(std::size_t rig_shape_count, VisemeMappingStyle style) {
+  VisemeMapping Finish(std::size_t rig_shape_count, VisemeMappingStyle style) const {
     VisemeMapping m;
     m.rig_shape_count_ = rig_shape_count;
     m.style_ = style;
-    for (std::size_t v = 0; v < kVisemeCount; ++v) {
-      m.offsets_[v] = static_cast<std::uint32_t>(m.entries_.size());
-      m.entries_.insert(m.entries_.end(), lists[v].begin(), lists[v].end());
-    }
-    m.offsets_[kVisemeCount] = static_cast<std::uint32_t>(m.entries_.size());
+    m.table_ = table.Freeze();
     return m;
   }
 };
 
 std::span<const ShapeContribution> VisemeMapping::contributions(Viseme viseme) const {
-  const auto v = static_cast<std::size_t>(viseme);
-  if (v >= kVisemeCount) return {};
-  return std::span<const ShapeContribution>(entries_).subspan(offsets_[v], offsets_[v + 1] - offsets_[v]);
+  return table_.of(static_cast<std::size_t>(viseme));
 }
 
 bool IsJawShapeName(std::string_view name) {
-  const std::string c = Canonical(name).full();
+  const std::string c = CanonicalShapeNameOf(name).full();
   return c == "jawopen" || c == "mouthclose" || c == "jawforward";
 }
 
-std::vector<std::size_t> FindShapesByArkitName(const Rig& rig, std::string_view name) {
-  if (const auto exact = rig.FindShape(name)) return {*exact};
-  const CanonicalName want = Canonical(name);
-  std::vector<CanonicalName> names;
-  names.reserve(rig.shape_count());
-  for (std::size_t s = 0; s < rig.shape_count(); ++s) names.push_back(Canonical(rig.shape_name(s)));
-  auto find = [&](const std::string& base, char side) -> std::optional<std::size_t> {
-    for (std::size_t s = 0; s < names.size(); ++s) {
-      if (names[s].base == base && names[s].side == side) return s;
-    }
-    return std::nullopt;
-  };
-  if (const auto same = find(want.base, want.side)) return {*same};
-  std::vector<std::size_t> found;
-  if (want.side == 0) {
-    // "browInnerUp" on a rig that has it per side.
-    if (const auto l = find(want.base, 'l')) found.push_back(*l);
-    if (const auto r = find(want.base, 'r')) found.push_back(*r);
-  } else if (const auto unsided = find(want.base, 0)) {
-    found.push_back(*unsided);
-  }
-  return found;
-}
 
 
 VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOptions& options) {
@@ -234,14 +168,8 @@ VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOption
   } else {
     std::vector<std::string> missing;
     for (const ArkitEntry& e : kArkitMapping) {
-      std::vector<std::string> names = {e.shape};
-      const std::string_view shape = e.shape;
-      if (EndsWith(shape, "_L")) names.push_back(std::string(shape.substr(0, shape.size() - 2)) + "_R");
-      for (const std::string& name : names) {
-        const std::vector<std::size_t> found = FindShapesByArkitName(rig, name);
-        if (found.empty() && std::find(missing.begin(), missing.end(), name) == missing.end()) {
-          missing.push_back(name);
-        }
+      for (const std::string& name : WithRightTwin(e.shape)) {
+        const std::vector<std::size_t> found = FindShapesNotingMissing(rig, name, missing);
         const MappingChannel channel = IsJawShapeName(name) ? MappingChannel::kJaw : MappingChannel::kLip;
         for (std::size_t s : found) builder.Add(e.viseme, s, e.weight, channel);
       }
@@ -256,7 +184,7 @@ VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOption
       const auto& list = options.overrides->visemes[v];
       if (!list) continue;
       const auto viseme = static_cast<Viseme>(v);
-      builder.lists[v].clear();
+      builder.table.list(v).clear();
       for (const NamedShapeWeight& entry : *list) {
         const std::vector<std::size_t> found = FindShapesByArkitName(rig, entry.shape);
         if (found.empty()) {
@@ -273,7 +201,7 @@ VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOption
   for (std::size_t v = 1; v < kVisemeCount; ++v) {
     const auto viseme = static_cast<Viseme>(v);
     const bool replaced = options.overrides != nullptr && options.overrides->visemes[v].has_value();
-    if (builder.lists[v].empty() && !replaced) {
+    if (builder.table.list(v).empty() && !replaced) {
       // PP still closes on a rig whose neutral is closed: the contact pass
       // zeroes every other viseme.
       result.warnings.push_back("viseme " + std::string(ToString(viseme)) +

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "facerig/runtime/behaviour/weight_channels.h"
+#include "facerig/runtime/contribution_table.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -67,13 +68,12 @@ class EmotionRig {
   std::span<const EmotionContribution> contributions(Emotion emotion) const;
   std::size_t rig_shape_count() const { return rig_shape_count_; }
   // Contributions of all emotions: the size of EmotionChannelsJob's output.
-  std::size_t channel_count() const { return entries_.size(); }
-  bool empty() const { return entries_.empty(); }
+  std::size_t channel_count() const { return table_.size(); }
+  bool empty() const { return table_.empty(); }
 
  private:
   friend struct EmotionRigBuilder;
-  std::vector<EmotionContribution> entries_;
-  std::array<std::uint32_t, kEmotionCount + 1> offsets_{};
+  ContributionTable<EmotionContribution, kEmotionCount> table_;
   std::size_t rig_shape_count_ = 0;
 };
 

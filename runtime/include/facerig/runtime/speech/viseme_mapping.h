@@ -27,7 +27,9 @@
 #include <string_view>
 #include <vector>
 
+#include "facerig/runtime/contribution_table.h"
 #include "facerig/runtime/rig.h"
+#include "facerig/runtime/shape_names.h"
 #include "facerig/runtime/speech/viseme.h"
 
 namespace facerig {
@@ -77,12 +79,11 @@ class VisemeMapping {
   // The style actually used (never kAuto).
   VisemeMappingStyle style() const { return style_; }
   // True when no viseme moves any shape.
-  bool empty() const { return entries_.empty(); }
+  bool empty() const { return table_.empty(); }
 
  private:
   friend struct VisemeMappingBuilder;
-  std::vector<ShapeContribution> entries_;
-  std::array<std::uint32_t, kVisemeCount + 1> offsets_{};  // viseme v: [offsets_[v], offsets_[v+1])
+  ContributionTable<ShapeContribution, kVisemeCount> table_;
   std::size_t rig_shape_count_ = 0;
   VisemeMappingStyle style_ = VisemeMappingStyle::kArkit;
 };
@@ -96,12 +97,6 @@ struct VisemeMappingResult {
 // warnings); duplicate shapes within one viseme keep the largest weight.
 VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOptions& options = {});
 
-// Shape lookup by ARKit-style name, as the mappings use it: exact name first,
-// then case-insensitive with side suffixes and namespaces normalised. A
-// name without a side that the rig only has per side ("browInnerUp" on a rig
-// with browInnerUp_L/_R) returns both; a sided name on a rig without sides
-// returns the unsided shape. Empty when nothing matches.
-std::vector<std::size_t> FindShapesByArkitName(const Rig& rig, std::string_view name);
 // True for the jaw-channel shapes (jawOpen, mouthClose, jawForward), by ARKit name.
 bool IsJawShapeName(std::string_view name);
 

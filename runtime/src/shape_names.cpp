@@ -1,0 +1,72 @@
+#include "facerig/runtime/shape_names.h"
+
+#include <algorithm>
+#include <cctype>
+#include <optional>
+#include <utility>
+
+namespace facerig {
+
+std::string LowerAscii(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+CanonicalShapeName CanonicalShapeNameOf(std::string_view name) {
+  std::string s = LowerAscii(name);
+  CanonicalShapeName out;
+  for (const auto& [suffix, side] : {std::pair<std::string_view, char>{"left", 'l'}, {"right", 'r'},
+                                     {"_l", 'l'}, {"_r", 'r'}, {".l", 'l'}, {".r", 'r'}}) {
+    if (s.size() > suffix.size() && std::string_view(s).substr(s.size() - suffix.size()) == suffix) {
+      s.resize(s.size() - suffix.size());
+      while (!s.empty() && (s.back() == '_' || s.back() == '.')) s.pop_back();
+      out.side = side;
+      break;
+    }
+  }
+  if (const std::size_t dot = s.rfind('.'); dot != std::string::npos) s.erase(0, dot + 1);
+  out.base = std::move(s);
+  return out;
+}
+
+std::vector<std::string> WithRightTwin(std::string_view name) {
+  std::vector<std::string> names = {std::string(name)};
+  if (name.size() > 2 && name.substr(name.size() - 2) == "_L") {
+    names.push_back(std::string(name.substr(0, name.size() - 2)) + "_R");
+  }
+  return names;
+}
+
+std::vector<std::size_t> FindShapesByArkitName(const Rig& rig, std::string_view name) {
+  if (const auto exact = rig.FindShape(name)) return {*exact};
+  const CanonicalShapeName want = CanonicalShapeNameOf(name);
+  std::vector<CanonicalShapeName> names;
+  names.reserve(rig.shape_count());
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) names.push_back(CanonicalShapeNameOf(rig.shape_name(s)));
+  auto find = [&](const std::string& base, char side) -> std::optional<std::size_t> {
+    for (std::size_t s = 0; s < names.size(); ++s) {
+      if (names[s].base == base && names[s].side == side) return s;
+    }
+    return std::nullopt;
+  };
+  if (const auto same = find(want.base, want.side)) return {*same};
+  std::vector<std::size_t> found;
+  if (want.side == 0) {
+    // "browInnerUp" on a rig that has it per side.
+    if (const auto l = find(want.base, 'l')) found.push_back(*l);
+    if (const auto r = find(want.base, 'r')) found.push_back(*r);
+  } else if (const auto unsided = find(want.base, 0)) {
+    found.push_back(*unsided);
+  }
+  return found;
+}
+
+std::vector<std::size_t> FindShapesNotingMissing(const Rig& rig, const std::string& name,
+                                                 std::vector<std::string>& missing) {
+  std::vector<std::size_t> found = FindShapesByArkitName(rig, name);
+  if (found.empty() && std::find(missing.begin(), missing.end(), name) == missing.end()) missing.push_back(name);
+  return found;
+}
+
+}  // namespace facerig
