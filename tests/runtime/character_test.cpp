@@ -27,9 +27,7 @@ facerig::Rig MakeArkitGridRig() {
       "browInnerUp_L",  "browInnerUp_R",  "eyeWide_L",       "eyeWide_R",        "eyeLookIn_L",
       "eyeLookOut_L",   "eyeLookUp_L",    "eyeLookDown_L",   "eyeLookIn_R",      "eyeLookOut_R",
       "eyeLookUp_R",    "eyeLookDown_R"};
-  facerig::RawRig raw = facerig::test::MakeGridRawRig(12, static_cast<int>(names.size()));
-  for (std::size_t s = 0; s < names.size(); ++s) raw.shapes[s].name = names[s];
-  return std::move(*facerig::RigBuilder::Build(std::move(raw)));
+  return facerig::test::MakeNamedGridRig(names, 12);
 }
 
 Phoneme MakePhoneme(double start, double duration, const char* symbol) {

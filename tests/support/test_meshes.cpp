@@ -56,6 +56,15 @@ Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas) {
   return std::move(*rig);
 }
 
+Rig MakeNamedGridRig(const std::vector<std::string>& names, int n) {
+  RawRig raw = MakeGridRawRig(n, static_cast<int>(names.size()));
+  for (std::size_t i = 0; i < names.size(); ++i) raw.shapes[i].name = names[i];
+  std::string problem;
+  auto rig = RigBuilder::Build(std::move(raw), &problem);
+  if (!rig) throw std::logic_error("named grid rig invalid: " + problem);
+  return std::move(*rig);
+}
+
 std::filesystem::path IctDir() { return FACERIG_ICT_DIR; }
 
 const Rig& IctRig() {

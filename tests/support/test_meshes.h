@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
@@ -15,6 +16,8 @@ namespace facerig::test {
 // when `with_normal_deltas`.
 RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas = false);
 Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);
+// A grid rig (n x n) with one shape per name, named so, for the name-matching tests.
+Rig MakeNamedGridRig(const std::vector<std::string>& names, int n = 6);
 
 // ../shared/data/ict-facekit (compile-time path).
 std::filesystem::path IctDir();

@@ -69,14 +69,7 @@ CombineChannelsError LayerEmotions(const facerig::EmotionRig& rig, std::span<con
   return combined;
 }
 
-facerig::Rig NamedRig(const std::vector<std::string>& names) {
-  facerig::RawRig raw = facerig::test::MakeGridRawRig(6, static_cast<int>(names.size()));
-  for (std::size_t i = 0; i < names.size(); ++i) raw.shapes[i].name = names[i];
-  std::string problem;
-  auto rig = facerig::RigBuilder::Build(std::move(raw), &problem);
-  if (!rig) FAIL(problem);
-  return std::move(*rig);
-}
+facerig::Rig NamedRig(const std::vector<std::string>& names) { return facerig::test::MakeNamedGridRig(names); }
 
 // --- Mouth geometry of ICT-FaceKit ------------------------------------------
 // Inner-lip midline vertices near dlib landmarks 62 (upper inner lip centre)

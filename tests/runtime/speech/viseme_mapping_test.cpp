@@ -24,14 +24,7 @@ using facerig::VisemeWeightsJobError;
 namespace {
 
 // A small grid rig whose shapes carry the given names.
-facerig::Rig NamedRig(const std::vector<std::string>& names) {
-  facerig::RawRig raw = facerig::test::MakeGridRawRig(6, static_cast<int>(names.size()));
-  for (std::size_t i = 0; i < names.size(); ++i) raw.shapes[i].name = names[i];
-  std::string problem;
-  auto rig = facerig::RigBuilder::Build(std::move(raw), &problem);
-  if (!rig) FAIL(problem);
-  return std::move(*rig);
-}
+facerig::Rig NamedRig(const std::vector<std::string>& names) { return facerig::test::MakeNamedGridRig(names); }
 
 // Every ARKit mouth shape the built-in mapping uses, in the `Left/Right` style.
 std::vector<std::string> ArkitLeftRightNames() {
