@@ -7,6 +7,7 @@
 
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
+#include "facerig/runtime/speech/viseme.h"
 
 namespace facerig::test {
 
@@ -16,6 +17,11 @@ namespace facerig::test {
 // when `with_normal_deltas`.
 RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas = false);
 Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);
+// A viseme key from times in seconds.
+inline VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
+  return {Seconds(start), Seconds(end), viseme, strength};
+}
+
 // A grid rig (n x n) with one shape per name, named so, for the name-matching tests.
 Rig MakeNamedGridRig(const std::vector<std::string>& names, int n = 6);
 

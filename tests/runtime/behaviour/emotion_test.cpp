@@ -30,12 +30,9 @@ using facerig::EmotionChannelsJob;
 using facerig::EmotionChannelsJobError;
 using facerig::Viseme;
 
-namespace {
+using facerig::test::Key;
 
-// A key from times in seconds.
-facerig::VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
-  return {facerig::Seconds(start), facerig::Seconds(end), viseme, strength};
-}
+namespace {
 
 constexpr std::size_t Index(Emotion e) { return static_cast<std::size_t>(e); }
 

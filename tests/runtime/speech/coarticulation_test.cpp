@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "support/allocation_counter.h"
+#include "support/test_meshes.h"
 
 using facerig::CoarticulationError;
 using facerig::CoarticulationJob;
@@ -17,12 +18,9 @@ using facerig::VisemeTrack;
 using facerig::VisemeTrackError;
 using facerig::VisemeWeights;
 
-namespace {
+using facerig::test::Key;
 
-// A key from times in seconds.
-VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
-  return {facerig::Seconds(start), facerig::Seconds(end), viseme, strength};
-}
+namespace {
 
 constexpr std::size_t Index(Viseme v) { return static_cast<std::size_t>(v); }
 

@@ -7,18 +7,16 @@
 #include <catch2/catch.hpp>
 
 #include "support/allocation_counter.h"
+#include "support/test_meshes.h"
 
 using facerig::Viseme;
 using facerig::VisemeKey;
 using facerig::VisemeTrack;
 using facerig::VisemeTrackError;
 
-namespace {
+using facerig::test::Key;
 
-// A key from times in seconds.
-VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
-  return {facerig::Seconds(start), facerig::Seconds(end), viseme, strength};
-}
+namespace {
 
 VisemeTrackError MakeFrom(const std::vector<VisemeKey>& keys) {
   VisemeTrack track;
