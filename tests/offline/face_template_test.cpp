@@ -16,6 +16,15 @@
 #include "facerig/runtime/rig_builder.h"
 #include "support/test_meshes.h"
 
+namespace Catch {
+template <>
+struct StringMaker<facerig::VertexRange> {
+  static std::string convert(const facerig::VertexRange& range) {
+    return "[" + std::to_string(range.first) + ", " + std::to_string(range.last) + "]";
+  }
+};
+}  // namespace Catch
+
 namespace facerig {
 namespace {
 
@@ -130,10 +139,13 @@ TEST_CASE("face template: derived for a small mesh without one", "[face_template
   for (const char* field : {"parts", "region", "rims", "vertex_groups"}) {
     CHECK(std::find(info.derived.begin(), info.derived.end(), field) != info.derived.end());
   }
-  // A single component is the whole region.
+  // Part groups win over components: the grid's "left" group (from vertex 0) is the region.
   const Rig grid_rig = test::MakeGridRig(6, 1);
   const FaceTemplateInfo grid = DeriveFaceTemplateInfo(grid_rig);
-  CHECK(grid.region == VertexRange{0, static_cast<std::uint32_t>(grid_rig.vertex_count() - 1)});
+  REQUIRE(grid.parts.size() == 2);
+  CHECK(grid.parts[0].name == "left");
+  CHECK(grid.region == grid.parts[0].vertices);
+  CHECK(grid.region.last + 1 < grid_rig.vertex_count());
   // Written and read back, the derived descriptor is the same.
   const FaceTemplateInfo again = ParseFaceTemplateInfo(FaceTemplateInfoToJson(info), quads, "derived.json");
   CHECK(again.parts == info.parts);
