@@ -261,3 +261,16 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
 }
 
 }  // namespace facerig
+
+namespace facerig {
+
+TEST_CASE("build: the template descriptor's region must lie within the template", "[rig_build]") {
+  const Rig grid = test::MakeGridRig(6, 1);
+  FaceTemplateInfo info = DeriveFaceTemplateInfo(grid);
+  info.region.last = static_cast<std::uint32_t>(grid.vertex_count());
+  RawRig target = RigBuilder::ToRaw(grid);
+  REQUIRE_THROWS_WITH(BuildRig(grid, info, target, RegistrationLandmarks{}),
+                      Catch::Contains("region ends at vertex " + std::to_string(grid.vertex_count())));
+}
+
+}  // namespace facerig
