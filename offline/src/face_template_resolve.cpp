@@ -30,7 +30,8 @@ std::uint64_t Fnv1a(std::uint64_t hash, std::int64_t value) {
 std::vector<TemplatePart> DeriveParts(const Rig& rig) {
   std::vector<TemplatePart> parts;
   for (const Part& part : rig.parts()) {
-    if (part.vertex_count > 0) parts.push_back({part.name, {part.first_vertex, part.first_vertex + part.vertex_count - 1}});
+    if (part.vertex_count == 0) continue;
+    parts.push_back({part.name, {part.first_vertex, part.first_vertex + part.vertex_count - 1}});
   }
   if (parts.size() > 1) return parts;
   parts.clear();
@@ -167,7 +168,8 @@ FaceTemplate LoadFaceTemplate(const fs::path& rig_path, const fs::path& explicit
   return {std::move(rig), std::move(info)};
 }
 
-std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& rig, FaceTemplateInfo& info, LandmarkDetector& detector) {
+std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& rig, FaceTemplateInfo& info,
+                                                    LandmarkDetector& detector) {
   if (info.landmark_vertices.empty()) {
     info.landmark_vertices = DetectLandmarkVertices(rig, info.region, detector);
     info.derived.push_back("landmarks");

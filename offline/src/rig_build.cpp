@@ -193,7 +193,8 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
                                                            params.registration_min_part_area, parts_left_out);
   NonrigidIcpResult fit = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions, skin,
                                       landmarks, registration);
-  BuildRigResult result = BuildRigOnRegistration(template_rig, template_info, std::move(target), std::move(fit), params);
+  BuildRigResult result =
+      BuildRigOnRegistration(template_rig, template_info, std::move(target), std::move(fit), params);
   result.target_parts_left_out = parts_left_out;
   result.timings.total_seconds = SecondsSince(start);
   return result;

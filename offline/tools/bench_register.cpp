@@ -180,9 +180,9 @@ int RunRegisterBenchmark(int argc, char** argv) {
       const LandmarkError lm = MeasureLandmarks(detected.landmarks, target);
 
       const std::clock_t cpu_start = std::clock();
-      const facerig::NonrigidIcpResult fit = facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions,
-                                                                  target.triangles, PairLandmarks(ict, detected.landmarks),
-                                                                  params);
+      const facerig::NonrigidIcpResult fit =
+          facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles,
+                               PairLandmarks(ict, detected.landmarks), params);
       const double cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
       const double corr = CorrespondenceMeanCm(ict, fit, target);
       // The same registration from the true landmark positions: how much of
@@ -190,8 +190,9 @@ int RunRegisterBenchmark(int argc, char** argv) {
       facerig::FaceLandmarks truth = detected.landmarks;
       truth.points = target.true_landmarks;
       const double corr_truth = CorrespondenceMeanCm(
-          ict, facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles, PairLandmarks(ict, truth),
-                               params),
+          ict,
+          facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles,
+                               PairLandmarks(ict, truth), params),
           target);
 
       lm_no_jaw.push_back(lm.no_jaw);

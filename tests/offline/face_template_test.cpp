@@ -108,8 +108,9 @@ TEST_CASE("face template: a descriptor's fingerprint must match the rig", "[face
   CHECK(print.vertex_count == 8);
   CHECK(print.triangle_count == 4);
   CHECK(print.neutral_checksum.size() == 16);
-  const std::string matching = QuadsDescriptor("fingerprint", R"({"vertex_count": 8, "triangle_count": 4, )"
-                                                              R"("neutral_checksum": ")" + print.neutral_checksum + "\"}");
+  const std::string matching =
+      QuadsDescriptor("fingerprint", R"({"vertex_count": 8, "triangle_count": 4, "neutral_checksum": ")" +
+                                         print.neutral_checksum + "\"}");
   CHECK(ParseFaceTemplateInfo(matching, quads, "quads.template.json").fingerprint == print);
 
   // Moving one vertex by a millimetre's worth changes the checksum.
