@@ -136,6 +136,13 @@ std::vector<fs::path> ShippedTemplateDirectories() {
 #ifdef FACERIG_INSTALLED_TEMPLATES_DIR
   if (fs::is_directory(FACERIG_INSTALLED_TEMPLATES_DIR, error)) dirs.emplace_back(FACERIG_INSTALLED_TEMPLATES_DIR);
 #endif
+  // An install moved to another prefix: <prefix>/bin/facerig -> <prefix>/share/facerig/templates.
+  const fs::path beside_program = fs::read_symlink("/proc/self/exe", error).parent_path().parent_path() /
+                                  "share" / "facerig" / "templates";
+  if (!error && fs::is_directory(beside_program, error) &&
+      std::find(dirs.begin(), dirs.end(), beside_program) == dirs.end()) {
+    dirs.push_back(beside_program);
+  }
   return dirs;
 }
 
