@@ -121,6 +121,18 @@ std::vector<TemplateRim> TemplateRims(std::span<const OpeningMargin> margins, st
   return rims;
 }
 
+// The expressions' margins, kept to the descriptor's rims where it lists them.
+std::vector<OpeningMargin> DescribedMargins(std::vector<OpeningMargin> margins, const FaceTemplateInfo& info) {
+  if (!info.eyelid_rim && !info.lip_rim) return margins;
+  std::vector<std::uint32_t> rims = info.eyelid_rim.value_or(std::vector<std::uint32_t>{});
+  if (info.lip_rim) rims.insert(rims.end(), info.lip_rim->begin(), info.lip_rim->end());
+  std::sort(rims.begin(), rims.end());
+  std::erase_if(margins, [&](const OpeningMargin& margin) {
+    return !std::binary_search(rims.begin(), rims.end(), margin.vertex);
+  });
+  return margins;
+}
+
 }  // namespace
 
 const char* ToString(BuildMode mode) {
@@ -142,39 +154,6 @@ std::optional<BuildMode> ParseBuildMode(std::string_view text) {
   return std::nullopt;
 }
 
-std::uint32_t TemplateRegionVertexCount(const Rig& template_rig) {
-  const auto parts = template_rig.parts();
-  const bool ict = template_rig.vertex_count() == 26719 && parts.size() >= 2 && parts[0].name == "M_Face" &&
-                   parts[1].name == "M_BackHead";
-  if (ict) return kIctHeadVertexCount;
-  if (parts.size() > 1 && parts[0].first_vertex == 0) return parts[0].vertex_count;
-  return static_cast<std::uint32_t>(template_rig.vertex_count());
-}
-
-bool HasKnownLandmarkVertices(const Rig& template_rig) {
-  return TemplateRegionVertexCount(template_rig) == kIctHeadVertexCount && template_rig.vertex_count() == 26719;
-}
-
-std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& template_rig, LandmarkDetector& detector) {
-  if (HasKnownLandmarkVertices(template_rig)) return IctLandmarkVertices();
-  const LandmarkResult detected = detector.Detect(template_rig.positions(), template_rig.triangles());
-  const std::uint32_t region = TemplateRegionVertexCount(template_rig);
-  std::vector<std::uint32_t> vertex_of(kDlibLandmarkCount, 0);
-  for (std::size_t i = 0; i < detected.landmarks.points.size(); ++i) {
-    float best = std::numeric_limits<float>::infinity();
-    std::uint32_t best_vertex = 0;
-    for (std::uint32_t v = 0; v < region; ++v) {
-      const float d = glm::length(template_rig.positions()[v] - detected.landmarks.points[i]);
-      if (d < best) {
-        best = d;
-        best_vertex = v;
-      }
-    }
-    vertex_of[detected.landmarks.indices[i]] = best_vertex;
-  }
-  return vertex_of;
-}
-
 RegistrationLandmarks PairLandmarks(const std::vector<std::uint32_t>& template_vertex_of,
                                     const FaceLandmarks& target_landmarks) {
   RegistrationLandmarks pairs;
@@ -192,14 +171,19 @@ RegistrationLandmarks PairLandmarks(const std::vector<std::uint32_t>& template_v
   return pairs;
 }
 
-BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const RegistrationLandmarks& landmarks,
-                        const BuildRigParams& params) {
+BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+                        const RegistrationLandmarks& landmarks, const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();
   if (template_rig.shape_count() == 0) {
     throw InvalidInputError("the template has no blend shapes to transfer");
   }
+  if (template_info.region.last >= template_rig.vertex_count()) {
+    throw InvalidInputError("the template descriptor's region ends at vertex " +
+                            std::to_string(template_info.region.last) + ", the template has " +
+                            std::to_string(template_rig.vertex_count()) + " vertices");
+  }
   NonrigidIcpParams registration = params.registration;
-  if (registration.region_vertex_count == 0) registration.region_vertex_count = TemplateRegionVertexCount(template_rig);
+  if (registration.region_vertex_count == 0) registration.region_vertex_count = template_info.region.last + 1;
   registration.progress = [&](std::size_t done, std::size_t total) {
     if (params.progress) params.progress("register", done, total);
   };
@@ -209,14 +193,15 @@ BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const Registrati
                                                            params.registration_min_part_area, parts_left_out);
   NonrigidIcpResult fit = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions, skin,
                                       landmarks, registration);
-  BuildRigResult result = BuildRigOnRegistration(template_rig, std::move(target), std::move(fit), params);
+  BuildRigResult result =
+      BuildRigOnRegistration(template_rig, template_info, std::move(target), std::move(fit), params);
   result.target_parts_left_out = parts_left_out;
   result.timings.total_seconds = SecondsSince(start);
   return result;
 }
 
-BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, NonrigidIcpResult registered,
-                                      const BuildRigParams& params) {
+BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+                                      NonrigidIcpResult registered, const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();
   if (template_rig.shape_count() == 0) {
     throw InvalidInputError("the template has no blend shapes to transfer");
@@ -230,7 +215,7 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
   };
   const std::uint32_t region_vertex_count = params.registration.region_vertex_count != 0
                                                 ? params.registration.region_vertex_count
-                                                : TemplateRegionVertexCount(template_rig);
+                                                : template_info.region.last + 1;
   BuildRigResult result;
   result.registration = std::move(registered);
   result.timings.registration_seconds = result.registration.timings.total_seconds;
@@ -247,7 +232,7 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, No
   MarginAlignmentResult aligned;
   std::vector<OpeningMargin> margins;
   if (params.align_margins_to_openings) {
-    margins = FindOpeningMargins(template_rig);
+    margins = DescribedMargins(FindOpeningMargins(template_rig), template_info);
     aligned = AlignMarginsToOpenings(result.registration.positions, template_rig.triangles(), margins,
                                      target.positions, target.triangles);
     result.margin_vertices_aligned = aligned.aligned_vertices;

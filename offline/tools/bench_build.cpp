@@ -71,6 +71,7 @@ int RunBuildBenchmark(int argc, char** argv) {
     const auto load_start = Clock::now();
     const facerig::Rig ict = facerig::ImportTemplateFolder(ict_dir);
     const facerig::test::IctFaceModel model = facerig::test::LoadIctFaces(ict_dir);
+    const facerig::FaceTemplateInfo ict_info = facerig::ResolveFaceTemplateInfo(ict, ict_dir);
     const double load_seconds = SecondsSince(load_start);
     const auto detector_start = Clock::now();
     facerig::LandmarkDetector detector;
@@ -104,8 +105,8 @@ int RunBuildBenchmark(int argc, char** argv) {
       const facerig::LandmarkResult detected = detector.Detect(target.positions, target.triangles);
       const double landmark_seconds = SecondsSince(start);
       const facerig::RegistrationLandmarks pairs =
-          facerig::PairLandmarks(facerig::IctLandmarkVertices(), detected.landmarks);
-      const facerig::BuildRigResult classic = facerig::BuildRig(ict, target_rig, pairs);
+          facerig::PairLandmarks(model.info.landmark_vertices, detected.landmarks);
+      const facerig::BuildRigResult classic = facerig::BuildRig(ict, ict_info, target_rig, pairs);
       const facerig::Rig classic_rig = facerig::RigBuilder::Build(classic.rig).value();
       const double total_seconds = SecondsSince(start);
       totals.push_back(total_seconds);
@@ -126,7 +127,7 @@ int RunBuildBenchmark(int argc, char** argv) {
         std::optional<facerig::Rig> other;
         if (m > 0) {
           other = facerig::RigBuilder::Build(
-              facerig::BuildRigOnRegistration(ict, target_rig, classic.registration, params).rig);
+              facerig::BuildRigOnRegistration(ict, ict_info, target_rig, classic.registration, params).rig);
         }
         const facerig::test::BuiltRigErrors errors =
             facerig::test::MeasureBuiltRig(model, ict, target, m == 0 ? classic_rig : other.value());

@@ -63,21 +63,24 @@ LandmarkError MeasureLandmarks(const facerig::FaceLandmarks& detected, const fac
   return error;
 }
 
-facerig::RegistrationLandmarks PairLandmarks(const facerig::FaceLandmarks& detected) {
+facerig::RegistrationLandmarks PairLandmarks(const facerig::test::IctFaceModel& ict,
+                                             const facerig::FaceLandmarks& detected) {
   facerig::RegistrationLandmarks pairs;
-  pairs.template_vertices = facerig::IctLandmarkVertices();
+  pairs.template_vertices = ict.info.landmark_vertices;
   pairs.target_points = detected.points;
   pairs.confidence = detected.confidence;
   return pairs;
 }
 
 // Fitted template vertex vs the true position of the same ICT vertex, face region, centimetres.
-double CorrespondenceMeanCm(const facerig::NonrigidIcpResult& fit, const facerig::test::RegistrationTarget& target) {
+double CorrespondenceMeanCm(const facerig::test::IctFaceModel& ict, const facerig::NonrigidIcpResult& fit,
+                            const facerig::test::RegistrationTarget& target) {
   double sum = 0.0;
-  for (std::uint32_t v = 0; v < facerig::kIctFaceVertexCount; ++v) {
+  const std::uint32_t face = ict.face_vertex_count();
+  for (std::uint32_t v = 0; v < face; ++v) {
     sum += static_cast<double>(glm::length(fit.positions[v] - target.true_ict_positions[v]));
   }
-  return sum / facerig::kIctFaceVertexCount / target.units_per_cm;
+  return sum / face / target.units_per_cm;
 }
 
 void Progress(std::size_t done, std::size_t total) {
@@ -152,11 +155,11 @@ int RunRegisterBenchmark(int argc, char** argv) {
     std::printf("template %s: %zu vertices, registered region %u (face %u); %d random re-meshed faces (seeds %u..), "
                 "%zu target vertices, rotations up to 25 deg, units mm/cm/m in turn\n"
                 "ICT read in %.2f s, dlib model loaded in %.2f s (not counted below)\n\n",
-                ict_dir.c_str(), ict.neutral.size(), facerig::kIctHeadVertexCount, facerig::kIctFaceVertexCount, faces,
+                ict_dir.c_str(), ict.neutral.size(), ict.head_vertex_count(), ict.face_vertex_count(), faces,
                 seed, target_vertices, ict_seconds, model_seconds);
 
     facerig::NonrigidIcpParams params;
-    params.region_vertex_count = facerig::kIctHeadVertexCount;
+    params.region_vertex_count = ict.head_vertex_count();
     std::vector<double> lm_no_jaw, lm_with_jaw, lm_seconds, lm_cpu_seconds, residual_mean, residual_p95,
         correspondence, correspondence_truth, fit_seconds, fit_cpu_seconds;
     nlohmann::json per_face = nlohmann::json::array();
@@ -177,18 +180,19 @@ int RunRegisterBenchmark(int argc, char** argv) {
       const LandmarkError lm = MeasureLandmarks(detected.landmarks, target);
 
       const std::clock_t cpu_start = std::clock();
-      const facerig::NonrigidIcpResult fit = facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions,
-                                                                  target.triangles, PairLandmarks(detected.landmarks),
-                                                                  params);
+      const facerig::NonrigidIcpResult fit =
+          facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles,
+                               PairLandmarks(ict, detected.landmarks), params);
       const double cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-      const double corr = CorrespondenceMeanCm(fit, target);
+      const double corr = CorrespondenceMeanCm(ict, fit, target);
       // The same registration from the true landmark positions: how much of
       // the correspondence error the detected landmarks cause.
       facerig::FaceLandmarks truth = detected.landmarks;
       truth.points = target.true_landmarks;
       const double corr_truth = CorrespondenceMeanCm(
-          facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles, PairLandmarks(truth),
-                               params),
+          ict,
+          facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles,
+                               PairLandmarks(ict, truth), params),
           target);
 
       lm_no_jaw.push_back(lm.no_jaw);
@@ -285,8 +289,9 @@ int RunRegisterBenchmark(int argc, char** argv) {
       facerig::NonrigidIcpParams scan_params = params;
       scan_params.progress = Progress;
       const facerig::NonrigidIcpResult fit = facerig::NonrigidIcp(
-          ict.neutral, ict.triangles, target.positions, target.triangles, PairLandmarks(detected.landmarks), scan_params);
-      const double corr = CorrespondenceMeanCm(fit, target);
+          ict.neutral, ict.triangles, target.positions, target.triangles, PairLandmarks(ict, detected.landmarks),
+          scan_params);
+      const double corr = CorrespondenceMeanCm(ict, fit, target);
       const double rss_after = PeakResidentMegabytes();
       const double mesh_megabytes =
           static_cast<double>(target.positions.size() * sizeof(glm::vec3) + target.triangles.size() * sizeof(facerig::Triangle)) /

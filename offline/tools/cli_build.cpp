@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "cli_template_info.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
@@ -194,6 +195,7 @@ int RunBuildCommand(int argc, char** argv) {
     if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
 
     const Rig template_rig = LoadRigOrTemplateFolder(options.template_path);
+    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(template_rig, options.template_path);
     RawRig target = LoadMeshForEditing(options.target_path, options.units);
     const std::size_t target_vertices = target.positions.size();
     const double load_seconds = SecondsSince(start);
@@ -219,9 +221,9 @@ int RunBuildCommand(int argc, char** argv) {
       target_landmarks = std::move(detected.landmarks);
       target_eyes_fitted = detected.eyes_fitted;
     }
-    const std::vector<std::uint32_t> template_vertex_of = HasKnownLandmarkVertices(template_rig)
-                                                              ? IctLandmarkVertices()
-                                                              : TemplateLandmarkVertices(template_rig, get_detector());
+    const std::vector<std::uint32_t> template_vertex_of =
+        TemplateLandmarkVertices(template_rig, template_info, get_detector());
+    PrintTemplateInfo(template_info);
     const RegistrationLandmarks landmarks = PairLandmarks(template_vertex_of, target_landmarks);
     const double landmark_seconds = SecondsSince(landmark_start);
 
@@ -229,7 +231,7 @@ int RunBuildCommand(int argc, char** argv) {
     params.mode = options.mode;
     if (!options.contacts) params.transfer.contact_weight = 0.0;
     params.progress = [](const char* stage, std::size_t done, std::size_t total) { ProgressBar(stage, done, total); };
-    const BuildRigResult built = BuildRig(template_rig, std::move(target), landmarks, params);
+    const BuildRigResult built = BuildRig(template_rig, template_info, std::move(target), landmarks, params);
     std::string problem;
     const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
     if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
@@ -259,6 +261,7 @@ int RunBuildCommand(int argc, char** argv) {
                            {"frig", options.frig},
                            {"obj_dir", options.obj_dir},
                            {"template_topology", options.template_topology}};
+      report["template_info"] = TemplateInfoReport(template_info);
       report["target_vertices"] = target_vertices;
       report["shapes"] = rig->shape_count();
       report["units"] = ToString(rig->units());

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "cli_template_info.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/offline/rasterizer.h"
@@ -146,14 +147,15 @@ int RunRegisterCommand(int argc, char** argv) {
       std::fprintf(stderr, "detecting landmarks on the target...\n");
       target_landmarks = get_detector().Detect(target.positions, target.triangles).landmarks;
     }
-    if (!HasKnownLandmarkVertices(rig)) std::fprintf(stderr, "detecting landmarks on the template...\n");
-    const std::vector<std::uint32_t> template_vertex_of =
-        HasKnownLandmarkVertices(rig) ? IctLandmarkVertices() : TemplateLandmarkVertices(rig, get_detector());
+    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(rig, template_path);
+    if (template_info.landmark_vertices.empty()) std::fprintf(stderr, "detecting landmarks on the template...\n");
+    const std::vector<std::uint32_t> template_vertex_of = TemplateLandmarkVertices(rig, template_info, get_detector());
+    PrintTemplateInfo(template_info);
     const RegistrationLandmarks landmarks = PairLandmarks(template_vertex_of, target_landmarks);
     const double landmark_seconds = SecondsSince(landmark_start);
 
     NonrigidIcpParams params;
-    params.region_vertex_count = TemplateRegionVertexCount(rig);
+    params.region_vertex_count = template_info.region.last + 1;
     std::fprintf(stderr, "rigid alignment and non-rigid ICP (%zu landmarks)...\n", landmarks.target_points.size());
     params.progress = [](std::size_t done, std::size_t total) { ProgressBar("non-rigid ICP", done, total); };
     const NonrigidIcpResult fit = NonrigidIcp(rig.positions(), rig.triangles(), target.positions,
@@ -172,6 +174,7 @@ int RunRegisterCommand(int argc, char** argv) {
       report["target"] = target_path;
       report["output"] = output;
       report["landmarks"] = landmarks_path.empty() ? "detected" : landmarks_path;
+      report["template_info"] = TemplateInfoReport(template_info);
       report["residual_percent_of_diagonal"] = {{"mean", fit.residual.mean_percent},
                                                 {"p95", fit.residual.p95_percent},
                                                 {"max", fit.residual.max_percent}};

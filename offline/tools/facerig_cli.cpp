@@ -195,6 +195,7 @@ int DefaultHeadCommand(int argc, char** argv) {
                 rig.vertex_count(), rig.triangle_count(), rig.shape_count(),
                 static_cast<std::uintmax_t>(std::filesystem::file_size(path)));
   }
+  std::printf("wrote %s\n", facerig::WriteDefaultHeadTemplateInfo(rig, out_dir).c_str());
   if (!preview_dir.empty()) {
     for (const auto& path : facerig::WriteDefaultHeadPreviews(rig, preview_dir, preview_size)) {
       std::printf("wrote %s\n", path.c_str());

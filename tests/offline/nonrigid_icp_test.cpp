@@ -44,7 +44,7 @@ struct FitReport {
 
 FitReport Measure(const NonrigidIcpResult& fit, const test::RegistrationTarget& target) {
   std::vector<double> errors;
-  for (std::uint32_t v = 0; v < kIctFaceVertexCount; ++v) {
+  for (std::uint32_t v = 0; v < test::IctFaces().face_vertex_count(); ++v) {
     errors.push_back(static_cast<double>(glm::length(fit.positions[v] - target.true_ict_positions[v])) /
                      target.units_per_cm);
   }
@@ -58,7 +58,7 @@ FitReport Measure(const NonrigidIcpResult& fit, const test::RegistrationTarget& 
 
 RegistrationLandmarks IctLandmarks(const test::RegistrationTarget& target) {
   RegistrationLandmarks landmarks;
-  landmarks.template_vertices = IctLandmarkVertices();
+  landmarks.template_vertices = test::IctFaces().info.landmark_vertices;
   landmarks.target_points = target.true_landmarks;
   landmarks.confidence.assign(68, 1.0f);
   for (int i = 0; i < 17; ++i) landmarks.confidence[static_cast<std::size_t>(i)] = 0.2f;  // jaw
@@ -201,7 +201,7 @@ void RunIctFit(bool remesh, std::uint32_t seed, double units_per_cm, bool detect
   options.units_per_cm = units_per_cm;
   const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
   NonrigidIcpParams params;
-  params.region_vertex_count = kIctHeadVertexCount;
+  params.region_vertex_count = test::IctFaces().head_vertex_count();
   RegistrationLandmarks landmarks = IctLandmarks(target);
   if (detect) {
     LandmarkDetector detector;
@@ -267,7 +267,7 @@ TEST_CASE("Landmarks and registration on a non-manifold re-meshed ICT face with 
         static_cast<double>(glm::length(detected.landmarks.points[k] - target.true_landmarks[k])) / interocular / 51.0;
   }
   NonrigidIcpParams params;
-  params.region_vertex_count = kIctHeadVertexCount;
+  params.region_vertex_count = test::IctFaces().head_vertex_count();
   RegistrationLandmarks landmarks = IctLandmarks(target);
   landmarks.target_points = detected.landmarks.points;
   landmarks.confidence = detected.landmarks.confidence;

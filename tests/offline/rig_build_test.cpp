@@ -27,6 +27,12 @@ RawRig TargetRig(const test::RegistrationTarget& target) {
   return raw;
 }
 
+// The shipped ICT descriptor (region, landmarks), read once.
+const FaceTemplateInfo& IctInfo() {
+  static const FaceTemplateInfo info = test::LoadIctTemplateInfo(test::IctRig());
+  return info;
+}
+
 RegistrationLandmarks TrueLandmarks(const test::RegistrationTarget& target) {
   FaceLandmarks landmarks;
   for (std::uint32_t i = 0; i < kDlibLandmarkCount; ++i) {
@@ -34,7 +40,7 @@ RegistrationLandmarks TrueLandmarks(const test::RegistrationTarget& target) {
     landmarks.indices.push_back(i);
     landmarks.confidence.push_back(i < 17 ? 0.2f : 1.0f);  // jaw points follow the silhouette
   }
-  return PairLandmarks(IctLandmarkVertices(), landmarks);
+  return PairLandmarks(IctInfo().landmark_vertices, landmarks);
 }
 
 }  // namespace
@@ -47,7 +53,7 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
   options.seed = 3;
   const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
 
-  const BuildRigResult registered = BuildRig(ict, TargetRig(target), TrueLandmarks(target));
+  const BuildRigResult registered = BuildRig(ict, IctInfo(), TargetRig(target), TrueLandmarks(target));
   {
     // The inner parts (eyeballs, teeth, mouth socket, lashes) follow the fitted
     // skin: count skin x inner crossings of the fit against the true face's.
@@ -58,7 +64,8 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
       std::size_t count = 0;
       auto skin = [&](std::uint32_t t) {
         const Triangle& tri = ict.triangles()[t];
-        return tri[0] < kIctHeadVertexCount && tri[1] < kIctHeadVertexCount && tri[2] < kIctHeadVertexCount;
+        const std::uint32_t head = IctInfo().region.last + 1;
+        return tri[0] < head && tri[1] < head && tri[2] < head;
       };
       for (const auto& [a, b] : found.pairs) count += skin(a) != skin(b) ? 1 : 0;
       return count;
@@ -75,7 +82,7 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
     BuildRigParams params;
     params.mode = mode;
     // One registration, three transfers.
-    const BuildRigResult built = BuildRigOnRegistration(ict, TargetRig(target), registered.registration, params);
+    const BuildRigResult built = BuildRigOnRegistration(ict, IctInfo(), TargetRig(target), registered.registration, params);
     std::string problem;
     const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
     REQUIRE(rig.has_value());
@@ -191,7 +198,7 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
   const LandmarkResult detected = detector.Detect(head.positions, head.triangles);
   CHECK(detected.eyes_fitted == 2);
   const BuildRigResult built =
-      BuildRig(ict, head, PairLandmarks(IctLandmarkVertices(), detected.landmarks));
+      BuildRig(ict, IctInfo(), head, PairLandmarks(IctInfo().landmark_vertices, detected.landmarks));
   // The fitted template's lid margins went onto the head's eye rims (both
   // eyes, upper and lower: ICT's blinks give 28 margin vertices per eye).
   std::printf("default head: %zu template margin vertices aligned onto the eye rims, mean move %.3f cm\n",
@@ -251,6 +258,19 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
     CHECK(moved.x * neutral[features.mouth_corners[corner]].x > 0.0f);     // outward
     CHECK(glm::length(other) < 0.3f * glm::length(moved));
   }
+}
+
+}  // namespace facerig
+
+namespace facerig {
+
+TEST_CASE("build: the template descriptor's region must lie within the template", "[rig_build]") {
+  const Rig grid = test::MakeGridRig(6, 1);
+  FaceTemplateInfo info = DeriveFaceTemplateInfo(grid);
+  info.region.last = static_cast<std::uint32_t>(grid.vertex_count());
+  RawRig target = RigBuilder::ToRaw(grid);
+  REQUIRE_THROWS_WITH(BuildRig(grid, info, target, RegistrationLandmarks{}),
+                      Catch::Contains("region ends at vertex " + std::to_string(grid.vertex_count())));
 }
 
 }  // namespace facerig

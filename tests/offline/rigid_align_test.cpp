@@ -175,7 +175,7 @@ TEST_CASE("Rigid alignment of the ICT face onto a re-meshed random face (shared 
     options.units_per_cm = seed == 11u ? 0.01 : 10.0;  // metres and millimetres
     const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
     std::vector<glm::vec3> template_landmarks;
-    for (std::uint32_t v : IctLandmarkVertices()) template_landmarks.push_back(ict.neutral[v]);
+    for (std::uint32_t v : ict.info.landmark_vertices) template_landmarks.push_back(ict.neutral[v]);
     const RigidAlignResult result = RigidAlign(ict.neutral, ict.head_triangles, target.positions,
                                                target.triangles, template_landmarks, target.true_landmarks);
     INFO("seed " << seed << " rotation " << target.rotation_degrees << " iterations " << result.iterations);

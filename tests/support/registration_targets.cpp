@@ -16,18 +16,32 @@
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/rig_builder.h"
 
 namespace facerig::test {
+
+FaceTemplateInfo LoadIctTemplateInfo(const Rig& rig) {
+  for (const std::filesystem::path& dir : ShippedTemplateDirectories()) {
+    const std::filesystem::path path = dir / "ict-facekit.template.json";
+    if (std::filesystem::is_regular_file(path)) return LoadFaceTemplateInfo(path, rig);
+  }
+  throw IoError(IoErrorKind::kOpenFailed, "ict-facekit.template.json", "not found in the shipped template folders");
+}
 
 IctFaceModel LoadIctFaces(const std::filesystem::path& ict_dir) {
   IctFaceModel m;
   ObjMesh neutral = ReadObj(ict_dir / "generic_neutral_mesh.obj");
   m.neutral = std::move(neutral.positions);
   m.triangles = std::move(neutral.triangles);
-  if (m.neutral.size() < kIctHeadVertexCount) {
-    throw IoError(IoErrorKind::kTopologyMismatch, (ict_dir / "generic_neutral_mesh.obj").string(),
-                  "expected ICT-FaceKit's neutral (at least " + std::to_string(kIctHeadVertexCount) +
-                      " vertices), got " + std::to_string(m.neutral.size()));
+  {
+    // The descriptor validates against (and fingerprints) the neutral.
+    RawRig raw;
+    raw.positions = m.neutral;
+    raw.triangles = m.triangles;
+    std::string problem;
+    const std::optional<Rig> rig = RigBuilder::Build(raw, &problem);
+    if (!rig) throw IoError(IoErrorKind::kParse, (ict_dir / "generic_neutral_mesh.obj").string(), problem);
+    m.info = LoadIctTemplateInfo(*rig);
   }
   for (int i = 0; i < 20; ++i) {
     char name[32];
@@ -39,8 +53,9 @@ IctFaceModel LoadIctFaces(const std::filesystem::path& ict_dir) {
                         std::to_string(m.neutral.size()));
     }
   }
+  const std::uint32_t head = m.head_vertex_count();
   for (const Triangle& t : m.triangles) {
-    if (t[0] < kIctHeadVertexCount && t[1] < kIctHeadVertexCount && t[2] < kIctHeadVertexCount) {
+    if (t[0] < head && t[1] < head && t[2] < head) {
       m.head_triangles.push_back(t);
     }
   }
@@ -177,7 +192,7 @@ RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const Regis
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
 
   // Geometry in ICT centimetres first.
-  std::vector<glm::vec3> positions(face.begin(), face.begin() + kIctHeadVertexCount);
+  std::vector<glm::vec3> positions(face.begin(), face.begin() + model.head_vertex_count());
   std::vector<Triangle> triangles = model.head_triangles;
   if (options.remesh) {
     const ClosestPointQuery surface(positions, triangles);
@@ -230,7 +245,7 @@ RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const Regis
   target.triangles = std::move(triangles);
   target.true_ict_positions.reserve(face.size());
   for (const glm::vec3& p : face) target.true_ict_positions.push_back(target.from_ict.Apply(p));
-  for (std::uint32_t v : IctLandmarkVertices()) target.true_landmarks.push_back(target.true_ict_positions[v]);
+  for (std::uint32_t v : model.info.landmark_vertices) target.true_landmarks.push_back(target.true_ict_positions[v]);
   return target;
 }
 
@@ -246,7 +261,8 @@ BuiltRigErrors MeasureBuiltRig(const IctFaceModel& model, const Rig& template_ri
   for (std::uint32_t v = 0; v < target.positions.size(); ++v) {
     const ClosestPointHit hit = truth_surface.Find(target.positions[v]);
     const Triangle& t = model.head_triangles[static_cast<std::size_t>(hit.triangle)];
-    if (t[0] < kIctFaceVertexCount && t[1] < kIctFaceVertexCount && t[2] < kIctFaceVertexCount) {
+    const std::uint32_t face = model.face_vertex_count();
+    if (t[0] < face && t[1] < face && t[2] < face) {
       face_vertices.push_back(v);
       material.push_back(hit);
     }

@@ -18,6 +18,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/face_template.h"
 #include "facerig/offline/rigid_align.h"
 #include "facerig/runtime/rig.h"
 #include "support/test_meshes.h"
@@ -29,8 +30,16 @@ struct IctFaceModel {
   std::vector<glm::vec3> neutral;
   std::vector<std::vector<glm::vec3>> identities;  // identity000..019, whole meshes
   std::vector<Triangle> triangles;  // all parts
-  std::vector<Triangle> head_triangles;  // face + head region (vertices < 11248)
+  std::vector<Triangle> head_triangles;  // the registered region's (face + head and neck)
+  // The shipped descriptor (data/templates/ict-facekit.template.json): the
+  // registered region, the "face" group and the 68 landmark vertices.
+  FaceTemplateInfo info;
+  std::uint32_t head_vertex_count() const { return info.region.last + 1; }
+  std::uint32_t face_vertex_count() const { return info.Group("face").last + 1; }
 };
+// The shipped ICT-FaceKit descriptor, validated against `rig` (its fingerprint too).
+// \throw IoError, InvalidInputError (face_template.h).
+FaceTemplateInfo LoadIctTemplateInfo(const Rig& rig);
 // Reads generic_neutral_mesh.obj and identity000..019.obj from `ict_dir`.
 // \throw IoError when a file is missing or malformed, or the identities do
 //        not match the neutral's vertex count.

@@ -93,10 +93,11 @@ const test::RegistrationTarget& WriteTarget(const fs::path& path, std::uint32_t 
 // Mean distance of the fitted face region to the true ICT vertices, centimetres.
 double FaceErrorCm(const std::vector<glm::vec3>& fitted, const test::RegistrationTarget& target) {
   double sum = 0.0;
-  for (std::uint32_t v = 0; v < kIctFaceVertexCount; ++v) {
+  const std::uint32_t face = test::IctFaces().face_vertex_count();
+  for (std::uint32_t v = 0; v < face; ++v) {
     sum += static_cast<double>(glm::length(fitted[v] - target.true_ict_positions[v]));
   }
-  return sum / kIctFaceVertexCount / target.units_per_cm;
+  return sum / face / target.units_per_cm;
 }
 
 nlohmann::json ReadJson(const fs::path& path) {

@@ -19,6 +19,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/face_template.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -48,5 +49,12 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features = nullptr);
 std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
                                                             const std::filesystem::path& directory,
                                                             int size = 256);
+
+// The head's template descriptor: its part groups (the skin first, the
+// registered region), eyeballs and teeth rigid; landmarks and rims derived
+// when building. Written as default_head.template.json into `directory`;
+// data/templates/ holds a committed copy (a test keeps them equal).
+FaceTemplateInfo DefaultHeadTemplateInfo(const Rig& head);
+std::filesystem::path WriteDefaultHeadTemplateInfo(const Rig& head, const std::filesystem::path& directory);
 
 }  // namespace facerig

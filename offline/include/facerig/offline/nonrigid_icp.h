@@ -31,7 +31,7 @@ struct NonrigidIcpParams {
   // Template vertices [0, region_vertex_count) are registered (their
   // triangles define the template surface); the rest (inner parts: eyeballs,
   // teeth, mouth socket, lashes) follow the fitted surface. 0: all vertices.
-  // ICT-FaceKit: 11248 (face 0-9408 + head and neck 9409-11247).
+  // A template's descriptor gives it (FaceTemplateInfo::region).
   std::uint32_t region_vertex_count = 0;
   // Stiffness per stage (stiff to soft) and the landmark weight per stage
   // (same length; a shorter landmark list repeats its last value).
@@ -113,12 +113,5 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
                               std::span<const glm::vec3> target_positions,
                               std::span<const Triangle> target_triangles,
                               const RegistrationLandmarks& landmarks, const NonrigidIcpParams& params = {});
-
-// The ICT-FaceKit landmark vertex indices (68, dlib / Multi-PIE order), from
-// ICT-FaceKit's README.
-const std::vector<std::uint32_t>& IctLandmarkVertices();
-// ICT-FaceKit: face 0-9408 + head and neck 9409-11247.
-inline constexpr std::uint32_t kIctFaceVertexCount = 9409;
-inline constexpr std::uint32_t kIctHeadVertexCount = 11248;
 
 }  // namespace facerig

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "facerig/offline/deformation_transfer.h"
+#include "facerig/offline/face_template.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/offline/registration_error.h"
@@ -48,7 +49,7 @@ class RegistrationMismatchError : public std::runtime_error {
 
 struct BuildRigParams {
   BuildMode mode = BuildMode::kClassic;
-  // region_vertex_count 0: TemplateRegionVertexCount(template). `progress` is
+  // region_vertex_count 0: the template descriptor's region. `progress` is
   // replaced by the one below.
   NonrigidIcpParams registration;
   DeformationTransferParams transfer;  // `mode` is set from `mode` above
@@ -108,30 +109,16 @@ struct BuildRigResult {
 
 // target: the user's mesh (positions, triangles, UVs, parts, units) as read by LoadRig.
 // landmarks: template vertex <-> target point pairs (PairLandmarks).
+// The template's descriptor gives the registered region and the rims.
 // \throw InvalidInputError, SolverError, TransferInputError, TransferSolverError,
 //        RegistrationMismatchError.
-BuildRigResult BuildRig(const Rig& template_rig, RawRig target, const RegistrationLandmarks& landmarks,
-                        const BuildRigParams& params = {});
+BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+                        const RegistrationLandmarks& landmarks, const BuildRigParams& params = {});
 
-// The same from an existing registration of template_rig onto target (e.g.
-// to compare modes without registering again); `params.registration` only
-// gives the region (0: TemplateRegionVertexCount).
-BuildRigResult BuildRigOnRegistration(const Rig& template_rig, RawRig target, NonrigidIcpResult registered,
-                                      const BuildRigParams& params = {});
-
-// The registered region of a template, [0, count): ICT-FaceKit (26,719
-// vertices with parts M_Face, M_BackHead) 11,248 (face + head and neck, not
-// the mouth socket that shares its BackHead part); a template of several parts
-// whose first part starts at vertex 0 (the skin, as the default head): that
-// part's vertices; otherwise every vertex.
-std::uint32_t TemplateRegionVertexCount(const Rig& template_rig);
-
-// The template vertex of each of dlib's 68 landmarks: ICT-FaceKit's published
-// list, or else detected on the template's neutral (nearest vertex to each
-// detected point), which needs the detector.
-// \throw LandmarkDetectionError (as LandmarkDetector::Detect).
-std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& template_rig, LandmarkDetector& detector);
-bool HasKnownLandmarkVertices(const Rig& template_rig);
+// The same from an existing registration of the template onto target (e.g.
+// to compare modes without registering again).
+BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+                                      NonrigidIcpResult registered, const BuildRigParams& params = {});
 
 // Pairs detected (or read) target landmarks with template vertices.
 // \throw InvalidInputError when a landmark index is not below template_vertex_of.size().

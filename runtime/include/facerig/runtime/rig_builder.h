@@ -45,7 +45,7 @@ struct RawRig {
   std::vector<RawBlendShape> shapes;
 
   // True when the data can be built. On failure, `problem` (if given) names
-  // the first offending element, e.g. "shape 'jawOpen': vertex index 30000 >= 26719".
+  // the first offending element, e.g. "shape 'jawOpen': vertex index 30000 >= 16608".
   bool Validate(std::string* problem = nullptr) const;
 };
 

@@ -1,0 +1,235 @@
+// Reading, validating and writing a template descriptor (face_template.h).
+#include "facerig/offline/face_template.h"
+
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "facerig/offline/landmarks.h"
+#include "facerig/offline/registration_error.h"
+#include "facerig/runtime/error.h"
+
+namespace facerig {
+namespace {
+
+using nlohmann::json;
+
+// Errors name the file, the field and the offending value.
+class DescriptorReader {
+ public:
+  DescriptorReader(const Rig& rig, std::string file) : rig_(rig), file_(std::move(file)) {}
+
+  [[noreturn]] void Fail(const std::string& field, const std::string& problem) const {
+    throw InvalidInputError(file_ + ": field '" + field + "': " + problem);
+  }
+
+  std::uint32_t Vertex(const json& value, const std::string& field) const {
+    if (!value.is_number_integer()) Fail(field, "expected a vertex index, got " + value.dump());
+    const auto index = value.get<std::int64_t>();
+    if (index < 0 || static_cast<std::uint64_t>(index) >= rig_.vertex_count()) {
+      Fail(field, "vertex " + std::to_string(index) + " is out of range (the rig has " +
+                      std::to_string(rig_.vertex_count()) + " vertices)");
+    }
+    return static_cast<std::uint32_t>(index);
+  }
+
+  // {"first": a, "last": b} or {"rig_part": "M_Face"}.
+  VertexRange Range(const json& value, const std::string& field) const {
+    if (!value.is_object()) Fail(field, "expected {\"first\", \"last\"} or {\"rig_part\"}, got " + value.dump());
+    if (value.contains("rig_part")) return RigPart(value["rig_part"], field + ".rig_part");
+    if (!value.contains("first") || !value.contains("last")) Fail(field, "needs 'first' and 'last'");
+    const VertexRange range{Vertex(value["first"], field + ".first"), Vertex(value["last"], field + ".last")};
+    if (range.last < range.first) {
+      Fail(field, "last " + std::to_string(range.last) + " is before first " + std::to_string(range.first));
+    }
+    return range;
+  }
+
+  std::vector<std::uint32_t> Vertices(const json& value, const std::string& field) const {
+    if (!value.is_array()) Fail(field, "expected an array of vertex indices or \"derive\", got " + value.dump());
+    std::vector<std::uint32_t> vertices;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      vertices.push_back(Vertex(value[i], field + "[" + std::to_string(i) + "]"));
+    }
+    return vertices;
+  }
+
+  std::string String(const json& value, const std::string& field) const {
+    if (!value.is_string()) Fail(field, "expected a string, got " + value.dump());
+    return value.get<std::string>();
+  }
+
+ private:
+  VertexRange RigPart(const json& value, const std::string& field) const {
+    const std::string name = String(value, field);
+    for (const Part& part : rig_.parts()) {
+      if (part.name == name && part.vertex_count > 0) {
+        return {part.first_vertex, part.first_vertex + part.vertex_count - 1};
+      }
+    }
+    Fail(field, "the rig has no part '" + name + "'");
+  }
+
+  const Rig& rig_;
+  std::string file_;
+};
+
+void ReadFingerprint(const json& value, const Rig& rig, const DescriptorReader& reader, FaceTemplateInfo& info) {
+  if (!value.is_object()) reader.Fail("fingerprint", "expected an object, got " + value.dump());
+  TemplateFingerprint print;
+  try {
+    print.vertex_count = value.at("vertex_count").get<std::size_t>();
+    print.triangle_count = value.at("triangle_count").get<std::size_t>();
+    print.neutral_checksum = value.at("neutral_checksum").get<std::string>();
+  } catch (const json::exception& error) {
+    reader.Fail("fingerprint", error.what());
+  }
+  if (print != FingerprintOf(rig)) {
+    const TemplateFingerprint actual = FingerprintOf(rig);
+    reader.Fail("fingerprint", "the rig does not match (descriptor " + std::to_string(print.vertex_count) +
+                                   " vertices, " + std::to_string(print.triangle_count) + " triangles, checksum " +
+                                   print.neutral_checksum + "; rig " + std::to_string(actual.vertex_count) + ", " +
+                                   std::to_string(actual.triangle_count) + ", " + actual.neutral_checksum + ")");
+  }
+  info.fingerprint = print;
+}
+
+void ReadParts(const json& doc, const DescriptorReader& reader, FaceTemplateInfo& info) {
+  if (!doc.contains("parts")) return;
+  const json& parts = doc["parts"];
+  if (!parts.is_array()) reader.Fail("parts", "expected an array, got " + parts.dump());
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const std::string field = "parts[" + std::to_string(i) + "]";
+    if (!parts[i].is_object() || !parts[i].contains("name")) reader.Fail(field, "needs a 'name'");
+    info.parts.push_back({reader.String(parts[i]["name"], field + ".name"), reader.Range(parts[i], field)});
+  }
+}
+
+std::optional<std::vector<std::uint32_t>> ReadRim(const json& rims, const char* key, const DescriptorReader& reader) {
+  const std::string field = std::string("rims.") + key;
+  if (!rims.contains(key) || rims[key] == "derive") return std::nullopt;
+  return reader.Vertices(rims[key], field);
+}
+
+void ReadLandmarksAndRims(const json& doc, const DescriptorReader& reader, FaceTemplateInfo& info) {
+  if (doc.contains("landmarks") && doc["landmarks"] != "derive") {
+    info.landmark_vertices = reader.Vertices(doc["landmarks"], "landmarks");
+    if (info.landmark_vertices.size() != kDlibLandmarkCount) {
+      reader.Fail("landmarks", "expected " + std::to_string(kDlibLandmarkCount) + " vertices (dlib order), got " +
+                                   std::to_string(info.landmark_vertices.size()));
+    }
+  }
+  if (!doc.contains("rims")) return;
+  const json& rims = doc["rims"];
+  if (rims == "derive") return;
+  if (!rims.is_object()) reader.Fail("rims", "expected an object or \"derive\", got " + rims.dump());
+  info.eyelid_rim = ReadRim(rims, "eyelids", reader);
+  info.lip_rim = ReadRim(rims, "lips", reader);
+}
+
+void ReadGroups(const json& doc, const DescriptorReader& reader, FaceTemplateInfo& info) {
+  if (doc.contains("rigid_parts")) {
+    const json& rigid = doc["rigid_parts"];
+    if (!rigid.is_array()) reader.Fail("rigid_parts", "expected an array of part names, got " + rigid.dump());
+    for (std::size_t i = 0; i < rigid.size(); ++i) {
+      const std::string field = "rigid_parts[" + std::to_string(i) + "]";
+      const std::string name = reader.String(rigid[i], field);
+      if (!info.FindPart(name)) reader.Fail(field, "no part named '" + name + "' in 'parts'");
+      info.rigid_parts.push_back(name);
+    }
+  }
+  if (doc.contains("vertex_groups")) {
+    const json& groups = doc["vertex_groups"];
+    if (!groups.is_object()) reader.Fail("vertex_groups", "expected an object, got " + groups.dump());
+    for (const auto& [name, range] : groups.items()) {
+      info.vertex_groups[name] = reader.Range(range, "vertex_groups." + name);
+    }
+  }
+}
+
+nlohmann::ordered_json RangeJson(VertexRange range) { return {{"first", range.first}, {"last", range.last}}; }
+
+}  // namespace
+
+FaceTemplateInfo ParseFaceTemplateInfo(const std::string& json_text, const Rig& rig, const std::string& file_name) {
+  const DescriptorReader reader(rig, file_name);
+  json doc;
+  try {
+    doc = json::parse(json_text);
+  } catch (const json::parse_error& error) {
+    throw InvalidInputError(file_name + ": not JSON: " + error.what());
+  }
+  if (!doc.is_object()) reader.Fail("(top level)", "expected an object");
+  FaceTemplateInfo info;
+  if (doc.contains("name")) info.name = reader.String(doc["name"], "name");
+  if (doc.contains("fingerprint")) ReadFingerprint(doc["fingerprint"], rig, reader, info);
+  ReadParts(doc, reader, info);
+  if (!doc.contains("region")) reader.Fail("region", "missing (the vertices the registration fits)");
+  info.region = reader.Range(doc["region"], "region");
+  // The registration fits a prefix of the vertex order.
+  if (info.region.first != 0) reader.Fail("region.first", "must be 0, got " + std::to_string(info.region.first));
+  ReadLandmarksAndRims(doc, reader, info);
+  ReadGroups(doc, reader, info);
+  info.source_path = file_name;
+  return info;
+}
+
+FaceTemplateInfo LoadFaceTemplateInfo(const std::filesystem::path& path, const Rig& rig) {
+  std::ifstream file(path);
+  if (!file) throw IoError(IoErrorKind::kOpenFailed, path.string(), "cannot open the template descriptor");
+  std::stringstream text;
+  text << file.rdbuf();
+  return ParseFaceTemplateInfo(text.str(), rig, path.string());
+}
+
+std::string FaceTemplateInfoToJson(const FaceTemplateInfo& info) {
+  using ordered = nlohmann::ordered_json;
+  ordered doc;
+  doc["name"] = info.name;
+  if (info.fingerprint) {
+    doc["fingerprint"] = {{"vertex_count", info.fingerprint->vertex_count},
+                          {"triangle_count", info.fingerprint->triangle_count},
+                          {"neutral_checksum", info.fingerprint->neutral_checksum}};
+  }
+  doc["parts"] = ordered::array();
+  for (const TemplatePart& part : info.parts) {
+    doc["parts"].push_back({{"name", part.name}, {"first", part.vertices.first}, {"last", part.vertices.last}});
+  }
+  doc["region"] = RangeJson(info.region);
+  doc["landmarks"] = info.landmark_vertices.empty() ? ordered("derive") : ordered(info.landmark_vertices);
+  doc["rims"] = {{"eyelids", info.eyelid_rim ? ordered(*info.eyelid_rim) : ordered("derive")},
+                 {"lips", info.lip_rim ? ordered(*info.lip_rim) : ordered("derive")}};
+  doc["rigid_parts"] = info.rigid_parts;
+  doc["vertex_groups"] = ordered::object();
+  for (const auto& [name, range] : info.vertex_groups) doc["vertex_groups"][name] = RangeJson(range);
+  return doc.dump(2) + "\n";
+}
+
+VertexRange FaceTemplateInfo::Group(const std::string& group_name) const {
+  const auto found = vertex_groups.find(group_name);
+  return found != vertex_groups.end() ? found->second : region;
+}
+
+const TemplatePart* FaceTemplateInfo::FindPart(const std::string& part_name) const {
+  for (const TemplatePart& part : parts) {
+    if (part.name == part_name) return &part;
+  }
+  return nullptr;
+}
+
+const char* ToString(TemplateInfoSource source) {
+  switch (source) {
+    case TemplateInfoSource::kExplicit:
+      return "explicit";
+    case TemplateInfoSource::kBesideRig:
+      return "beside the rig";
+    case TemplateInfoSource::kShipped:
+      return "shipped";
+    case TemplateInfoSource::kDerived:
+      return "derived";
+  }
+  return "?";
+}
+
+}  // namespace facerig
