@@ -2,7 +2,7 @@
 //
 // Most shapes are authored as displacements of named control vertices and
 // reach the dense mesh through the subdivision matrix (delta = S * delta_c,
-// as paper 002 carries expressions through its subdivision). Motions that are
+// as Mattos et al. carry expressions through its subdivision). Motions that are
 // rotations are evaluated per dense vertex: the jaw about its hinge with
 // control-authored weights (through S), the lids slid over the eyeball in
 // eye-centred spherical coordinates (so they never cut through it, and close

@@ -1,4 +1,4 @@
-// 2 linear + 2 Loop subdivisions as one sparse matrix (paper 002, Table I):
+// 2 linear + 2 Loop subdivisions as one sparse matrix (the construction of Mattos et al.):
 // subdivision is linear in the control positions, so any per-vertex quantity
 // authored on the control mesh (positions, displacements, weights) maps to
 // the dense mesh through the same matrix, keeping per-vertex correspondence.

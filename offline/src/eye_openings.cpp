@@ -13,8 +13,9 @@ namespace facerig {
 namespace {
 
 // Lid points moved farther than this fraction of the eye width on average
-// mean the detector missed the eye: measured 0.3 on the stylized head, under
-// 0.1 on re-meshed ICT faces.
+// mean the detector missed the eye (the built-in stylized head's misses and
+// re-meshed ICT faces' hits lie on either side: README, "Measurements behind
+// the defaults").
 constexpr float kMissedEye = 0.15f;
 
 // dlib's six points of an eye, in order: corner, two upper-lid points,

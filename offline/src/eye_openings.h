@@ -20,7 +20,7 @@ namespace facerig {
 std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3> positions,
                                                      std::span<const Triangle> triangles);
 
-// Paper 004, section 3.3: where an eye is an opening in the mesh, its
+// Where an eye is an opening in the mesh, its
 // corners (dlib 36/39, 42/45) are the ends of the opening's first principal
 // axis. Moves only corners within 0.3 eye widths. Returns how many moved.
 int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
