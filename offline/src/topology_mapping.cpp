@@ -237,15 +237,7 @@ void SmoothAlongRim(const TopologyMapping::Rim& rim, std::vector<glm::vec3>& val
   }
 }
 
-}  // namespace
-
-TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
-                                       std::span<const Triangle> template_triangles,
-                                       std::span<const glm::vec3> target_positions,
-                                       std::span<const Triangle> target_triangles,
-                                       const TopologyMappingParams& params,
-                                       std::span<const TemplateRim> template_rims) {
-  CheckTarget(target_positions, target_triangles);
+void CheckParams(const TopologyMappingParams& params) {
   if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
     throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
   }
@@ -259,43 +251,70 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
                             "and > 0, not " + std::to_string(params.rim_closing_ratio) + " and " +
                             std::to_string(params.rim_closing_reach));
   }
-  const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
-  const float diagonal = BoundingDiagonalOf(fitted_template);
-  const float full = params.full_weight_distance * diagonal;
-  const float zero = params.zero_weight_distance * diagonal;
+}
 
-  std::vector<std::uint32_t> template_part_of_vertex, target_part_of_vertex;
-  ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
-  const std::size_t target_parts =
-      ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
-
-  // Votes: which template part is nearest to each target vertex, per target part.
-  const std::size_t n = target_positions.size();
-  std::vector<std::map<std::uint32_t, std::size_t>> votes(target_parts);
-  std::vector<std::size_t> part_size(target_parts, 0);
-  std::vector<ClosestPointHit> nearest(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    nearest[v] = whole.Find(target_positions[v]);
-    const std::uint32_t part = target_part_of_vertex[v];
-    ++part_size[part];
-    if (nearest[v].distance <= zero) {
-      const Triangle& t = template_triangles[static_cast<std::size_t>(nearest[v].triangle)];
-      ++votes[part][template_part_of_vertex[t[0]]];
+void CheckTemplateRims(std::span<const TemplateRim> template_rims, std::size_t template_vertices) {
+  for (std::size_t i = 0; i < template_rims.size(); ++i) {
+    if (template_rims[i].vertex >= template_vertices ||
+        (i > 0 && !(template_rims[i - 1].vertex < template_rims[i].vertex))) {
+      throw InvalidInputError("topology mapping: template rim vertex " + std::to_string(template_rims[i].vertex) +
+                              " out of range or out of order (" + std::to_string(template_vertices) +
+                              " vertices)");
     }
   }
+}
 
-  // One search structure per distinct set of chosen template parts.
+// Per target vertex, its nearest point on the whole fitted template; per
+// target part, which template parts its vertices are nearest to (within `zero`).
+struct PartVotes {
+  std::vector<ClosestPointHit> nearest;
+  std::vector<std::map<std::uint32_t, std::size_t>> votes;
+  std::vector<std::size_t> part_size;
+};
+
+PartVotes CountPartVotes(const ClosestPointQuery& whole, std::span<const Triangle> template_triangles,
+                         std::span<const std::uint32_t> template_part_of_vertex,
+                         std::span<const glm::vec3> target_positions,
+                         std::span<const std::uint32_t> target_part_of_vertex, std::size_t target_parts, float zero) {
+  const std::size_t n = target_positions.size();
+  PartVotes result;
+  result.votes.resize(target_parts);
+  result.part_size.assign(target_parts, 0);
+  result.nearest.resize(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    result.nearest[v] = whole.Find(target_positions[v]);
+    const std::uint32_t part = target_part_of_vertex[v];
+    ++result.part_size[part];
+    if (result.nearest[v].distance <= zero) {
+      const Triangle& t = template_triangles[static_cast<std::size_t>(result.nearest[v].triangle)];
+      ++result.votes[part][template_part_of_vertex[t[0]]];
+    }
+  }
+  return result;
+}
+
+// One search structure per distinct set of chosen template parts; per target
+// part the one it searches (null: nothing of the template near it).
+struct PartSurfaces {
   std::map<std::vector<std::uint32_t>, PartSurface> surfaces;
-  std::vector<const PartSurface*> surface_of_part(target_parts, nullptr);
+  std::vector<const PartSurface*> surface_of_part;
+};
+
+PartSurfaces BuildPartSurfaces(std::span<const glm::vec3> fitted_template, std::span<const Triangle> template_triangles,
+                               std::span<const std::uint32_t> template_part_of_vertex, const PartVotes& votes,
+                               float min_part_vote) {
+  const std::size_t target_parts = votes.votes.size();
+  PartSurfaces result;
+  result.surface_of_part.assign(target_parts, nullptr);
   for (std::size_t part = 0; part < target_parts; ++part) {
     std::vector<std::uint32_t> chosen;
-    for (const auto& [template_part, count] : votes[part]) {
-      if (static_cast<float>(count) >= params.min_part_vote * static_cast<float>(part_size[part])) {
+    for (const auto& [template_part, count] : votes.votes[part]) {
+      if (static_cast<float>(count) >= min_part_vote * static_cast<float>(votes.part_size[part])) {
         chosen.push_back(template_part);
       }
     }
     if (chosen.empty()) continue;  // nothing of the template near this part: plain nearest, faded out
-    auto [it, inserted] = surfaces.try_emplace(chosen);
+    auto [it, inserted] = result.surfaces.try_emplace(chosen);
     if (inserted) {
       std::vector<Triangle> subset;
       for (std::size_t t = 0; t < template_triangles.size(); ++t) {
@@ -306,24 +325,172 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
       }
       it->second.query = std::make_unique<ClosestPointQuery>(fitted_template, subset);
     }
-    surface_of_part[part] = &it->second;
+    result.surface_of_part[part] = &it->second;
   }
+  return result;
+}
 
-  std::vector<glm::vec3> target_normals(n);
-  ComputeVertexNormals(target_positions, target_triangles, target_normals);
-  const std::vector<std::uint8_t> on_boundary = BoundaryVertices(n, target_triangles);
-  const std::vector<glm::vec3> inward = InwardFromRim(target_positions, target_triangles, target_normals, on_boundary);
-  const std::vector<glm::vec3> queries = QueryPoints(target_positions, inward, params.boundary_inset * diagonal);
-  for (std::size_t i = 0; i < template_rims.size(); ++i) {
-    if (template_rims[i].vertex >= fitted_template.size() ||
-        (i > 0 && !(template_rims[i - 1].vertex < template_rims[i].vertex))) {
-      throw InvalidInputError("topology mapping: template rim vertex " + std::to_string(template_rims[i].vertex) +
-                              " out of range or out of order (" + std::to_string(fitted_template.size()) +
-                              " vertices)");
+// The target as the per-vertex search sees it: normals, boundary flags, the
+// direction into its own lip or lid, and the (inset) query points.
+struct TargetSearchView {
+  std::span<const glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<std::uint8_t> on_boundary;
+  std::vector<glm::vec3> inward;
+  std::vector<glm::vec3> queries;
+};
+
+TargetSearchView MakeTargetSearchView(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                      float inset) {
+  const std::size_t n = positions.size();
+  TargetSearchView view;
+  view.positions = positions;
+  view.normals.resize(n);
+  ComputeVertexNormals(positions, triangles, view.normals);
+  view.on_boundary = BoundaryVertices(n, triangles);
+  view.inward = InwardFromRim(positions, triangles, view.normals, view.on_boundary);
+  view.queries = QueryPoints(positions, view.inward, inset);
+  return view;
+}
+
+// Everything the per-vertex mapping reads, in absolute distances.
+struct VertexMapper {
+  std::span<const glm::vec3> fitted_template;
+  std::span<const Triangle> template_triangles;
+  const std::vector<TemplateRimEdge>& rim_edges;
+  const TargetSearchView& target;
+  const TopologyMappingParams& params;
+  float rim_snap_distance;
+  float zero;
+
+  // The template point of target vertex v: on a template rim edge when it
+  // snaps to one, else the nearest facing point of its part's surface, else
+  // `nearest`. Counts snaps and facing fallbacks in `mapping`.
+  ClosestPointHit Map(std::size_t v, ClosestPointHit nearest, const PartSurface* surface, bool& snapped,
+                      TopologyMapping& mapping) const {
+    const ClosestPointHit on_rim =
+        target.on_boundary[v] && !rim_edges.empty()
+            ? NearestOnRim(target.positions[v], -target.inward[v], fitted_template, template_triangles, rim_edges,
+                           params.rim_min_facing, rim_snap_distance)
+            : ClosestPointHit{};
+    snapped = false;
+    if (on_rim.triangle >= 0) {
+      ++mapping.rim_vertices;
+      snapped = true;
+      return on_rim;
     }
+    if (!surface) return nearest;
+    ClosestPointHit facing =
+        surface->query->FindFacing(target.queries[v], target.normals[v], params.min_normal_dot, zero);
+    if (facing.triangle < 0) {
+      facing = surface->query->Find(target.queries[v]);
+      ++mapping.facing_fallbacks;
+    }
+    facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);
+    return facing;
   }
-  const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_rims);
+};
 
+// Records one vertex's hit and falloff weight and counts it as full, partial or unmapped.
+void RecordHit(TopologyMapping& mapping, std::size_t v, const ClosestPointHit& hit, float full, float zero,
+               double& distance_sum) {
+  mapping.triangle[v] = static_cast<std::uint32_t>(hit.triangle);
+  mapping.barycentrics[v] = hit.barycentrics;
+  mapping.weight[v] = Falloff(hit.distance, full, zero);
+  if (mapping.weight[v] >= 1.0f) {
+    ++mapping.full_vertices;
+    distance_sum += hit.distance;
+  } else if (mapping.weight[v] > 0.0f) {
+    ++mapping.partial_vertices;
+  } else {
+    ++mapping.unmapped_vertices;
+  }
+}
+
+// A target boundary loop with snapped vertices as a rim: smoothing passes for
+// `radius`, same-side neighbours, the opening's direction, rest gaps and,
+// when closing is on, the band of vertices that follow it.
+TopologyMapping::Rim RimOfLoop(const std::vector<std::uint32_t>& loop, const TargetSearchView& target,
+                               const TopologyMappingParams& params, float radius,
+                               const std::vector<std::uint32_t>& neighbour_begin,
+                               const std::vector<std::uint32_t>& neighbours) {
+  const std::span<const glm::vec3> target_positions = target.positions;
+  const std::vector<glm::vec3>& inward = target.inward;
+  const std::size_t size = loop.size();
+  float length = 0.0f;
+  for (std::size_t i = 0; i < size; ++i) {
+    length += glm::length(target_positions[loop[(i + 1) % size]] - target_positions[loop[i]]);
+  }
+  // k passes of the (1, 2, 1) / 4 filter: a Gaussian of variance k / 2 vertex spacings squared.
+  const float spacing = length / static_cast<float>(size);
+  TopologyMapping::Rim rim;
+  const float ratio = spacing > 0.0f ? radius / spacing : 0.0f;
+  rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
+  for (std::size_t i = 0; i < size; ++i) {
+    const std::uint32_t v = loop[i];
+    const auto same_side = [&](std::size_t j) {
+      return static_cast<std::uint32_t>(glm::dot(inward[v], inward[loop[j]]) >= params.rim_min_facing ? j : i);
+    };
+    rim.vertices.push_back({v, same_side((i + size - 1) % size), same_side((i + 1) % size)});
+    rim.into_opening.push_back(-inward[v]);
+  }
+  rim.rest_gap.resize(size);
+  for (std::size_t i = 0; i < size; ++i) {
+    rim.rest_gap[i] = NearestOppositeSide(rim, i, target_positions, nullptr);
+  }
+  if (params.rim_closing_ratio > 0.0f) {
+    RimBandOf(rim, params.rim_closing_reach, target_positions, neighbour_begin, neighbours);
+  }
+  return rim;
+}
+
+// The rims of the target's boundary loops that have snapped vertices.
+void AddSnappedRims(TopologyMapping& mapping, const TargetSearchView& target,
+                    std::span<const Triangle> target_triangles, std::span<const std::uint8_t> rim_snapped,
+                    const TopologyMappingParams& params, float diagonal) {
+  const std::size_t n = target.positions.size();
+  mapping.rim_closing_ratio = params.rim_closing_ratio;
+  std::vector<std::uint32_t> neighbour_begin, neighbours;
+  if (params.rim_closing_ratio > 0.0f) VertexNeighbours(n, target_triangles, neighbour_begin, neighbours);
+  const float radius = params.rim_smoothing_radius * diagonal;
+  for (const std::vector<std::uint32_t>& loop : BoundaryLoops(target.positions, target_triangles)) {
+    if (std::none_of(loop.begin(), loop.end(), [&](std::uint32_t v) { return rim_snapped[v] != 0; })) continue;
+    mapping.rims.push_back(RimOfLoop(loop, target, params, radius, neighbour_begin, neighbours));
+  }
+}
+
+}  // namespace
+
+TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
+                                       std::span<const Triangle> template_triangles,
+                                       std::span<const glm::vec3> target_positions,
+                                       std::span<const Triangle> target_triangles,
+                                       const TopologyMappingParams& params,
+                                       std::span<const TemplateRim> template_rims) {
+  CheckTarget(target_positions, target_triangles);
+  CheckParams(params);
+  const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
+  const float diagonal = BoundingDiagonalOf(fitted_template);
+  const float full = params.full_weight_distance * diagonal;
+  const float zero = params.zero_weight_distance * diagonal;
+
+  std::vector<std::uint32_t> template_part_of_vertex, target_part_of_vertex;
+  ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
+  const std::size_t target_parts =
+      ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
+  const PartVotes votes = CountPartVotes(whole, template_triangles, template_part_of_vertex, target_positions,
+                                         target_part_of_vertex, target_parts, zero);
+  const PartSurfaces surfaces =
+      BuildPartSurfaces(fitted_template, template_triangles, template_part_of_vertex, votes, params.min_part_vote);
+
+  const TargetSearchView target =
+      MakeTargetSearchView(target_positions, target_triangles, params.boundary_inset * diagonal);
+  CheckTemplateRims(template_rims, fitted_template.size());
+  const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_rims);
+  const VertexMapper mapper{fitted_template, template_triangles, rim_edges, target, params,
+                            params.rim_snap_distance * diagonal, zero};
+
+  const std::size_t n = target_positions.size();
   TopologyMapping mapping;
   std::vector<std::uint8_t> rim_snapped(n, 0);
   mapping.triangle.resize(n);
@@ -331,75 +498,14 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
   mapping.weight.resize(n);
   double distance_sum = 0.0;
   for (std::size_t v = 0; v < n; ++v) {
-    ClosestPointHit hit = nearest[v];
-    const PartSurface* surface = surface_of_part[target_part_of_vertex[v]];
-    const ClosestPointHit on_rim =
-        on_boundary[v] && !rim_edges.empty()
-            ? NearestOnRim(target_positions[v], -inward[v], fitted_template, template_triangles, rim_edges,
-                           params.rim_min_facing, params.rim_snap_distance * diagonal)
-            : ClosestPointHit{};
-    if (on_rim.triangle >= 0) {
-      hit = on_rim;
-      ++mapping.rim_vertices;
-      rim_snapped[v] = 1;
-    } else if (surface) {
-      ClosestPointHit facing =
-          surface->query->FindFacing(queries[v], target_normals[v], params.min_normal_dot, zero);
-      if (facing.triangle < 0) {
-        facing = surface->query->Find(queries[v]);
-        ++mapping.facing_fallbacks;
-      }
-      facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);
-      hit = facing;
-    }
-    mapping.triangle[v] = static_cast<std::uint32_t>(hit.triangle);
-    mapping.barycentrics[v] = hit.barycentrics;
-    mapping.weight[v] = Falloff(hit.distance, full, zero);
-    if (mapping.weight[v] >= 1.0f) {
-      ++mapping.full_vertices;
-      distance_sum += hit.distance;
-    } else if (mapping.weight[v] > 0.0f) {
-      ++mapping.partial_vertices;
-    } else {
-      ++mapping.unmapped_vertices;
-    }
+    bool snapped = false;
+    const ClosestPointHit hit =
+        mapper.Map(v, votes.nearest[v], surfaces.surface_of_part[target_part_of_vertex[v]], snapped, mapping);
+    rim_snapped[v] = snapped ? 1 : 0;
+    RecordHit(mapping, v, hit, full, zero, distance_sum);
   }
   mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
-  if (mapping.rim_vertices > 0) {
-    mapping.rim_closing_ratio = params.rim_closing_ratio;
-    std::vector<std::uint32_t> neighbour_begin, neighbours;
-    if (params.rim_closing_ratio > 0.0f) VertexNeighbours(n, target_triangles, neighbour_begin, neighbours);
-    const float radius = params.rim_smoothing_radius * diagonal;
-    for (const std::vector<std::uint32_t>& loop : BoundaryLoops(target_positions, target_triangles)) {
-      if (std::none_of(loop.begin(), loop.end(), [&](std::uint32_t v) { return rim_snapped[v] != 0; })) continue;
-      const std::size_t size = loop.size();
-      float length = 0.0f;
-      for (std::size_t i = 0; i < size; ++i) {
-        length += glm::length(target_positions[loop[(i + 1) % size]] - target_positions[loop[i]]);
-      }
-      // k passes of the (1, 2, 1) / 4 filter: a Gaussian of variance k / 2 vertex spacings squared.
-      const float spacing = length / static_cast<float>(size);
-      TopologyMapping::Rim rim;
-      const float ratio = spacing > 0.0f ? radius / spacing : 0.0f;
-      rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
-      for (std::size_t i = 0; i < size; ++i) {
-        const std::uint32_t v = loop[i];
-        const auto same_side = [&](std::size_t j) {
-          return static_cast<std::uint32_t>(glm::dot(inward[v], inward[loop[j]]) >= params.rim_min_facing ? j : i);
-        };
-        rim.vertices.push_back({v, same_side((i + size - 1) % size), same_side((i + 1) % size)});
-        rim.into_opening.push_back(-inward[v]);
-      }
-      rim.rest_gap.resize(size);
-      for (std::size_t i = 0; i < size; ++i) {
-        rim.rest_gap[i] = NearestOppositeSide(rim, i, target_positions, nullptr);
-      }
-      if (params.rim_closing_ratio > 0.0f) {
-        RimBandOf(rim, params.rim_closing_reach, target_positions, neighbour_begin, neighbours);
-      }
-      mapping.rims.push_back(std::move(rim));
-    }
-  }
+  if (mapping.rim_vertices > 0) AddSnappedRims(mapping, target, target_triangles, rim_snapped, params, diagonal);
   return mapping;
 }
 
