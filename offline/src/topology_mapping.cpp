@@ -13,8 +13,8 @@
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/registration_error.h"
-#include "eye_openings.h"
 #include "mesh_edges.h"
+#include "topology_mapping_rims.h"
 
 namespace facerig {
 namespace {
@@ -107,134 +107,6 @@ std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::sp
   std::vector<glm::vec3> queries(positions.begin(), positions.end());
   for (std::size_t v = 0; v < positions.size(); ++v) queries[v] += inset * inward[v];
   return queries;
-}
-
-// An edge of the template between two rim vertices, as a side of one of its
-// triangles (slots first and second of triangle `triangle`), and the
-// direction from it into the opening.
-struct TemplateRimEdge {
-  std::uint32_t triangle;
-  std::uint8_t first;
-  std::uint8_t second;
-  glm::vec3 into_opening;
-};
-
-std::vector<TemplateRimEdge> TemplateRimEdges(std::span<const Triangle> triangles,
-                                              std::span<const TemplateRim> rims) {
-  std::vector<TemplateRimEdge> edges;
-  if (rims.empty()) return edges;
-  const auto rim_of = [&](std::uint32_t v) -> const TemplateRim* {
-    const auto it = std::lower_bound(rims.begin(), rims.end(), v,
-                                     [](const TemplateRim& r, std::uint32_t x) { return r.vertex < x; });
-    return it != rims.end() && it->vertex == v ? &*it : nullptr;
-  };
-  std::vector<std::uint64_t> seen;
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    for (std::uint8_t e = 0; e < 3; ++e) {
-      const auto next = static_cast<std::uint8_t>((e + 1) % 3);
-      const std::uint32_t a = triangles[t][e], b = triangles[t][next];
-      const TemplateRim* rim_a = rim_of(a);
-      const TemplateRim* rim_b = rim_of(b);
-      // Both ends opening the same way (not across a lid corner).
-      if (!rim_a || !rim_b || glm::dot(rim_a->into_opening, rim_b->into_opening) < 0.5f) continue;
-      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
-      seen.push_back(key);
-      const glm::vec3 sum = rim_a->into_opening + rim_b->into_opening;
-      const float length = glm::length(sum);
-      if (length > 0.0f) edges.push_back({static_cast<std::uint32_t>(t), e, next, sum / length});
-    }
-  }
-  return edges;
-}
-
-// The nearest point to p on the template's rim edges that open the way
-// `into_opening` does (cos >= min_facing), as a hit on the edge's triangle;
-// triangle -1 when none lies within max_distance.
-ClosestPointHit NearestOnRim(glm::vec3 p, glm::vec3 into_opening, std::span<const glm::vec3> fitted,
-                             std::span<const Triangle> triangles, std::span<const TemplateRimEdge> edges,
-                             float min_facing, float max_distance) {
-  ClosestPointHit best;
-  best.distance = max_distance;
-  for (const TemplateRimEdge& edge : edges) {
-    if (glm::dot(edge.into_opening, into_opening) < min_facing) continue;
-    const Triangle& t = triangles[edge.triangle];
-    const glm::vec3 a = fitted[t[edge.first]], b = fitted[t[edge.second]];
-    const glm::vec3 ab = b - a;
-    const float length2 = glm::dot(ab, ab);
-    const float along = length2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) : 0.0f;
-    const glm::vec3 point = a + along * ab;
-    const float distance = glm::length(p - point);
-    if (distance > best.distance) continue;
-    best.triangle = static_cast<std::int32_t>(edge.triangle);
-    best.barycentrics = glm::vec3(0.0f);
-    best.barycentrics[edge.first] = 1.0f - along;
-    best.barycentrics[edge.second] = along;
-    best.point = point;
-    best.distance = distance;
-  }
-  return best;
-}
-
-// Distance from rim vertex i to the nearest point of the rim's opposite side
-// (its edges between consecutive loop vertices that both face against i), at
-// positions + deltas (deltas may be null: at rest); 0 when the rim has none.
-// *to_opposite: from vertex i to that point.
-float NearestOppositeSide(const TopologyMapping::Rim& rim, std::size_t i, std::span<const glm::vec3> positions,
-                          const std::vector<glm::vec3>* deltas, glm::vec3* to_opposite = nullptr) {
-  const auto at = [&](std::uint32_t v) { return deltas ? positions[v] + (*deltas)[v] : positions[v]; };
-  const std::size_t size = rim.vertices.size();
-  const glm::vec3 into = rim.into_opening[i];
-  const glm::vec3 p = at(rim.vertices[i].vertex);
-  float best = 0.0f;
-  bool found = false;
-  for (std::size_t j = 0; j < size; ++j) {
-    const std::size_t k = (j + 1) % size;
-    if (glm::dot(into, rim.into_opening[j]) > -0.5f || glm::dot(into, rim.into_opening[k]) > -0.5f) continue;
-    const glm::vec3 a = at(rim.vertices[j].vertex);
-    const glm::vec3 ab = at(rim.vertices[k].vertex) - a;
-    const float length2 = glm::dot(ab, ab);
-    const float along = length2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) : 0.0f;
-    const glm::vec3 q = a + along * ab;
-    const float distance = glm::length(q - p);
-    if (found && distance >= best) continue;
-    found = true;
-    best = distance;
-    if (to_opposite) *to_opposite = q - p;
-  }
-  return best;
-}
-
-// The target vertices that follow rim's closing: each to its nearest rim
-// vertex along mesh edges (rest lengths), within reach times that vertex's
-// rest gap, weighted from 1 there to 0 at the limit (smoothstep).
-void RimBandOf(TopologyMapping::Rim& rim, float reach, std::span<const glm::vec3> positions,
-               const std::vector<std::uint32_t>& neighbour_begin, const std::vector<std::uint32_t>& neighbours) {
-  std::vector<std::uint32_t> sources, rim_index;
-  std::vector<float> limits;
-  for (std::size_t i = 0; i < rim.vertices.size(); ++i) {
-    if (!(rim.rest_gap[i] > 0.0f)) continue;
-    sources.push_back(rim.vertices[i].vertex);
-    rim_index.push_back(static_cast<std::uint32_t>(i));
-    limits.push_back(reach * rim.rest_gap[i]);
-  }
-  for (const EdgeReach& at : VerticesWithinReach(positions, neighbour_begin, neighbours, sources, limits)) {
-    const float t = 1.0f - at.distance / limits[at.source];
-    rim.band.push_back({at.vertex, rim_index[at.source], t * t * (3.0f - 2.0f * t)});
-  }
-}
-
-// rim.passes passes of (previous + 2 self + next) / 4 along the rim; values
-// by index into rim.vertices.
-void SmoothAlongRim(const TopologyMapping::Rim& rim, std::vector<glm::vec3>& values, std::vector<glm::vec3>& scratch) {
-  scratch.resize(values.size());
-  for (int pass = 0; pass < rim.passes; ++pass) {
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      const TopologyMapping::RimNeighbours& at = rim.vertices[i];
-      scratch[i] = 0.25f * (values[at.previous] + 2.0f * values[i] + values[at.next]);
-    }
-    values.swap(scratch);
-  }
 }
 
 void CheckParams(const TopologyMappingParams& params) {
@@ -407,58 +279,6 @@ void RecordHit(TopologyMapping& mapping, std::size_t v, const ClosestPointHit& h
   }
 }
 
-// A target boundary loop with snapped vertices as a rim: smoothing passes for
-// `radius`, same-side neighbours, the opening's direction, rest gaps and,
-// when closing is on, the band of vertices that follow it.
-TopologyMapping::Rim RimOfLoop(const std::vector<std::uint32_t>& loop, const TargetSearchView& target,
-                               const TopologyMappingParams& params, float radius,
-                               const std::vector<std::uint32_t>& neighbour_begin,
-                               const std::vector<std::uint32_t>& neighbours) {
-  const std::span<const glm::vec3> target_positions = target.positions;
-  const std::vector<glm::vec3>& inward = target.inward;
-  const std::size_t size = loop.size();
-  float length = 0.0f;
-  for (std::size_t i = 0; i < size; ++i) {
-    length += glm::length(target_positions[loop[(i + 1) % size]] - target_positions[loop[i]]);
-  }
-  // k passes of the (1, 2, 1) / 4 filter: a Gaussian of variance k / 2 vertex spacings squared.
-  const float spacing = length / static_cast<float>(size);
-  TopologyMapping::Rim rim;
-  const float ratio = spacing > 0.0f ? radius / spacing : 0.0f;
-  rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
-  for (std::size_t i = 0; i < size; ++i) {
-    const std::uint32_t v = loop[i];
-    const auto same_side = [&](std::size_t j) {
-      return static_cast<std::uint32_t>(glm::dot(inward[v], inward[loop[j]]) >= params.rim_min_facing ? j : i);
-    };
-    rim.vertices.push_back({v, same_side((i + size - 1) % size), same_side((i + 1) % size)});
-    rim.into_opening.push_back(-inward[v]);
-  }
-  rim.rest_gap.resize(size);
-  for (std::size_t i = 0; i < size; ++i) {
-    rim.rest_gap[i] = NearestOppositeSide(rim, i, target_positions, nullptr);
-  }
-  if (params.rim_closing_ratio > 0.0f) {
-    RimBandOf(rim, params.rim_closing_reach, target_positions, neighbour_begin, neighbours);
-  }
-  return rim;
-}
-
-// The rims of the target's boundary loops that have snapped vertices.
-void AddSnappedRims(TopologyMapping& mapping, const TargetSearchView& target,
-                    std::span<const Triangle> target_triangles, std::span<const std::uint8_t> rim_snapped,
-                    const TopologyMappingParams& params, float diagonal) {
-  const std::size_t n = target.positions.size();
-  mapping.rim_closing_ratio = params.rim_closing_ratio;
-  std::vector<std::uint32_t> neighbour_begin, neighbours;
-  if (params.rim_closing_ratio > 0.0f) VertexNeighbours(n, target_triangles, neighbour_begin, neighbours);
-  const float radius = params.rim_smoothing_radius * diagonal;
-  for (const std::vector<std::uint32_t>& loop : BoundaryLoops(target.positions, target_triangles)) {
-    if (std::none_of(loop.begin(), loop.end(), [&](std::uint32_t v) { return rim_snapped[v] != 0; })) continue;
-    mapping.rims.push_back(RimOfLoop(loop, target, params, radius, neighbour_begin, neighbours));
-  }
-}
-
 }  // namespace
 
 TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
@@ -505,7 +325,9 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
     RecordHit(mapping, v, hit, full, zero, distance_sum);
   }
   mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
-  if (mapping.rim_vertices > 0) AddSnappedRims(mapping, target, target_triangles, rim_snapped, params, diagonal);
+  if (mapping.rim_vertices > 0) {
+    AddSnappedRims(mapping, target_positions, target.inward, target_triangles, rim_snapped, params, diagonal);
+  }
   return mapping;
 }
 
@@ -526,37 +348,6 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
     for (const TopologyMapping::RimNeighbours& at : rim.vertices) along_rim.push_back(target_values[at.vertex]);
     SmoothAlongRim(rim, along_rim, scratch);
     for (std::size_t i = 0; i < along_rim.size(); ++i) target_values[rim.vertices[i].vertex] = along_rim[i];
-  }
-}
-
-void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target_positions,
-               std::vector<glm::vec3>& deltas) {
-  const float ratio_limit = mapping.rim_closing_ratio;
-  if (!(ratio_limit > 0.0f)) return;
-  std::vector<glm::vec3> correction, scratch;
-  for (const TopologyMapping::Rim& rim : mapping.rims) {
-    if (rim.band.empty()) continue;
-    correction.assign(rim.vertices.size(), glm::vec3(0.0f));
-    bool closing = false;
-    for (std::size_t i = 0; i < rim.vertices.size(); ++i) {
-      if (!(rim.rest_gap[i] > 0.0f)) continue;
-      glm::vec3 to_opposite(0.0f);
-      const float distance = NearestOppositeSide(rim, i, target_positions, &deltas, &to_opposite);
-      // Negative where the side has passed the other (it lies back against its direction into the opening).
-      const float gap = glm::dot(to_opposite, rim.into_opening[i]) < 0.0f ? -distance : distance;
-      const float ratio = gap / rim.rest_gap[i];
-      if (!(ratio < ratio_limit)) continue;
-      // Half the way each side (the other side goes its own half); fully from half the limit down.
-      const float t = std::clamp((ratio_limit - ratio) / (0.5f * ratio_limit), 0.0f, 1.0f);
-      correction[i] = t * t * (3.0f - 2.0f * t) * 0.5f * to_opposite;
-      closing = true;
-    }
-    if (!closing) continue;
-    // Smoothed along the rim as the deltas are: the gap left varies vertex to vertex.
-    SmoothAlongRim(rim, correction, scratch);
-    for (const TopologyMapping::RimBand& follower : rim.band) {
-      deltas[follower.vertex] += follower.weight * correction[follower.rim_index];
-    }
   }
 }
 
