@@ -58,7 +58,7 @@ HeadGeometry BuildSkin() {
   HeadGeometry head;
   head.control = BuildControlMesh();
   const ControlMesh& control = head.control;
-  // Table I of paper 002: two linear steps keep the control shape, two Loop
+  // As in Mattos et al.: two linear steps keep the control shape, two Loop
   // steps smooth it; the corners of the eyes and mouth stay sharp.
   head.subdivision = Subdivide(control.directions.size(), control.triangles, control.corners, 2, 2);
   const std::vector<glm::dvec3> directions = Apply(head.subdivision, control.directions);

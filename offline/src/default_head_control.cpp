@@ -137,10 +137,13 @@ std::uint32_t ControlMesh::Find(const std::string& name) const {
   throw std::out_of_range("default head: no control vertex '" + name + "'");
 }
 
-ControlMesh BuildControlMesh() {
-  const glm::dvec3 origin = SurfaceOrigin();
-  const std::vector<NamedPoint> midline = MidlinePoints();
-  const std::vector<NamedPoint> left = LeftPoints();
+namespace {
+
+// The left half of the control mesh (midline points first, then the left
+// points): their convex hull about the surface origin, minus the cut along
+// the midline and the triangles inside the eye, mouth and neck openings.
+std::vector<Triangle> HalfMeshTriangles(const glm::dvec3& origin, const std::vector<NamedPoint>& midline,
+                                        const std::vector<NamedPoint>& left) {
 
   // Half mesh: midline points nudged to x > 0 (by distinct tiny amounts, so
   // the hull has no exactly coplanar faces), then the left points.
@@ -178,8 +181,13 @@ ControlMesh BuildControlMesh() {
   // Deterministic, readable order: sort by smallest index rotation.
   for (Triangle& t : half) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
   std::sort(half.begin(), half.end());
+  return half;
+}
 
-  // Mirror: midline, left, right (the left points mirrored, same order).
+// Mirror: midline, left, right (the left points mirrored, same order), on the surface.
+ControlMesh MirrorHalf(const glm::dvec3& origin, const std::vector<NamedPoint>& midline,
+                       const std::vector<NamedPoint>& left, const std::vector<Triangle>& half) {
+  const auto midline_count = static_cast<std::uint32_t>(midline.size());
   ControlMesh mesh;
   const auto left_count = static_cast<std::uint32_t>(left.size());
   for (const NamedPoint& point : midline) {
@@ -204,7 +212,11 @@ ControlMesh BuildControlMesh() {
   for (const Triangle& t : half) mesh.triangles.push_back({mirrored(t[0]), mirrored(t[2]), mirrored(t[1])});
 
   for (const glm::dvec3& d : mesh.directions) mesh.positions.push_back(SurfacePoint(d));
+  return mesh;
+}
 
+// The eye and mouth openings (corners, upper and lower rims) and the corner flags.
+void MarkOpenings(ControlMesh& mesh) {
   mesh.corners.assign(mesh.names.size(), 0);
   for (const char* side : {"_L", "_R"}) {
     const std::string s = side;
@@ -220,9 +232,11 @@ ControlMesh BuildControlMesh() {
   mesh.mouth.corner_b = mesh.Find("mouth_corner_L");
   mesh.mouth.upper = {mesh.Find("lip_upper_inner_R"), mesh.Find("lip_upper_inner"), mesh.Find("lip_upper_inner_L")};
   mesh.mouth.lower = {mesh.Find("lip_lower_inner_R"), mesh.Find("lip_lower_inner"), mesh.Find("lip_lower_inner_L")};
+}
 
-  // The openings must be exactly the boundary loops: every boundary edge on
-  // an opening, every opening edge on the boundary.
+// The openings must be exactly the boundary loops: every boundary edge on
+// an opening, every opening edge on the boundary.
+void CheckOpeningsAreBoundaries(const ControlMesh& mesh) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_use;
   for (const Triangle& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) ++edge_use[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
@@ -260,6 +274,17 @@ ControlMesh BuildControlMesh() {
                              " - " + mesh.names[edge.second] + " missing from the triangulation");
     }
   }
+}
+
+}  // namespace
+
+ControlMesh BuildControlMesh() {
+  const glm::dvec3 origin = SurfaceOrigin();
+  const std::vector<NamedPoint> midline = MidlinePoints();
+  const std::vector<NamedPoint> left = LeftPoints();
+  ControlMesh mesh = MirrorHalf(origin, midline, left, HalfMeshTriangles(origin, midline, left));
+  MarkOpenings(mesh);
+  CheckOpeningsAreBoundaries(mesh);
   return mesh;
 }
 

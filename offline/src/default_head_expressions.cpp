@@ -2,7 +2,7 @@
 //
 // Most shapes are authored as displacements of named control vertices and
 // reach the dense mesh through the subdivision matrix (delta = S * delta_c,
-// as paper 002 carries expressions through its subdivision). Motions that are
+// as Mattos et al. carry expressions through its subdivision). Motions that are
 // rotations are evaluated per dense vertex: the jaw about its hinge with
 // control-authored weights (through S), the lids slid over the eyeball in
 // eye-centred spherical coordinates (so they never cut through it, and close
@@ -11,6 +11,8 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -247,33 +249,47 @@ Deltas EyeLook(const HeadGeometry& head, int side, bool vertical, double angle) 
   return dense;
 }
 
-}  // namespace
-
-std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head) {
+// The expressions in the order they are emitted.
+struct ShapeList {
+  const HeadGeometry& head;
   std::vector<std::pair<std::string, Deltas>> shapes;
-  const ControlMesh& control = head.control;
-  auto add = [&](std::string name, Deltas deltas) { shapes.emplace_back(std::move(name), std::move(deltas)); };
 
-  // Jaw and lips, unsided.
+  void Add(std::string name, Deltas deltas) { shapes.emplace_back(std::move(name), std::move(deltas)); }
+  // Only the mouth and cheek shapes touch midline vertices (the middle of the
+  // lips moves a little with either side), with about half the motion.
+  void Sided(int side, const char* name, const ControlDeltas& deltas) {
+    const bool mouth = std::string(name).starts_with("mouth") || std::string(name).starts_with("cheek");
+    Deltas dense = FromControl(head, deltas);
+    Add(std::string(name) + Suffix(side), mouth ? LowerFace(head, std::move(dense)) : std::move(dense));
+  }
+};
+
+// mouthClose: the lips return to each other while the jaw stays open, so
+// it cancels the jaw's motion on the lips (jawOpen w + mouthClose w = lips shut).
+Deltas MouthClose(const HeadGeometry& head, const Deltas& jaw) {
+  std::vector<double> mask = SkinWeights(head, {{"lip_lower_inner", 1.0}, {"lip_lower_outer", 1.0},
+                                                {"lip_lower_inner_L", 1.0}, {"lip_lower_inner_R", 1.0},
+                                                {"lip_lower_outer_L", 1.0}, {"lip_lower_outer_R", 1.0},
+                                                {"mouth_corner_L", 1.0}, {"mouth_corner_R", 1.0},
+                                                {"lip_upper_inner", 1.0}, {"lip_upper_inner_L", 1.0},
+                                                {"lip_upper_inner_R", 1.0}, {"chin", 0.15}});
+  Deltas close = Zero(head);
+  for (std::uint32_t v = 0; v < head.skin_count; ++v) close[v] = -mask[v] * jaw[v];
+  for (std::uint32_t i = 0; i < head.mouth_inner.count; ++i) {
+    const std::uint32_t v = head.mouth_inner.first + i;
+    close[v] = -head.inner_follow[i] * mask[head.inner_source[i]] * jaw[v];
+  }
+  return close;
+}
+
+// Jaw and lips, unsided.
+void AddJawAndLipShapes(ShapeList& list) {
+  const HeadGeometry& head = list.head;
+  const ControlMesh& control = head.control;
+  auto add = [&](std::string name, Deltas deltas) { list.Add(std::move(name), std::move(deltas)); };
   const Deltas jaw = JawOpen(head);
   add("jawOpen", jaw);
-  {
-    // mouthClose: the lips return to each other while the jaw stays open, so
-    // it cancels the jaw's motion on the lips (jawOpen w + mouthClose w = lips shut).
-    std::vector<double> mask = SkinWeights(head, {{"lip_lower_inner", 1.0}, {"lip_lower_outer", 1.0},
-                                                  {"lip_lower_inner_L", 1.0}, {"lip_lower_inner_R", 1.0},
-                                                  {"lip_lower_outer_L", 1.0}, {"lip_lower_outer_R", 1.0},
-                                                  {"mouth_corner_L", 1.0}, {"mouth_corner_R", 1.0},
-                                                  {"lip_upper_inner", 1.0}, {"lip_upper_inner_L", 1.0},
-                                                  {"lip_upper_inner_R", 1.0}, {"chin", 0.15}});
-    Deltas close = Zero(head);
-    for (std::uint32_t v = 0; v < head.skin_count; ++v) close[v] = -mask[v] * jaw[v];
-    for (std::uint32_t i = 0; i < head.mouth_inner.count; ++i) {
-      const std::uint32_t v = head.mouth_inner.first + i;
-      close[v] = -head.inner_follow[i] * mask[head.inner_source[i]] * jaw[v];
-    }
-    add("mouthClose", close);
-  }
+  add("mouthClose", MouthClose(head, jaw));
   add("mouthFunnel", FromControl(head, ControlDeltas(control)
                                            .At("lip_upper_inner", {0.0, 0.3, 0.45})
                                            .At("lip_lower_inner", {0.0, -0.32, 0.4})
@@ -305,95 +321,121 @@ std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head) {
                                               .Both("lip_upper_outer", {0.0, -0.25, -0.4})
                                               .At("lip_upper_inner", {0.0, 0.0, -0.35})
                                               .Both("lip_upper_inner", {0.0, 0.0, -0.3})));
+}
 
-  // Sided shapes. Only the mouth ones touch midline vertices (the middle of
-  // the lips moves a little with either side), with about half the motion.
+// Lips pressed, stretched, smiling, frowning.
+void AddSidedLipShapes(ShapeList& list, int side) {
+  const ControlMesh& control = list.head.control;
+  auto sided = [&](const char* shape, const ControlDeltas& deltas) { list.Sided(side, shape, deltas); };
+  sided("mouthPress", ControlDeltas(control)
+                          .Side("lip_upper_inner", side, {0.0, 0.0, -0.12})
+                          .Side("lip_lower_inner", side, {0.0, 0.0, -0.12})
+                          .Side("lip_upper_outer", side, {0.0, -0.15, -0.15})
+                          .Side("lip_lower_outer", side, {0.0, 0.17, -0.15})
+                          .At("lip_upper_outer", {0.0, -0.07, -0.07})
+                          .At("lip_lower_outer", {0.0, 0.08, -0.07})
+                          .Side("mouth_corner", side, {0.05, 0.0, -0.05}));
+  sided("mouthStretch", ControlDeltas(control)
+                            .Side("mouth_corner", side, {0.5, -0.25, -0.2})
+                            .Side("lip_lower_inner", side, {0.2, -0.18, -0.05})
+                            .Side("lip_lower_outer", side, {0.2, -0.22, -0.05})
+                            .Side("lip_upper_inner", side, {0.15, 0.0, -0.03})
+                            .Side("lip_upper_outer", side, {0.15, 0.0, -0.03})
+                            .Side("cheek_low", side, {0.15, -0.1, 0.0}));
+  sided("mouthSmile", ControlDeltas(control)
+                          .Side("mouth_corner", side, {0.45, 0.6, -0.3})
+                          .Side("lip_upper_inner", side, {0.15, 0.18, -0.05})
+                          .Side("lip_lower_inner", side, {0.15, 0.22, -0.05})
+                          .Side("lip_upper_outer", side, {0.15, 0.15, -0.05})
+                          .Side("lip_lower_outer", side, {0.15, 0.15, -0.05})
+                          .Side("cheek_low", side, {0.15, 0.4, 0.15})
+                          .Side("cheek_inner", side, {0.0, 0.2, 0.12})
+                          .Side("nose_wing", side, {0.03, 0.05, 0.0})
+                          .Side("lid_below", side, {0.0, 0.08, 0.02}));
+  sided("mouthFrown", ControlDeltas(control)
+                          .Side("mouth_corner", side, {0.05, -0.55, -0.05})
+                          .Side("lip_lower_outer", side, {0.0, -0.15, 0.0})
+                          .Side("lip_lower_inner", side, {0.0, -0.12, 0.0})
+                          .Side("lip_upper_inner", side, {0.0, -0.1, 0.0})
+                          .Side("cheek_low", side, {0.0, -0.15, 0.0}));
+}
+
+// Lips up and down, cheek puff, sneer.
+void AddSidedMouthShapes(ShapeList& list, int side) {
+  const ControlMesh& control = list.head.control;
+  auto sided = [&](const char* shape, const ControlDeltas& deltas) { list.Sided(side, shape, deltas); };
+  sided("mouthLowerDown", ControlDeltas(control)
+                              .Side("lip_lower_inner", side, {0.0, -0.45, 0.02})
+                              .Side("lip_lower_outer", side, {0.0, -0.4, 0.05})
+                              .At("lip_lower_inner", {0.0, -0.22, 0.0})
+                              .At("lip_lower_outer", {0.0, -0.2, 0.02})
+                              .Side("mouth_corner", side, {0.0, -0.08, 0.0})
+                              .At("chin", {0.0, -0.05, 0.0}));
+  sided("mouthUpperUp", ControlDeltas(control)
+                            .Side("lip_upper_inner", side, {0.0, 0.4, 0.05})
+                            .Side("lip_upper_outer", side, {0.0, 0.4, 0.05})
+                            .At("lip_upper_inner", {0.0, 0.2, 0.02})
+                            .At("lip_upper_outer", {0.0, 0.2, 0.02})
+                            .Side("nose_wing", side, {0.0, 0.08, 0.0})
+                            .Side("mouth_corner", side, {0.0, 0.05, 0.0}));
+  sided("cheekPuff", ControlDeltas(control)
+                         .Side("cheek_low", side, {0.5, 0.05, 0.3})
+                         .Side("cheek_inner", side, {0.1, 0.0, 0.15})
+                         .Side("mouth_corner", side, {0.12, 0.0, 0.1})
+                         .Side("jaw", side, {0.15, 0.0, 0.1}));
+  sided("noseSneer", ControlDeltas(control)
+                         .Side("nose_wing", side, {0.05, 0.3, 0.0})
+                         .Side("cheek_inner", side, {0.0, 0.2, 0.05})
+                         .Side("lip_upper_outer", side, {0.0, 0.12, 0.0})
+                         .Side("brow_inner", side, {0.0, -0.15, 0.0}));
+}
+
+void AddSidedBrowShapes(ShapeList& list, int side) {
+  const ControlMesh& control = list.head.control;
+  auto sided = [&](const char* shape, const ControlDeltas& deltas) { list.Sided(side, shape, deltas); };
+  sided("browInnerUp", ControlDeltas(control)
+                           .Side("brow_inner", side, {0.0, 0.7, 0.05})
+                           .Side("brow_mid", side, {0.0, 0.3, 0.0})
+                           .Side("lid_fold", side, {0.0, 0.15, 0.0}));
+  sided("browDown", ControlDeltas(control)
+                        .Side("brow_inner", side, {-0.25, -0.55, 0.1})
+                        .Side("brow_mid", side, {0.0, -0.4, 0.05})
+                        .Side("brow_outer", side, {0.0, -0.2, 0.0})
+                        .Side("lid_fold", side, {0.0, -0.2, 0.05}));
+  sided("browOuterUp", ControlDeltas(control)
+                           .Side("brow_outer", side, {0.0, 0.65, 0.0})
+                           .Side("brow_mid", side, {0.0, 0.3, 0.0})
+                           .Side("lid_fold", side, {0.0, 0.12, 0.0}));
+}
+
+// Lids and gaze: rotations and lid motions on the dense mesh.
+void AddSidedEyeShapes(ShapeList& list, int side) {
+  const HeadGeometry& head = list.head;
+  const std::string s = Suffix(side);
+  auto add = [&](std::string name, Deltas deltas) { list.Add(std::move(name), std::move(deltas)); };
+  add("eyeBlink" + s, Blink(head, side));
+  add("eyeWide" + s, EyeWide(head, side));
+  add("eyeSquint" + s, EyeSquint(head, side));
+  // Gaze: 20 degrees up, 25 down, 30 in and out. "In" turns towards the nose.
+  const double in = side == 0 ? -1.0 : 1.0;
+  add("eyeLookUp" + s, EyeLook(head, side, true, -0.35));
+  add("eyeLookDown" + s, EyeLook(head, side, true, 0.44));
+  add("eyeLookIn" + s, EyeLook(head, side, false, in * 0.52));
+  add("eyeLookOut" + s, EyeLook(head, side, false, -in * 0.52));
+}
+
+}  // namespace
+
+std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head) {
+  ShapeList list{head, {}};
+  AddJawAndLipShapes(list);
   for (int side = 0; side < 2; ++side) {
-    const std::string s = Suffix(side);
-    auto sided = [&](const char* name, const ControlDeltas& deltas) {
-      const bool mouth = std::string(name).starts_with("mouth") || std::string(name).starts_with("cheek");
-      Deltas dense = FromControl(head, deltas);
-      add(std::string(name) + s, mouth ? LowerFace(head, std::move(dense)) : std::move(dense));
-    };
-    sided("mouthPress", ControlDeltas(control)
-                            .Side("lip_upper_inner", side, {0.0, 0.0, -0.12})
-                            .Side("lip_lower_inner", side, {0.0, 0.0, -0.12})
-                            .Side("lip_upper_outer", side, {0.0, -0.15, -0.15})
-                            .Side("lip_lower_outer", side, {0.0, 0.17, -0.15})
-                            .At("lip_upper_outer", {0.0, -0.07, -0.07})
-                            .At("lip_lower_outer", {0.0, 0.08, -0.07})
-                            .Side("mouth_corner", side, {0.05, 0.0, -0.05}));
-    sided("mouthStretch", ControlDeltas(control)
-                              .Side("mouth_corner", side, {0.5, -0.25, -0.2})
-                              .Side("lip_lower_inner", side, {0.2, -0.18, -0.05})
-                              .Side("lip_lower_outer", side, {0.2, -0.22, -0.05})
-                              .Side("lip_upper_inner", side, {0.15, 0.0, -0.03})
-                              .Side("lip_upper_outer", side, {0.15, 0.0, -0.03})
-                              .Side("cheek_low", side, {0.15, -0.1, 0.0}));
-    sided("mouthSmile", ControlDeltas(control)
-                            .Side("mouth_corner", side, {0.45, 0.6, -0.3})
-                            .Side("lip_upper_inner", side, {0.15, 0.18, -0.05})
-                            .Side("lip_lower_inner", side, {0.15, 0.22, -0.05})
-                            .Side("lip_upper_outer", side, {0.15, 0.15, -0.05})
-                            .Side("lip_lower_outer", side, {0.15, 0.15, -0.05})
-                            .Side("cheek_low", side, {0.15, 0.4, 0.15})
-                            .Side("cheek_inner", side, {0.0, 0.2, 0.12})
-                            .Side("nose_wing", side, {0.03, 0.05, 0.0})
-                            .Side("lid_below", side, {0.0, 0.08, 0.02}));
-    sided("mouthFrown", ControlDeltas(control)
-                            .Side("mouth_corner", side, {0.05, -0.55, -0.05})
-                            .Side("lip_lower_outer", side, {0.0, -0.15, 0.0})
-                            .Side("lip_lower_inner", side, {0.0, -0.12, 0.0})
-                            .Side("lip_upper_inner", side, {0.0, -0.1, 0.0})
-                            .Side("cheek_low", side, {0.0, -0.15, 0.0}));
-    sided("mouthLowerDown", ControlDeltas(control)
-                                .Side("lip_lower_inner", side, {0.0, -0.45, 0.02})
-                                .Side("lip_lower_outer", side, {0.0, -0.4, 0.05})
-                                .At("lip_lower_inner", {0.0, -0.22, 0.0})
-                                .At("lip_lower_outer", {0.0, -0.2, 0.02})
-                                .Side("mouth_corner", side, {0.0, -0.08, 0.0})
-                                .At("chin", {0.0, -0.05, 0.0}));
-    sided("mouthUpperUp", ControlDeltas(control)
-                              .Side("lip_upper_inner", side, {0.0, 0.4, 0.05})
-                              .Side("lip_upper_outer", side, {0.0, 0.4, 0.05})
-                              .At("lip_upper_inner", {0.0, 0.2, 0.02})
-                              .At("lip_upper_outer", {0.0, 0.2, 0.02})
-                              .Side("nose_wing", side, {0.0, 0.08, 0.0})
-                              .Side("mouth_corner", side, {0.0, 0.05, 0.0}));
-    sided("cheekPuff", ControlDeltas(control)
-                           .Side("cheek_low", side, {0.5, 0.05, 0.3})
-                           .Side("cheek_inner", side, {0.1, 0.0, 0.15})
-                           .Side("mouth_corner", side, {0.12, 0.0, 0.1})
-                           .Side("jaw", side, {0.15, 0.0, 0.1}));
-    sided("noseSneer", ControlDeltas(control)
-                           .Side("nose_wing", side, {0.05, 0.3, 0.0})
-                           .Side("cheek_inner", side, {0.0, 0.2, 0.05})
-                           .Side("lip_upper_outer", side, {0.0, 0.12, 0.0})
-                           .Side("brow_inner", side, {0.0, -0.15, 0.0}));
-    sided("browInnerUp", ControlDeltas(control)
-                             .Side("brow_inner", side, {0.0, 0.7, 0.05})
-                             .Side("brow_mid", side, {0.0, 0.3, 0.0})
-                             .Side("lid_fold", side, {0.0, 0.15, 0.0}));
-    sided("browDown", ControlDeltas(control)
-                          .Side("brow_inner", side, {-0.25, -0.55, 0.1})
-                          .Side("brow_mid", side, {0.0, -0.4, 0.05})
-                          .Side("brow_outer", side, {0.0, -0.2, 0.0})
-                          .Side("lid_fold", side, {0.0, -0.2, 0.05}));
-    sided("browOuterUp", ControlDeltas(control)
-                             .Side("brow_outer", side, {0.0, 0.65, 0.0})
-                             .Side("brow_mid", side, {0.0, 0.3, 0.0})
-                             .Side("lid_fold", side, {0.0, 0.12, 0.0}));
-    add("eyeBlink" + s, Blink(head, side));
-    add("eyeWide" + s, EyeWide(head, side));
-    add("eyeSquint" + s, EyeSquint(head, side));
-    // Gaze: 20 degrees up, 25 down, 30 in and out. "In" turns towards the nose.
-    const double in = side == 0 ? -1.0 : 1.0;
-    add("eyeLookUp" + s, EyeLook(head, side, true, -0.35));
-    add("eyeLookDown" + s, EyeLook(head, side, true, 0.44));
-    add("eyeLookIn" + s, EyeLook(head, side, false, in * 0.52));
-    add("eyeLookOut" + s, EyeLook(head, side, false, -in * 0.52));
+    AddSidedLipShapes(list, side);
+    AddSidedMouthShapes(list, side);
+    AddSidedBrowShapes(list, side);
+    AddSidedEyeShapes(list, side);
   }
-
+  const auto& shapes = list.shapes;
   std::vector<RawBlendShape> result;
   result.reserve(shapes.size());
   for (const auto& [name, deltas] : shapes) {

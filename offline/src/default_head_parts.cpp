@@ -135,7 +135,9 @@ std::vector<Triangle> AddTeethRow(HeadGeometry& head, double front, double half_
 
 }  // namespace
 
-void AddParts(HeadGeometry& head) {
+namespace {
+
+void AddEyeballs(HeadGeometry& head) {
   // Eyeballs. The iris is 0.58 cm in radius, the pupil 0.24 cm (stylized: a little large).
   const double r = Anatomy::kEyeRadius;
   const double iris = std::asin(0.58 / r), pupil = std::asin(0.24 / r);
@@ -152,8 +154,11 @@ void AddParts(HeadGeometry& head) {
   static const char* const kEyeParts[6] = {"eye_white_L", "eye_white_R", "iris_L", "iris_R", "pupil_L", "pupil_R"};
   for (std::size_t i = 0; i < 6; ++i) AddPart(head, kEyeParts[i], eye_parts[i]);
   head.eyeballs = {eyes_begin, static_cast<std::uint32_t>(head.positions.size()) - eyes_begin};
+}
 
-  // Teeth, placed from the lips' actual crease so they sit just behind it.
+// Teeth, placed from the lips' actual crease so they sit just behind it.
+// Returns the crease's depth (z), which the tongue is placed from too.
+double AddTeeth(HeadGeometry& head) {
   double crease_z = 0.0;
   for (std::uint32_t v : head.upper_lip) crease_z = std::max(crease_z, head.positions[v].z);
   const double mouth_y = Anatomy::kMouthY;
@@ -166,7 +171,11 @@ void AddParts(HeadGeometry& head) {
   AddPart(head, "teeth_lower",
           AddTeethRow(head, teeth_front - 0.55, 1.7, 2.3, mouth_y - 0.05, mouth_y - 0.85, 0.45, false, 1.0));
   head.teeth_lower.count = static_cast<std::uint32_t>(head.positions.size()) - head.teeth_lower.first;
+  return crease_z;
+}
 
+void AddInnerMouth(HeadGeometry& head) {
+  const double mouth_y = Anatomy::kMouthY;
   // Inner mouth: rings hanging from the lip margin loop (right corner, upper
   // chain, left corner, lower chain reversed), each ring deeper, opening to a
   // bag and closing at the back. Corners are the skin's corner vertices.
@@ -210,44 +219,54 @@ void AddParts(HeadGeometry& head) {
   // left corner, under the bottom); faces point into the mouth cavity.
   for (std::size_t k = 0; k + 1 < rows.size(); ++k) Strip(inner, rows[k], rows[k + 1], true);
   AddPart(head, "mouth_inner", inner);
+}
 
-  // Tongue: a flattened ellipsoid on the floor of the mouth, on the jaw.
+// Tongue: a flattened ellipsoid on the floor of the mouth, on the jaw.
+void AddTongue(HeadGeometry& head, double crease_z) {
+  const double mouth_y = Anatomy::kMouthY;
   head.tongue.first = static_cast<std::uint32_t>(head.positions.size());
-  {
-    const glm::dvec3 centre{0.0, mouth_y - 0.95, crease_z - 2.9};
-    const glm::dvec3 radii{1.45, 0.5, 1.9};
-    constexpr int kRingsT = 10, kSegmentsT = 20;
-    std::vector<std::vector<std::uint32_t>> t_rows;
-    for (int i = 0; i <= kRingsT; ++i) {
-      const double theta = kPi * i / kRingsT;  // from the tip (+Z) backwards
-      std::vector<std::uint32_t> row;
-      const int count = (i == 0 || i == kRingsT) ? 1 : kSegmentsT;
-      for (int k = 0; k < count; ++k) {
-        const double phi = 2.0 * kPi * k / kSegmentsT;
-        const glm::dvec3 unit{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-        const std::uint32_t v = AddVertex(head, centre + unit * radii);
-        head.jaw_weight[v] = 1.0;
-        row.push_back(v);
-      }
-      t_rows.push_back(std::move(row));
+  const glm::dvec3 centre{0.0, mouth_y - 0.95, crease_z - 2.9};
+  const glm::dvec3 radii{1.45, 0.5, 1.9};
+  constexpr int kRingsT = 10, kSegmentsT = 20;
+  std::vector<std::vector<std::uint32_t>> t_rows;
+  for (int i = 0; i <= kRingsT; ++i) {
+    const double theta = kPi * i / kRingsT;  // from the tip (+Z) backwards
+    std::vector<std::uint32_t> row;
+    const int count = (i == 0 || i == kRingsT) ? 1 : kSegmentsT;
+    for (int k = 0; k < count; ++k) {
+      const double phi = 2.0 * kPi * k / kSegmentsT;
+      const glm::dvec3 unit{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+      const std::uint32_t v = AddVertex(head, centre + unit * radii);
+      head.jaw_weight[v] = 1.0;
+      row.push_back(v);
     }
-    std::vector<Triangle> tongue;
-    for (std::size_t i = 0; i + 1 < t_rows.size(); ++i) {
-      const auto& a = t_rows[i];
-      const auto& b = t_rows[i + 1];
-      for (std::size_t k = 0; k < static_cast<std::size_t>(kSegmentsT); ++k) {
-        const std::size_t l = (k + 1) % kSegmentsT;
-        if (a.size() == 1) tongue.push_back({a[0], b[k], b[l]});
-        else if (b.size() == 1) tongue.push_back({a[k], b[0], a[l]});
-        else {
-          tongue.push_back({a[k], b[k], b[l]});
-          tongue.push_back({a[k], b[l], a[l]});
-        }
-      }
-    }
-    AddPart(head, "tongue", tongue);
+    t_rows.push_back(std::move(row));
   }
+  std::vector<Triangle> tongue;
+  for (std::size_t i = 0; i + 1 < t_rows.size(); ++i) {
+    const auto& a = t_rows[i];
+    const auto& b = t_rows[i + 1];
+    for (std::size_t k = 0; k < static_cast<std::size_t>(kSegmentsT); ++k) {
+      const std::size_t l = (k + 1) % kSegmentsT;
+      if (a.size() == 1) tongue.push_back({a[0], b[k], b[l]});
+      else if (b.size() == 1) tongue.push_back({a[k], b[0], a[l]});
+      else {
+        tongue.push_back({a[k], b[k], b[l]});
+        tongue.push_back({a[k], b[l], a[l]});
+      }
+    }
+  }
+  AddPart(head, "tongue", tongue);
   head.tongue.count = static_cast<std::uint32_t>(head.positions.size()) - head.tongue.first;
+}
+
+}  // namespace
+
+void AddParts(HeadGeometry& head) {
+  AddEyeballs(head);
+  const double crease_z = AddTeeth(head);
+  AddInnerMouth(head);
+  AddTongue(head, crease_z);
 }
 
 }  // namespace facerig::default_head

@@ -1,4 +1,4 @@
-// 2 linear + 2 Loop subdivisions as one sparse matrix (paper 002, Table I):
+// 2 linear + 2 Loop subdivisions as one sparse matrix (the construction of Mattos et al.):
 // subdivision is linear in the control positions, so any per-vertex quantity
 // authored on the control mesh (positions, displacements, weights) maps to
 // the dense mesh through the same matrix, keeping per-vertex correspondence.
@@ -23,12 +23,19 @@ struct EdgeInfo {
   std::vector<std::uint32_t> opposite;  // 1 (boundary) or 2 (interior) opposite vertices
 };
 
-// One step: returns the (V + E) x V matrix and the refined triangles.
+// The edges of `triangles` in first-use order, each with its new (midpoint)
+// vertex numbered from vertex_count and its opposite vertices.
 // std::map keeps the edge numbering independent of hashing: deterministic.
-Matrix Step(std::size_t vertex_count, const std::vector<Triangle>& triangles,
-            const std::vector<std::uint8_t>& corners, bool loop, std::vector<Triangle>& refined) {
+struct EdgeTable {
   std::map<Edge, EdgeInfo> edges;
-  std::vector<Edge> edge_order;
+  std::vector<Edge> order;
+  std::uint32_t next = 0;  // vertex count after the step
+};
+
+EdgeTable NumberEdges(std::size_t vertex_count, const std::vector<Triangle>& triangles) {
+  EdgeTable table;
+  std::map<Edge, EdgeInfo>& edges = table.edges;
+  std::vector<Edge>& edge_order = table.order;
   auto next = static_cast<std::uint32_t>(vertex_count);
   for (const Triangle& t : triangles) {
     for (int k = 0; k < 3; ++k) {
@@ -42,7 +49,16 @@ Matrix Step(std::size_t vertex_count, const std::vector<Triangle>& triangles,
       if (it->second.opposite.size() > 2) throw std::invalid_argument("Subdivide: non-manifold edge");
     }
   }
+  table.next = next;
+  return table;
+}
 
+// Rows of the old vertices: kept (linear steps, corners, where two openings
+// touch), boundary (1, 6, 1) / 8, or Loop's interior weights.
+void AddVertexRows(std::size_t vertex_count, EdgeTable& table, const std::vector<std::uint8_t>& corners, bool loop,
+                   std::vector<Eigen::Triplet<double>>& entries) {
+  std::map<Edge, EdgeInfo>& edges = table.edges;
+  const std::vector<Edge>& edge_order = table.order;
   // Neighbours of each old vertex, and its boundary neighbours.
   std::vector<std::vector<std::uint32_t>> neighbours(vertex_count), boundary(vertex_count);
   for (const Edge& e : edge_order) {
@@ -53,9 +69,6 @@ Matrix Step(std::size_t vertex_count, const std::vector<Triangle>& triangles,
       boundary[e.second].push_back(e.first);
     }
   }
-
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(vertex_count * 7 + edge_order.size() * 4);
   for (std::uint32_t v = 0; v < vertex_count; ++v) {
     const auto row = static_cast<Eigen::Index>(v);
     if (!loop || (v < corners.size() && corners[v]) || neighbours[v].empty()) {
@@ -77,6 +90,12 @@ Matrix Step(std::size_t vertex_count, const std::vector<Triangle>& triangles,
       for (std::uint32_t u : neighbours[v]) entries.emplace_back(row, u, beta);
     }
   }
+}
+
+// Rows of the new edge vertices: midpoints, or Loop's (3, 3, 1, 1) / 8 inside.
+void AddEdgeRows(EdgeTable& table, bool loop, std::vector<Eigen::Triplet<double>>& entries) {
+  std::map<Edge, EdgeInfo>& edges = table.edges;
+  const std::vector<Edge>& edge_order = table.order;
   for (const Edge& e : edge_order) {
     const EdgeInfo& info = edges[e];
     const auto row = static_cast<Eigen::Index>(info.new_vertex);
@@ -90,9 +109,11 @@ Matrix Step(std::size_t vertex_count, const std::vector<Triangle>& triangles,
       entries.emplace_back(row, info.opposite[1], 0.125);
     }
   }
-  Matrix step(static_cast<Eigen::Index>(next), static_cast<Eigen::Index>(vertex_count));
-  step.setFromTriplets(entries.begin(), entries.end());
+}
 
+// Each triangle into four through its edges' new vertices.
+void RefineTriangles(const std::vector<Triangle>& triangles, std::map<Edge, EdgeInfo>& edges,
+                     std::vector<Triangle>& refined) {
   refined.clear();
   refined.reserve(triangles.size() * 4);
   for (const Triangle& t : triangles) {
@@ -104,6 +125,19 @@ Matrix Step(std::size_t vertex_count, const std::vector<Triangle>& triangles,
     refined.push_back({t[2], ca, bc});
     refined.push_back({ab, bc, ca});
   }
+}
+
+// One step: returns the (V + E) x V matrix and the refined triangles.
+Matrix Step(std::size_t vertex_count, const std::vector<Triangle>& triangles,
+            const std::vector<std::uint8_t>& corners, bool loop, std::vector<Triangle>& refined) {
+  EdgeTable table = NumberEdges(vertex_count, triangles);
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(vertex_count * 7 + table.order.size() * 4);
+  AddVertexRows(vertex_count, table, corners, loop, entries);
+  AddEdgeRows(table, loop, entries);
+  Matrix step(static_cast<Eigen::Index>(table.next), static_cast<Eigen::Index>(vertex_count));
+  step.setFromTriplets(entries.begin(), entries.end());
+  RefineTriangles(triangles, table.edges, refined);
   return step;
 }
 

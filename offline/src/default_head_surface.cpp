@@ -1,7 +1,7 @@
 // The sculpted head: an implicit function (negative inside) built from smooth
 // unions of ellipsoids and capsules, the way a stylized game head is blocked
 // out. The subdivided control mesh is projected onto it along rays from the
-// surface origin (paper 002 projects onto a scan along normals; a star-shaped
+// surface origin (Mattos et al. project onto a scan along normals; a star-shaped
 // analytic sculpt lets a ray from one origin do it without fold-overs).
 #include <algorithm>
 #include <cmath>

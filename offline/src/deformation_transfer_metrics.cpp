@@ -1,4 +1,4 @@
-// Error measures for deformation transfer against a known answer (issue 6).
+// Error measures for deformation transfer against a known answer.
 #include <algorithm>
 #include <cmath>
 #include <functional>

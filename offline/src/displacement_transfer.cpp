@@ -252,7 +252,7 @@ DisplacementTransferResult TransferDisplacements(const DisplacementMatrices& mat
       if (!(model_extent[axis] > 0.0f) || !(base_extent[axis] > 0.0f)) {
         throw TransferInputError("model neutral", "empty bounding box on an axis");
       }
-      // Paper 002 eq. 4-6 as printed multiply by X_base / X_model, which
+      // Mattos et al.'s normalisation as printed multiplies by X_base / X_model, which
       // shrinks the displacements on a bigger face; they must scale WITH the
       // face, so the ratio used here is X_model / X_base.
       result.scale[axis] = model_extent[axis] / base_extent[axis];

@@ -1,8 +1,8 @@
 // Eye landmarks from the mesh's own eye openings. Where an eye is a hole in
 // the face mesh (a separate eyeball behind it: most game and scanned heads),
 // the hole's boundary is the lid margins, a better guide than a 2D detector
-// trained on photographs: on the built-in stylized head dlib put the eye
-// 2.8 cm wide and its lower lid 6 mm above the real margin.
+// trained on photographs, which misplaces a stylized head's eyes (README,
+// "Measurements behind the defaults").
 #pragma once
 
 #include <cstdint>
@@ -20,7 +20,7 @@ namespace facerig {
 std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3> positions,
                                                      std::span<const Triangle> triangles);
 
-// Paper 004, section 3.3: where an eye is an opening in the mesh, its
+// Where an eye is an opening in the mesh, its
 // corners (dlib 36/39, 42/45) are the ends of the opening's first principal
 // axis. Moves only corners within 0.3 eye widths. Returns how many moved.
 int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
@@ -32,8 +32,8 @@ int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Tria
 // fitted to the largest opening whose centre lies within 0.75 of the detected
 // eye width of the detected eye's centre and whose size is 0.2 to 0.8 of that
 // width (an iris may be a hole too), unless a point would move farther than
-// 0.75 of the width (dlib put the stylized head's upper lid 1.7 cm high). points: the 68 landmarks. Returns how
-// many eyes were fitted.
+// 0.75 of the width (the opening is then not this eye). points: the 68
+// landmarks. Returns how many eyes were fitted.
 int FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
                       std::vector<glm::vec3>& points);
 

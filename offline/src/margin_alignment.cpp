@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -91,18 +92,14 @@ std::vector<OpeningMargin> FindOpeningMargins(const Rig& template_rig) {
   return margins;
 }
 
-MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::span<const Triangle> template_triangles,
-                                             std::span<const OpeningMargin> margins,
-                                             std::span<const glm::vec3> target_positions,
-                                             std::span<const Triangle> target_triangles,
-                                             const MarginAlignmentParams& params) {
-  MarginAlignmentResult result;
-  const std::vector<RimEdge> rims = RimEdges(target_positions, target_triangles);
-  if (rims.empty() || margins.empty()) return result;
+namespace {
 
-  // Each margin vertex onto the nearest rim point that faces the same way.
-  const std::size_t n = fitted.size();
-  std::vector<std::optional<glm::vec3>> rim_point(n);
+// Each margin vertex onto the nearest rim point that faces the same way.
+std::vector<std::optional<glm::vec3>> NearestRimPoints(std::span<const glm::vec3> fitted,
+                                                       std::span<const OpeningMargin> margins,
+                                                       std::span<const RimEdge> rims,
+                                                       const MarginAlignmentParams& params) {
+  std::vector<std::optional<glm::vec3>> rim_point(fitted.size());
   for (const OpeningMargin& margin : margins) {
     const glm::vec3 p = fitted[margin.vertex];
     const glm::vec3 across = fitted[margin.partner] - p;
@@ -120,14 +117,21 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
       }
     }
   }
-  // Kept where the partner found a rim point too, across an opening of
-  // about the same size and direction: the stylized head's lips are a slit
-  // 0.5 mm wide, not the opening that ICT's lips roll across.
-  struct Match {
-    std::uint32_t vertex;
-    glm::vec3 correction;
-    float opening;
-  };
+  return rim_point;
+}
+
+struct Match {
+  std::uint32_t vertex;
+  glm::vec3 correction;
+  float opening;
+};
+
+// Kept where the partner found a rim point too, across an opening of
+// about the same size and direction: the stylized head's lips are a slit
+// 0.5 mm wide, not the opening that ICT's lips roll across.
+std::vector<Match> MatchMargins(std::span<const glm::vec3> fitted, std::span<const OpeningMargin> margins,
+                                const std::vector<std::optional<glm::vec3>>& rim_point,
+                                const MarginAlignmentParams& params) {
   std::vector<Match> matches;
   for (const OpeningMargin& margin : margins) {
     if (!rim_point[margin.vertex] || !rim_point[margin.partner]) continue;
@@ -139,6 +143,100 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
     if (glm::dot(across, rim_across) < params.min_facing * opening * rim_opening) continue;
     matches.push_back({margin.vertex, *rim_point[margin.vertex] - fitted[margin.vertex], opening});
   }
+  return matches;
+}
+
+constexpr std::int32_t kFixed = -2;
+constexpr std::int32_t kOutside = -1;
+
+// The band: vertices within `reach` of an aligned margin vertex along the
+// template's edges (multi-source Dijkstra), each with its unknown index; the
+// aligned margins fixed at their corrections.
+struct CorrectionBand {
+  std::vector<std::uint32_t> begin, neighbours;  // template vertex neighbours
+  std::vector<std::int32_t> unknown;             // band vertex -> unknown index, else kFixed / kOutside
+  std::vector<glm::vec3> correction;
+  std::vector<std::uint32_t> band;
+};
+
+CorrectionBand BandAround(std::span<const glm::vec3> fitted, std::span<const Triangle> template_triangles,
+                          std::span<const Match> matches, float reach) {
+  const std::size_t n = fitted.size();
+  CorrectionBand b;
+  VertexNeighbours(n, template_triangles, b.begin, b.neighbours);
+  b.unknown.assign(n, kOutside);
+  b.correction.assign(n, glm::vec3(0.0f));
+  std::vector<std::uint32_t> sources;
+  for (const Match& m : matches) {
+    b.unknown[m.vertex] = kFixed;
+    b.correction[m.vertex] = m.correction;
+    sources.push_back(m.vertex);
+  }
+  const std::vector<float> reaches(sources.size(), reach);
+  for (const EdgeReach& at : VerticesWithinReach(fitted, b.begin, b.neighbours, sources, reaches)) {
+    if (b.unknown[at.vertex] != kOutside) continue;
+    b.unknown[at.vertex] = static_cast<std::int32_t>(b.band.size());
+    b.band.push_back(at.vertex);
+  }
+  return b;
+}
+
+// Harmonic in the band (uniform weights): the aligned margins fixed, zero
+// beyond the band. Leaves the band's corrections at zero if the solve fails.
+void SolveHarmonicBand(CorrectionBand& b) {
+  if (b.band.empty()) return;
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(b.band.size()), 3);
+  for (std::size_t i = 0; i < b.band.size(); ++i) {
+    const std::uint32_t v = b.band[i];
+    const auto row = static_cast<Eigen::Index>(i);
+    triplets.emplace_back(row, row, static_cast<double>(b.begin[v + 1] - b.begin[v]));
+    for (std::uint32_t k = b.begin[v]; k < b.begin[v + 1]; ++k) {
+      const std::uint32_t w = b.neighbours[k];
+      if (b.unknown[w] >= 0) {
+        triplets.emplace_back(row, b.unknown[w], -1.0);
+      } else if (b.unknown[w] == kFixed) {
+        rhs.row(row) += Eigen::RowVector3d(b.correction[w].x, b.correction[w].y, b.correction[w].z);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(b.band.size()),
+                                        static_cast<Eigen::Index>(b.band.size()));
+  laplacian.setFromTriplets(triplets.begin(), triplets.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+  if (solver.info() != Eigen::Success) return;
+  const Eigen::MatrixXd solution = solver.solve(rhs);
+  for (std::size_t i = 0; i < b.band.size(); ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    b.correction[b.band[i]] = glm::vec3(static_cast<float>(solution(row, 0)), static_cast<float>(solution(row, 1)),
+                                        static_cast<float>(solution(row, 2)));
+  }
+}
+
+void SummariseMatches(std::span<const Match> matches, MarginAlignmentResult& result) {
+  result.aligned_vertices = matches.size();
+  for (const Match& m : matches) result.aligned.push_back(m.vertex);
+  std::sort(result.aligned.begin(), result.aligned.end());
+  for (const Match& m : matches) {
+    const double size = glm::length(m.correction);
+    result.mean_correction += size / static_cast<double>(matches.size());
+    result.max_correction = std::max(result.max_correction, size);
+  }
+}
+
+}  // namespace
+
+MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::span<const Triangle> template_triangles,
+                                             std::span<const OpeningMargin> margins,
+                                             std::span<const glm::vec3> target_positions,
+                                             std::span<const Triangle> target_triangles,
+                                             const MarginAlignmentParams& params) {
+  MarginAlignmentResult result;
+  const std::vector<RimEdge> rims = RimEdges(target_positions, target_triangles);
+  if (rims.empty() || margins.empty()) return result;
+
+  const std::vector<std::optional<glm::vec3>> rim_point = NearestRimPoints(fitted, margins, rims, params);
+  std::vector<Match> matches = MatchMargins(fitted, margins, rim_point, params);
   if (matches.empty()) return result;
   std::vector<float> sizes, openings;
   for (const Match& m : matches) {
@@ -149,72 +247,14 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
   std::erase_if(matches, [&](const Match& m) { return glm::length(m.correction) > limit; });
   const float reach = params.reach * Median(openings);
 
-  // The band: vertices within `reach` of an aligned margin vertex along the
-  // template's edges (multi-source Dijkstra).
-  std::vector<std::uint32_t> begin, neighbours;
-  VertexNeighbours(n, template_triangles, begin, neighbours);
-  constexpr std::int32_t kFixed = -2;
-  constexpr std::int32_t kOutside = -1;
-  std::vector<std::int32_t> unknown(n, kOutside);  // band vertex -> unknown index
-  std::vector<glm::vec3> correction(n, glm::vec3(0.0f));
-  std::vector<std::uint32_t> sources;
-  for (const Match& m : matches) {
-    unknown[m.vertex] = kFixed;
-    correction[m.vertex] = m.correction;
-    sources.push_back(m.vertex);
+  CorrectionBand band = BandAround(fitted, template_triangles, matches, reach);
+  SolveHarmonicBand(band);
+  for (std::size_t v = 0; v < fitted.size(); ++v) {
+    if (band.unknown[v] == kOutside) continue;
+    fitted[v] += band.correction[v];
+    if (glm::length(band.correction[v]) > 0.0f) ++result.moved_vertices;
   }
-  const std::vector<float> reaches(sources.size(), reach);
-  std::vector<std::uint32_t> band;
-  for (const EdgeReach& at : VerticesWithinReach(fitted, begin, neighbours, sources, reaches)) {
-    if (unknown[at.vertex] != kOutside) continue;
-    unknown[at.vertex] = static_cast<std::int32_t>(band.size());
-    band.push_back(at.vertex);
-  }
-
-  // Harmonic in the band (uniform weights): the aligned margins fixed, zero
-  // beyond the band.
-  if (!band.empty()) {
-    std::vector<Eigen::Triplet<double>> triplets;
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(band.size()), 3);
-    for (std::size_t i = 0; i < band.size(); ++i) {
-      const std::uint32_t v = band[i];
-      const auto row = static_cast<Eigen::Index>(i);
-      triplets.emplace_back(row, row, static_cast<double>(begin[v + 1] - begin[v]));
-      for (std::uint32_t k = begin[v]; k < begin[v + 1]; ++k) {
-        const std::uint32_t w = neighbours[k];
-        if (unknown[w] >= 0) {
-          triplets.emplace_back(row, unknown[w], -1.0);
-        } else if (unknown[w] == kFixed) {
-          rhs.row(row) += Eigen::RowVector3d(correction[w].x, correction[w].y, correction[w].z);
-        }
-      }
-    }
-    Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(band.size()),
-                                          static_cast<Eigen::Index>(band.size()));
-    laplacian.setFromTriplets(triplets.begin(), triplets.end());
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
-    if (solver.info() == Eigen::Success) {
-      const Eigen::MatrixXd solution = solver.solve(rhs);
-      for (std::size_t i = 0; i < band.size(); ++i) {
-        const auto row = static_cast<Eigen::Index>(i);
-        correction[band[i]] = glm::vec3(static_cast<float>(solution(row, 0)), static_cast<float>(solution(row, 1)),
-                                        static_cast<float>(solution(row, 2)));
-      }
-    }
-  }
-  for (std::size_t v = 0; v < n; ++v) {
-    if (unknown[v] == kOutside) continue;
-    fitted[v] += correction[v];
-    if (glm::length(correction[v]) > 0.0f) ++result.moved_vertices;
-  }
-  result.aligned_vertices = matches.size();
-  for (const Match& m : matches) result.aligned.push_back(m.vertex);
-  std::sort(result.aligned.begin(), result.aligned.end());
-  for (const Match& m : matches) {
-    const double size = glm::length(m.correction);
-    result.mean_correction += size / static_cast<double>(matches.size());
-    result.max_correction = std::max(result.max_correction, size);
-  }
+  SummariseMatches(matches, result);
   return result;
 }
 

@@ -1,10 +1,9 @@
 // The fitted template's lid margins onto the target's eye openings.
 //
-// Registration fits surfaces, not rims: on the built-in stylized head the
-// fitted template's upper lid margin sat 1.4 mm above the head's (its lower
-// one 0.25 mm below), so the head's rim took the motion of a point up on the
-// template's lid, which moves less, and the transferred blink closed the
-// head's eye to only 34% of its opening. Where the target's opening is a hole
+// Registration fits surfaces, not rims: the fitted template's lid margin can
+// sit off the target's rim, which then takes the motion of a point up on the
+// template's lid, which moves less, and a transferred blink leaves the eye
+// partly open (README, "Measurements behind the defaults"). Where the target's opening is a hole
 // in its mesh, its rim is exact: each template margin vertex (a vertex that
 // meets the vertex across the opening in one of the template's expressions,
 // expression_contacts.h) goes onto the nearest rim edge that faces the same

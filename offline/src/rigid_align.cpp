@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <glm/geometric.hpp>
@@ -138,6 +140,187 @@ RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
                     initial);
 }
 
+namespace {
+
+// Vertices used by a triangle with a normal (loose vertices have none),
+// thinned to at most max_samples by a stride.
+std::vector<std::uint32_t> SampleVertices(std::span<const Triangle> triangles,
+                                          std::span<const glm::vec3> normals, std::size_t max_samples) {
+  std::vector<std::uint32_t> used;
+  std::vector<std::uint8_t> referenced(normals.size(), 0);
+  for (const Triangle& t : triangles) {
+    for (std::uint32_t v : t) referenced[v] = 1;
+  }
+  for (std::uint32_t v = 0; v < referenced.size(); ++v) {
+    if (referenced[v] && glm::dot(normals[v], normals[v]) > 0.5f) used.push_back(v);
+  }
+  const std::size_t stride =
+      std::max<std::size_t>(1, (used.size() + max_samples - 1) / std::max<std::size_t>(1, max_samples));
+  std::vector<std::uint32_t> samples;
+  for (std::size_t i = 0; i < used.size(); i += stride) samples.push_back(used[i]);
+  if (samples.empty()) throw InvalidInputError("rigid alignment source: no vertex belongs to a triangle");
+  return samples;
+}
+
+// Centroid and RMS radius of points[index(i)], i < count.
+template <typename Index>
+std::pair<Eigen::Vector3d, double> Moments(std::span<const glm::vec3> points, Index&& index, std::size_t count) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < count; ++i) mean += ToEigen(points[index(i)]);
+  mean /= static_cast<double>(count);
+  double variance = 0.0;
+  for (std::size_t i = 0; i < count; ++i) variance += (ToEigen(points[index(i)]) - mean).squaredNorm();
+  return std::pair{mean, std::sqrt(variance / static_cast<double>(count))};
+}
+
+// The ICP's start: from three or more landmarks, else `initial`, else the
+// centroids and RMS radii (right scale and position, no rotation).
+SimilarityTransform InitialTransform(std::span<const glm::vec3> source_positions,
+                                     std::span<const std::uint32_t> samples, const ClosestPointQuery& target,
+                                     std::span<const glm::vec3> source_landmarks,
+                                     std::span<const glm::vec3> target_landmarks, const RigidAlignParams& params,
+                                     const SimilarityTransform* initial) {
+  if (source_landmarks.size() >= 3) return Umeyama(source_landmarks, target_landmarks, {}, params.with_scale);
+  if (initial != nullptr) return *initial;
+  SimilarityTransform transform;
+  const auto [source_mean, source_radius] =
+      Moments(source_positions, [&](std::size_t i) { return samples[i]; }, samples.size());
+  const auto target_points = target.positions();
+  const auto [target_mean, target_radius] =
+      Moments(target_points, [](std::size_t i) { return i; }, target_points.size());
+  transform.scale = params.with_scale && source_radius > 0.0 ? target_radius / source_radius : 1.0;
+  transform.translation = target_mean - transform.scale * source_mean;
+  return transform;
+}
+
+// The transformed samples, their normals, their closest target points and their centre.
+struct IcpMatches {
+  std::vector<glm::vec3> points, normals;
+  std::vector<ClosestPointHit> hits;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+};
+
+void FindMatches(const SimilarityTransform& transform, std::span<const glm::vec3> source_positions,
+                 std::span<const glm::vec3> source_normals, std::span<const std::uint32_t> samples,
+                 const ClosestPointQuery& target, IcpMatches& matches) {
+  matches.centre = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    matches.points[i] = transform.Apply(source_positions[samples[i]]);
+    matches.normals[i] = transform.ApplyToDirection(source_normals[samples[i]]);
+    matches.hits[i] = target.Find(matches.points[i]);
+    matches.centre += ToEigen(matches.points[i]);
+  }
+  matches.centre /= static_cast<double>(samples.size());
+}
+
+// Matches farther than this are outliers: a multiple of the median distance
+// of the compatible ones. Negative when fewer than 6 are compatible.
+double OutlierLimit(const IcpMatches& matches, double cos_limit, const RigidAlignParams& params,
+                    std::vector<float>& distances) {
+  distances.clear();
+  for (std::size_t i = 0; i < matches.hits.size(); ++i) {
+    const ClosestPointHit& hit = matches.hits[i];
+    const bool compatible = glm::dot(matches.normals[i], hit.normal) >= cos_limit;
+    if (compatible && !(params.reject_boundary && hit.on_boundary)) distances.push_back(hit.distance);
+  }
+  if (distances.size() < 6) return -1.0;
+  std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2),
+                   distances.end());
+  const double median = distances[distances.size() / 2];
+  return params.outlier_median_factor * median + 1e-12;
+}
+
+// Normal equations of the linearised point-to-plane step about `centre`:
+// rotation (3), translation (3), log scale (1).
+struct PlaneSystem {
+  Eigen::Vector3d centre;
+  Eigen::Matrix<double, 7, 7> normal_matrix = Eigen::Matrix<double, 7, 7>::Zero();
+  Eigen::Matrix<double, 7, 1> rhs = Eigen::Matrix<double, 7, 1>::Zero();
+
+  void AddRow(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double residual, double w) {
+    Eigen::Matrix<double, 7, 1> row;
+    const Eigen::Vector3d local = p - centre;
+    row.head<3>() = local.cross(n);
+    row.segment<3>(3) = n;
+    row(6) = n.dot(local);
+    normal_matrix.noalias() += w * row * row.transpose();
+    rhs.noalias() += w * residual * row;
+  }
+};
+
+// Adds the inlier matches' rows; returns their count, and their squared distances' sum.
+std::size_t AddInlierRows(const IcpMatches& matches, double limit, double cos_limit,
+                          const RigidAlignParams& params, PlaneSystem& system, double& squared_sum) {
+  std::size_t inliers = 0;
+  squared_sum = 0.0;
+  for (std::size_t i = 0; i < matches.hits.size(); ++i) {
+    const ClosestPointHit& hit = matches.hits[i];
+    if (hit.distance > limit || (params.reject_boundary && hit.on_boundary) ||
+        glm::dot(matches.normals[i], hit.normal) < cos_limit) {
+      continue;
+    }
+    const Eigen::Vector3d n = ToEigen(hit.normal);
+    const Eigen::Vector3d p = ToEigen(matches.points[i]);
+    const double residual = n.dot(ToEigen(hit.point) - p);
+    system.AddRow(p, n, residual, 1.0);
+    squared_sum += static_cast<double>(hit.distance) * hit.distance;
+    ++inliers;
+  }
+  return inliers;
+}
+
+void AddLandmarkRows(const SimilarityTransform& transform, std::span<const glm::vec3> source_landmarks,
+                     std::span<const glm::vec3> target_landmarks, double w, PlaneSystem& system) {
+  for (std::size_t l = 0; l < source_landmarks.size(); ++l) {
+    const Eigen::Vector3d p = ToEigen(transform.Apply(source_landmarks[l]));
+    const Eigen::Vector3d q = ToEigen(target_landmarks[l]);
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Vector3d n = Eigen::Vector3d::Unit(axis);
+      system.AddRow(p, n, q(axis) - p(axis), w);
+    }
+  }
+}
+
+Eigen::Matrix<double, 7, 1> SolveStep(const PlaneSystem& system, int unknowns) {
+  Eigen::Matrix<double, 7, 1> delta = Eigen::Matrix<double, 7, 1>::Zero();
+  // Tiny Tikhonov term: a flat patch leaves the in-plane motion undetermined.
+  const double ridge = 1e-9 * system.normal_matrix.trace();
+  const Eigen::MatrixXd a = system.normal_matrix.topLeftCorner(unknowns, unknowns) +
+                            ridge * Eigen::MatrixXd::Identity(unknowns, unknowns);
+  delta.head(unknowns) = a.ldlt().solve(system.rhs.head(unknowns));
+  if (!delta.allFinite()) throw SolverError("rigid alignment: the ICP step is not finite");
+  return delta;
+}
+
+SimilarityTransform StepTransform(const Eigen::Matrix<double, 7, 1>& delta, const Eigen::Vector3d& centre) {
+  SimilarityTransform step;
+  step.scale = std::exp(delta(6));
+  step.rotation = AxisAngle(delta.head<3>());
+  step.translation = centre + delta.segment<3>(3) - step.scale * (step.rotation * centre);
+  return step;
+}
+
+// The step moved the samples by less than `convergence` of their radius about the centre.
+bool StepConverged(const Eigen::Matrix<double, 7, 1>& delta, const IcpMatches& matches, double convergence) {
+  double radius = 0.0;
+  for (const glm::vec3& p : matches.points) radius = std::max(radius, (ToEigen(p) - matches.centre).norm());
+  const double motion = delta.head<3>().norm() * radius + delta.segment<3>(3).norm() +
+                        std::abs(delta(6)) * radius;
+  return motion < convergence * std::max(radius, 1e-30);
+}
+
+double LandmarkRms(const SimilarityTransform& transform, std::span<const glm::vec3> source_landmarks,
+                   std::span<const glm::vec3> target_landmarks) {
+  double sum = 0.0;
+  for (std::size_t l = 0; l < source_landmarks.size(); ++l) {
+    sum += static_cast<double>(glm::dot(transform.Apply(source_landmarks[l]) - target_landmarks[l],
+                                        transform.Apply(source_landmarks[l]) - target_landmarks[l]));
+  }
+  return std::sqrt(sum / static_cast<double>(source_landmarks.size()));
+}
+
+}  // namespace
+
 RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
                             std::span<const Triangle> source_triangles, const ClosestPointQuery& target,
                             std::span<const glm::vec3> source_landmarks,
@@ -151,101 +334,27 @@ RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
                             " target landmarks");
   }
   RigidAlignResult result;
-
   std::vector<glm::vec3> source_normals(source_positions.size());
   ComputeVertexNormals(source_positions, source_triangles, source_normals);
-  // Only vertices used by a triangle take part (loose vertices have no normal).
-  std::vector<std::uint32_t> used;
-  {
-    std::vector<std::uint8_t> referenced(source_positions.size(), 0);
-    for (const Triangle& t : source_triangles) {
-      for (std::uint32_t v : t) referenced[v] = 1;
-    }
-    for (std::uint32_t v = 0; v < referenced.size(); ++v) {
-      if (referenced[v] && glm::dot(source_normals[v], source_normals[v]) > 0.5f) used.push_back(v);
-    }
-  }
-  const std::size_t stride = std::max<std::size_t>(1, (used.size() + params.max_samples - 1) /
-                                                          std::max<std::size_t>(1, params.max_samples));
-  std::vector<std::uint32_t> samples;
-  for (std::size_t i = 0; i < used.size(); i += stride) samples.push_back(used[i]);
-  if (samples.empty()) throw InvalidInputError("rigid alignment source: no vertex belongs to a triangle");
-
-  SimilarityTransform transform;
-  if (source_landmarks.size() >= 3) {
-    transform = Umeyama(source_landmarks, target_landmarks, {}, params.with_scale);
-  } else if (initial != nullptr) {
-    transform = *initial;
-  } else {
-    // Centroids and RMS radii: right scale and position, no rotation.
-    auto moments = [](std::span<const glm::vec3> points, auto&& index, std::size_t count) {
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (std::size_t i = 0; i < count; ++i) mean += ToEigen(points[index(i)]);
-      mean /= static_cast<double>(count);
-      double variance = 0.0;
-      for (std::size_t i = 0; i < count; ++i) variance += (ToEigen(points[index(i)]) - mean).squaredNorm();
-      return std::pair{mean, std::sqrt(variance / static_cast<double>(count))};
-    };
-    const auto [source_mean, source_radius] =
-        moments(source_positions, [&](std::size_t i) { return samples[i]; }, samples.size());
-    const auto target_points = target.positions();
-    const auto [target_mean, target_radius] =
-        moments(target_points, [](std::size_t i) { return i; }, target_points.size());
-    transform.scale = params.with_scale && source_radius > 0.0 ? target_radius / source_radius : 1.0;
-    transform.translation = target_mean - transform.scale * source_mean;
-  }
+  const std::vector<std::uint32_t> samples = SampleVertices(source_triangles, source_normals, params.max_samples);
+  SimilarityTransform transform =
+      InitialTransform(source_positions, samples, target, source_landmarks, target_landmarks, params, initial);
 
   const double cos_limit = std::cos(params.max_normal_angle_degrees * 3.14159265358979323846 / 180.0);
-  std::vector<glm::vec3> points(samples.size()), normals(samples.size());
-  std::vector<ClosestPointHit> hits(samples.size());
+  IcpMatches matches;
+  matches.points.resize(samples.size());
+  matches.normals.resize(samples.size());
+  matches.hits.resize(samples.size());
   std::vector<float> distances;
   const int unknowns = params.with_scale ? 7 : 6;
   for (int iteration = 0; iteration < params.max_iterations; ++iteration) {
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      points[i] = transform.Apply(source_positions[samples[i]]);
-      normals[i] = transform.ApplyToDirection(source_normals[samples[i]]);
-      hits[i] = target.Find(points[i]);
-      centre += ToEigen(points[i]);
-    }
-    centre /= static_cast<double>(samples.size());
-    distances.clear();
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const bool compatible = glm::dot(normals[i], hits[i].normal) >= cos_limit;
-      if (compatible && !(params.reject_boundary && hits[i].on_boundary)) distances.push_back(hits[i].distance);
-    }
-    if (distances.size() < 6) break;
-    std::nth_element(distances.begin(), distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2),
-                     distances.end());
-    const double median = distances[distances.size() / 2];
-    const double limit = params.outlier_median_factor * median + 1e-12;
-
-    Eigen::Matrix<double, 7, 7> normal_matrix = Eigen::Matrix<double, 7, 7>::Zero();
-    Eigen::Matrix<double, 7, 1> rhs = Eigen::Matrix<double, 7, 1>::Zero();
-    auto add_row = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n, double residual, double w) {
-      Eigen::Matrix<double, 7, 1> row;
-      const Eigen::Vector3d local = p - centre;
-      row.head<3>() = local.cross(n);
-      row.segment<3>(3) = n;
-      row(6) = n.dot(local);
-      normal_matrix.noalias() += w * row * row.transpose();
-      rhs.noalias() += w * residual * row;
-    };
-    std::size_t inliers = 0;
+    FindMatches(transform, source_positions, source_normals, samples, target, matches);
+    const double limit = OutlierLimit(matches, cos_limit, params, distances);
+    if (limit < 0.0) break;
+    PlaneSystem system;
+    system.centre = matches.centre;
     double squared_sum = 0.0;
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const ClosestPointHit& hit = hits[i];
-      if (hit.distance > limit || (params.reject_boundary && hit.on_boundary) ||
-          glm::dot(normals[i], hit.normal) < cos_limit) {
-        continue;
-      }
-      const Eigen::Vector3d n = ToEigen(hit.normal);
-      const Eigen::Vector3d p = ToEigen(points[i]);
-      const double residual = n.dot(ToEigen(hit.point) - p);
-      add_row(p, n, residual, 1.0);
-      squared_sum += static_cast<double>(hit.distance) * hit.distance;
-      ++inliers;
-    }
+    const std::size_t inliers = AddInlierRows(matches, limit, cos_limit, params, system, squared_sum);
     if (inliers < 6) break;
     if (iteration == 0) result.rms_initial = std::sqrt(squared_sum / static_cast<double>(inliers));
     result.rms_final = std::sqrt(squared_sum / static_cast<double>(inliers));
@@ -253,45 +362,15 @@ RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
     if (!source_landmarks.empty() && params.landmark_weight > 0.0) {
       const double w = params.landmark_weight * static_cast<double>(inliers) /
                        static_cast<double>(source_landmarks.size());
-      for (std::size_t l = 0; l < source_landmarks.size(); ++l) {
-        const Eigen::Vector3d p = ToEigen(transform.Apply(source_landmarks[l]));
-        const Eigen::Vector3d q = ToEigen(target_landmarks[l]);
-        for (int axis = 0; axis < 3; ++axis) {
-          const Eigen::Vector3d n = Eigen::Vector3d::Unit(axis);
-          add_row(p, n, q(axis) - p(axis), w);
-        }
-      }
+      AddLandmarkRows(transform, source_landmarks, target_landmarks, w, system);
     }
-    Eigen::Matrix<double, 7, 1> delta = Eigen::Matrix<double, 7, 1>::Zero();
-    // Tiny Tikhonov term: a flat patch leaves the in-plane motion undetermined.
-    const double ridge = 1e-9 * normal_matrix.trace();
-    const Eigen::MatrixXd a = normal_matrix.topLeftCorner(unknowns, unknowns) +
-                              ridge * Eigen::MatrixXd::Identity(unknowns, unknowns);
-    delta.head(unknowns) = a.ldlt().solve(rhs.head(unknowns));
-    if (!delta.allFinite()) throw SolverError("rigid alignment: the ICP step is not finite");
-
-    SimilarityTransform step;
-    step.scale = std::exp(delta(6));
-    step.rotation = AxisAngle(delta.head<3>());
-    step.translation = centre + delta.segment<3>(3) - step.scale * (step.rotation * centre);
-    transform = step * transform;
+    const Eigen::Matrix<double, 7, 1> delta = SolveStep(system, unknowns);
+    transform = StepTransform(delta, matches.centre) * transform;
     result.iterations = iteration + 1;
-
-    double radius = 0.0;
-    for (const glm::vec3& p : points) radius = std::max(radius, (ToEigen(p) - centre).norm());
-    const double motion = delta.head<3>().norm() * radius + delta.segment<3>(3).norm() +
-                          std::abs(delta(6)) * radius;
-    if (motion < params.convergence * std::max(radius, 1e-30)) break;
+    if (StepConverged(delta, matches, params.convergence)) break;
   }
 
-  if (!source_landmarks.empty()) {
-    double sum = 0.0;
-    for (std::size_t l = 0; l < source_landmarks.size(); ++l) {
-      sum += static_cast<double>(glm::dot(transform.Apply(source_landmarks[l]) - target_landmarks[l],
-                                          transform.Apply(source_landmarks[l]) - target_landmarks[l]));
-    }
-    result.landmark_rms = std::sqrt(sum / static_cast<double>(source_landmarks.size()));
-  }
+  if (!source_landmarks.empty()) result.landmark_rms = LandmarkRms(transform, source_landmarks, target_landmarks);
   result.transform = transform;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace facerig {
 namespace {
@@ -224,17 +225,19 @@ bool TrianglesCross(const glm::vec3& p1, const glm::vec3& q1, const glm::vec3& r
   return CanonicalSecond(r1, p1, q1, p2, r2, q2, dp2, dr2, dq2);
 }
 
-SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> positions,
-                                             std::span<const Triangle> triangles,
-                                             const SelfIntersectionParams& params) {
-  const auto start = std::chrono::steady_clock::now();
-  SelfIntersectionResult result;
+namespace {
+
+// Triangles of the region with a plane (indices into `triangles`) and their boxes.
+struct TestedTriangles {
+  std::vector<std::uint32_t> index;
+  std::vector<Box> boxes;
+};
+
+TestedTriangles CollectTestedTriangles(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                       const SelfIntersectionParams& params, SelfIntersectionResult& result) {
   const std::size_t region_last = std::min(params.region_last, positions.size());
   auto in_region = [&](std::uint32_t v) { return v >= params.region_first && v < region_last; };
-
-  // Triangles of the region with a plane, and their boxes.
-  std::vector<std::uint32_t> tested;
-  std::vector<Box> boxes;
+  TestedTriangles tested;
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const Triangle& tri = triangles[t];
     for (const std::uint32_t v : tri) {
@@ -258,111 +261,145 @@ SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> position
       ++result.degenerate_triangles;
       continue;
     }
-    tested.push_back(static_cast<std::uint32_t>(t));
-    boxes.push_back({glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))});
+    tested.index.push_back(static_cast<std::uint32_t>(t));
+    tested.boxes.push_back({glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))});
   }
+  return tested;
+}
 
-  if (tested.size() >= 2) {
-    // Cells about the size of a mean triangle box, at most ~2 cells per triangle.
-    Box bounds = boxes[0];
-    double mean_extent = 0.0;
-    for (const Box& box : boxes) {
-      bounds.lo = glm::min(bounds.lo, box.lo);
-      bounds.hi = glm::max(bounds.hi, box.hi);
-      const glm::vec3 extent = box.hi - box.lo;
-      mean_extent += std::max({extent.x, extent.y, extent.z});
+// Cells about the size of a mean triangle box, at most ~2 cells per triangle.
+Grid GridOver(std::span<const Box> boxes) {
+  Box bounds = boxes[0];
+  double mean_extent = 0.0;
+  for (const Box& box : boxes) {
+    bounds.lo = glm::min(bounds.lo, box.lo);
+    bounds.hi = glm::max(bounds.hi, box.hi);
+    const glm::vec3 extent = box.hi - box.lo;
+    mean_extent += std::max({extent.x, extent.y, extent.z});
+  }
+  mean_extent /= static_cast<double>(boxes.size());
+  const glm::vec3 span = bounds.hi - bounds.lo;
+  const double largest_span = std::max({span.x, span.y, span.z});
+  double cell = std::max(mean_extent, largest_span * 1e-6);
+  if (!(cell > 0.0)) cell = 1.0;
+  Grid grid;
+  grid.origin = bounds.lo;
+  const double max_cells = 2.0 * static_cast<double>(boxes.size()) + 64.0;
+  for (;;) {
+    double cells = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      grid.size[static_cast<std::size_t>(k)] =
+          std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(span[k] / cell)));
+      cells *= static_cast<double>(grid.size[static_cast<std::size_t>(k)]);
     }
-    mean_extent /= static_cast<double>(boxes.size());
-    const glm::vec3 span = bounds.hi - bounds.lo;
-    const double largest_span = std::max({span.x, span.y, span.z});
-    double cell = std::max(mean_extent, largest_span * 1e-6);
-    if (!(cell > 0.0)) cell = 1.0;
-    Grid grid;
-    grid.origin = bounds.lo;
-    const double max_cells = 2.0 * static_cast<double>(boxes.size()) + 64.0;
-    for (;;) {
-      double cells = 1.0;
-      for (int k = 0; k < 3; ++k) {
-        grid.size[static_cast<std::size_t>(k)] =
-            std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(span[k] / cell)));
-        cells *= static_cast<double>(grid.size[static_cast<std::size_t>(k)]);
-      }
-      if (cells <= max_cells) break;
-      cell *= std::cbrt(cells / max_cells) * 1.01;
-    }
-    grid.inverse_cell = static_cast<float>(1.0 / cell);
+    if (cells <= max_cells) break;
+    cell *= std::cbrt(cells / max_cells) * 1.01;
+  }
+  grid.inverse_cell = static_cast<float>(1.0 / cell);
+  return grid;
+}
 
-    // Cell -> triangles (compressed rows).
-    const auto cell_count = static_cast<std::size_t>(grid.size[0] * grid.size[1] * grid.size[2]);
-    std::vector<std::uint32_t> row_start(cell_count + 1, 0);
-    std::vector<std::array<std::int64_t, 3>> lo_cell(boxes.size()), hi_cell(boxes.size());
-    auto for_cells = [&](std::size_t i, auto&& visit) {
-      for (std::int64_t z = lo_cell[i][2]; z <= hi_cell[i][2]; ++z) {
-        for (std::int64_t y = lo_cell[i][1]; y <= hi_cell[i][1]; ++y) {
-          for (std::int64_t x = lo_cell[i][0]; x <= hi_cell[i][0]; ++x) {
-            visit(static_cast<std::size_t>(grid.Index({x, y, z})));
-          }
+// A triangle's entry in a cell: its box and low cell stored with it, so the
+// pair loop reads memory in order.
+struct Member {
+  Box box;
+  std::array<std::int32_t, 3> lo;
+  std::uint32_t index;
+};
+
+// Cell -> members (compressed rows: cell c holds members[row_start[c], row_start[c + 1])).
+struct CellMembers {
+  std::vector<std::uint32_t> row_start;
+  std::vector<Member> members;
+};
+
+CellMembers BucketByCell(const Grid& grid, std::span<const Box> boxes) {
+  const auto cell_count = static_cast<std::size_t>(grid.size[0] * grid.size[1] * grid.size[2]);
+  CellMembers cells;
+  cells.row_start.assign(cell_count + 1, 0);
+  std::vector<std::array<std::int64_t, 3>> lo_cell(boxes.size()), hi_cell(boxes.size());
+  auto for_cells = [&](std::size_t i, auto&& visit) {
+    for (std::int64_t z = lo_cell[i][2]; z <= hi_cell[i][2]; ++z) {
+      for (std::int64_t y = lo_cell[i][1]; y <= hi_cell[i][1]; ++y) {
+        for (std::int64_t x = lo_cell[i][0]; x <= hi_cell[i][0]; ++x) {
+          visit(static_cast<std::size_t>(grid.Index({x, y, z})));
         }
       }
-    };
-    for (std::size_t i = 0; i < boxes.size(); ++i) {
-      lo_cell[i] = grid.CellOf(boxes[i].lo);
-      hi_cell[i] = grid.CellOf(boxes[i].hi);
-      for_cells(i, [&](std::size_t c) { ++row_start[c + 1]; });
     }
-    for (std::size_t c = 0; c < cell_count; ++c) row_start[c + 1] += row_start[c];
-    // Each cell's members stored contiguously with their boxes and low cells:
-    // the pair loop below reads memory in order.
-    struct Member {
-      Box box;
-      std::array<std::int32_t, 3> lo;
-      std::uint32_t index;
-    };
-    std::vector<Member> members(row_start[cell_count]);
-    std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
-    for (std::size_t i = 0; i < boxes.size(); ++i) {
-      const Member member{boxes[i],
-                          {static_cast<std::int32_t>(lo_cell[i][0]), static_cast<std::int32_t>(lo_cell[i][1]),
-                           static_cast<std::int32_t>(lo_cell[i][2])},
-                          static_cast<std::uint32_t>(i)};
-      for_cells(i, [&](std::size_t c) { members[fill[c]++] = member; });
-    }
+  };
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    lo_cell[i] = grid.CellOf(boxes[i].lo);
+    hi_cell[i] = grid.CellOf(boxes[i].hi);
+    for_cells(i, [&](std::size_t c) { ++cells.row_start[c + 1]; });
+  }
+  for (std::size_t c = 0; c < cell_count; ++c) cells.row_start[c + 1] += cells.row_start[c];
+  cells.members.resize(cells.row_start[cell_count]);
+  std::vector<std::uint32_t> fill(cells.row_start.begin(), cells.row_start.end() - 1);
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const Member member{boxes[i],
+                        {static_cast<std::int32_t>(lo_cell[i][0]), static_cast<std::int32_t>(lo_cell[i][1]),
+                         static_cast<std::int32_t>(lo_cell[i][2])},
+                        static_cast<std::uint32_t>(i)};
+    for_cells(i, [&](std::size_t c) { cells.members[fill[c]++] = member; });
+  }
+  return cells;
+}
 
-    // Each overlapping pair is tested in the one cell holding the low corner of
-    // the boxes' intersection: per axis the larger of the two boxes' low cells
-    // (CellOf is monotonic).
+bool BoxesOverlap(const Box& a, const Box& b) {
+  return !(a.lo.x > b.hi.x || b.lo.x > a.hi.x || a.lo.y > b.hi.y || b.lo.y > a.hi.y || a.lo.z > b.hi.z ||
+           b.lo.z > a.hi.z);
+}
+
+// Tests the pairs of cell (x, y, z) whose boxes' intersection has its low
+// corner there: per axis the larger of the two boxes' low cells (CellOf is
+// monotonic), so each overlapping pair is tested in exactly one cell.
+void TestCell(std::array<std::int32_t, 3> cell, const Member* begin, const Member* end,
+              std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+              std::span<const std::uint32_t> tested, const SelfIntersectionParams& params,
+              SelfIntersectionResult& result) {
+  for (const Member* a = begin; a < end; ++a) {
+    const Triangle& ti = triangles[tested[a->index]];
+    for (const Member* b = a + 1; b < end; ++b) {
+      if (std::max(a->lo[0], b->lo[0]) != cell[0] || std::max(a->lo[1], b->lo[1]) != cell[1] ||
+          std::max(a->lo[2], b->lo[2]) != cell[2]) {
+        continue;
+      }
+      if (!BoxesOverlap(a->box, b->box)) continue;
+      const Triangle& tj = triangles[tested[b->index]];
+      bool shared = false;
+      for (const std::uint32_t v : ti) shared = shared || v == tj[0] || v == tj[1] || v == tj[2];
+      if (shared) continue;
+      ++result.candidate_pairs;
+      if (TrianglesCross(positions[ti[0]], positions[ti[1]], positions[ti[2]], positions[tj[0]], positions[tj[1]],
+                         positions[tj[2]])) {
+        ++result.intersecting_pairs;
+        if (params.max_pairs > 0) {
+          const std::uint32_t first = tested[a->index];
+          const std::uint32_t second = tested[b->index];
+          result.pairs.emplace_back(std::min(first, second), std::max(first, second));
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> positions,
+                                             std::span<const Triangle> triangles,
+                                             const SelfIntersectionParams& params) {
+  const auto start = std::chrono::steady_clock::now();
+  SelfIntersectionResult result;
+  const TestedTriangles tested = CollectTestedTriangles(positions, triangles, params, result);
+  if (tested.index.size() >= 2) {
+    const Grid grid = GridOver(tested.boxes);
+    const CellMembers cells = BucketByCell(grid, tested.boxes);
     for (std::int32_t z = 0; z < grid.size[2]; ++z) {
       for (std::int32_t y = 0; y < grid.size[1]; ++y) {
         for (std::int32_t x = 0; x < grid.size[0]; ++x) {
           const auto c = static_cast<std::size_t>(grid.Index({x, y, z}));
-          const Member* const end = members.data() + row_start[c + 1];
-          for (const Member* a = members.data() + row_start[c]; a < end; ++a) {
-            const Triangle& ti = triangles[tested[a->index]];
-            for (const Member* b = a + 1; b < end; ++b) {
-              if (std::max(a->lo[0], b->lo[0]) != x || std::max(a->lo[1], b->lo[1]) != y ||
-                  std::max(a->lo[2], b->lo[2]) != z) {
-                continue;
-              }
-              if (a->box.lo.x > b->box.hi.x || b->box.lo.x > a->box.hi.x || a->box.lo.y > b->box.hi.y ||
-                  b->box.lo.y > a->box.hi.y || a->box.lo.z > b->box.hi.z || b->box.lo.z > a->box.hi.z) {
-                continue;
-              }
-              const Triangle& tj = triangles[tested[b->index]];
-              bool shared = false;
-              for (const std::uint32_t v : ti) shared = shared || v == tj[0] || v == tj[1] || v == tj[2];
-              if (shared) continue;
-              ++result.candidate_pairs;
-              if (TrianglesCross(positions[ti[0]], positions[ti[1]], positions[ti[2]], positions[tj[0]],
-                                 positions[tj[1]], positions[tj[2]])) {
-                ++result.intersecting_pairs;
-                if (params.max_pairs > 0) {
-                  const std::uint32_t first = tested[a->index];
-                  const std::uint32_t second = tested[b->index];
-                  result.pairs.emplace_back(std::min(first, second), std::max(first, second));
-                }
-              }
-            }
-          }
+          TestCell({x, y, z}, cells.members.data() + cells.row_start[c], cells.members.data() + cells.row_start[c + 1],
+                   positions, triangles, tested.index, params, result);
         }
       }
     }

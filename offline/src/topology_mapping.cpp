@@ -13,8 +13,8 @@
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/registration_error.h"
-#include "eye_openings.h"
 #include "mesh_edges.h"
+#include "topology_mapping_rims.h"
 
 namespace facerig {
 namespace {
@@ -109,143 +109,7 @@ std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::sp
   return queries;
 }
 
-// An edge of the template between two rim vertices, as a side of one of its
-// triangles (slots first and second of triangle `triangle`), and the
-// direction from it into the opening.
-struct TemplateRimEdge {
-  std::uint32_t triangle;
-  std::uint8_t first;
-  std::uint8_t second;
-  glm::vec3 into_opening;
-};
-
-std::vector<TemplateRimEdge> TemplateRimEdges(std::span<const Triangle> triangles,
-                                              std::span<const TemplateRim> rims) {
-  std::vector<TemplateRimEdge> edges;
-  if (rims.empty()) return edges;
-  const auto rim_of = [&](std::uint32_t v) -> const TemplateRim* {
-    const auto it = std::lower_bound(rims.begin(), rims.end(), v,
-                                     [](const TemplateRim& r, std::uint32_t x) { return r.vertex < x; });
-    return it != rims.end() && it->vertex == v ? &*it : nullptr;
-  };
-  std::vector<std::uint64_t> seen;
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    for (std::uint8_t e = 0; e < 3; ++e) {
-      const auto next = static_cast<std::uint8_t>((e + 1) % 3);
-      const std::uint32_t a = triangles[t][e], b = triangles[t][next];
-      const TemplateRim* rim_a = rim_of(a);
-      const TemplateRim* rim_b = rim_of(b);
-      // Both ends opening the same way (not across a lid corner).
-      if (!rim_a || !rim_b || glm::dot(rim_a->into_opening, rim_b->into_opening) < 0.5f) continue;
-      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-      if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
-      seen.push_back(key);
-      const glm::vec3 sum = rim_a->into_opening + rim_b->into_opening;
-      const float length = glm::length(sum);
-      if (length > 0.0f) edges.push_back({static_cast<std::uint32_t>(t), e, next, sum / length});
-    }
-  }
-  return edges;
-}
-
-// The nearest point to p on the template's rim edges that open the way
-// `into_opening` does (cos >= min_facing), as a hit on the edge's triangle;
-// triangle -1 when none lies within max_distance.
-ClosestPointHit NearestOnRim(glm::vec3 p, glm::vec3 into_opening, std::span<const glm::vec3> fitted,
-                             std::span<const Triangle> triangles, std::span<const TemplateRimEdge> edges,
-                             float min_facing, float max_distance) {
-  ClosestPointHit best;
-  best.distance = max_distance;
-  for (const TemplateRimEdge& edge : edges) {
-    if (glm::dot(edge.into_opening, into_opening) < min_facing) continue;
-    const Triangle& t = triangles[edge.triangle];
-    const glm::vec3 a = fitted[t[edge.first]], b = fitted[t[edge.second]];
-    const glm::vec3 ab = b - a;
-    const float length2 = glm::dot(ab, ab);
-    const float along = length2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) : 0.0f;
-    const glm::vec3 point = a + along * ab;
-    const float distance = glm::length(p - point);
-    if (distance > best.distance) continue;
-    best.triangle = static_cast<std::int32_t>(edge.triangle);
-    best.barycentrics = glm::vec3(0.0f);
-    best.barycentrics[edge.first] = 1.0f - along;
-    best.barycentrics[edge.second] = along;
-    best.point = point;
-    best.distance = distance;
-  }
-  return best;
-}
-
-// Distance from rim vertex i to the nearest point of the rim's opposite side
-// (its edges between consecutive loop vertices that both face against i), at
-// positions + deltas (deltas may be null: at rest); 0 when the rim has none.
-// *to_opposite: from vertex i to that point.
-float NearestOppositeSide(const TopologyMapping::Rim& rim, std::size_t i, std::span<const glm::vec3> positions,
-                          const std::vector<glm::vec3>* deltas, glm::vec3* to_opposite = nullptr) {
-  const auto at = [&](std::uint32_t v) { return deltas ? positions[v] + (*deltas)[v] : positions[v]; };
-  const std::size_t size = rim.vertices.size();
-  const glm::vec3 into = rim.into_opening[i];
-  const glm::vec3 p = at(rim.vertices[i].vertex);
-  float best = 0.0f;
-  bool found = false;
-  for (std::size_t j = 0; j < size; ++j) {
-    const std::size_t k = (j + 1) % size;
-    if (glm::dot(into, rim.into_opening[j]) > -0.5f || glm::dot(into, rim.into_opening[k]) > -0.5f) continue;
-    const glm::vec3 a = at(rim.vertices[j].vertex);
-    const glm::vec3 ab = at(rim.vertices[k].vertex) - a;
-    const float length2 = glm::dot(ab, ab);
-    const float along = length2 > 0.0f ? std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) : 0.0f;
-    const glm::vec3 q = a + along * ab;
-    const float distance = glm::length(q - p);
-    if (found && distance >= best) continue;
-    found = true;
-    best = distance;
-    if (to_opposite) *to_opposite = q - p;
-  }
-  return best;
-}
-
-// The target vertices that follow rim's closing: each to its nearest rim
-// vertex along mesh edges (rest lengths), within reach times that vertex's
-// rest gap, weighted from 1 there to 0 at the limit (smoothstep).
-void RimBandOf(TopologyMapping::Rim& rim, float reach, std::span<const glm::vec3> positions,
-               const std::vector<std::uint32_t>& neighbour_begin, const std::vector<std::uint32_t>& neighbours) {
-  std::vector<std::uint32_t> sources, rim_index;
-  std::vector<float> limits;
-  for (std::size_t i = 0; i < rim.vertices.size(); ++i) {
-    if (!(rim.rest_gap[i] > 0.0f)) continue;
-    sources.push_back(rim.vertices[i].vertex);
-    rim_index.push_back(static_cast<std::uint32_t>(i));
-    limits.push_back(reach * rim.rest_gap[i]);
-  }
-  for (const EdgeReach& at : VerticesWithinReach(positions, neighbour_begin, neighbours, sources, limits)) {
-    const float t = 1.0f - at.distance / limits[at.source];
-    rim.band.push_back({at.vertex, rim_index[at.source], t * t * (3.0f - 2.0f * t)});
-  }
-}
-
-// rim.passes passes of (previous + 2 self + next) / 4 along the rim; values
-// by index into rim.vertices.
-void SmoothAlongRim(const TopologyMapping::Rim& rim, std::vector<glm::vec3>& values, std::vector<glm::vec3>& scratch) {
-  scratch.resize(values.size());
-  for (int pass = 0; pass < rim.passes; ++pass) {
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      const TopologyMapping::RimNeighbours& at = rim.vertices[i];
-      scratch[i] = 0.25f * (values[at.previous] + 2.0f * values[i] + values[at.next]);
-    }
-    values.swap(scratch);
-  }
-}
-
-}  // namespace
-
-TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
-                                       std::span<const Triangle> template_triangles,
-                                       std::span<const glm::vec3> target_positions,
-                                       std::span<const Triangle> target_triangles,
-                                       const TopologyMappingParams& params,
-                                       std::span<const TemplateRim> template_rims) {
-  CheckTarget(target_positions, target_triangles);
+void CheckParams(const TopologyMappingParams& params) {
   if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
     throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
   }
@@ -259,43 +123,70 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
                             "and > 0, not " + std::to_string(params.rim_closing_ratio) + " and " +
                             std::to_string(params.rim_closing_reach));
   }
-  const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
-  const float diagonal = BoundingDiagonalOf(fitted_template);
-  const float full = params.full_weight_distance * diagonal;
-  const float zero = params.zero_weight_distance * diagonal;
+}
 
-  std::vector<std::uint32_t> template_part_of_vertex, target_part_of_vertex;
-  ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
-  const std::size_t target_parts =
-      ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
-
-  // Votes: which template part is nearest to each target vertex, per target part.
-  const std::size_t n = target_positions.size();
-  std::vector<std::map<std::uint32_t, std::size_t>> votes(target_parts);
-  std::vector<std::size_t> part_size(target_parts, 0);
-  std::vector<ClosestPointHit> nearest(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    nearest[v] = whole.Find(target_positions[v]);
-    const std::uint32_t part = target_part_of_vertex[v];
-    ++part_size[part];
-    if (nearest[v].distance <= zero) {
-      const Triangle& t = template_triangles[static_cast<std::size_t>(nearest[v].triangle)];
-      ++votes[part][template_part_of_vertex[t[0]]];
+void CheckTemplateRims(std::span<const TemplateRim> template_rims, std::size_t template_vertices) {
+  for (std::size_t i = 0; i < template_rims.size(); ++i) {
+    if (template_rims[i].vertex >= template_vertices ||
+        (i > 0 && !(template_rims[i - 1].vertex < template_rims[i].vertex))) {
+      throw InvalidInputError("topology mapping: template rim vertex " + std::to_string(template_rims[i].vertex) +
+                              " out of range or out of order (" + std::to_string(template_vertices) +
+                              " vertices)");
     }
   }
+}
 
-  // One search structure per distinct set of chosen template parts.
+// Per target vertex, its nearest point on the whole fitted template; per
+// target part, which template parts its vertices are nearest to (within `zero`).
+struct PartVotes {
+  std::vector<ClosestPointHit> nearest;
+  std::vector<std::map<std::uint32_t, std::size_t>> votes;
+  std::vector<std::size_t> part_size;
+};
+
+PartVotes CountPartVotes(const ClosestPointQuery& whole, std::span<const Triangle> template_triangles,
+                         std::span<const std::uint32_t> template_part_of_vertex,
+                         std::span<const glm::vec3> target_positions,
+                         std::span<const std::uint32_t> target_part_of_vertex, std::size_t target_parts, float zero) {
+  const std::size_t n = target_positions.size();
+  PartVotes result;
+  result.votes.resize(target_parts);
+  result.part_size.assign(target_parts, 0);
+  result.nearest.resize(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    result.nearest[v] = whole.Find(target_positions[v]);
+    const std::uint32_t part = target_part_of_vertex[v];
+    ++result.part_size[part];
+    if (result.nearest[v].distance <= zero) {
+      const Triangle& t = template_triangles[static_cast<std::size_t>(result.nearest[v].triangle)];
+      ++result.votes[part][template_part_of_vertex[t[0]]];
+    }
+  }
+  return result;
+}
+
+// One search structure per distinct set of chosen template parts; per target
+// part the one it searches (null: nothing of the template near it).
+struct PartSurfaces {
   std::map<std::vector<std::uint32_t>, PartSurface> surfaces;
-  std::vector<const PartSurface*> surface_of_part(target_parts, nullptr);
+  std::vector<const PartSurface*> surface_of_part;
+};
+
+PartSurfaces BuildPartSurfaces(std::span<const glm::vec3> fitted_template, std::span<const Triangle> template_triangles,
+                               std::span<const std::uint32_t> template_part_of_vertex, const PartVotes& votes,
+                               float min_part_vote) {
+  const std::size_t target_parts = votes.votes.size();
+  PartSurfaces result;
+  result.surface_of_part.assign(target_parts, nullptr);
   for (std::size_t part = 0; part < target_parts; ++part) {
     std::vector<std::uint32_t> chosen;
-    for (const auto& [template_part, count] : votes[part]) {
-      if (static_cast<float>(count) >= params.min_part_vote * static_cast<float>(part_size[part])) {
+    for (const auto& [template_part, count] : votes.votes[part]) {
+      if (static_cast<float>(count) >= min_part_vote * static_cast<float>(votes.part_size[part])) {
         chosen.push_back(template_part);
       }
     }
     if (chosen.empty()) continue;  // nothing of the template near this part: plain nearest, faded out
-    auto [it, inserted] = surfaces.try_emplace(chosen);
+    auto [it, inserted] = result.surfaces.try_emplace(chosen);
     if (inserted) {
       std::vector<Triangle> subset;
       for (std::size_t t = 0; t < template_triangles.size(); ++t) {
@@ -306,24 +197,120 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
       }
       it->second.query = std::make_unique<ClosestPointQuery>(fitted_template, subset);
     }
-    surface_of_part[part] = &it->second;
+    result.surface_of_part[part] = &it->second;
   }
+  return result;
+}
 
-  std::vector<glm::vec3> target_normals(n);
-  ComputeVertexNormals(target_positions, target_triangles, target_normals);
-  const std::vector<std::uint8_t> on_boundary = BoundaryVertices(n, target_triangles);
-  const std::vector<glm::vec3> inward = InwardFromRim(target_positions, target_triangles, target_normals, on_boundary);
-  const std::vector<glm::vec3> queries = QueryPoints(target_positions, inward, params.boundary_inset * diagonal);
-  for (std::size_t i = 0; i < template_rims.size(); ++i) {
-    if (template_rims[i].vertex >= fitted_template.size() ||
-        (i > 0 && !(template_rims[i - 1].vertex < template_rims[i].vertex))) {
-      throw InvalidInputError("topology mapping: template rim vertex " + std::to_string(template_rims[i].vertex) +
-                              " out of range or out of order (" + std::to_string(fitted_template.size()) +
-                              " vertices)");
+// The target as the per-vertex search sees it: normals, boundary flags, the
+// direction into its own lip or lid, and the (inset) query points.
+struct TargetSearchView {
+  std::span<const glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<std::uint8_t> on_boundary;
+  std::vector<glm::vec3> inward;
+  std::vector<glm::vec3> queries;
+};
+
+TargetSearchView MakeTargetSearchView(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                      float inset) {
+  const std::size_t n = positions.size();
+  TargetSearchView view;
+  view.positions = positions;
+  view.normals.resize(n);
+  ComputeVertexNormals(positions, triangles, view.normals);
+  view.on_boundary = BoundaryVertices(n, triangles);
+  view.inward = InwardFromRim(positions, triangles, view.normals, view.on_boundary);
+  view.queries = QueryPoints(positions, view.inward, inset);
+  return view;
+}
+
+// Everything the per-vertex mapping reads, in absolute distances.
+struct VertexMapper {
+  std::span<const glm::vec3> fitted_template;
+  std::span<const Triangle> template_triangles;
+  const std::vector<TemplateRimEdge>& rim_edges;
+  const TargetSearchView& target;
+  const TopologyMappingParams& params;
+  float rim_snap_distance;
+  float zero;
+
+  // The template point of target vertex v: on a template rim edge when it
+  // snaps to one, else the nearest facing point of its part's surface, else
+  // `nearest`. Counts snaps and facing fallbacks in `mapping`.
+  ClosestPointHit Map(std::size_t v, ClosestPointHit nearest, const PartSurface* surface, bool& snapped,
+                      TopologyMapping& mapping) const {
+    const ClosestPointHit on_rim =
+        target.on_boundary[v] && !rim_edges.empty()
+            ? NearestOnRim(target.positions[v], -target.inward[v], fitted_template, template_triangles, rim_edges,
+                           params.rim_min_facing, rim_snap_distance)
+            : ClosestPointHit{};
+    snapped = false;
+    if (on_rim.triangle >= 0) {
+      ++mapping.rim_vertices;
+      snapped = true;
+      return on_rim;
     }
+    if (!surface) return nearest;
+    ClosestPointHit facing =
+        surface->query->FindFacing(target.queries[v], target.normals[v], params.min_normal_dot, zero);
+    if (facing.triangle < 0) {
+      facing = surface->query->Find(target.queries[v]);
+      ++mapping.facing_fallbacks;
+    }
+    facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);
+    return facing;
   }
-  const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_rims);
+};
 
+// Records one vertex's hit and falloff weight and counts it as full, partial or unmapped.
+void RecordHit(TopologyMapping& mapping, std::size_t v, const ClosestPointHit& hit, float full, float zero,
+               double& distance_sum) {
+  mapping.triangle[v] = static_cast<std::uint32_t>(hit.triangle);
+  mapping.barycentrics[v] = hit.barycentrics;
+  mapping.weight[v] = Falloff(hit.distance, full, zero);
+  if (mapping.weight[v] >= 1.0f) {
+    ++mapping.full_vertices;
+    distance_sum += hit.distance;
+  } else if (mapping.weight[v] > 0.0f) {
+    ++mapping.partial_vertices;
+  } else {
+    ++mapping.unmapped_vertices;
+  }
+}
+
+}  // namespace
+
+TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
+                                       std::span<const Triangle> template_triangles,
+                                       std::span<const glm::vec3> target_positions,
+                                       std::span<const Triangle> target_triangles,
+                                       const TopologyMappingParams& params,
+                                       std::span<const TemplateRim> template_rims) {
+  CheckTarget(target_positions, target_triangles);
+  CheckParams(params);
+  const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
+  const float diagonal = BoundingDiagonalOf(fitted_template);
+  const float full = params.full_weight_distance * diagonal;
+  const float zero = params.zero_weight_distance * diagonal;
+
+  std::vector<std::uint32_t> template_part_of_vertex, target_part_of_vertex;
+  ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
+  const std::size_t target_parts =
+      ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
+  const PartVotes votes = CountPartVotes(whole, template_triangles, template_part_of_vertex, target_positions,
+                                         target_part_of_vertex, target_parts, zero);
+  const PartSurfaces surfaces =
+      BuildPartSurfaces(fitted_template, template_triangles, template_part_of_vertex, votes, params.min_part_vote);
+
+  const TargetSearchView target =
+      MakeTargetSearchView(target_positions, target_triangles, params.boundary_inset * diagonal);
+  CheckTemplateRims(template_rims, fitted_template.size());
+  const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_rims);
+  const VertexMapper mapper{fitted_template, template_triangles, rim_edges, target, params,
+                            params.rim_snap_distance * diagonal, zero};
+
+  const std::size_t n = target_positions.size();
   TopologyMapping mapping;
   std::vector<std::uint8_t> rim_snapped(n, 0);
   mapping.triangle.resize(n);
@@ -331,74 +318,15 @@ TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_templat
   mapping.weight.resize(n);
   double distance_sum = 0.0;
   for (std::size_t v = 0; v < n; ++v) {
-    ClosestPointHit hit = nearest[v];
-    const PartSurface* surface = surface_of_part[target_part_of_vertex[v]];
-    const ClosestPointHit on_rim =
-        on_boundary[v] && !rim_edges.empty()
-            ? NearestOnRim(target_positions[v], -inward[v], fitted_template, template_triangles, rim_edges,
-                           params.rim_min_facing, params.rim_snap_distance * diagonal)
-            : ClosestPointHit{};
-    if (on_rim.triangle >= 0) {
-      hit = on_rim;
-      ++mapping.rim_vertices;
-      rim_snapped[v] = 1;
-    } else if (surface) {
-      ClosestPointHit facing =
-          surface->query->FindFacing(queries[v], target_normals[v], params.min_normal_dot, zero);
-      if (facing.triangle < 0) {
-        facing = surface->query->Find(queries[v]);
-        ++mapping.facing_fallbacks;
-      }
-      facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);
-      hit = facing;
-    }
-    mapping.triangle[v] = static_cast<std::uint32_t>(hit.triangle);
-    mapping.barycentrics[v] = hit.barycentrics;
-    mapping.weight[v] = Falloff(hit.distance, full, zero);
-    if (mapping.weight[v] >= 1.0f) {
-      ++mapping.full_vertices;
-      distance_sum += hit.distance;
-    } else if (mapping.weight[v] > 0.0f) {
-      ++mapping.partial_vertices;
-    } else {
-      ++mapping.unmapped_vertices;
-    }
+    bool snapped = false;
+    const ClosestPointHit hit =
+        mapper.Map(v, votes.nearest[v], surfaces.surface_of_part[target_part_of_vertex[v]], snapped, mapping);
+    rim_snapped[v] = snapped ? 1 : 0;
+    RecordHit(mapping, v, hit, full, zero, distance_sum);
   }
   mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
   if (mapping.rim_vertices > 0) {
-    mapping.rim_closing_ratio = params.rim_closing_ratio;
-    std::vector<std::uint32_t> neighbour_begin, neighbours;
-    if (params.rim_closing_ratio > 0.0f) VertexNeighbours(n, target_triangles, neighbour_begin, neighbours);
-    const float radius = params.rim_smoothing_radius * diagonal;
-    for (const std::vector<std::uint32_t>& loop : BoundaryLoops(target_positions, target_triangles)) {
-      if (std::none_of(loop.begin(), loop.end(), [&](std::uint32_t v) { return rim_snapped[v] != 0; })) continue;
-      const std::size_t size = loop.size();
-      float length = 0.0f;
-      for (std::size_t i = 0; i < size; ++i) {
-        length += glm::length(target_positions[loop[(i + 1) % size]] - target_positions[loop[i]]);
-      }
-      // k passes of the (1, 2, 1) / 4 filter: a Gaussian of variance k / 2 vertex spacings squared.
-      const float spacing = length / static_cast<float>(size);
-      TopologyMapping::Rim rim;
-      const float ratio = spacing > 0.0f ? radius / spacing : 0.0f;
-      rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
-      for (std::size_t i = 0; i < size; ++i) {
-        const std::uint32_t v = loop[i];
-        const auto same_side = [&](std::size_t j) {
-          return static_cast<std::uint32_t>(glm::dot(inward[v], inward[loop[j]]) >= params.rim_min_facing ? j : i);
-        };
-        rim.vertices.push_back({v, same_side((i + size - 1) % size), same_side((i + 1) % size)});
-        rim.into_opening.push_back(-inward[v]);
-      }
-      rim.rest_gap.resize(size);
-      for (std::size_t i = 0; i < size; ++i) {
-        rim.rest_gap[i] = NearestOppositeSide(rim, i, target_positions, nullptr);
-      }
-      if (params.rim_closing_ratio > 0.0f) {
-        RimBandOf(rim, params.rim_closing_reach, target_positions, neighbour_begin, neighbours);
-      }
-      mapping.rims.push_back(std::move(rim));
-    }
+    AddSnappedRims(mapping, target_positions, target.inward, target_triangles, rim_snapped, params, diagonal);
   }
   return mapping;
 }
@@ -420,37 +348,6 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
     for (const TopologyMapping::RimNeighbours& at : rim.vertices) along_rim.push_back(target_values[at.vertex]);
     SmoothAlongRim(rim, along_rim, scratch);
     for (std::size_t i = 0; i < along_rim.size(); ++i) target_values[rim.vertices[i].vertex] = along_rim[i];
-  }
-}
-
-void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target_positions,
-               std::vector<glm::vec3>& deltas) {
-  const float ratio_limit = mapping.rim_closing_ratio;
-  if (!(ratio_limit > 0.0f)) return;
-  std::vector<glm::vec3> correction, scratch;
-  for (const TopologyMapping::Rim& rim : mapping.rims) {
-    if (rim.band.empty()) continue;
-    correction.assign(rim.vertices.size(), glm::vec3(0.0f));
-    bool closing = false;
-    for (std::size_t i = 0; i < rim.vertices.size(); ++i) {
-      if (!(rim.rest_gap[i] > 0.0f)) continue;
-      glm::vec3 to_opposite(0.0f);
-      const float distance = NearestOppositeSide(rim, i, target_positions, &deltas, &to_opposite);
-      // Negative where the side has passed the other (it lies back against its direction into the opening).
-      const float gap = glm::dot(to_opposite, rim.into_opening[i]) < 0.0f ? -distance : distance;
-      const float ratio = gap / rim.rest_gap[i];
-      if (!(ratio < ratio_limit)) continue;
-      // Half the way each side (the other side goes its own half); fully from half the limit down.
-      const float t = std::clamp((ratio_limit - ratio) / (0.5f * ratio_limit), 0.0f, 1.0f);
-      correction[i] = t * t * (3.0f - 2.0f * t) * 0.5f * to_opposite;
-      closing = true;
-    }
-    if (!closing) continue;
-    // Smoothed along the rim as the deltas are: the gap left varies vertex to vertex.
-    SmoothAlongRim(rim, correction, scratch);
-    for (const TopologyMapping::RimBand& follower : rim.band) {
-      deltas[follower.vertex] += follower.weight * correction[follower.rim_index];
-    }
   }
 }
 

@@ -1,5 +1,7 @@
-// Average face and caricature (paper 002, section III.C), and the identity
-// morph of paper 000 section V.A. Faces here are in per-vertex correspondence
+// Average face and caricature (Mattos, Cesar, Mena-Chalco & Velho, "3D Linear
+// Facial Animation Based on Real Data"), and the identity morph of Pawaskar,
+// Ma, Carnegie, Lewis & Rhee ("Expression Transfer: A System to Build 3D Blend
+// Shapes for Facial Animation"). Faces here are in per-vertex correspondence
 // (same topology: the template, or templates fitted to scans).
 #pragma once
 
@@ -53,7 +55,7 @@ RawRig CaricatureRig(const Rig& rig, std::span<const glm::vec3> average,
 // Name of the identity control added by IdentityMorphRig.
 inline constexpr const char* kIdentityMorphShape = "identityMorph";
 
-// Paper 000 V.A: a rig with the template's neutral, the target's expression
+// Identity morph (Pawaskar et al.): a rig with the template's neutral, the target's expression
 // shapes (target_rig's, e.g. from TransferRig) and one more control shape
 // "identityMorph" = target neutral - template neutral. identityMorph at 0 is
 // the template's face, at 1 exactly target_rig; the expressions work at any

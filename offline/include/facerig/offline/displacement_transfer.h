@@ -1,4 +1,5 @@
-// Displacement matrices (paper 002, section III): per pose k the n x 3 matrix
+// Displacement matrices (Mattos, Cesar, Mena-Chalco & Velho, "3D Linear
+// Facial Animation Based on Real Data"): per pose k the n x 3 matrix
 // M^k of vertex displacements from the neutral, after rigid alignment of the
 // pose onto the neutral; transfer to another face in per-vertex
 // correspondence with bounding-box normalisation (eq. 4-6); combining poses;
@@ -31,8 +32,8 @@ struct RigidMotion {
   RigidMotion Inverse() const;
 };
 
-// Least-squares rigid motion taking `moving` onto `fixed` (Kabsch; the ICP of
-// paper 002 with the correspondences known), over `subset` (empty: all).
+// Least-squares rigid motion taking `moving` onto `fixed` (Kabsch; Mattos et
+// al.'s ICP with the correspondences known), over `subset` (empty: all).
 // \throw TransferInputError on size mismatch or fewer than 3 points.
 RigidMotion FitRigidMotion(std::span<const glm::vec3> moving, std::span<const glm::vec3> fixed,
                           std::span<const std::uint32_t> subset = {});
@@ -45,8 +46,8 @@ struct DisplacementMatrices {
 };
 
 struct DisplacementParams {
-  // Rigidly align each pose onto the neutral before differencing (paper 002:
-  // scans move between takes). Aligned over `alignment_vertices`, or, when
+  // Rigidly align each pose onto the neutral before differencing (scans move
+  // between takes). Aligned over `alignment_vertices`, or, when
   // empty, over the half of the vertices the pose moves least (the head, not
   // the jaw, defines the pose's frame).
   bool rigid_align = true;
@@ -71,7 +72,7 @@ struct DisplacementTransferParams {
   std::vector<glm::vec3> base_neutral;
   // With base_neutral: rigidly align the model onto it first, compare the
   // boxes in the base's frame and rotate the displacements into the model's
-  // frame (paper 002: the model may be posed differently).
+  // frame (the model may be posed differently).
   bool align_model = true;
 };
 

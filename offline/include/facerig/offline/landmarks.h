@@ -1,4 +1,5 @@
-// Automatic 3D facial landmarks (paper 004, section 3): the mesh is rendered
+// Automatic 3D facial landmarks, as in automatic-correspondence facial
+// deformation transfer (landmarks on a rendering, lifted to 3D): the mesh is rendered
 // orthographically from the front with the project's CPU rasterizer, dlib's
 // frontal face detector and 68-point shape predictor (Debian libdlib-data)
 // find the 2D landmarks, and the z-buffer (triangle id + barycentrics per
@@ -64,15 +65,15 @@ struct LandmarkParams {
   // against the ICT-FaceKit landmark vertices: a 2D table measured on random
   // ICT faces (tests/offline/landmarks_test.cpp, "[.calibrate]").
   bool calibrate = true;
-  // Paper 004 section 3.3: where an eye is a hole in the mesh, move its
-  // corner landmarks to the ends of the hole's first principal axis. Off by
-  // default: with the calibration on, it measured slightly worse on ICT faces
-  // (corner error 0.0205 vs 0.0189 of the inter-ocular distance).
+  // Where an eye is a hole in the mesh, move its corner landmarks to the ends
+  // of the hole's first principal axis. Off by default: with the calibration
+  // on, it is slightly worse on ICT faces (README, "Measurements behind the
+  // defaults").
   bool correct_eye_corners = false;
   // Where an eye is a hole in the mesh near the detected eye, put all six of
   // its points on the hole's boundary, the lid margins (eye_openings.h);
-  // replaces correct_eye_corners for that eye. On the built-in stylized head
-  // dlib's eyes were 2.8 cm wide against 2.1 and their lower lids 6 mm high.
+  // replaces correct_eye_corners for that eye. Why: on stylized heads dlib's
+  // eyes come out too wide and their lower lids too high.
   bool fit_eyes_to_openings = true;
 };
 

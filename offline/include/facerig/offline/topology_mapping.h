@@ -1,4 +1,4 @@
-// Blend shapes onto the user's own mesh (issue 6): a template fitted to the
+// Blend shapes onto the user's own mesh: a template fitted to the
 // target (template topology, target frame) carries the transferred
 // expressions; every target vertex takes the deltas of its closest point on
 // the fitted template, interpolated with that point's barycentrics, and fades
@@ -53,31 +53,21 @@ struct TopologyMappingParams {
   // smoothed over about this distance (fraction of the fitted template's
   // diagonal; a Gaussian's sigma, by passes of (previous + 2 self + next) / 4,
   // neighbours facing the same way only, so an eye's corners stay apart).
-  // Where the template's margin ends before the target's rim does, the rim
-  // vertices past it take an inset point, which moves less: on the built-in
-  // head the closed upper lid stepped by up to 2.7 mm between neighbours
-  // 0.4 mm apart and crossed the lower lid by 0.9 mm. Measured there (ICT's
-  // blink; mean second difference of the rim's deltas, upper lid's distance
-  // to the lower lid, crossing, cm), by passes (0.002 gives 7-8 there):
-  // 0: 0.021, 0.028-0.034, 0.054-0.093; 4: 0.008, 0.026-0.036, 0.017-0.033;
-  // 8: 0.007, 0.029-0.039, 0.006-0.019; 32: 0.007, 0.048-0.056, 0.002-0.010
-  // (the lagging vertices' motion spreads). Smoothing only the snapping's
-  // correction, or carrying it past the margin's end, fading, did less
-  // (crossing 0.022-0.039 and 0.054-0.093). A coarse rim (vertices further
-  // apart than the radius) is left as it is. 0: off.
+  // Why: where the template's margin ends before the target's rim does, the
+  // rim vertices past it take an inset point, which moves less, and a closed
+  // lid's edge steps between neighbours (README, "Measurements behind the
+  // defaults"). A coarse rim (vertices further apart than the radius) is left
+  // as it is. 0: off.
   float rim_smoothing_radius = 0.002f;
   // Where an expression brings a rim's two sides to within this fraction of
   // their rest distance (the fitted template's lids meeting on a blink), the
   // target's rim closes: each side moves half the remaining gap towards the
   // other (or back, where they cross; fully from half this fraction down),
   // and the lid around follows, fading to nothing rim_closing_reach times the
-  // rest distance away. The template's lid, fitted to a surface, is shaped
-  // unlike the target's: on the built-in head ICT's blink left the closed
-  // upper rim 0.4-1.3 mm above the lower one in the middle (a slit that
-  // showed the eye) and 0.5-2 mm below it at the outer corner; closed, the
-  // upper lid's mean distance to the lower went 0.31-0.40 -> 0.07-0.11 mm,
-  // its deepest crossing 0.1-0.3 -> 0.4-0.5 mm. Other shapes change by at
-  // most 0.7 mm (eyeLookDown, whose lid nearly closes at the corners). 0: off.
+  // rest distance away. Why: the template's lid, fitted to a surface, is
+  // shaped unlike the target's, so its closed rim can leave a slit that shows
+  // the eye, or cross the lower rim (README, "Measurements behind the
+  // defaults"). 0: off.
   float rim_closing_ratio = 0.3f;
   float rim_closing_reach = 0.5f;
 };

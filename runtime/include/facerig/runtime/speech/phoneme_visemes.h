@@ -68,8 +68,8 @@ struct UnmappedSymbol {
 // of first occurrence. Empty when the whole track is mapped.
 std::vector<UnmappedSymbol> FindUnmappedSymbols(std::span<const Phoneme> phonemes);
 
-// Timing corrections for espeak-ng-style phoneme events (measured: see
-// issue 3). All times in seconds.
+// Timing corrections for espeak-ng-style phoneme events (espeak-ng marks a
+// stop's release and reports some vowels late). All times in seconds.
 struct VisemeTimingParams {
   // Unvoiced stops (p t k tS): the event marks the release; the closure is
   // 40-50 ms of silence before it, so their key starts this much earlier.
