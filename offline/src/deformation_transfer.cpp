@@ -53,13 +53,12 @@ std::size_t ConnectedComponents(std::size_t vertex_count, std::span<const Triang
   return count;
 }
 
-void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
-                                   std::span<const glm::vec3> target_neutral,
-                                   std::span<const Triangle> triangles,
-                                   std::span<const std::vector<glm::vec3>> source_expressions,
-                                   const DeformationTransferParams& params,
-                                   DeformationTransferData& data) {
-  const Clock::time_point start = Clock::now();
+namespace {
+
+void ValidateTransferInputs(std::span<const glm::vec3> source_neutral, std::span<const glm::vec3> target_neutral,
+                            std::span<const Triangle> triangles,
+                            std::span<const std::vector<glm::vec3>> source_expressions,
+                            const DeformationTransferParams& params) {
   const std::size_t n = source_neutral.size();
   if (n == 0 || triangles.empty()) {
     throw TransferInputError("source neutral", "needs vertices and triangles");
@@ -95,18 +94,13 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   if (!(params.contact_weight >= 0.0) || !std::isfinite(params.contact_weight)) {
     throw TransferInputError("params", "contact_weight must be finite and >= 0");
   }
+}
 
-  auto impl = std::make_unique<DeformationTransferData::Impl>();
-  impl->mode = params.mode;
-  impl->scaled_normal = params.scaled_normal;
-  impl->displacement_scale = params.displacement_scale;
-  impl->still_fraction = params.still_fraction;
-  impl->rigid_tolerance = params.rigid_tolerance;
-  impl->triangles.assign(triangles.begin(), triangles.end());
-  impl->source_neutral.assign(source_neutral.begin(), source_neutral.end());
-  impl->target_neutral.assign(target_neutral.begin(), target_neutral.end());
-
-  // Anchors: the given list, or the template's static set.
+// Anchored vertices: the given list, or the template's static set, plus vertices in no triangle.
+std::vector<char> FindAnchors(std::span<const glm::vec3> source_neutral, std::span<const Triangle> triangles,
+                              std::span<const std::vector<glm::vec3>> source_expressions,
+                              const DeformationTransferParams& params) {
+  const std::size_t n = source_neutral.size();
   std::vector<char> is_anchor(n, 0);
   if (!params.anchor_vertices.empty()) {
     for (std::uint32_t v : params.anchor_vertices) {
@@ -139,11 +133,15 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   for (std::size_t v = 0; v < n; ++v) {
     if (!used[v]) is_anchor[v] = 1;
   }
-  const bool still_pinning = params.still_fraction > 0.0;
-  if (still_pinning) impl->is_static_anchor = is_anchor;
+  return is_anchor;
+}
 
-  // Every connected part needs an anchor; parts without one get a gauge vertex
-  // (the one nearest the part's centroid) and are placed by mean displacement.
+// Every connected part needs an anchor; parts without one get a gauge vertex
+// (the one nearest the part's centroid) and are placed by mean displacement.
+// Returns the number of parts; marks the gauges in is_anchor.
+std::size_t AnchorEveryPart(std::span<const glm::vec3> target_neutral, std::span<const Triangle> triangles,
+                            bool still_pinning, std::vector<char>& is_anchor, DeformationTransferData::Impl& impl) {
+  const std::size_t n = target_neutral.size();
   std::vector<std::uint32_t> component;
   const std::size_t component_count = ConnectedComponents(n, triangles, component);
   std::vector<char> anchored(component_count, 0);
@@ -172,19 +170,48 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
   };
   if (still_pinning) {
     // Which parts float depends on the expression: keep every part's gauge.
-    impl->component_of_vertex = component;
-    impl->component_members.resize(component_count);
-    for (std::uint32_t v = 0; v < n; ++v) impl->component_members[component[v]].push_back(v);
-    for (const std::vector<std::uint32_t>& part : impl->component_members) {
-      impl->component_gauge.push_back(gauge_of(part));
+    impl.component_of_vertex = component;
+    impl.component_members.resize(component_count);
+    for (std::uint32_t v = 0; v < n; ++v) impl.component_members[component[v]].push_back(v);
+    for (const std::vector<std::uint32_t>& part : impl.component_members) {
+      impl.component_gauge.push_back(gauge_of(part));
     }
   }
   for (std::size_t c = 0; c < component_count; ++c) {
     if (anchored[c]) continue;
     is_anchor[gauge_of(members[c])] = 1;
-    impl->floating_parts.push_back(std::move(members[c]));
+    impl.floating_parts.push_back(std::move(members[c]));
   }
 
+  return component_count;
+}
+
+}  // namespace
+
+void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
+                                   std::span<const glm::vec3> target_neutral,
+                                   std::span<const Triangle> triangles,
+                                   std::span<const std::vector<glm::vec3>> source_expressions,
+                                   const DeformationTransferParams& params,
+                                   DeformationTransferData& data) {
+  const Clock::time_point start = Clock::now();
+  const std::size_t n = source_neutral.size();
+  ValidateTransferInputs(source_neutral, target_neutral, triangles, source_expressions, params);
+  auto impl = std::make_unique<DeformationTransferData::Impl>();
+  impl->mode = params.mode;
+  impl->scaled_normal = params.scaled_normal;
+  impl->displacement_scale = params.displacement_scale;
+  impl->still_fraction = params.still_fraction;
+  impl->rigid_tolerance = params.rigid_tolerance;
+  impl->triangles.assign(triangles.begin(), triangles.end());
+  impl->source_neutral.assign(source_neutral.begin(), source_neutral.end());
+  impl->target_neutral.assign(target_neutral.begin(), target_neutral.end());
+
+  std::vector<char> is_anchor = FindAnchors(source_neutral, triangles, source_expressions, params);
+  const bool still_pinning = params.still_fraction > 0.0;
+  if (still_pinning) impl->is_static_anchor = is_anchor;
+
+  const std::size_t component_count = AnchorEveryPart(target_neutral, triangles, still_pinning, is_anchor, *impl);
   impl->free_index.assign(n, -1);
   std::vector<std::int32_t> anchor_index(n, -1);
   std::int32_t free_count = 0;
