@@ -186,6 +186,41 @@ std::size_t AnchorEveryPart(std::span<const glm::vec3> target_neutral, std::span
   return component_count;
 }
 
+// A triangle's frames (classic and identity-gradient) and its gradient metric
+// (E^T E)^-1 from the target's edges; clamped: R's diagonal had to be bounded.
+Eigen::Matrix2d PrepareTriangle(const Mat32& source_edges, double mean_edge2, const DeformationTransferParams& params,
+                                DeformationTransferData::Impl::TriangleData& d, bool& clamped) {
+  d.source_degenerate = GramRatio(source_edges) < params.min_gram_ratio;
+  if (!d.source_degenerate) {
+    d.source_frame_inverse = Frame(source_edges, params.scaled_normal).inverse();
+    d.identity_gradient = Frame(d.target_edges, params.scaled_normal) * d.source_frame_inverse;
+    d.source_degenerate = !d.source_frame_inverse.allFinite() || !d.identity_gradient.allFinite();
+  }
+  if (d.source_degenerate) {
+    d.source_frame_inverse.setIdentity();
+    d.identity_gradient.setIdentity();
+  }
+
+  // W = R^-1 Q^T from the QR of the target's edges (Algorithm 1, line 15),
+  // with R's diagonal clamped so needles and points stay bounded.
+  Eigen::HouseholderQR<Mat32> qr(d.target_edges);
+  Eigen::Matrix2d r = qr.matrixQR().topRows<2>().triangularView<Eigen::Upper>();
+  const double r0_min = std::sqrt(1e-6 * mean_edge2);
+  if (std::abs(r(0, 0)) < r0_min) {
+    r(0, 0) = r0_min;
+    r(0, 1) = 0.0;
+    clamped = true;
+  }
+  const double r1_min = std::max(std::sqrt(params.min_gram_ratio) * std::abs(r(0, 0)), r0_min);
+  if (std::abs(r(1, 1)) < r1_min) {
+    r(1, 1) = r(1, 1) < 0.0 ? -r1_min : r1_min;
+    clamped = true;
+  }
+  const Mat32 q = qr.householderQ() * Mat32::Identity();
+  const Mat23 w = r.inverse() * q.transpose();  // 2x3
+  return w * w.transpose();  // (E^T E)^-1, regularized
+}
+
 }  // namespace
 
 void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
@@ -239,7 +274,6 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
 
   Mat23 b;  // edge operator: (e1, e2) = X * B^T over the triangle's 3 vertices
   b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0;
-  const double ratio = params.min_gram_ratio;
   std::vector<Eigen::Triplet<double>> free_triplets;
   std::vector<Eigen::Triplet<double>> coupling_triplets;
   std::vector<Eigen::Triplet<double>> full_triplets;
@@ -253,37 +287,9 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
     d.target_edges = Edges(target_neutral, t);
     const Mat32 source_edges = Edges(source_neutral, t);
 
-    d.source_degenerate = GramRatio(source_edges) < ratio;
-    if (!d.source_degenerate) {
-      d.source_frame_inverse = Frame(source_edges, params.scaled_normal).inverse();
-      d.identity_gradient = Frame(d.target_edges, params.scaled_normal) * d.source_frame_inverse;
-      d.source_degenerate = !d.source_frame_inverse.allFinite() || !d.identity_gradient.allFinite();
-    }
-    if (d.source_degenerate) {
-      d.source_frame_inverse.setIdentity();
-      d.identity_gradient.setIdentity();
-    }
-
-    // W = R^-1 Q^T from the QR of the target's edges (Algorithm 1, line 15),
-    // with R's diagonal clamped so needles and points stay bounded.
-    Eigen::HouseholderQR<Mat32> qr(d.target_edges);
-    Eigen::Matrix2d r = qr.matrixQR().topRows<2>().triangularView<Eigen::Upper>();
-    const double r0_min = std::sqrt(1e-6 * mean_edge2);
     bool clamped = false;
-    if (std::abs(r(0, 0)) < r0_min) {
-      r(0, 0) = r0_min;
-      r(0, 1) = 0.0;
-      clamped = true;
-    }
-    const double r1_min = std::max(std::sqrt(ratio) * std::abs(r(0, 0)), r0_min);
-    if (std::abs(r(1, 1)) < r1_min) {
-      r(1, 1) = r(1, 1) < 0.0 ? -r1_min : r1_min;
-      clamped = true;
-    }
+    const Eigen::Matrix2d metric = PrepareTriangle(source_edges, mean_edge2, params, d, clamped);
     if (clamped || d.source_degenerate) ++regularized;
-    const Mat32 q = qr.householderQ() * Mat32::Identity();
-    const Mat23 w = r.inverse() * q.transpose();  // 2x3
-    const Eigen::Matrix2d metric = w * w.transpose();  // (E^T E)^-1, regularized
     double weight = 1.0;
     if (params.area_weighted) {
       const double area = 0.5 * d.target_edges.col(0).cross(d.target_edges.col(1)).norm();
