@@ -221,6 +221,35 @@ Eigen::Matrix2d PrepareTriangle(const Mat32& source_edges, double mean_edge2, co
   return w * w.transpose();  // (E^T E)^-1, regularized
 }
 
+// A triangle's 3x3 block of the normal equations: into the free system, its
+// coupling to the anchors, and (with still pinning) the whole system.
+void AddTriangleBlock(const Triangle& t, const Eigen::Matrix3d& local, std::span<const std::int32_t> free_index,
+                      std::span<const std::int32_t> anchor_index,
+                      std::vector<Eigen::Triplet<double>>& free_triplets,
+                      std::vector<Eigen::Triplet<double>>& coupling_triplets,
+                      std::vector<Eigen::Triplet<double>>* full_triplets) {
+  if (full_triplets != nullptr) {
+    for (int row = 0; row < 3; ++row) {
+      for (int col = 0; col < 3; ++col) {
+        full_triplets->emplace_back(t[static_cast<std::size_t>(row)], t[static_cast<std::size_t>(col)],
+                                    local(row, col));
+      }
+    }
+  }
+  for (int row = 0; row < 3; ++row) {
+    const std::int32_t fr = free_index[t[static_cast<std::size_t>(row)]];
+    if (fr < 0) continue;
+    for (int col = 0; col < 3; ++col) {
+      const std::uint32_t vc = t[static_cast<std::size_t>(col)];
+      if (free_index[vc] >= 0) {
+        free_triplets.emplace_back(fr, free_index[vc], local(row, col));
+      } else {
+        coupling_triplets.emplace_back(fr, anchor_index[vc], local(row, col));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
@@ -298,26 +327,8 @@ void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
     impl->total_weight += weight;
     d.rhs_operator = weight * metric * b;
     const Eigen::Matrix3d local = b.transpose() * d.rhs_operator;  // w B^T M B
-    if (still_pinning) {
-      for (int row = 0; row < 3; ++row) {
-        for (int col = 0; col < 3; ++col) {
-          full_triplets.emplace_back(t[static_cast<std::size_t>(row)],
-                                     t[static_cast<std::size_t>(col)], local(row, col));
-        }
-      }
-    }
-    for (int row = 0; row < 3; ++row) {
-      const std::int32_t fr = impl->free_index[t[static_cast<std::size_t>(row)]];
-      if (fr < 0) continue;
-      for (int col = 0; col < 3; ++col) {
-        const std::uint32_t vc = t[static_cast<std::size_t>(col)];
-        if (impl->free_index[vc] >= 0) {
-          free_triplets.emplace_back(fr, impl->free_index[vc], local(row, col));
-        } else {
-          coupling_triplets.emplace_back(fr, anchor_index[vc], local(row, col));
-        }
-      }
-    }
+    AddTriangleBlock(t, local, impl->free_index, anchor_index, free_triplets, coupling_triplets,
+                     still_pinning ? &full_triplets : nullptr);
   }
 
   Eigen::SparseMatrix<double> system(free_count, free_count);

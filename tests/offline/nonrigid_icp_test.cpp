@@ -112,9 +112,11 @@ TEST_CASE("Non-rigid ICP: CHOLMOD and Eigen's simplicial solver give the same fi
   }
   NonrigidIcpParams params;
   params.use_cholmod = true;
-  const NonrigidIcpResult preferred = NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
+  const NonrigidIcpResult preferred =
+      NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
   params.use_cholmod = false;
-  const NonrigidIcpResult simplicial = NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
+  const NonrigidIcpResult simplicial =
+      NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
   REQUIRE(preferred.positions.size() == simplicial.positions.size());
   float worst = 0.0f;
   for (std::size_t v = 0; v < source.size(); ++v) {
