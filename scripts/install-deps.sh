@@ -8,7 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libglm-dev libtinygltf-dev nlohmann-json3-dev   # runtime
   libeigen3-dev                                    # offline
-  libsuitesparse-dev                               # offline: CHOLMOD sparse Cholesky (registration, transfer)
+  libsuitesparse-dev                               # offline: CHOLMOD sparse Cholesky (registration)
+  libopenblas0-pthread                             # offline: BLAS for CHOLMOD's supernodal factorization
   libcli11-dev                                     # tools: one option parser (facerig, facerig-bench, player)
   libopencv-dev libdlib-dev libdlib-data           # offline: rasterizer PNGs, default-head face test
   libespeak-ng-dev espeak-ng-data                  # facerig::espeak (phoneme source)

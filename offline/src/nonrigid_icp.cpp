@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <Eigen/Sparse>
@@ -41,14 +42,60 @@ double Percentile(std::vector<double> values, double fraction) {
   return values[k];
 }
 
-// Supernodal CHOLMOD when the build has it (several times faster on the
-// 4n x 4n system), else Eigen's simplicial LDL^T. Both keep the symbolic
+// Supernodal CHOLMOD when the build has it and the caller wants it (several
+// times faster on the 4n x 4n system), else Eigen's simplicial LDL^T; the
+// choice is at run time so a benchmark can run both. Both keep the symbolic
 // analysis across factorizations.
+class IcpSparseSolver {
+ public:
+  using Matrix = Eigen::SparseMatrix<double>;
+
+  explicit IcpSparseSolver(bool prefer_cholmod) {
 #if defined(FACERIG_HAVE_CHOLMOD)
-using SparseSolver = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+    if (prefer_cholmod) {
+      cholmod_.emplace();
+      // Nested dissection (METIS) halves the factorization's flops against AMD
+      // on this mesh-shaped pattern; trying every ordering costs seconds.
+      cholmod_->cholmod().nmethods = 1;
+      cholmod_->cholmod().method[0].ordering = CHOLMOD_METIS;
+      return;
+    }
 #else
-using SparseSolver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+    (void)prefer_cholmod;
 #endif
+    simplicial_.emplace();
+  }
+  void AnalyzePattern(const Matrix& matrix) {
+#if defined(FACERIG_HAVE_CHOLMOD)
+    if (cholmod_) return cholmod_->analyzePattern(matrix);
+#endif
+    simplicial_->analyzePattern(matrix);
+  }
+  void Factorize(const Matrix& matrix) {
+#if defined(FACERIG_HAVE_CHOLMOD)
+    if (cholmod_) return cholmod_->factorize(matrix);
+#endif
+    simplicial_->factorize(matrix);
+  }
+  Eigen::MatrixXd Solve(const Eigen::MatrixXd& rhs) const {
+#if defined(FACERIG_HAVE_CHOLMOD)
+    if (cholmod_) return cholmod_->solve(rhs);
+#endif
+    return simplicial_->solve(rhs);
+  }
+  bool Ok() const {
+#if defined(FACERIG_HAVE_CHOLMOD)
+    if (cholmod_) return cholmod_->info() == Eigen::Success;
+#endif
+    return simplicial_->info() == Eigen::Success;
+  }
+
+ private:
+#if defined(FACERIG_HAVE_CHOLMOD)
+  std::optional<Eigen::CholmodSupernodalLLT<Matrix, Eigen::Lower>> cholmod_;
+#endif
+  std::optional<Eigen::SimplicialLDLT<Matrix, Eigen::Lower>> simplicial_;
+};
 
 // Per-vertex affine transform X_i (4 x 3, rows: linear part, then translation)
 // applied to a point: X_i^T [p; 1].
@@ -277,17 +324,11 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
   };
 
   Eigen::SparseMatrix<double> matrix(unknowns, unknowns);
-  SparseSolver solver;
+  IcpSparseSolver solver(params.use_cholmod);
   for (auto& block : diag_blocks) block.setIdentity();
   assemble(1.0);
   matrix.setFromTriplets(triplets.begin(), triplets.end());
-#if defined(FACERIG_HAVE_CHOLMOD)
-  // Nested dissection (METIS) halves the factorization's flops against AMD
-  // on this mesh-shaped pattern; trying every ordering costs seconds.
-  solver.cholmod().nmethods = 1;
-  solver.cholmod().method[0].ordering = CHOLMOD_METIS;
-#endif
-  solver.analyzePattern(matrix);  // once: every later matrix has this pattern
+  solver.AnalyzePattern(matrix);  // once: every later matrix has this pattern
   result.timings.setup_seconds = Seconds(setup_start);
 
   Eigen::MatrixXd x = Eigen::MatrixXd::Zero(unknowns, 3);  // identity transforms
@@ -364,17 +405,17 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
         assemble(alpha);
         matrix.setFromTriplets(triplets.begin(), triplets.end());
         const auto t0 = Clock::now();
-        solver.factorize(matrix);
+        solver.Factorize(matrix);
         ++result.factorizations;
         result.timings.factorize_seconds += Seconds(t0);
-        if (solver.info() != Eigen::Success) {
+        if (!solver.Ok()) {
           throw SolverError("non-rigid ICP: factorization failed at stiffness " + std::to_string(alpha));
         }
       }
       const auto t0 = Clock::now();
-      next = solver.solve(rhs);
+      next = solver.Solve(rhs);
       result.timings.solve_seconds += Seconds(t0);
-      if (solver.info() != Eigen::Success || !next.allFinite()) {
+      if (!solver.Ok() || !next.allFinite()) {
         throw SolverError("non-rigid ICP: the solve failed at stiffness " + std::to_string(alpha));
       }
       x.swap(next);

@@ -59,6 +59,8 @@ std::vector<RawBlendShape> TransferExpressions(const Rig& template_rig, std::spa
   RawRig transferred = TransferRig(template_rig, fitted, transfer, &result);
   built.transfer_anchors = result.anchor_count;
   built.transfer_contacts_active = result.contacts_active;
+  built.timings.transfer_precompute_seconds = result.precompute_seconds;
+  built.timings.transfer_solve_seconds = result.solve_seconds;
   built.transfer_contacts =
       std::accumulate(result.contact_counts.begin(), result.contact_counts.end(), std::size_t{0});
   return std::move(transferred.shapes);
@@ -238,6 +240,7 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplat
     result.margin_vertices_aligned = aligned.aligned_vertices;
     result.margin_mean_correction = aligned.mean_correction;
   }
+  result.timings.margin_seconds = SecondsSince(transfer_start);
 
   // 2. Transfer in the template's frame.
   report("transfer", 0, 1);

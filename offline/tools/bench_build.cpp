@@ -1,6 +1,7 @@
 #include "bench_build.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +34,104 @@ void Usage() {
 void PrintCheck(const char* what, double value, const char* comparison, double target) {
   const bool ok = value <= target;
   std::printf("  %-50s %8.4f   target %s %-6g %s\n", what, value, comparison, target, ok ? "ok" : "MISSED");
+}
+
+// One build's wall-clock seconds per stage, in pipeline order.
+struct StageTimes {
+  double landmarks = 0.0;     // render + dlib
+  double rigid = 0.0;         // landmark similarity fit
+  double nonrigid = 0.0;      // non-rigid ICP, all of it
+  double icp_setup = 0.0;     // of which: closest-point structure, pattern, symbolic analysis
+  double icp_closest = 0.0;   // of which: correspondences
+  double icp_factorize = 0.0; // of which: numeric factorizations
+  double icp_solve = 0.0;     // of which: back-solves
+  double margins = 0.0;       // eyelid and lip margins onto the target's openings
+  double precompute = 0.0;    // deformation transfer: system, factorization
+  double solves = 0.0;        // deformation transfer: all expressions
+  double transfer_rest = 0.0; // frames, blend shapes
+  double mapping = 0.0;       // onto the target's topology
+  double export_rig = 0.0;    // RigBuilder::Build of the result
+  double total = 0.0;
+};
+
+constexpr int kStageCount = 14;
+constexpr const char* kStageNames[kStageCount] = {
+    "landmarks",     "rigid",     "nonrigid_icp", "  icp_setup",      "  icp_closest_points", "  icp_factorize",
+    "  icp_solve",   "margin_alignment", "dt_precompute", "dt_solves", "dt_other", "topology_mapping",
+    "export",        "total"};
+
+std::array<double, kStageCount> AsArray(const StageTimes& t) {
+  return {t.landmarks,  t.rigid,      t.nonrigid,      t.icp_setup,     t.icp_closest, t.icp_factorize, t.icp_solve,
+          t.margins,    t.precompute, t.solves,        t.transfer_rest, t.mapping,     t.export_rig,    t.total};
+}
+
+StageTimes StagesOf(double landmark_seconds, const facerig::BuildRigResult& build, double total_seconds) {
+  const facerig::BuildRigTimings& t = build.timings;
+  StageTimes stages;
+  stages.landmarks = landmark_seconds;
+  stages.rigid = build.registration.timings.rigid_seconds;
+  stages.nonrigid = t.registration_seconds - stages.rigid;
+  stages.icp_setup = build.registration.timings.setup_seconds;
+  stages.icp_closest = build.registration.timings.correspondence_seconds;
+  stages.icp_factorize = build.registration.timings.factorize_seconds;
+  stages.icp_solve = build.registration.timings.solve_seconds;
+  stages.margins = t.margin_seconds;
+  stages.precompute = t.transfer_precompute_seconds;
+  stages.solves = t.transfer_solve_seconds;
+  stages.transfer_rest = std::max(0.0, t.transfer_seconds - t.margin_seconds - stages.precompute - stages.solves);
+  stages.mapping = t.mapping_seconds;
+  stages.export_rig = std::max(0.0, total_seconds - landmark_seconds - t.total_seconds);
+  stages.total = total_seconds;
+  return stages;
+}
+
+// The whole build as `facerig build` runs it after loading: landmarks, BuildRig, the final rig.
+StageTimes TimeWholeBuild(facerig::LandmarkDetector& detector, const facerig::Rig& ict,
+                          const facerig::RawRig& target_rig, const facerig::BuildRigParams& params) {
+  const auto start = Clock::now();
+  const facerig::LandmarkResult detected = detector.Detect(target_rig.positions, target_rig.triangles);
+  const double landmark_seconds = SecondsSince(start);
+  const facerig::RegistrationLandmarks pairs =
+      facerig::PairLandmarks(facerig::IctLandmarkVertices(), detected.landmarks);
+  const facerig::BuildRigResult build = facerig::BuildRig(ict, target_rig, pairs, params);
+  const facerig::Rig rig = facerig::RigBuilder::Build(build.rig).value();
+  return StagesOf(landmark_seconds, build, SecondsSince(start));
+}
+
+// The pipeline before this benchmark's last speed work: Eigen's simplicial
+// LDL^T in non-rigid ICP instead of supernodal CHOLMOD. A real run, same target.
+facerig::BuildRigParams PreviousPipelineParams() {
+  facerig::BuildRigParams params;
+  params.registration.use_cholmod = false;
+  return params;
+}
+
+double MedianOf(const std::vector<StageTimes>& runs, int stage) {
+  std::vector<double> values;
+  for (const StageTimes& run : runs) values.push_back(AsArray(run)[static_cast<std::size_t>(stage)]);
+  return facerig::Percentile(values, 0.5);
+}
+
+// Median over the faces of each stage, this pipeline and the previous one side by side.
+void ReportStageTable(const std::vector<StageTimes>& current, const std::vector<StageTimes>& previous,
+                      std::size_t target_vertices, nlohmann::json& report) {
+  std::printf("\nstage times, median over %zu faces of %zu vertices (s):\n", current.size(), target_vertices);
+  std::printf("  %-20s %9s %9s\n", "stage", "this", "previous");
+  nlohmann::json stages = nlohmann::json::array();
+  for (int s = 0; s < kStageCount; ++s) {
+    const double now = MedianOf(current, s);
+    const double before = MedianOf(previous, s);
+    std::printf("  %-20s %9.3f %9.3f\n", kStageNames[s], now, before);
+    const std::string name = std::string(kStageNames[s]).substr(kStageNames[s][0] == ' ' ? 2 : 0);
+    stages.push_back({{"stage", name}, {"seconds", now}, {"previous_seconds", before}});
+  }
+  std::printf("  previous: the same build with Eigen's simplicial LDL^T in non-rigid ICP (no CHOLMOD)\n");
+  report["stages"] = stages;
+  report["stages_target_vertices"] = target_vertices;
+  const double total = MedianOf(current, kStageCount - 1);
+  PrintCheck("whole build, median face (s)", total, "<=", 3.0);
+  report["summary"]["median_total_seconds"] = total;
+  report["summary"]["previous_median_total_seconds"] = MedianOf(previous, kStageCount - 1);
 }
 
 }  // namespace
@@ -87,6 +186,7 @@ int RunBuildBenchmark(int argc, char** argv) {
     constexpr facerig::BuildMode kModes[3] = {facerig::BuildMode::kClassic, facerig::BuildMode::kIdentityGradient,
                                               facerig::BuildMode::kDisplacement};
     std::vector<double> totals;
+    std::vector<StageTimes> current_stages, previous_stages;
     std::vector<double> medians[3], p90s[3], leaks[3];
     nlohmann::json per_face = nlohmann::json::array();
     for (int f = 0; f < faces; ++f) {
@@ -110,6 +210,8 @@ int RunBuildBenchmark(int argc, char** argv) {
       const facerig::Rig classic_rig = facerig::RigBuilder::Build(classic.rig).value();
       const double total_seconds = SecondsSince(start);
       totals.push_back(total_seconds);
+      current_stages.push_back(StagesOf(landmark_seconds, classic, total_seconds));
+      previous_stages.push_back(TimeWholeBuild(detector, ict, target_rig, PreviousPipelineParams()));
 
       nlohmann::json face = {{"seed", options.seed},
                              {"vertices", target.positions.size()},
@@ -163,6 +265,7 @@ int RunBuildBenchmark(int argc, char** argv) {
     const double worst_total = *std::max_element(totals.begin(), totals.end());
     PrintCheck("whole build, landmarks to output rig (worst, s)", worst_total, "<=", 10.0);
     report["summary"]["worst_total_seconds"] = worst_total;
+    ReportStageTable(current_stages, previous_stages, target_vertices, report);
     std::printf("  reference: displacement matrices (paper 002) are the baseline column; the issue's plain\n"
                 "  deformation transfer on same-topology faces: median 0.055-0.064, p90 0.075-0.11\n");
   } catch (const std::exception& error) {

@@ -98,6 +98,34 @@ TEST_CASE("Non-rigid ICP fits a bent sheet onto another bend", "[nonrigid_icp]")
   CHECK(correspondences > 800);
 }
 
+TEST_CASE("Non-rigid ICP: CHOLMOD and Eigen's simplicial solver give the same fit", "[nonrigid_icp]") {
+  std::vector<glm::vec3> source, target;
+  std::vector<Triangle> source_triangles, target_triangles;
+  MakeSheet(20, 0.2f, source, source_triangles);
+  MakeSheet(27, 0.6f, target, target_triangles);
+  RegistrationLandmarks landmarks;
+  for (std::uint32_t v : {0u, 19u, 380u, 399u, 210u}) {
+    landmarks.template_vertices.push_back(v);
+    glm::vec3 p = source[v];
+    p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
+    landmarks.target_points.push_back(p);
+  }
+  NonrigidIcpParams params;
+  params.use_cholmod = true;
+  const NonrigidIcpResult preferred =
+      NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
+  params.use_cholmod = false;
+  const NonrigidIcpResult simplicial =
+      NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
+  REQUIRE(preferred.positions.size() == simplicial.positions.size());
+  float worst = 0.0f;
+  for (std::size_t v = 0; v < source.size(); ++v) {
+    worst = std::max(worst, glm::length(preferred.positions[v] - simplicial.positions[v]));
+  }
+  CHECK(worst < 1e-4f);  // the sheet is 2 units wide: both solve the same system
+  CHECK(preferred.factorizations == simplicial.factorizations);
+}
+
 // Scan defects of issue 5 on a target: fins (edges with three or four
 // triangles), a duplicated triangle, degenerate triangles (repeated index,
 // collinear) and isolated vertices, one of them far away. Returns how many

@@ -55,6 +55,9 @@ struct NonrigidIcpParams {
   // Rigid pre-alignment (needs >= 3 landmarks; otherwise the template is
   // assumed to be roughly aligned with the target already and only ICP runs).
   bool rigid_prealign = true;
+  // Sparse Cholesky: supernodal CHOLMOD when the build links it (FACERIG_WITH_CHOLMOD),
+  // else, or when false, Eigen's simplicial LDL^T (same result, slower).
+  bool use_cholmod = true;
   RigidAlignParams rigid;
   // Called after each stage with (stages done, stage count); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;

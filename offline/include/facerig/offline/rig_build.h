@@ -78,7 +78,10 @@ struct BuildRigParams {
 
 struct BuildRigTimings {
   double registration_seconds = 0.0;
-  double transfer_seconds = 0.0;
+  double transfer_seconds = 0.0;  // including the margin alignment and the transfer's precompute
+  double margin_seconds = 0.0;
+  double transfer_precompute_seconds = 0.0;  // deformation transfer: including its factorization
+  double transfer_solve_seconds = 0.0;  // deformation transfer: all expressions
   double mapping_seconds = 0.0;
   double total_seconds = 0.0;
 };
