@@ -87,13 +87,14 @@ StageTimes StagesOf(double landmark_seconds, const facerig::BuildRigResult& buil
 
 // The whole build as `facerig build` runs it after loading: landmarks, BuildRig, the final rig.
 StageTimes TimeWholeBuild(facerig::LandmarkDetector& detector, const facerig::Rig& ict,
-                          const facerig::RawRig& target_rig, const facerig::BuildRigParams& params) {
+                          const facerig::FaceTemplateInfo& ict_info, const facerig::RawRig& target_rig,
+                          const facerig::BuildRigParams& params) {
   const auto start = Clock::now();
   const facerig::LandmarkResult detected = detector.Detect(target_rig.positions, target_rig.triangles);
   const double landmark_seconds = SecondsSince(start);
   const facerig::RegistrationLandmarks pairs =
-      facerig::PairLandmarks(facerig::IctLandmarkVertices(), detected.landmarks);
-  const facerig::BuildRigResult build = facerig::BuildRig(ict, target_rig, pairs, params);
+      facerig::PairLandmarks(ict_info.landmark_vertices, detected.landmarks);
+  const facerig::BuildRigResult build = facerig::BuildRig(ict, ict_info, target_rig, pairs, params);
   const facerig::Rig rig = facerig::RigBuilder::Build(build.rig).value();
   return StagesOf(landmark_seconds, build, SecondsSince(start));
 }
@@ -211,7 +212,7 @@ int RunBuildBenchmark(int argc, char** argv) {
       const double total_seconds = SecondsSince(start);
       totals.push_back(total_seconds);
       current_stages.push_back(StagesOf(landmark_seconds, classic, total_seconds));
-      previous_stages.push_back(TimeWholeBuild(detector, ict, target_rig, PreviousPipelineParams()));
+      previous_stages.push_back(TimeWholeBuild(detector, ict, ict_info, target_rig, PreviousPipelineParams()));
 
       nlohmann::json face = {{"seed", options.seed},
                              {"vertices", target.positions.size()},
