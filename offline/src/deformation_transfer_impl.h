@@ -20,6 +20,7 @@
 #include <glm/common.hpp>
 
 #include "expression_contacts.h"
+#include "facerig/offline/stats.h"
 
 namespace facerig {
 namespace deformation_transfer_detail {
@@ -27,10 +28,6 @@ namespace deformation_transfer_detail {
 using Clock = std::chrono::steady_clock;
 using Mat32 = Eigen::Matrix<double, 3, 2>;
 using Mat23 = Eigen::Matrix<double, 2, 3>;
-
-inline double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 inline Eigen::Vector3d ToEigen(glm::vec3 p) { return {p.x, p.y, p.z}; }
 

@@ -54,14 +54,6 @@ ExpressionError MeasureExpressionError(std::span<const glm::vec3> rest,
   return error;
 }
 
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double rank = std::ceil(fraction * static_cast<double>(values.size()));
-  const auto index = static_cast<std::size_t>(std::clamp(rank, 1.0, static_cast<double>(values.size())));
-  return values[index - 1];
-}
-
 namespace {
 
 // Shortest path along mesh edges (neutral lengths) from `from` to `to` through

@@ -11,6 +11,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 
@@ -268,7 +269,7 @@ DisplacementTransferResult TransferDisplacements(const DisplacementMatrices& mat
       pose[v] = model_neutral[v] + base_to_model.ApplyRotation(d);
     }
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = SecondsSince(start);
   return result;
 }
 

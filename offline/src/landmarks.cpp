@@ -22,6 +22,7 @@
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/registration_error.h"
 #include "facerig/offline/rigid_align.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/rig_builder.h"
 
@@ -541,7 +542,7 @@ LandmarkResult LandmarkDetector::Detect(std::span<const glm::vec3> positions,
     result.corrected = CorrectEyeCorners(positions, triangles, result.landmarks.points);
   }
   result.views_tried = impl.views_tried;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = SecondsSince(start);
   return result;
 }
 

@@ -16,13 +16,13 @@
 
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/registration_error.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
 
 glm::vec3 BoundsDiagonalVector(std::span<const glm::vec3> points, glm::vec3* lo_out = nullptr) {
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -32,14 +32,6 @@ glm::vec3 BoundsDiagonalVector(std::span<const glm::vec3> points, glm::vec3* lo_
   }
   if (lo_out != nullptr) *lo_out = lo;
   return hi - lo;
-}
-
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(std::min<double>(static_cast<double>(values.size() - 1),
-                                                            std::ceil(fraction * static_cast<double>(values.size())) - 1.0));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
 }
 
 // Supernodal CHOLMOD when the build has it and the caller wants it (several
@@ -214,7 +206,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
       }
     }
   }
-  result.timings.rigid_seconds = Seconds(rigid_start);
+  result.timings.rigid_seconds = SecondsSince(rigid_start);
 
   // --- working frame: template region centred, diagonal = working_diagonal ---
   const auto setup_start = Clock::now();
@@ -329,7 +321,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
   assemble(1.0);
   matrix.setFromTriplets(triplets.begin(), triplets.end());
   solver.AnalyzePattern(matrix);  // once: every later matrix has this pattern
-  result.timings.setup_seconds = Seconds(setup_start);
+  result.timings.setup_seconds = SecondsSince(setup_start);
 
   Eigen::MatrixXd x = Eigen::MatrixXd::Zero(unknowns, 3);  // identity transforms
   for (std::size_t i = 0; i < n; ++i) x.block<3, 3>(static_cast<Eigen::Index>(4 * i), 0).setIdentity();
@@ -360,7 +352,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
     for (std::size_t i = 0; i < n; ++i) {
       if (accepted[i] && hits[i].distance > limit) accepted[i] = 0;
     }
-    result.timings.correspondence_seconds += Seconds(t0);
+    result.timings.correspondence_seconds += SecondsSince(t0);
   };
 
   for (std::size_t stage = 0; stage < params.stiffness.size(); ++stage) {
@@ -407,14 +399,14 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
         const auto t0 = Clock::now();
         solver.Factorize(matrix);
         ++result.factorizations;
-        result.timings.factorize_seconds += Seconds(t0);
+        result.timings.factorize_seconds += SecondsSince(t0);
         if (!solver.Ok()) {
           throw SolverError("non-rigid ICP: factorization failed at stiffness " + std::to_string(alpha));
         }
       }
       const auto t0 = Clock::now();
       next = solver.Solve(rhs);
-      result.timings.solve_seconds += Seconds(t0);
+      result.timings.solve_seconds += SecondsSince(t0);
       if (!solver.Ok() || !next.allFinite()) {
         throw SolverError("non-rigid ICP: the solve failed at stiffness " + std::to_string(alpha));
       }
@@ -487,7 +479,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
     }
     result.landmark_rms = std::sqrt(sum / static_cast<double>(local_landmarks.size()));
   }
-  result.timings.total_seconds = Seconds(start);
+  result.timings.total_seconds = SecondsSince(start);
   return result;
 }
 

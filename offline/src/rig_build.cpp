@@ -11,14 +11,11 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/displacement_transfer.h"
+#include "facerig/offline/stats.h"
 #include "margin_alignment.h"
 
 namespace facerig {
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Units of a target whose file does not say: the template's units divided by
 // the registration's scale, rounded to mm / cm / m in log scale (a head is a

@@ -12,6 +12,7 @@
 
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/registration_error.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
@@ -372,7 +373,7 @@ RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
 
   if (!source_landmarks.empty()) result.landmark_rms = LandmarkRms(transform, source_landmarks, target_landmarks);
   result.transform = transform;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = SecondsSince(start);
   return result;
 }
 

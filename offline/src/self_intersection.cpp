@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include "facerig/offline/stats.h"
 
 namespace facerig {
 namespace {
@@ -406,7 +407,7 @@ SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> position
   }
   std::sort(result.pairs.begin(), result.pairs.end());
   if (result.pairs.size() > params.max_pairs) result.pairs.resize(params.max_pairs);
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = SecondsSince(start);
   return result;
 }
 

@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 
 #include "facerig/offline/registration_error.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 
@@ -272,8 +273,6 @@ ExpressionError MeasureExpressionError(std::span<const glm::vec3> rest,
                                        std::size_t region_first, std::size_t region_last,
                                        double moved_fraction = 0.1, double still_fraction = 0.01);
 
-// Median and 90th percentile (nearest rank) of a list; 0 for an empty one.
-double Percentile(std::vector<double> values, double fraction);
 
 // The eyelid margins of one eye, found from the template's blink. upper: the
 // upper-lid vertices (moving more than half the blink's largest motion) that
