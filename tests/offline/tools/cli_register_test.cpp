@@ -3,7 +3,7 @@
 // the template's vertices in the target's coordinates, JSON reports), usage
 // errors (exit code 2), and bad input (exit code 1, a message naming the
 // problem, no output file).
-#include "cli_register.h"
+#include "cli_app.h"
 
 #include <cmath>
 #include <filesystem>
@@ -30,13 +30,13 @@ namespace fs = std::filesystem;
 test::CommandOutcome Landmarks(const std::vector<std::string>& arguments) {
   std::vector<std::string> all{"landmarks"};
   all.insert(all.end(), arguments.begin(), arguments.end());
-  return test::RunCommand(cli::RunLandmarksCommand, all);
+  return test::RunCommand(cli::RunFacerig, all);
 }
 
 test::CommandOutcome Register(const std::vector<std::string>& arguments) {
   std::vector<std::string> all{"register"};
   all.insert(all.end(), arguments.begin(), arguments.end());
-  return test::RunCommand(cli::RunRegisterCommand, all);
+  return test::RunCommand(cli::RunFacerig, all);
 }
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -112,7 +112,7 @@ TEST_CASE("facerig landmarks / register: usage errors return 2", "[cli][landmark
   CHECK(Landmarks({"mesh.obj", "-o"}).exit_code == 2);  // -o without a value
   const test::CommandOutcome unknown = Landmarks({"mesh.obj", "-o", "lm.json", "--frobnicate"});
   CHECK(unknown.exit_code == 2);
-  CHECK(Contains(unknown.error_output, "usage: facerig landmarks"));
+  CHECK(Contains(unknown.error_output, "facerig landmarks: The following argument was not expected: --frobnicate"));
   CHECK(Landmarks({"a.obj", "b.obj", "-o", "lm.json"}).exit_code == 2);  // two meshes
 
   CHECK(Register({}).exit_code == 2);
@@ -120,7 +120,7 @@ TEST_CASE("facerig landmarks / register: usage errors return 2", "[cli][landmark
   CHECK(Register({"--target", "m.obj", "-o", "f.obj"}).exit_code == 2);  // no template
   const test::CommandOutcome stray = Register({"--template", "t.frig", "--target", "m.obj", "-o", "f.obj", "extra"});
   CHECK(stray.exit_code == 2);
-  CHECK(Contains(stray.error_output, "usage: facerig register"));
+  CHECK(Contains(stray.error_output, "facerig register: The following argument was not expected: extra"));
 }
 
 TEST_CASE("facerig landmarks / register: bad input fails with a clear message and writes nothing",
