@@ -11,7 +11,6 @@ namespace facerig::cli {
 int RunFacerig(int argc, char** argv) {
   CLI::App app("facerig: inspect, convert and build blend-shape rigs", "facerig");
   AddVersionFlag(app);
-  app.require_subcommand(1);
   CommandBody body;
   AddInspectCommand(app, body);
   AddConvertCommand(app, body);
@@ -23,7 +22,7 @@ int RunFacerig(int argc, char** argv) {
   AddMorphCommand(app, body);
   AddDefaultHeadCommand(app, body);
   app.footer("Run 'facerig COMMAND --help' for a command's options. Exit codes: 0 ok, 1 failure, 2 bad command line.");
-  if (const std::optional<int> exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
+  if (const std::optional<int> exit_code = ParseSubcommandLine(app, argc, argv)) return *exit_code;
   return body();
 }
 

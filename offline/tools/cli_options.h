@@ -58,6 +58,16 @@ inline std::optional<int> ParseCommandLine(CLI::App& app, int argc, const char* 
   }
 }
 
+// Parses like ParseCommandLine, for a program that needs one subcommand:
+// naming an unknown one or none is a usage error (exit 2).
+inline std::optional<int> ParseSubcommandLine(CLI::App& app, int argc, const char* const* argv) {
+  if (const std::optional<int> exit_code = ParseCommandLine(app, argc, argv)) return exit_code;
+  if (!app.get_subcommands().empty()) return std::nullopt;
+  std::fprintf(stderr, "%s: a command is required\nRun '%s --help' for the commands.\n", app.get_name().c_str(),
+               app.get_name().c_str());
+  return kUsageExitCode;
+}
+
 // Validators: each error message names the bad value (CLI11 prefixes the flag).
 inline CLI::Validator UnitsValidator() {
   return CLI::Validator(
