@@ -212,7 +212,7 @@ int RunRegisterBenchmark(int argc, char** argv) {
                             {"solve", fit.timings.solve_seconds}}}});
     }
 
-    std::printf("\nissue 5 targets (mean over the faces; worst face in the JSON):\n");
+    std::printf("\ntargets (mean over the faces; worst face in the JSON):\n");
     const Row rows[] = {
         {"landmark error / IOD, without jaw", Mean(lm_no_jaw), 0.03, ""},
         {"landmark error / IOD, with jaw", Mean(lm_with_jaw), 0.06, ""},

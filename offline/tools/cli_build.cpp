@@ -70,7 +70,7 @@ bool IsGltf(const std::filesystem::path& path) {
 }
 
 // A glTF target's own document, with the shapes added, so that a skinned
-// character keeps its skin, nodes and materials (issue #6); else a fresh file.
+// character keeps its skin, nodes and materials; else a fresh file.
 void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::path& output, const Rig& rig) {
   if (!IsGltf(target) || !IsGltf(output)) return SaveRig(output, rig);
   const MorphTargetsWritten written = WriteGltfWithMorphTargets(target, output, rig);
