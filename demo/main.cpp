@@ -18,8 +18,12 @@ int main(int argc, char** argv) {
   try {
     options = ParseOptions(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const UsageError& e) {
-    std::cerr << "facerig-player: " << e.what() << "\n\n" << UsageText();
+    std::cerr << "facerig-player: " << e.what() << "\nRun 'facerig-player --help' for the options.\n";
     return 2;
+  }
+  if (options.version) {
+    std::cout << FACERIG_VERSION << '\n';
+    return 0;
   }
   if (options.help) {
     std::cout << UsageText();

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <optional>
+
+#include <CLI/CLI.hpp>
 
 namespace facerig::player {
 namespace {
@@ -26,6 +29,7 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
        facerig-player [--quit-after S] [--screenshot FILE.png]
        facerig-player --headless --frames DIR [--wav FILE] [--mp4 FILE] [--fps 30]
                       [--size WxH] [--duration S] [--lead-in S] [--say TEXT] [--hud] ...
+       facerig-player --version
 
   --rig FILE       .glb, .gltf, .frig or an OBJ template folder
                    (default: the built-in head the build generates, else ../shared/data/ict-facekit)
@@ -42,6 +46,9 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
                    first frame is the face at rest; the WAV holds the speech only (the MP4
                    offsets it by S)
   --hud            headless: draw the HUD into the frames
+  --version        print the version and exit
+
+exit codes: 0 ok, 1 failure, 2 bad command line.
 
 window keys: type a line and press Enter to speak it (Up/Down: history); with an empty line:
   1-6 toggle joy, sadness, fear, anger, surprise, disgust; +/- intensity; space pause;
@@ -49,79 +56,74 @@ window keys: type a line and press Enter to speak it (Up/Down: history); with an
 )";
 }
 
+namespace {
+
+// --emotion NAME[:I] appended to `emotions`.
+void AddEmotion(const std::string& text, std::vector<std::pair<Emotion, float>>& emotions) {
+  const std::size_t colon = text.find(':');
+  const std::optional<Emotion> emotion = ParseEmotion(text.substr(0, colon));
+  if (!emotion) {
+    throw UsageError("--emotion: unknown emotion '" + text.substr(0, colon) +
+                     "' (joy, sadness, fear, anger, surprise, disgust)");
+  }
+  const double intensity = colon == std::string::npos ? 0.7 : ParseNumber("--emotion", text.substr(colon + 1));
+  emotions.emplace_back(*emotion, static_cast<float>(std::clamp(intensity, 0.0, 1.0)));
+}
+
+// --size WxH into width and height.
+void SetSize(const std::string& text, PlayerOptions& options) {
+  const std::size_t x = text.find('x');
+  if (x == std::string::npos) throw UsageError("--size: expected WxH, got '" + text + "'");
+  const double w = ParseNumber("--size", text.substr(0, x)), h = ParseNumber("--size", text.substr(x + 1));
+  if (w < 16 || h < 16 || w > 8192 || h > 8192 || w != std::floor(w) || h != std::floor(h)) {
+    throw UsageError("--size: width and height must be whole numbers in [16, 8192]");
+  }
+  options.width = static_cast<int>(w);
+  options.height = static_cast<int>(h);
+}
+
+void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::string>& emotions, std::string& size) {
+  app.set_help_flag();  // -h/--help set options.help: main prints UsageText()
+  app.add_flag("-h,--help", options.help);
+  app.add_flag("--version", options.version);
+  app.add_option("--rig", options.rig);
+  app.add_option("--say", options.say);
+  app.add_option("--voice", options.voice);
+  app.add_option("--emotion", emotions)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_flag("--still", options.still);
+  app.add_flag("--hud", options.hud);
+  app.add_option("--timing", options.timing_json);
+  app.add_flag("--headless", options.headless);
+  app.add_option("--frames", options.frames_dir);
+  app.add_option("--wav", options.wav);
+  app.add_option("--mp4", options.mp4);
+  app.add_option("--fps", options.fps)->check(CLI::Range(1e-9, 1000.0));
+  app.add_option("--duration", options.duration)->check(CLI::Range(1e-9, 3600.0));
+  app.add_option("--msaa", options.msaa)->check(CLI::IsMember({0, 2, 4, 8}));
+  app.add_option("--quit-after", options.quit_after)->check(CLI::NonNegativeNumber);
+  app.add_option("--screenshot", options.screenshot);
+  app.add_option("--lead-in", options.lead_in)->check(CLI::Range(0.0, 60.0));
+  app.add_option("--size", size);
+}
+
+}  // namespace
+
 PlayerOptions ParseOptions(const std::vector<std::string>& args) {
   PlayerOptions options;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& flag = args[i];
-    const auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError(flag + " needs a value");
-      return args[++i];
-    };
-    if (flag == "-h" || flag == "--help") {
-      options.help = true;
-    } else if (flag == "--rig") {
-      options.rig = value();
-    } else if (flag == "--say") {
-      options.say = value();
-    } else if (flag == "--voice") {
-      options.voice = value();
-    } else if (flag == "--emotion") {
-      const std::string text = value();
-      const std::size_t colon = text.find(':');
-      const std::optional<Emotion> emotion = ParseEmotion(text.substr(0, colon));
-      if (!emotion) {
-        throw UsageError("--emotion: unknown emotion '" + text.substr(0, colon) +
-                         "' (joy, sadness, fear, anger, surprise, disgust)");
-      }
-      const double intensity = colon == std::string::npos ? 0.7 : ParseNumber(flag, text.substr(colon + 1));
-      options.emotions.emplace_back(*emotion, static_cast<float>(std::clamp(intensity, 0.0, 1.0)));
-    } else if (flag == "--still") {
-      options.still = true;
-    } else if (flag == "--hud") {
-      options.hud = true;
-    } else if (flag == "--timing") {
-      options.timing_json = value();
-    } else if (flag == "--headless") {
-      options.headless = true;
-    } else if (flag == "--frames") {
-      options.frames_dir = value();
-    } else if (flag == "--wav") {
-      options.wav = value();
-    } else if (flag == "--mp4") {
-      options.mp4 = value();
-    } else if (flag == "--fps") {
-      options.fps = ParseNumber(flag, value());
-      if (options.fps <= 0.0 || options.fps > 1000.0) throw UsageError("--fps must be in (0, 1000]");
-    } else if (flag == "--duration") {
-      options.duration = ParseNumber(flag, value());
-      if (*options.duration <= 0.0 || *options.duration > 3600.0) {
-        throw UsageError("--duration must be in (0, 3600] seconds");
-      }
-    } else if (flag == "--msaa") {
-      const double samples = ParseNumber(flag, value());
-      if (samples != 0 && samples != 2 && samples != 4 && samples != 8) throw UsageError("--msaa must be 0, 2, 4 or 8");
-      options.msaa = static_cast<int>(samples);
-    } else if (flag == "--quit-after") {
-      options.quit_after = ParseNumber(flag, value());
-      if (options.quit_after < 0.0) throw UsageError("--quit-after must be >= 0 seconds");
-    } else if (flag == "--screenshot") {
-      options.screenshot = value();
-    } else if (flag == "--lead-in") {
-      options.lead_in = ParseNumber(flag, value());
-      if (options.lead_in < 0.0 || options.lead_in > 60.0) throw UsageError("--lead-in must be in [0, 60] seconds");
-    } else if (flag == "--size") {
-      const std::string text = value();
-      const std::size_t x = text.find('x');
-      if (x == std::string::npos) throw UsageError("--size: expected WxH, got '" + text + "'");
-      const double w = ParseNumber(flag, text.substr(0, x)), h = ParseNumber(flag, text.substr(x + 1));
-      if (w < 16 || h < 16 || w > 8192 || h > 8192 || w != std::floor(w) || h != std::floor(h)) {
-        throw UsageError("--size: width and height must be whole numbers in [16, 8192]");
-      }
-      options.width = static_cast<int>(w);
-      options.height = static_cast<int>(h);
-    } else {
-      throw UsageError("unknown argument '" + flag + "'");
-    }
+  std::vector<std::string> emotions;
+  std::string size;
+  CLI::App app("facerig-player", "facerig-player");
+  AddPlayerOptions(app, options, emotions, size);
+  try {
+    app.parse(std::vector<std::string>(args.rbegin(), args.rend()));  // CLI11 takes them reversed
+  } catch (const CLI::ParseError& error) {
+    throw UsageError(error.what());
+  }
+  for (const std::string& emotion : emotions) AddEmotion(emotion, options.emotions);
+  if (!size.empty()) SetSize(size, options);
+  if (options.duration && !std::isfinite(*options.duration)) throw UsageError("--duration: not a number");
+  if (!std::isfinite(options.fps) || !std::isfinite(options.lead_in) || !std::isfinite(options.quit_after)) {
+    throw UsageError("--fps, --lead-in and --quit-after must be finite numbers");
   }
   if (options.headless && options.frames_dir.empty() && !options.help) {
     throw UsageError("--headless needs --frames DIR");

@@ -46,6 +46,7 @@ struct PlayerOptions {
   // anticipates the first phoneme by up to ~0.2 s).
   double lead_in = 0.3;
   bool help = false;
+  bool version = false;  // --version: print it and exit
 };
 
 // Throws UsageError.

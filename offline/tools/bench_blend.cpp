@@ -1,3 +1,4 @@
+#include "cli_options.h"
 #include "bench_blend.h"
 #include "bench_json.h"
 
@@ -111,17 +112,10 @@ struct Roofline {
 int RunBlendBenchmark(int argc, char** argv) {
   std::string rig_path = FACERIG_DEFAULT_ICT_DIR;
   std::string json_path;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--rig" && i + 1 < argc) {
-      rig_path = argv[++i];
-    } else if (arg == "--json" && i + 1 < argc) {
-      json_path = argv[++i];
-    } else {
-      std::fprintf(stderr, "usage: facerig-bench blend [--rig PATH] [--json FILE]\n");
-      return 2;
-    }
-  }
+  CLI::App app("sparse blend job vs dense Eigen reference vs memory roofline", "facerig-bench blend");
+  app.add_option("--rig", rig_path, "the rig (default: the ICT-FaceKit folder)");
+  app.add_option("--json", json_path, "write the results as JSON");
+  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 
   facerig::TemplateImportOptions options;
   options.with_normal_deltas = true;  // so both normal modes can be measured

@@ -1,3 +1,4 @@
+#include "cli_options.h"
 #include "bench_build.h"
 
 #include <algorithm>
@@ -23,13 +24,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-void Usage() {
-  std::fprintf(stderr, "usage: facerig-bench build [--ict DIR] [--faces N] [--seed N] [--target-vertices N] [--json FILE]\n");
-}
+using facerig::cli::SecondsSince;
 
 void PrintCheck(const char* what, double value, const char* comparison, double target) {
   const bool ok = value <= target;
@@ -147,24 +142,13 @@ int RunBuildBenchmark(int argc, char** argv) {
   int faces = 3;
   unsigned seed = 601;  // the tests use seeds below 200, bench register 501..
   std::size_t target_vertices = 30000;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--ict" && has_value) {
-      ict_dir = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      json_path = argv[++i];
-    } else if (arg == "--faces" && has_value) {
-      faces = std::max(1, std::atoi(argv[++i]));
-    } else if (arg == "--seed" && has_value) {
-      seed = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
-    } else if (arg == "--target-vertices" && has_value) {
-      target_vertices = std::strtoull(argv[++i], nullptr, 10);
-    } else {
-      Usage();
-      return 2;
-    }
-  }
+  CLI::App app("the whole facerig build on re-meshed random ICT faces, each mode", "facerig-bench build");
+  app.add_option("--ict", ict_dir, "the ICT-FaceKit folder");
+  app.add_option("--faces", faces, "random faces (default 3)")->transform(CLI::Bound(1, 1000000));
+  app.add_option("--seed", seed, "first random seed (default 601)");
+  app.add_option("--target-vertices", target_vertices, "vertices of each re-meshed target (default 30000)");
+  app.add_option("--json", json_path, "write the results as JSON");
+  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 
   nlohmann::json report;
   try {

@@ -1,3 +1,4 @@
+#include "cli_options.h"
 #include "bench_lipsync.h"
 #include "bench_json.h"
 
@@ -132,25 +133,13 @@ int RunLipsyncBenchmark(int argc, char** argv) {
   std::string voice = "en-us";
   std::string json_path;
   std::size_t max_lines = 0;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--rig" && i + 1 < argc) {
-      rig_path = argv[++i];
-    } else if (arg == "--corpus" && i + 1 < argc) {
-      corpus_path = argv[++i];
-    } else if (arg == "--voice" && i + 1 < argc) {
-      voice = argv[++i];
-    } else if (arg == "--json" && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (arg == "--lines" && i + 1 < argc) {
-      max_lines = static_cast<std::size_t>(std::strtoul(argv[++i], nullptr, 10));
-    } else {
-      std::fprintf(stderr,
-                   "usage: facerig-bench lipsync [--corpus FILE] [--voice V] [--rig PATH] [--json FILE] "
-                   "[--lines N]\n");
-      return 2;
-    }
-  }
+  CLI::App app("closure, audio-visual lag, smoothness, blinks, cost", "facerig-bench lipsync");
+  app.add_option("--rig", rig_path, "the rig (default: the ICT-FaceKit folder)");
+  app.add_option("--corpus", corpus_path, "corpus text, a line per utterance");
+  app.add_option("--voice", voice, "espeak-ng voice (default en-us)");
+  app.add_option("--json", json_path, "write the results as JSON");
+  app.add_option("--lines", max_lines, "only the first N lines (default all)");
+  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 
   facerig::Rig rig;
   std::vector<std::string> lines;

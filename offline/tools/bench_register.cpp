@@ -1,3 +1,4 @@
+#include "cli_options.h"
 #include "bench_register.h"
 #include "bench_json.h"
 
@@ -23,7 +24,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+using facerig::cli::SecondsSince;
 
 double PeakResidentMegabytes() {
   rusage usage{};
@@ -102,12 +103,6 @@ void PrintRow(const Row& row) {
               pass ? "ok" : "MISSED");
 }
 
-void Usage() {
-  std::fprintf(stderr,
-               "usage: facerig-bench register [--ict DIR] [--faces N] [--seed N] [--target-vertices N]\n"
-               "                              [--million-vertices N] [--no-million] [--json FILE]\n");
-}
-
 }  // namespace
 
 int RunRegisterBenchmark(int argc, char** argv) {
@@ -121,28 +116,16 @@ int RunRegisterBenchmark(int argc, char** argv) {
   unsigned seed = 501;  // the tests use seeds below 200
   std::size_t target_vertices = 30000;
   std::size_t million_vertices = 1000000;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--ict" && has_value) {
-      ict_dir = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      json_path = argv[++i];
-    } else if (arg == "--faces" && has_value) {
-      faces = std::max(1, std::atoi(argv[++i]));
-    } else if (arg == "--seed" && has_value) {
-      seed = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
-    } else if (arg == "--target-vertices" && has_value) {
-      target_vertices = std::strtoull(argv[++i], nullptr, 10);
-    } else if (arg == "--million-vertices" && has_value) {
-      million_vertices = std::strtoull(argv[++i], nullptr, 10);
-    } else if (arg == "--no-million") {
-      million_vertices = 0;
-    } else {
-      Usage();
-      return 2;
-    }
-  }
+  CLI::App app("landmarks + registration of the ICT template onto re-meshed random ICT faces",
+               "facerig-bench register");
+  app.add_option("--ict", ict_dir, "the ICT-FaceKit folder");
+  app.add_option("--faces", faces, "random faces (default 5)")->transform(CLI::Bound(1, 1000000));
+  app.add_option("--seed", seed, "first random seed (default 501)");
+  app.add_option("--target-vertices", target_vertices, "vertices of each re-meshed target (default 30000)");
+  app.add_option("--million-vertices", million_vertices, "vertices of the large target (default 1000000)");
+  app.add_flag_callback("--no-million", [&million_vertices] { million_vertices = 0; }, "skip the large target");
+  app.add_option("--json", json_path, "write the results as JSON");
+  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 
   nlohmann::json report;
   try {
@@ -233,7 +216,7 @@ int RunRegisterBenchmark(int argc, char** argv) {
                             {"solve", fit.timings.solve_seconds}}}});
     }
 
-    std::printf("\nissue 5 targets (mean over the faces; worst face in the JSON):\n");
+    std::printf("\ntargets (mean over the faces; worst face in the JSON):\n");
     const Row rows[] = {
         {"landmark error / IOD, without jaw", Mean(lm_no_jaw), 0.03, ""},
         {"landmark error / IOD, with jaw", Mean(lm_with_jaw), 0.06, ""},

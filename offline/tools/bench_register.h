@@ -1,4 +1,4 @@
-// facerig-bench register: issue 5's measurements on random re-meshed ICT
+// facerig-bench register: landmark and registration measurements on random re-meshed ICT
 // faces (tests/support/registration_targets.h): automatic landmark error and
 // time per face, registration residuals, correspondence error and time of
 // the ICT face + head region onto ~30k-vertex targets, and a million-vertex

@@ -1,3 +1,4 @@
+#include "cli_options.h"
 #include "bench_transfer.h"
 #include "bench_json.h"
 
@@ -90,14 +91,6 @@ void Measure(ModeReport& report, const facerig::Rig& rig, const Meshes& truth,
   }
 }
 
-void Usage() {
-  std::fprintf(stderr,
-               "usage: facerig-bench transfer [--ict DIR] [--faces N] [--seed N] [--threads N]\n"
-               "                              [--static-threshold F] [--scaled-normal] [--prior W] [--no-area]\n"
-               "                              [--still F] [--contact W] [--keep-contact-offset]\n"
-               "                              [--per-shape] [--json FILE]\n");
-}
-
 }  // namespace
 
 int RunTransferBenchmark(int argc, char** argv) {
@@ -111,40 +104,22 @@ int RunTransferBenchmark(int argc, char** argv) {
   bool per_shape_table = false;
   unsigned seed = 1;
   facerig::DeformationTransferParams params;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--ict" && has_value) {
-      ict_dir = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      json_path = argv[++i];
-    } else if (arg == "--faces" && has_value) {
-      faces = std::max(1, std::atoi(argv[++i]));
-    } else if (arg == "--seed" && has_value) {
-      seed = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
-    } else if (arg == "--threads" && has_value) {
-      params.threads = std::max(1, std::atoi(argv[++i]));
-    } else if (arg == "--static-threshold" && has_value) {
-      params.static_threshold = std::strtof(argv[++i], nullptr);
-    } else if (arg == "--still" && has_value) {
-      params.still_fraction = std::strtod(argv[++i], nullptr);
-    } else if (arg == "--contact" && has_value) {
-      params.contact_weight = std::strtod(argv[++i], nullptr);
-    } else if (arg == "--keep-contact-offset") {
-      params.close_contacts = false;
-    } else if (arg == "--prior" && has_value) {
-      params.displacement_prior = std::strtod(argv[++i], nullptr);
-    } else if (arg == "--scaled-normal") {
-      params.scaled_normal = true;
-    } else if (arg == "--per-shape") {
-      per_shape_table = true;
-    } else if (arg == "--no-area") {
-      params.area_weighted = false;
-    } else {
-      Usage();
-      return 2;
-    }
-  }
+  CLI::App app("deformation transfer / displacement matrices of the ICT rig onto random identities",
+               "facerig-bench transfer");
+  app.add_option("--ict", ict_dir, "the ICT-FaceKit folder");
+  app.add_option("--faces", faces, "random identities (default 3)")->transform(CLI::Bound(1, 1000000));
+  app.add_option("--seed", seed, "random seed (default 1)");
+  app.add_option("--threads", params.threads, "solver threads")->transform(CLI::Bound(1, 1024));
+  app.add_option("--static-threshold", params.static_threshold, "DeformationTransferParams::static_threshold");
+  app.add_option("--still", params.still_fraction, "DeformationTransferParams::still_fraction");
+  app.add_option("--contact", params.contact_weight, "DeformationTransferParams::contact_weight");
+  app.add_flag("!--keep-contact-offset", params.close_contacts, "do not close contacts");
+  app.add_option("--prior", params.displacement_prior, "DeformationTransferParams::displacement_prior");
+  app.add_flag("--scaled-normal", params.scaled_normal, "DeformationTransferParams::scaled_normal");
+  app.add_flag("--per-shape", per_shape_table, "print a table per shape");
+  app.add_flag("!--no-area", params.area_weighted, "no area weighting");
+  app.add_option("--json", json_path, "write the results as JSON");
+  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 
   facerig::Rig rig;
   Meshes identities;

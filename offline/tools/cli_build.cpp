@@ -5,7 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <iterator>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "cli_options.h"
 #include "cli_template_info.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/rig_build.h"
@@ -26,91 +27,42 @@
 namespace facerig::cli {
 namespace {
 
-constexpr const char* kBuildUsage =
-    "usage: facerig build --template DIR|RIG --target MESH -o OUT.glb [--frig OUT.frig] [--obj-dir DIR]\n"
-    "                     [--mode classic|identity|displacement] [--landmarks LM.json] [--json REPORT]\n"
-    "                     [--units mm|cm|m] [--template-topology FIT.frig] [--shape-predictor F]\n"
-    "                     [--no-contacts] [--no-eye-fit]\n"
-    "  Builds the template's blend shapes on the target mesh's own vertices: landmarks (detected, or\n"
-    "  --landmarks) -> registration -> transfer (deformation transfer classic / identity-gradient, or\n"
-    "  displacement matrices) -> mapped onto the target. --units: the target's units when its file does\n"
-    "  not say (default: inferred from the registration's scale). --template-topology also writes the\n"
-    "  rig on the template's vertices, in the template's frame and units (for average, caricature, morph).\n"
-    "  A glTF target written to .glb/.gltf keeps its skin, nodes, materials, textures and animations: the\n"
-    "  output is the target's own document with the shapes added as morph targets.\n"
-    "  --no-contacts: transfer without contacts (where a template expression closes an opening, as the\n"
-    "  lids on a blink, the target's closes too). --no-eye-fit: keep the detector's eye landmarks\n"
-    "  instead of fitting them to the mesh's eye openings (holes in the skin).\n";
+constexpr const char* kBuildDescription =
+    "Builds the template's blend shapes on the target mesh's own vertices: landmarks (detected, or\n"
+    "--landmarks) -> registration -> transfer (deformation transfer classic / identity-gradient, or\n"
+    "displacement matrices) -> mapped onto the target. A glTF target written to .glb/.gltf keeps its\n"
+    "skin, nodes, materials, textures and animations: the output is the target's own document with\n"
+    "the shapes added as morph targets.";
 
 struct BuildOptions {
   std::string template_path, target_path, output, frig, obj_dir, landmarks, report, shape_predictor,
-      template_topology;
+      template_topology, template_info;
   BuildMode mode = BuildMode::kClassic;
   Units units = Units::kUnknown;
   bool contacts = true;  // DeformationTransferParams::contact_weight left at its default, else 0
   bool fit_eyes_to_openings = true;  // LandmarkParams::fit_eyes_to_openings
 };
 
-// The options whose value is a path, and where it goes.
-constexpr std::pair<std::string_view, std::string BuildOptions::*> kPathOptions[] = {
-    {"--template", &BuildOptions::template_path},
-    {"--target", &BuildOptions::target_path},
-    {"-o", &BuildOptions::output},
-    {"--frig", &BuildOptions::frig},
-    {"--template-topology", &BuildOptions::template_topology},
-    {"--obj-dir", &BuildOptions::obj_dir},
-    {"--landmarks", &BuildOptions::landmarks},
-    {"--json", &BuildOptions::report},
-    {"--shape-predictor", &BuildOptions::shape_predictor},
-};
-
-// Returns false (after printing why) on a bad command line.
-bool ParseBuildOptions(int argc, char** argv, BuildOptions& options) {
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--no-contacts") {
-      options.contacts = false;
-      continue;
-    }
-    if (arg == "--no-eye-fit") {
-      options.fit_eyes_to_openings = false;
-      continue;
-    }
-    const auto* path_option = std::find_if(std::begin(kPathOptions), std::end(kPathOptions),
-                                           [&arg](const auto& option) { return option.first == arg; });
-    const bool path = path_option != std::end(kPathOptions);
-    if (!path && arg != "--mode" && arg != "--units") {
-      std::fprintf(stderr, "facerig build: unknown option %s\n", arg.c_str());
-      return false;
-    }
-    if (i + 1 >= argc) {
-      std::fprintf(stderr, "facerig build: %s needs a value\n", arg.c_str());
-      return false;
-    }
-    const std::string value = argv[++i];
-    if (path) {
-      options.*(path_option->second) = value;
-    } else if (arg == "--mode") {
-      const std::optional<BuildMode> mode = ParseBuildMode(value);
-      if (!mode) {
-        std::fprintf(stderr, "facerig build: --mode '%s' is not classic, identity or displacement\n", value.c_str());
-        return false;
-      }
-      options.mode = *mode;
-    } else if (arg == "--units") {
-      const std::optional<Units> units = ParseUnits(value);
-      if (!units || *units == Units::kUnknown) {
-        std::fprintf(stderr, "facerig build: --units '%s' is not mm, cm or m\n", value.c_str());
-        return false;
-      }
-      options.units = *units;
-    }
-  }
-  if (options.template_path.empty() || options.target_path.empty() || options.output.empty()) {
-    std::fputs("facerig build: --template, --target and -o are required\n", stderr);
-    return false;
-  }
-  return true;
+void AddBuildOptions(CLI::App& build, BuildOptions& options) {
+  build.add_option("--template", options.template_path, "template: a rig or a folder of OBJs")->required();
+  build.add_option("--template-info", options.template_info, "the template's descriptor JSON (default: beside the rig, shipped, or derived)")
+      ->check(CLI::ExistingFile);
+  build.add_option("--target", options.target_path, "the mesh to rig (OBJ or a rig)")->required();
+  build.add_option("-o", options.output, "output rig (.glb, .gltf or .frig)")->required();
+  build.add_option("--frig", options.frig, "also write the rig as .frig");
+  build.add_option("--obj-dir", options.obj_dir, "also write neutral.obj and one OBJ per shape into DIR");
+  AddBuildModeOption(build, options.mode);
+  build.add_option("--landmarks", options.landmarks, "the target's landmarks (default: detected)");
+  build.add_option("--json", options.report, "write a JSON report");
+  AddUnitsOption(build, options.units,
+                 "the target's units when its file does not say (default: inferred from the registration's scale)");
+  build.add_option("--template-topology", options.template_topology,
+                   "also write the rig on the template's vertices, frame and units (for average, caricature, morph)");
+  build.add_option("--shape-predictor", options.shape_predictor, "dlib 68-point shape predictor file");
+  build.add_flag("!--no-contacts", options.contacts,
+                 "transfer without contacts (where a template expression closes an opening, the target's closes too)");
+  build.add_flag("!--no-eye-fit", options.fit_eyes_to_openings,
+                 "keep the detector's eye landmarks instead of fitting them to the mesh's eye openings");
 }
 
 bool IsGltf(const std::filesystem::path& path) {
@@ -121,7 +73,7 @@ bool IsGltf(const std::filesystem::path& path) {
 }
 
 // A glTF target's own document, with the shapes added, so that a skinned
-// character keeps its skin, nodes and materials (issue #6); else a fresh file.
+// character keeps its skin, nodes and materials; else a fresh file.
 void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::path& output, const Rig& rig) {
   if (!IsGltf(target) || !IsGltf(output)) return SaveRig(output, rig);
   const MorphTargetsWritten written = WriteGltfWithMorphTargets(target, output, rig);
@@ -179,14 +131,7 @@ void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
   }
 }
 
-}  // namespace
-
-int RunBuildCommand(int argc, char** argv) {
-  BuildOptions options;
-  if (!ParseBuildOptions(argc, argv, options)) {
-    std::fputs(kBuildUsage, stderr);
-    return 2;
-  }
+int RunBuild(const BuildOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     for (const std::string& path : {options.output, options.frig, options.report, options.template_topology}) {
@@ -195,7 +140,7 @@ int RunBuildCommand(int argc, char** argv) {
     if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
 
     const Rig template_rig = LoadRigOrTemplateFolder(options.template_path);
-    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(template_rig, options.template_path);
+    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(template_rig, options.template_path, options.template_info);
     RawRig target = LoadMeshForEditing(options.target_path, options.units);
     const std::size_t target_vertices = target.positions.size();
     const double load_seconds = SecondsSince(start);
@@ -300,6 +245,16 @@ int RunBuildCommand(int argc, char** argv) {
   } catch (const std::exception& error) {
     return Fail(error);
   }
+}
+
+}  // namespace
+
+void AddBuildCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* build = facerig.add_subcommand("build", "a rig for a new face, end to end");
+  build->footer(kBuildDescription);
+  auto options = std::make_shared<BuildOptions>();
+  AddBuildOptions(*build, *options);
+  build->callback([&body, options] { body = [options] { return RunBuild(*options); }; });
 }
 
 }  // namespace facerig::cli

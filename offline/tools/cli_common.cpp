@@ -22,10 +22,6 @@ void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json
   WriteFileAtomically(path, json.dump(2) + "\n");
 }
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 void ProgressBar(const char* label, std::size_t done, std::size_t total) {
   constexpr int kWidth = 30;
   const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);

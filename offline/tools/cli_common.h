@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_options.h"  // SecondsSince
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig::cli {
@@ -22,8 +23,6 @@ RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units = Units
 // Writes `json` (indented) to a temporary file and renames it into place:
 // never a partial report. \throw IoError naming the file.
 void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json& json);
-
-double SecondsSince(std::chrono::steady_clock::time_point start);
 
 // "\r<label> [=====     ] done/total" on stderr; a newline when done == total.
 void ProgressBar(const char* label, std::size_t done, std::size_t total);

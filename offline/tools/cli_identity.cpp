@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "cli_options.h"
 #include "facerig/offline/caricature.h"
 #include "facerig/offline/displacement_transfer.h"
 #include "facerig/runtime/error.h"
@@ -26,23 +28,22 @@
 namespace facerig::cli {
 namespace {
 
-constexpr const char* kAverageUsage =
-    "usage: facerig average -o AVG(.obj|.glb|.gltf|.frig) FACE FACE... [--no-align] [--json REPORT]\n"
-    "  The mean face of corresponded faces (rigs or OBJs of one topology and units). Each face is\n"
-    "  first rigidly aligned onto the first (unless --no-align). The output has the first face's\n"
-    "  topology, UVs and parts and no shapes.\n";
-constexpr const char* kCaricatureUsage =
-    "usage: facerig caricature --rig RIG --average AVG(.obj|rig) --factor F -o OUT(.glb|.gltf|.frig)\n"
-    "                          [--keep-deltas] [--no-align] [--json REPORT]\n"
-    "  Scales the rig's difference from the average face: neutral + F x (neutral - average),\n"
-    "  F in [-1, 3] (-1 the average, 0 the rig itself). The expressions follow by deformation\n"
-    "  transfer from the rig's own shapes, or keep their deltas (--keep-deltas). The average is\n"
-    "  rigidly aligned onto the rig first (unless --no-align); it needs the rig's vertex count.\n";
-constexpr const char* kMorphUsage =
-    "usage: facerig morph --template RIG --target RIG -o OUT(.glb|.gltf|.frig) [--json REPORT]\n"
-    "  Identity morph (paper 000 V.A): the template's neutral, the target's shapes (e.g. from a\n"
-    "  transfer onto the target) and one more shape, identityMorph: at 0 the template's face, at 1\n"
-    "  the target's, the expressions working at any weight. Both rigs need the same topology.\n";
+struct AverageOptions {
+  std::string output, report_path;
+  std::vector<std::string> face_paths;
+  bool align = true;
+};
+
+struct CaricatureOptions {
+  std::string rig_path, average_path, output, report_path;
+  float factor = 0.0f;
+  bool keep_deltas = false;
+  bool align = true;
+};
+
+struct MorphOptions {
+  std::string template_path, target_path, output, report_path;
+};
 
 std::string LowerExtension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
@@ -51,22 +52,14 @@ std::string LowerExtension(const std::string& path) {
 }
 
 // False (after printing why) when the output cannot hold what the command makes.
-bool CheckOutputExtension(const std::string& path, bool allow_obj, const char* usage) {
+bool CheckOutputExtension(const std::string& path, bool allow_obj) {
   const std::string extension = LowerExtension(path);
   if (extension == ".glb" || extension == ".gltf" || extension == ".frig" || (allow_obj && extension == ".obj")) {
     return true;
   }
-  std::fprintf(stderr, "facerig: output '%s' must end in %s\n%s", path.c_str(),
-               allow_obj ? ".obj, .glb, .gltf or .frig" : ".glb, .gltf or .frig (an OBJ holds no shapes)", usage);
+  std::fprintf(stderr, "facerig: -o '%s' must end in %s\n", path.c_str(),
+               allow_obj ? ".obj, .glb, .gltf or .frig" : ".glb, .gltf or .frig (an OBJ holds no shapes)");
   return false;
-}
-
-// Not a nullopt only for a whole finite number.
-std::optional<float> ParseNumber(const char* text) {
-  char* end = nullptr;
-  const double value = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(value)) return std::nullopt;
-  return static_cast<float>(value);
 }
 
 // Throws std::runtime_error naming both files when `b` is not of `a`'s topology and units.
@@ -113,33 +106,9 @@ float MaxDistance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
   return worst;
 }
 
-}  // namespace
-
-int RunAverageCommand(int argc, char** argv) {
-  std::string output, report_path;
-  std::vector<std::string> face_paths;
-  bool align = true;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "-o" && has_value) {
-      output = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      report_path = argv[++i];
-    } else if (arg == "--no-align") {
-      align = false;
-    } else if (!arg.empty() && arg[0] != '-') {
-      face_paths.push_back(arg);
-    } else {
-      std::fputs(kAverageUsage, stderr);
-      return 2;
-    }
-  }
-  if (output.empty() || face_paths.size() < 2) {
-    std::fputs(kAverageUsage, stderr);
-    return 2;
-  }
-  if (!CheckOutputExtension(output, true, kAverageUsage)) return 2;
+int RunAverage(const AverageOptions& options) {
+  const auto& [output, report_path, face_paths, align] = options;
+  if (!CheckOutputExtension(output, true)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
     CheckOutputsWritable(output, report_path);
@@ -182,46 +151,13 @@ int RunAverageCommand(int argc, char** argv) {
   }
 }
 
-int RunCaricatureCommand(int argc, char** argv) {
-  std::string rig_path, average_path, output, report_path, factor_text;
-  bool keep_deltas = false;
-  bool align = true;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--rig" && has_value) {
-      rig_path = argv[++i];
-    } else if (arg == "--average" && has_value) {
-      average_path = argv[++i];
-    } else if (arg == "--factor" && has_value) {
-      factor_text = argv[++i];
-    } else if (arg == "-o" && has_value) {
-      output = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      report_path = argv[++i];
-    } else if (arg == "--keep-deltas") {
-      keep_deltas = true;
-    } else if (arg == "--no-align") {
-      align = false;
-    } else {
-      std::fputs(kCaricatureUsage, stderr);
-      return 2;
-    }
-  }
-  if (rig_path.empty() || average_path.empty() || factor_text.empty() || output.empty()) {
-    std::fputs(kCaricatureUsage, stderr);
-    return 2;
-  }
-  const std::optional<float> factor = ParseNumber(factor_text.c_str());
-  if (!factor) {
-    std::fprintf(stderr, "facerig: --factor '%s' is not a number\n%s", factor_text.c_str(), kCaricatureUsage);
-    return 2;
-  }
-  if (!(*factor >= kMinCaricatureFactor && *factor <= kMaxCaricatureFactor)) {
-    std::fprintf(stderr, "facerig: --factor %s is outside [-1, 3]\n", factor_text.c_str());
+int RunCaricature(const CaricatureOptions& options) {
+  const auto& [rig_path, average_path, output, report_path, factor, keep_deltas, align] = options;
+  if (!(factor >= kMinCaricatureFactor && factor <= kMaxCaricatureFactor)) {
+    std::fprintf(stderr, "facerig: --factor %g is outside [-1, 3]\n", static_cast<double>(factor));
     return 1;
   }
-  if (!CheckOutputExtension(output, false, kCaricatureUsage)) return 2;
+  if (!CheckOutputExtension(output, false)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
     CheckOutputsWritable(output, report_path);
@@ -237,7 +173,7 @@ int RunCaricatureCommand(int argc, char** argv) {
     }
     const double load_seconds = SecondsSince(start);
     CaricatureParams params;
-    params.factor = *factor;
+    params.factor = factor;
     params.expressions =
         keep_deltas ? CaricatureExpressions::kKeepDeltas : CaricatureExpressions::kDeformationTransfer;
     const auto caricature_start = std::chrono::steady_clock::now();
@@ -248,14 +184,14 @@ int RunCaricatureCommand(int argc, char** argv) {
     std::printf(
         "wrote %s: caricature factor %g of %s (%zu vertices, %zu shapes, expressions %s); neutral moved "
         "up to %g%s; %.2f s\n",
-        output.c_str(), static_cast<double>(*factor), rig_path.c_str(), result.vertex_count(),
+        output.c_str(), static_cast<double>(factor), rig_path.c_str(), result.vertex_count(),
         result.shape_count(), keep_deltas ? "deltas kept" : "by deformation transfer", static_cast<double>(moved),
         UnitsSuffix(result).c_str(), SecondsSince(start));
     nlohmann::json report;
     report["rig"] = rig_path;
     report["average"] = average_path;
     report["output"] = output;
-    report["factor"] = *factor;
+    report["factor"] = factor;
     report["expressions"] = keep_deltas ? "keep-deltas" : "deformation-transfer";
     report["aligned"] = align;
     report["alignment_rms"] = alignment_rms;
@@ -271,29 +207,9 @@ int RunCaricatureCommand(int argc, char** argv) {
   }
 }
 
-int RunMorphCommand(int argc, char** argv) {
-  std::string template_path, target_path, output, report_path;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--template" && has_value) {
-      template_path = argv[++i];
-    } else if (arg == "--target" && has_value) {
-      target_path = argv[++i];
-    } else if (arg == "-o" && has_value) {
-      output = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      report_path = argv[++i];
-    } else {
-      std::fputs(kMorphUsage, stderr);
-      return 2;
-    }
-  }
-  if (template_path.empty() || target_path.empty() || output.empty()) {
-    std::fputs(kMorphUsage, stderr);
-    return 2;
-  }
-  if (!CheckOutputExtension(output, false, kMorphUsage)) return 2;
+int RunMorph(const MorphOptions& options) {
+  const auto& [template_path, target_path, output, report_path] = options;
+  if (!CheckOutputExtension(output, false)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
     CheckOutputsWritable(output, report_path);
@@ -323,6 +239,53 @@ int RunMorphCommand(int argc, char** argv) {
   } catch (const std::exception& error) {
     return Fail(error);
   }
+}
+
+}  // namespace
+
+void AddAverageCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* average = facerig.add_subcommand("average", "the mean face of corresponded faces");
+  average->footer(
+      "Faces: rigs or OBJs of one topology and units. Each face is first rigidly aligned onto the first\n"
+      "(unless --no-align). The output has the first face's topology, UVs and parts and no shapes.");
+  auto options = std::make_shared<AverageOptions>();
+  average->add_option("faces", options->face_paths, "two or more faces")->required()->expected(2, CLI::detail::expected_max_vector_size);
+  average->add_option("-o", options->output, "output (.obj, .glb, .gltf or .frig)")->required();
+  average->add_flag("!--no-align", options->align, "do not align the faces rigidly first");
+  average->add_option("--json", options->report_path, "write a JSON report");
+  average->callback([&body, options] { body = [options] { return RunAverage(*options); }; });
+}
+
+void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* caricature = facerig.add_subcommand("caricature", "scale a rig's difference from the average face");
+  caricature->footer(
+      "neutral + F x (neutral - average), F in [-1, 3] (-1 the average, 0 the rig itself). The\n"
+      "expressions follow by deformation transfer from the rig's own shapes, or keep their deltas\n"
+      "(--keep-deltas). The average is rigidly aligned onto the rig first (unless --no-align); it needs\n"
+      "the rig's vertex count.");
+  auto options = std::make_shared<CaricatureOptions>();
+  caricature->add_option("--rig", options->rig_path, "the rig")->required();
+  caricature->add_option("--average", options->average_path, "the average face (.obj or a rig)")->required();
+  caricature->add_option("--factor", options->factor, "F in [-1, 3]")->required();
+  caricature->add_option("-o", options->output, "output rig (.glb, .gltf or .frig)")->required();
+  caricature->add_flag("--keep-deltas", options->keep_deltas, "keep the expressions' deltas");
+  caricature->add_flag("!--no-align", options->align, "do not align the average rigidly first");
+  caricature->add_option("--json", options->report_path, "write a JSON report");
+  caricature->callback([&body, options] { body = [options] { return RunCaricature(*options); }; });
+}
+
+void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* morph = facerig.add_subcommand("morph", "add the identityMorph shape between two rigs");
+  morph->footer(
+      "The template's neutral, the target's shapes (e.g. from a transfer onto the target) and one more\n"
+      "shape, identityMorph: at 0 the template's face, at 1 the target's, the expressions working at any\n"
+      "weight. Both rigs need the same topology.");
+  auto options = std::make_shared<MorphOptions>();
+  morph->add_option("--template", options->template_path, "the template rig")->required();
+  morph->add_option("--target", options->target_path, "the target rig, on the template's topology")->required();
+  morph->add_option("-o", options->output, "output rig (.glb, .gltf or .frig)")->required();
+  morph->add_option("--json", options->report_path, "write a JSON report");
+  morph->callback([&body, options] { body = [options] { return RunMorph(*options); }; });
 }
 
 }  // namespace facerig::cli

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "cli_options.h"
 #include "cli_template_info.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
@@ -28,43 +29,19 @@
 namespace facerig::cli {
 namespace {
 
-constexpr const char* kLandmarksUsage =
-    "usage: facerig landmarks MESH -o LM.json [--debug-png P] [--json REPORT] [--shape-predictor F]\n"
-    "  Detects dlib's 68 face landmarks on a mesh (OBJ, or a rig: .frig/.glb/template folder) and\n"
-    "  writes them as 3D points in the mesh's coordinates.\n";
-constexpr const char* kRegisterUsage =
-    "usage: facerig register --template DIR|RIG --target MESH -o FITTED.obj [--landmarks LM.json]\n"
-    "                        [--json REPORT] [--shape-predictor F]\n"
-    "  Fits the template's neutral onto the target surface (similarity alignment + optimal-step\n"
-    "  non-rigid ICP). The OBJ keeps the template's vertex order, in the target's coordinates.\n";
-
-}  // namespace
-
-int RunLandmarksCommand(int argc, char** argv) {
+struct LandmarksOptions {
   std::string mesh_path, output, debug_png, report_path;
   LandmarkParams params;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "-o" && has_value) {
-      output = argv[++i];
-    } else if (arg == "--debug-png" && has_value) {
-      debug_png = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      report_path = argv[++i];
-    } else if (arg == "--shape-predictor" && has_value) {
-      params.shape_predictor = argv[++i];
-    } else if (!arg.empty() && arg[0] != '-' && mesh_path.empty()) {
-      mesh_path = arg;
-    } else {
-      std::fputs(kLandmarksUsage, stderr);
-      return 2;
-    }
-  }
-  if (mesh_path.empty() || output.empty()) {
-    std::fputs(kLandmarksUsage, stderr);
-    return 2;
-  }
+};
+
+struct RegisterOptions {
+  std::string template_path, target_path, output, landmarks_path, report_path;
+  LandmarkParams landmark_params;
+  std::string template_info_path;
+};
+
+int RunLandmarks(const LandmarksOptions& options) {
+  const auto& [mesh_path, output, debug_png, report_path, params] = options;
   try {
     const auto start = std::chrono::steady_clock::now();
     const RawRig mesh = LoadMeshForEditing(mesh_path);
@@ -99,33 +76,9 @@ int RunLandmarksCommand(int argc, char** argv) {
   }
 }
 
-int RunRegisterCommand(int argc, char** argv) {
-  std::string template_path, target_path, output, landmarks_path, report_path;
-  LandmarkParams landmark_params;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--template" && has_value) {
-      template_path = argv[++i];
-    } else if (arg == "--target" && has_value) {
-      target_path = argv[++i];
-    } else if (arg == "-o" && has_value) {
-      output = argv[++i];
-    } else if (arg == "--landmarks" && has_value) {
-      landmarks_path = argv[++i];
-    } else if (arg == "--json" && has_value) {
-      report_path = argv[++i];
-    } else if (arg == "--shape-predictor" && has_value) {
-      landmark_params.shape_predictor = argv[++i];
-    } else {
-      std::fputs(kRegisterUsage, stderr);
-      return 2;
-    }
-  }
-  if (template_path.empty() || target_path.empty() || output.empty()) {
-    std::fputs(kRegisterUsage, stderr);
-    return 2;
-  }
+int RunRegister(const RegisterOptions& options) {
+  const auto& [template_path, target_path, output, landmarks_path, report_path, landmark_params,
+               template_info_path] = options;
   try {
     const auto start = std::chrono::steady_clock::now();
     const Rig rig = LoadRigOrTemplateFolder(template_path);
@@ -147,7 +100,7 @@ int RunRegisterCommand(int argc, char** argv) {
       std::fprintf(stderr, "detecting landmarks on the target...\n");
       target_landmarks = get_detector().Detect(target.positions, target.triangles).landmarks;
     }
-    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(rig, template_path);
+    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(rig, template_path, template_info_path);
     if (template_info.landmark_vertices.empty()) std::fprintf(stderr, "detecting landmarks on the template...\n");
     const std::vector<std::uint32_t> template_vertex_of = TemplateLandmarkVertices(rig, template_info, get_detector());
     PrintTemplateInfo(template_info);
@@ -200,6 +153,39 @@ int RunRegisterCommand(int argc, char** argv) {
   } catch (const std::exception& error) {
     return Fail(error);
   }
+}
+
+}  // namespace
+
+void AddLandmarksCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* landmarks = facerig.add_subcommand("landmarks", "detect the 68 face landmarks on a mesh");
+  landmarks->footer(
+      "Detects dlib's 68 face landmarks on a mesh (OBJ, or a rig: .frig/.glb/template folder) and\n"
+      "writes them as 3D points in the mesh's coordinates.");
+  auto options = std::make_shared<LandmarksOptions>();
+  landmarks->add_option("mesh", options->mesh_path, "the mesh (OBJ or a rig)")->required();
+  landmarks->add_option("-o", options->output, "landmarks JSON to write")->required();
+  landmarks->add_option("--debug-png", options->debug_png, "draw the detection into this PNG");
+  landmarks->add_option("--json", options->report_path, "write a JSON report");
+  landmarks->add_option("--shape-predictor", options->params.shape_predictor, "dlib 68-point shape predictor file");
+  landmarks->callback([&body, options] { body = [options] { return RunLandmarks(*options); }; });
+}
+
+void AddRegisterCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* reg = facerig.add_subcommand("register", "fit the template's neutral onto a target surface");
+  reg->footer(
+      "Fits the template's neutral onto the target surface (similarity alignment + optimal-step\n"
+      "non-rigid ICP). The OBJ keeps the template's vertex order, in the target's coordinates.");
+  auto options = std::make_shared<RegisterOptions>();
+  reg->add_option("--template", options->template_path, "template: a rig or a folder of OBJs")->required();
+  reg->add_option("--template-info", options->template_info_path, "the template's descriptor JSON (default: beside the rig, shipped, or derived)")
+      ->check(CLI::ExistingFile);
+  reg->add_option("--target", options->target_path, "the mesh to fit (OBJ or a rig)")->required();
+  reg->add_option("-o", options->output, "fitted OBJ to write")->required();
+  reg->add_option("--landmarks", options->landmarks_path, "the target's landmarks (default: detected)");
+  reg->add_option("--json", options->report_path, "write a JSON report");
+  reg->add_option("--shape-predictor", options->landmark_params.shape_predictor, "dlib 68-point shape predictor file");
+  reg->callback([&body, options] { body = [options] { return RunRegister(*options); }; });
 }
 
 }  // namespace facerig::cli

@@ -1,16 +1,16 @@
-// `facerig landmarks` and `facerig register` (registration, issue 5): kept
-// out of facerig_cli.cpp, which dispatches to them.
+// `facerig landmarks` and `facerig register`: kept out of facerig_cli.cpp,
+// which dispatches to them.
 #pragma once
+
+#include "cli_options.h"
 
 namespace facerig::cli {
 
-// facerig landmarks MESH -o LM.json [--debug-png P] [--json REPORT] [--shape-predictor F]
-// argv[0] is the program, argv[1] "landmarks". Returns the exit code
-// (0 ok, 1 failure, 2 usage).
-int RunLandmarksCommand(int argc, char** argv);
+// Adds `landmarks`: MESH -o LM.json [--debug-png P] [--json REPORT] [--shape-predictor F].
+void AddLandmarksCommand(CLI::App& facerig, CommandBody& body);
 
-// facerig register --template DIR|RIG --target MESH -o FITTED.obj
-//                  [--landmarks LM.json] [--json REPORT] [--shape-predictor F]
-int RunRegisterCommand(int argc, char** argv);
+// Adds `register`: --template DIR|RIG --target MESH -o FITTED.obj
+// [--landmarks LM.json] [--json REPORT] [--shape-predictor F].
+void AddRegisterCommand(CLI::App& facerig, CommandBody& body);
 
 }  // namespace facerig::cli

@@ -1,40 +1,58 @@
 // facerig-bench: benchmarks that print a comparison in the same run and
 // write JSON. Not tests: machines are noisy, so nothing here asserts a time.
-#include <cstdio>
+// Each benchmark parses its own options (bench_*.cpp); this top-level app
+// lists them and answers --help, --version and an unknown benchmark.
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "bench_blend.h"
 #include "bench_build.h"
 #include "bench_register.h"
 #include "bench_transfer.h"
+#include "cli_options.h"
 #if FACERIG_BENCH_LIPSYNC
 #include "bench_crowd.h"
 #include "bench_lipsync.h"
 #endif
 
-int main(int argc, char** argv) {
-  const std::string command = argc > 1 ? argv[1] : "";
-  if (command == "blend") return RunBlendBenchmark(argc, argv);
-  if (command == "transfer") return RunTransferBenchmark(argc, argv);
-  if (command == "register") return RunRegisterBenchmark(argc, argv);
-  if (command == "build") return RunBuildBenchmark(argc, argv);
+namespace {
+
+using Benchmark = int (*)(int, char**);
+
+struct Entry {
+  const char* name;
+  const char* description;
+  Benchmark run;
+};
+
+const std::vector<Entry>& Benchmarks() {
+  static const std::vector<Entry> benchmarks = {
+      {"blend", "sparse blend job vs dense Eigen reference vs memory roofline", RunBlendBenchmark},
+      {"transfer", "deformation transfer / displacement matrices of the ICT rig onto random identities",
+       RunTransferBenchmark},
+      {"build", "the whole facerig build on re-meshed random ICT faces, each mode", RunBuildBenchmark},
+      {"register", "landmarks + registration of the ICT template onto re-meshed random ICT faces",
+       RunRegisterBenchmark},
 #if FACERIG_BENCH_LIPSYNC
-  if (command == "lipsync") return RunLipsyncBenchmark(argc, argv);
-  if (command == "crowd") return RunCrowdBenchmark(argc, argv);
+      {"lipsync", "closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)", RunLipsyncBenchmark},
+      {"crowd", "N characters' update + blend per 60 fps frame on one core (needs espeak-ng)", RunCrowdBenchmark},
 #endif
-  std::fprintf(stderr,
-               "usage: facerig-bench blend [--rig PATH] [--json FILE]\n"
-               "       facerig-bench lipsync [--corpus FILE] [--voice V] [--rig PATH] [--json FILE]\n"
-               "       facerig-bench transfer [--ict DIR] [--faces N] [--seed N] [--threads N] [--json FILE]\n"
-               "       facerig-bench build [--ict DIR] [--faces N] [--seed N] [--target-vertices N] [--json FILE]\n"
-               "       facerig-bench register [--ict DIR] [--faces N] [--seed N] [--target-vertices N]\n"
-               "                              [--million-vertices N] [--no-million] [--json FILE]\n"
-               "       facerig-bench crowd [N] [--rig PATH] [--normals] [--json FILE]\n"
-               "  blend:   sparse blend job vs dense Eigen reference vs memory roofline\n"
-               "  transfer: deformation transfer / displacement matrices of the ICT rig onto random identities\n"
-               "  build:   the whole facerig build on re-meshed random ICT faces, each mode (issue 6)\n"
-               "  register: landmarks + registration of the ICT template onto re-meshed random ICT faces (issue 5)\n"
-               "  lipsync: closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)\n"
-               "  crowd:   N characters' update + blend per 60 fps frame on one core (needs espeak-ng)\n");
-  return 2;
+  };
+  return benchmarks;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // argv[1] names the benchmark, which parses the rest (its own --help included).
+  for (const Entry& entry : Benchmarks()) {
+    if (argc > 1 && std::string(argv[1]) == entry.name) return entry.run(argc, argv);
+  }
+  CLI::App app("facerig-bench: benchmarks that print a comparison in the same run and write JSON", "facerig-bench");
+  facerig::cli::AddVersionFlag(app);
+  for (const Entry& entry : Benchmarks()) app.add_subcommand(entry.name, entry.description);
+  app.footer("Run 'facerig-bench BENCHMARK --help' for its options. Exit codes: 0 ok, 1 failure, 2 bad command line.");
+  if (const std::optional<int> exit_code = facerig::cli::ParseSubcommandLine(app, argc, argv)) return *exit_code;
+  return facerig::cli::kUsageExitCode;  // not reached: a benchmark name dispatched above
 }

@@ -3,7 +3,7 @@
 // the template's vertices in the target's coordinates, JSON reports), usage
 // errors (exit code 2), and bad input (exit code 1, a message naming the
 // problem, no output file).
-#include "cli_register.h"
+#include "cli_app.h"
 
 #include <cmath>
 #include <filesystem>
@@ -30,13 +30,13 @@ namespace fs = std::filesystem;
 test::CommandOutcome Landmarks(const std::vector<std::string>& arguments) {
   std::vector<std::string> all{"landmarks"};
   all.insert(all.end(), arguments.begin(), arguments.end());
-  return test::RunCommand(cli::RunLandmarksCommand, all);
+  return test::RunCommand(cli::RunFacerig, all);
 }
 
 test::CommandOutcome Register(const std::vector<std::string>& arguments) {
   std::vector<std::string> all{"register"};
   all.insert(all.end(), arguments.begin(), arguments.end());
-  return test::RunCommand(cli::RunRegisterCommand, all);
+  return test::RunCommand(cli::RunFacerig, all);
 }
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -113,7 +113,7 @@ TEST_CASE("facerig landmarks / register: usage errors return 2", "[cli][landmark
   CHECK(Landmarks({"mesh.obj", "-o"}).exit_code == 2);  // -o without a value
   const test::CommandOutcome unknown = Landmarks({"mesh.obj", "-o", "lm.json", "--frobnicate"});
   CHECK(unknown.exit_code == 2);
-  CHECK(Contains(unknown.error_output, "usage: facerig landmarks"));
+  CHECK(Contains(unknown.error_output, "facerig landmarks: The following argument was not expected: --frobnicate"));
   CHECK(Landmarks({"a.obj", "b.obj", "-o", "lm.json"}).exit_code == 2);  // two meshes
 
   CHECK(Register({}).exit_code == 2);
@@ -121,7 +121,7 @@ TEST_CASE("facerig landmarks / register: usage errors return 2", "[cli][landmark
   CHECK(Register({"--target", "m.obj", "-o", "f.obj"}).exit_code == 2);  // no template
   const test::CommandOutcome stray = Register({"--template", "t.frig", "--target", "m.obj", "-o", "f.obj", "extra"});
   CHECK(stray.exit_code == 2);
-  CHECK(Contains(stray.error_output, "usage: facerig register"));
+  CHECK(Contains(stray.error_output, "facerig register: The following argument was not expected: extra"));
 }
 
 TEST_CASE("facerig landmarks / register: bad input fails with a clear message and writes nothing",
@@ -218,7 +218,8 @@ TEST_CASE("facerig landmarks on a re-meshed ICT face: 68 points near the truth, 
   CHECK(json["views_tried"].get<int>() >= 2);
 }
 
-TEST_CASE("facerig register with a landmark file: the template's vertices on the target, in its units (shared data)",
+TEST_CASE("facerig register with a landmark file and --template-info: the template's vertices on the target, in its "
+          "units (shared data)",
           "[cli][shared-data]") {
   const fs::path folder = test::FreshOutputFolder("cli_register_file");
   const fs::path mesh = folder / "target.obj", landmarks = folder / "lm.json", fitted = folder / "fitted.obj",
@@ -231,9 +232,10 @@ TEST_CASE("facerig register with a landmark file: the template's vertices on the
     truth.indices.push_back(k);
   }
   WriteLandmarksJson(landmarks, truth);
-  const test::CommandOutcome result = Register({"--template", IctTemplate().string(), "--target", mesh.string(),
-                                                "--landmarks", landmarks.string(), "-o", fitted.string(), "--json",
-                                                report.string()});
+  const fs::path descriptor = fs::path(FACERIG_SOURCE_DIR) / "data/templates/ict-facekit.template.json";
+  const test::CommandOutcome result =
+      Register({"--template", IctTemplate().string(), "--template-info", descriptor.string(), "--target",
+                mesh.string(), "--landmarks", landmarks.string(), "-o", fitted.string(), "--json", report.string()});
   INFO(result.error_output);
   REQUIRE(result.exit_code == 0);
   CHECK(Contains(result.error_output, "non-rigid ICP"));  // the progress bar
@@ -246,6 +248,8 @@ TEST_CASE("facerig register with a landmark file: the template's vertices on the
 
   const nlohmann::json json = ReadJson(report);
   CHECK(json["landmarks"] == landmarks.string());
+  CHECK(json["template_info"]["source"] == "explicit");  // --template-info, not the fingerprint match
+  CHECK(json["template_info"]["path"] == descriptor.string());
   CHECK(json["residual_percent_of_diagonal"]["mean"].get<double>() < 0.1);
   CHECK(json["residual_percent_of_diagonal"]["p95"].get<double>() < 0.5);
   CHECK(json["rigid_scale"].get<double>() == Approx(0.01).epsilon(0.05));  // cm template onto metres

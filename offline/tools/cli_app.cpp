@@ -1,0 +1,29 @@
+#include "cli_app.h"
+
+#include "cli_build.h"
+#include "cli_identity.h"
+#include "cli_inspect.h"
+#include "cli_options.h"
+#include "cli_register.h"
+
+namespace facerig::cli {
+
+int RunFacerig(int argc, char** argv) {
+  CLI::App app("facerig: inspect, convert and build blend-shape rigs", "facerig");
+  AddVersionFlag(app);
+  CommandBody body;
+  AddInspectCommand(app, body);
+  AddConvertCommand(app, body);
+  AddLandmarksCommand(app, body);
+  AddRegisterCommand(app, body);
+  AddBuildCommand(app, body);
+  AddAverageCommand(app, body);
+  AddCaricatureCommand(app, body);
+  AddMorphCommand(app, body);
+  AddDefaultHeadCommand(app, body);
+  app.footer("Run 'facerig COMMAND --help' for a command's options. Exit codes: 0 ok, 1 failure, 2 bad command line.");
+  if (const std::optional<int> exit_code = ParseSubcommandLine(app, argc, argv)) return *exit_code;
+  return body();
+}
+
+}  // namespace facerig::cli

@@ -1,0 +1,11 @@
+// The `facerig` command line: one CLI::App with a subcommand per tool.
+#pragma once
+
+namespace facerig::cli {
+
+// Parses argv (argv[0] the program, argv[1] the subcommand) and runs the
+// subcommand. Returns the exit code: 0 ok (and after --help, --version),
+// 1 failure, 2 a bad command line.
+int RunFacerig(int argc, char** argv);
+
+}  // namespace facerig::cli

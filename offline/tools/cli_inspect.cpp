@@ -1,0 +1,182 @@
+// `facerig inspect`, `facerig convert` and `facerig default-head`: reading,
+// converting and generating rigs.
+#include "cli_inspect.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "cli_common.h"
+#include "facerig/offline/default_head.h"
+#include "facerig/offline/io/template_folder.h"
+#include "facerig/runtime/io/rig_file.h"
+
+namespace facerig::cli {
+namespace {
+
+struct RigFileOptions {
+  std::vector<std::string> paths;  // inspect: FILE|DIR; convert: IN OUT
+  TemplateImportOptions folder;
+};
+
+struct DefaultHeadOptions {
+  std::string out_dir, preview_dir;
+  int preview_size = 256;
+};
+
+// The options for template folders and .obj input.
+void AddFolderOptions(CLI::App& app, TemplateImportOptions& folder) {
+  AddUnitsOption(app, folder.units, "units of the input (default: guessed from the head size)");
+  AddUpAxisOption(app, folder.up_axis, "up axis of the input (default y)");
+  app.add_option("--neutral", folder.neutral_file, "neutral OBJ inside the folder");
+  AddCommaListOption(app, "--shapes", folder.shape_names,
+                     "expression names a,b,c (default: vertex_indices.json, else --glob)");
+  app.add_option("--glob", folder.glob, "expression files (default *.obj)");
+  app.add_option("--drop-threshold", folder.relative_drop_threshold,
+                 "drop deltas shorter than REL x bounding diagonal (default 1e-6)")
+      ->check(CLI::Range(0.0f, 1.0f));
+  app.footer("Formats by extension: a template folder of OBJs, .obj (neutral only), .glb, .gltf, .frig.");
+}
+
+Rig Load(const std::string& path, const TemplateImportOptions& folder) {
+  if (std::filesystem::is_directory(path)) {
+    TemplateImportReport report;
+    Rig rig = ImportTemplateFolder(path, folder, &report);
+    std::printf("imported %s: neutral %s, units %s%s, drop threshold %.3g (%zu small deltas dropped, "
+                "longest %.3g), %zu vertices with several UVs (first kept)\n",
+                path.c_str(), report.neutral_path.c_str(), ToString(report.units),
+                report.units_guessed ? " (guessed from size)" : "", report.drop_threshold,
+                report.dropped_entries, report.largest_dropped, report.uv_seam_vertices);
+    return rig;
+  }
+  return LoadRigOrTemplateFolder(path, folder);
+}
+
+void Inspect(const Rig& rig) {
+  std::printf("vertices %zu, triangles %zu, UVs %s, units %s, up %s, normal deltas %s\n",
+              rig.vertex_count(), rig.triangle_count(), rig.uvs().empty() ? "no" : "yes",
+              ToString(rig.units()), ToString(rig.up_axis()),
+              rig.has_normal_deltas() ? "yes" : "no");
+  std::printf("bounding diagonal %.4g %s\n", static_cast<double>(rig.bounding_diagonal()),
+              ToString(rig.units()));
+  std::printf("\nparts (%zu):\n  %-24s %18s %18s\n", rig.parts().size(), "name", "triangles",
+              "vertex span");
+  for (const Part& part : rig.parts()) {
+    std::printf("  %-24s %8u +%-9u %8u +%-9u\n", part.name.c_str(), part.first_triangle,
+                part.triangle_count, part.first_vertex, part.vertex_count);
+  }
+  std::printf("\nshapes (%zu):\n  %-24s %9s %9s %12s\n", rig.shape_count(), "name", "vertices",
+              "% of mesh", "max delta");
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+    const BlendShapeView shape = rig.shape(s);
+    float max_delta = 0.0f;
+    for (const glm::vec3& d : shape.position_deltas) max_delta = std::max(max_delta, glm::length(d));
+    std::printf("  %-24.*s %9zu %8.2f%% %12.4g\n", static_cast<int>(shape.name.size()),
+                shape.name.data(), shape.vertex_indices.size(),
+                100.0 * static_cast<double>(shape.vertex_indices.size()) /
+                    static_cast<double>(rig.vertex_count()),
+                static_cast<double>(max_delta));
+  }
+  const double dense = static_cast<double>(rig.shape_count() * rig.vertex_count());
+  const std::size_t entry_bytes = rig.has_normal_deltas() ? 28 : 16;
+  std::printf("\nsparsity: %zu entries = %.2f%% of dense (%zu shapes x %zu vertices); "
+              "shape data %.2f MB sparse vs %.2f MB dense\n",
+              rig.total_shape_entries(),
+              dense > 0 ? 100.0 * static_cast<double>(rig.total_shape_entries()) / dense : 0.0,
+              rig.shape_count(), rig.vertex_count(),
+              static_cast<double>(rig.total_shape_entries() * entry_bytes) / 1e6,
+              dense * static_cast<double>(entry_bytes - 4) / 1e6);
+}
+
+int RunInspect(const RigFileOptions& options) {
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const Rig rig = Load(options.paths[0], options.folder);
+    std::printf("%s (loaded in %.3f s)\n", options.paths[0].c_str(), SecondsSince(start));
+    Inspect(rig);
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+int RunConvert(const RigFileOptions& options) {
+  try {
+    const std::string& output = options.paths[1];
+    const Rig rig = Load(options.paths[0], options.folder);
+    SaveRig(output, rig);
+    std::printf("wrote %s (%zu vertices, %zu shapes, %ju bytes)\n", output.c_str(), rig.vertex_count(),
+                rig.shape_count(), static_cast<std::uintmax_t>(std::filesystem::file_size(output)));
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+// Writes default_head.{glb,frig} (the build runs it into build/data) and previews.
+int RunDefaultHead(const DefaultHeadOptions& options) {
+  try {
+    const std::string& out_dir = options.out_dir;
+    const std::string& preview_dir = options.preview_dir;
+    const int preview_size = options.preview_size;
+    DefaultHeadFeatures features;
+    const Rig rig = BuildDefaultHead(&features);
+    std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
+                features.control_vertex_count, features.control_triangle_count,
+                features.skin_vertex_count);
+    std::filesystem::create_directories(out_dir);
+    for (const char* name : {"default_head.glb", "default_head.frig"}) {
+      const std::filesystem::path path = std::filesystem::path(out_dir) / name;
+      SaveRig(path, rig);
+      std::printf("wrote %s (%zu vertices, %zu triangles, %zu shapes, %ju bytes)\n", path.c_str(),
+                  rig.vertex_count(), rig.triangle_count(), rig.shape_count(),
+                  static_cast<std::uintmax_t>(std::filesystem::file_size(path)));
+    }
+    std::printf("wrote %s\n", WriteDefaultHeadTemplateInfo(rig, out_dir).c_str());
+    if (!preview_dir.empty()) {
+      for (const auto& path : WriteDefaultHeadPreviews(rig, preview_dir, preview_size)) {
+        std::printf("wrote %s\n", path.c_str());
+      }
+    }
+    return 0;
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+}  // namespace
+
+void AddInspectCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* inspect = facerig.add_subcommand("inspect", "print a rig's vertices, parts, shapes and sparsity");
+  auto options = std::make_shared<RigFileOptions>();
+  inspect->add_option("rig", options->paths, "FILE|DIR: the rig")->required()->expected(1);
+  AddFolderOptions(*inspect, options->folder);
+  inspect->callback([&body, options] { body = [options] { return RunInspect(*options); }; });
+}
+
+void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* convert = facerig.add_subcommand("convert", "convert a rig between formats");
+  auto options = std::make_shared<RigFileOptions>();
+  convert->add_option("files", options->paths, "IN OUT")->required()->expected(2);
+  AddFolderOptions(*convert, options->folder);
+  convert->callback([&body, options] { body = [options] { return RunConvert(*options); }; });
+}
+
+void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body) {
+  CLI::App* head = facerig.add_subcommand("default-head", "write the built-in head (.glb and .frig)");
+  auto options = std::make_shared<DefaultHeadOptions>();
+  head->add_option("out_dir", options->out_dir, "OUT_DIR: where to write default_head.{glb,frig}")->required();
+  head->add_option("--preview", options->preview_dir, "also render previews into DIR");
+  head->add_option("--preview-size", options->preview_size, "preview size in pixels (64-4096, default 256)")
+      ->transform(CLI::Bound(64, 4096));
+  head->callback([&body, options] { body = [options] { return RunDefaultHead(*options); }; });
+}
+
+}  // namespace facerig::cli

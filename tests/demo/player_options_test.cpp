@@ -1,0 +1,85 @@
+// facerig-player's command line (player_options.cpp on CLI11): --help and
+// --version on stdout with exit 0, a bad value exits 2 naming the flag.
+#include "player_options.h"
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+namespace {
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;  // stdout only
+};
+
+// Runs facerig-player with `arguments`, stderr discarded unless `with_errors`.
+Outcome RunPlayer(const std::string& arguments, bool with_errors = false) {
+  const std::string command =
+      "'" FACERIG_PLAYER_EXE "' " + arguments + (with_errors ? " 2>&1" : " 2>/dev/null");
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  Outcome outcome;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) outcome.output += buffer;
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+}  // namespace
+
+TEST_CASE("Player: --help and --version print to stdout and exit 0", "[demo]") {
+  const Outcome help = RunPlayer("--help");
+  CHECK(help.exit_code == 0);
+  CHECK(help.output.find("usage: facerig-player") != std::string::npos);
+  const Outcome version = RunPlayer("--version");
+  CHECK(version.exit_code == 0);
+  CHECK(version.output == std::string(FACERIG_VERSION) + "\n");
+}
+
+TEST_CASE("Player: a bad command line exits 2 with an error naming the flag and the value", "[demo]") {
+  for (const auto& [arguments, message] : {std::pair<std::string, std::string>{"--fps abc", "--fps: Value abc"},
+                                           {"--msaa 3", "--msaa"},
+                                           {"--lead-in 99", "--lead-in"},
+                                           {"--emotion boredom", "'boredom'"},
+                                           {"--bogus", "--bogus"},
+                                           {"--rig", "--rig"}}) {
+    INFO(arguments);
+    const Outcome outcome = RunPlayer(arguments, true);
+    CHECK(outcome.exit_code == 2);
+    CHECK(outcome.output.find(message) != std::string::npos);
+    CHECK(outcome.output.find("facerig-player --help") != std::string::npos);
+  }
+}
+
+TEST_CASE("Player: options keep their defaults and take every value form", "[demo]") {
+  using facerig::player::ParseOptions;
+  using facerig::player::UsageError;
+  const facerig::player::PlayerOptions defaults = ParseOptions({});
+  CHECK(defaults.fps == 30.0);
+  CHECK(defaults.msaa == 4);
+  CHECK(defaults.lead_in == 0.3);
+  CHECK(defaults.voice == "en-us");
+  CHECK(!defaults.duration);
+  const facerig::player::PlayerOptions options =
+      ParseOptions({"--emotion", "joy", "--emotion", "anger:0.2", "--msaa", "0", "--duration", "2.5", "--still",
+                    "--quit-after", "1", "--voice=de"});
+  REQUIRE(options.emotions.size() == 2);
+  CHECK(options.emotions[0].second == 0.7f);
+  CHECK(options.emotions[1].second == 0.2f);
+  CHECK(options.msaa == 0);
+  CHECK(options.duration == 2.5);
+  CHECK(options.still);
+  CHECK(options.quit_after == 1.0);
+  CHECK(options.voice == "de");
+  CHECK(ParseOptions({"-h"}).help);
+  CHECK(ParseOptions({"--version"}).version);
+  CHECK_THROWS_AS(ParseOptions({"--fps", "0"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--duration", "-1"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--quit-after", "-1"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--fps", "nan"}), UsageError);
+}
