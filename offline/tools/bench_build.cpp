@@ -24,7 +24,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-using facerig::cli::SecondsSince;
+using facerig::SecondsSince;
 
 void PrintCheck(const char* what, double value, const char* comparison, double target) {
   const bool ok = value <= target;

@@ -18,6 +18,7 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/lip_probe.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/behaviour/blink.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
@@ -28,6 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using facerig::Percentile;
 
 constexpr double kSampleStep = 0.001;  // 1 kHz aperture sampling for closure and lag
 constexpr double kFrameStep = 1.0 / 60.0;
@@ -41,15 +43,6 @@ std::vector<std::string> ReadLines(const fs::path& path) {
     if (!line.empty()) lines.push_back(line);
   }
   return lines;
-}
-
-double Percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double rank = p * static_cast<double>(values.size() - 1);
-  const auto lo = static_cast<std::size_t>(rank);
-  const std::size_t hi = std::min(lo + 1, values.size() - 1);
-  return values[lo] + (rank - static_cast<double>(lo)) * (values[hi] - values[lo]);
 }
 
 // RMS of the audio in windows of 2 hops centred on each hop.

@@ -24,7 +24,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-using facerig::cli::SecondsSince;
+using facerig::SecondsSince;
 
 double PeakResidentMegabytes() {
   rusage usage{};

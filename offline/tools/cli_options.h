@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "facerig/offline/rig_build.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig::cli {
@@ -25,10 +26,6 @@ inline constexpr const char* kVersion = FACERIG_VERSION;
 // A subcommand's work, set by its parse callback and run once the whole
 // command line has parsed. Returns the exit code (0 ok, 1 failure).
 using CommandBody = std::function<int()>;
-
-inline double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Adds --version to `app` (the top-level one: subcommands inherit none).
 inline void AddVersionFlag(CLI::App& app) { app.set_version_flag("--version", kVersion, "print the version and exit"); }
