@@ -1,6 +1,7 @@
 #include "window_player.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <cstdlib>
@@ -105,6 +106,300 @@ struct SdlWindow {
   }
 };
 
+// A GL 3.3 core context, double-buffered, with `msaa` samples (0: none).
+void SetGlAttributes(int msaa) {
+  SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
+  SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 3);
+  SDL_GL_SetAttribute(SDL_GL_CONTEXT_PROFILE_MASK, SDL_GL_CONTEXT_PROFILE_CORE);
+  SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
+  SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
+  SDL_GL_SetAttribute(SDL_GL_MULTISAMPLEBUFFERS, msaa > 0 ? 1 : 0);
+  SDL_GL_SetAttribute(SDL_GL_MULTISAMPLESAMPLES, msaa);
+}
+
+// Opens the window with a current GL context and vsync. On failure prints why
+// (with the headless advice) and returns false.
+bool OpenWindow(const std::string& rig_name, const PlayerOptions& options, SdlWindow* sdl) {
+  if (SDL_Init(SDL_INIT_VIDEO) != 0) {
+    std::cerr << WindowFailedMessage(SDL_GetError()) << '\n';
+    return false;
+  }
+  SetGlAttributes(options.msaa);
+  const std::string title = "facerig-player - " + rig_name;
+  sdl->window = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, options.width,
+                                 options.height, SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
+  if (sdl->window == nullptr) {
+    // No multisampled visual (some X servers): try without.
+    SDL_GL_SetAttribute(SDL_GL_MULTISAMPLEBUFFERS, 0);
+    SDL_GL_SetAttribute(SDL_GL_MULTISAMPLESAMPLES, 0);
+    sdl->window = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, options.width,
+                                   options.height, SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE);
+  }
+  if (sdl->window == nullptr) {
+    std::cerr << WindowFailedMessage(SDL_GetError()) << '\n';
+    return false;
+  }
+  sdl->context = SDL_GL_CreateContext(sdl->window);
+  if (sdl->context == nullptr) {
+    std::cerr << "facerig-player: no OpenGL 3.3 core context: " << SDL_GetError() << '\n';
+    return false;
+  }
+  SDL_GL_SetSwapInterval(1);
+  std::cout << "OpenGL: " << glGetString(GL_RENDERER) << ", " << glGetString(GL_VERSION) << '\n';
+  return true;
+}
+
+// The clock follows the audio device; without one, the wall clock.
+void OpenAudioOrWallClock(AudioOutput* audio, AudioClock* clock) {
+  std::string audio_error;
+  if (!audio->Open(EspeakPhonemeSource::kSampleRate, clock, &audio_error)) {
+    std::cerr << "warning: no audio device (" << audio_error
+              << "); speaking silently, animation on the wall clock\n";
+    clock->StartSilent(WallSeconds());
+  }
+}
+
+// The emotions that keys 1-6 toggle, all at the one intensity that +/- steps.
+class EmotionKeys {
+ public:
+  // Starts with the --emotion options on; the last one's intensity becomes the shared one.
+  EmotionKeys(const PlayerOptions& options, Character& character) : character_(character) {
+    for (const auto& [emotion, value] : options.emotions) {
+      character_.SetEmotion(emotion, value);
+      on_[static_cast<std::size_t>(emotion)] = true;
+      intensity_ = value;
+    }
+  }
+  void Toggle(std::size_t e) {
+    on_[e] = !on_[e];
+    character_.SetEmotion(static_cast<Emotion>(e), on_[e] ? intensity_ : 0.0f);
+  }
+  void StepIntensity(bool up) {
+    intensity_ = std::clamp(intensity_ + (up ? 0.1f : -0.1f), 0.1f, 1.0f);
+    for (std::size_t e = 0; e < kEmotionCount; ++e) {
+      if (on_[e]) character_.SetEmotion(static_cast<Emotion>(e), intensity_);
+    }
+  }
+  float intensity() const { return intensity_; }
+
+ private:
+  Character& character_;
+  float intensity_ = 0.7f;
+  std::array<bool, kEmotionCount> on_{};
+};
+
+// The window loop's state: the animation, rendering, speech and the text line.
+// Lives inside the window's GL context and after the audio it plays through.
+class WindowLoop {
+ public:
+  WindowLoop(const Rig& rig, const PlayerOptions& options, SDL_Window* window, AudioOutput& audio,
+             AudioClock& clock)
+      : options_(options),
+        window_(window),
+        audio_(audio),
+        clock_(clock),
+        animator_(rig, IdleFor(options)),
+        emotions_(options, animator_.character()),
+        renderer_(rig),
+        message_("voice " + options.voice +
+                 ": type a line, Enter speaks it. Empty line: 1-6 emotions, +/- intensity, space pause") {
+    if (!options.say.empty()) worker_.Request(options.say, options.voice);
+  }
+
+  // Until the window closes, Esc or --quit-after; the last frame drawn is the screenshot.
+  void Run() {
+    SDL_StartTextInput();
+    const double start_wall = WallSeconds();
+    while (running_) {
+      if (options_.quit_after > 0.0 && WallSeconds() - start_wall >= options_.quit_after) running_ = false;
+      HandleEvents();
+      PlayFinishedSpeech();
+      DrawFrame();
+    }
+    SDL_StopTextInput();
+  }
+
+  const FrameTimer& timer() const { return timer_; }
+  // Read back only with --screenshot (width 0 otherwise).
+  const Image& screenshot() const { return screenshot_; }
+
+ private:
+  static IdleLifeParams IdleFor(const PlayerOptions& options) {
+    IdleLifeParams idle;
+    idle.head_motion = idle.saccades = !options.still;
+    return idle;
+  }
+
+  void HandleEvents() {
+    SDL_Event event;
+    while (SDL_PollEvent(&event)) {
+      switch (event.type) {
+        case SDL_QUIT: running_ = false; break;
+        case SDL_TEXTINPUT: HandleText(event.text.text); break;
+        case SDL_KEYDOWN: HandleKey(event.key.keysym.sym); break;
+        case SDL_MOUSEBUTTONDOWN:
+          if (event.button.button == SDL_BUTTON_LEFT) dragging_ = true;
+          break;
+        case SDL_MOUSEBUTTONUP:
+          if (event.button.button == SDL_BUTTON_LEFT) dragging_ = false;
+          break;
+        case SDL_MOUSEMOTION:
+          if (dragging_) {
+            renderer_.camera().Orbit(-0.4f * static_cast<float>(event.motion.xrel),
+                                     0.4f * static_cast<float>(event.motion.yrel));
+          }
+          break;
+        case SDL_MOUSEWHEEL: renderer_.camera().Zoom(static_cast<float>(event.wheel.y)); break;
+        default: break;
+      }
+    }
+  }
+
+  void HandleText(const char* utf8) {
+    if (swallow_text_) {
+      swallow_text_ = false;  // the key already acted as a command
+    } else {
+      line_.Insert(utf8);
+    }
+  }
+
+  void HandleKey(SDL_Keycode key) {
+    swallow_text_ = false;
+    // With an empty line, keys are commands; otherwise they edit the line.
+    if (line_.text.empty() && HandleCommandKey(key)) {
+      swallow_text_ = true;
+      return;
+    }
+    HandleEditKey(key);
+  }
+
+  // Emotions, intensity and pause. Returns false for keys that are not commands.
+  bool HandleCommandKey(SDL_Keycode key) {
+    if (key >= SDLK_1 && key <= SDLK_6) {
+      emotions_.Toggle(static_cast<std::size_t>(key - SDLK_1));
+      return true;
+    }
+    const bool up = key == SDLK_PLUS || key == SDLK_EQUALS || key == SDLK_KP_PLUS;
+    if (up || key == SDLK_MINUS || key == SDLK_KP_MINUS) {
+      emotions_.StepIntensity(up);
+      return true;
+    }
+    if (key == SDLK_SPACE) {
+      TogglePause();
+      return true;
+    }
+    return false;
+  }
+
+  void HandleEditKey(SDL_Keycode key) {
+    switch (key) {
+      case SDLK_ESCAPE: running_ = false; break;
+      case SDLK_BACKSPACE: line_.Backspace(); break;
+      case SDLK_DELETE: line_.Delete(); break;
+      case SDLK_LEFT: line_.cursor = PreviousChar(line_.text, line_.cursor); break;
+      case SDLK_RIGHT: line_.cursor = NextChar(line_.text, line_.cursor); break;
+      case SDLK_HOME: line_.cursor = 0; break;
+      case SDLK_END: line_.cursor = line_.text.size(); break;
+      case SDLK_UP: line_.Browse(-1); break;
+      case SDLK_DOWN: line_.Browse(+1); break;
+      case SDLK_TAB: renderer_.ResetCamera(); break;
+      case SDLK_RETURN:
+      case SDLK_KP_ENTER:
+        if (!line_.text.empty()) worker_.Request(line_.Take(), options_.voice);
+        break;
+      default: break;
+    }
+  }
+
+  void TogglePause() {
+    paused_ = !paused_;
+    if (audio_.is_open()) {
+      audio_.SetPaused(paused_);
+    } else if (paused_) {
+      clock_.Stop(WallSeconds());
+    } else {
+      clock_.StartSilent(WallSeconds());
+    }
+    paused_time_ = clock_.Now(WallSeconds());
+  }
+
+  // A synthesized line: play it and schedule the mouth at the time its first sample is heard.
+  void PlayFinishedSpeech() {
+    std::optional<SpeechResult> result = worker_.Poll();
+    if (!result) return;
+    if (!result->error.empty()) {
+      message_ = "speech error: " + result->error;
+      std::cerr << message_ << '\n';
+      return;
+    }
+    const double start = audio_.is_open() ? audio_.Play(result->line.audio) : clock_.Now(WallSeconds());
+    const CharacterError error = animator_.character().Speak(result->line.phonemes, Seconds(start));
+    message_ = error == CharacterError::kNone ? "\"" + result->text + "\"" : std::string("Speak: ") + ToString(error);
+  }
+
+  void DrawFrame() {
+    const double time = paused_ ? paused_time_ : clock_.Now(WallSeconds());
+    int width = 0, height = 0;
+    SDL_GL_GetDrawableSize(window_, &width, &height);
+    timer_.BeginFrame();
+    animator_.Update(time, &timer_);
+    renderer_.Upload(animator_.positions(), animator_.normals());
+    timer_.Mark(Stage::kUpload);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    renderer_.Draw(width, height, animator_.head_rotation());
+    hud_.Draw(MakeWindowHudState(time), width, height);
+    timer_.Mark(Stage::kDraw);
+    timer_.EndFrame();
+    if (!running_ && !options_.screenshot.empty()) ReadBackBuffer(width, height, &screenshot_);
+    SDL_GL_SwapWindow(window_);
+  }
+
+  // The headless HUD plus the text line and the status line.
+  HudState MakeWindowHudState(double time) {
+    HudState state = MakeHudState(animator_, timer_, time);
+    state.emotion_intensity = emotions_.intensity();
+    state.show_input = true;
+    state.input = line_.text;
+    state.cursor = line_.cursor;
+    state.status = std::string(paused_ ? "PAUSED  " : "") + "clock " + ToString(clock_.status()) + "  " +
+                   (worker_.busy() ? "synthesizing...  " : "") + message_;
+    return state;
+  }
+
+  const PlayerOptions& options_;
+  SDL_Window* window_;
+  AudioOutput& audio_;
+  AudioClock& clock_;
+  FaceAnimator animator_;
+  EmotionKeys emotions_;
+  FaceRenderer renderer_;
+  Hud hud_;
+  FrameTimer timer_;
+  SpeechWorker worker_;
+  TextLine line_;
+  std::string message_;
+  bool paused_ = false, dragging_ = false, swallow_text_ = false, running_ = true;
+  double paused_time_ = 0.0;
+  Image screenshot_;
+};
+
+// The --screenshot PNG, when a frame was read back.
+void WriteScreenshot(const PlayerOptions& options, const Image& screenshot) {
+  if (options.screenshot.empty() || screenshot.width <= 0) return;
+  WritePng(options.screenshot, screenshot);
+  std::cout << "wrote " << options.screenshot.string() << '\n';
+}
+
+void ReportTiming(const FrameTimer& timer, const Rig& rig, const std::string& rig_name,
+                  const PlayerOptions& options) {
+  const TimingSummary summary = timer.Summarize();
+  std::cout << FormatSummary(summary, "facerig-player " + rig_name);
+  if (!options.timing_json.empty()) {
+    WriteTimingJson(options.timing_json, summary, timer.samples(), rig_name, rig.vertex_count(), rig.shape_count());
+    std::cout << "wrote " << options.timing_json.string() << '\n';
+  }
+}
+
 }  // namespace
 
 std::optional<std::string> NoDisplayMessage() {
@@ -120,210 +415,15 @@ std::string WindowFailedMessage(const std::string& reason) {
 }
 
 int RunWindow(const Rig& rig, const std::string& rig_name, const PlayerOptions& options) {
-  SdlWindow sdl;
-  if (SDL_Init(SDL_INIT_VIDEO) != 0) {
-    std::cerr << WindowFailedMessage(SDL_GetError()) << '\n';
-    return 1;
-  }
-  SDL_GL_SetAttribute(SDL_GL_CONTEXT_MAJOR_VERSION, 3);
-  SDL_GL_SetAttribute(SDL_GL_CONTEXT_MINOR_VERSION, 3);
-  SDL_GL_SetAttribute(SDL_GL_CONTEXT_PROFILE_MASK, SDL_GL_CONTEXT_PROFILE_CORE);
-  SDL_GL_SetAttribute(SDL_GL_DOUBLEBUFFER, 1);
-  SDL_GL_SetAttribute(SDL_GL_DEPTH_SIZE, 24);
-  SDL_GL_SetAttribute(SDL_GL_MULTISAMPLEBUFFERS, options.msaa > 0 ? 1 : 0);
-  SDL_GL_SetAttribute(SDL_GL_MULTISAMPLESAMPLES, options.msaa);
-  const std::string title = "facerig-player - " + rig_name;
-  sdl.window = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, options.width,
-                                options.height, SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
-  if (sdl.window == nullptr) {
-    // No multisampled visual (some X servers): try without.
-    SDL_GL_SetAttribute(SDL_GL_MULTISAMPLEBUFFERS, 0);
-    SDL_GL_SetAttribute(SDL_GL_MULTISAMPLESAMPLES, 0);
-    sdl.window = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, options.width,
-                                  options.height, SDL_WINDOW_OPENGL | SDL_WINDOW_RESIZABLE);
-  }
-  if (sdl.window == nullptr) {
-    std::cerr << WindowFailedMessage(SDL_GetError()) << '\n';
-    return 1;
-  }
-  sdl.context = SDL_GL_CreateContext(sdl.window);
-  if (sdl.context == nullptr) {
-    std::cerr << "facerig-player: no OpenGL 3.3 core context: " << SDL_GetError() << '\n';
-    return 1;
-  }
-  SDL_GL_SetSwapInterval(1);
-  std::cout << "OpenGL: " << glGetString(GL_RENDERER) << ", " << glGetString(GL_VERSION) << '\n';
-
-  // Audio: the clock follows the device; without one, the wall clock.
+  SdlWindow sdl;  // SDL_Quit on every return
+  if (!OpenWindow(rig_name, options, &sdl)) return 1;
   AudioClock clock;
   AudioOutput audio;
-  std::string audio_error;
-  if (!audio.Open(EspeakPhonemeSource::kSampleRate, &clock, &audio_error)) {
-    std::cerr << "warning: no audio device (" << audio_error
-              << "); speaking silently, animation on the wall clock\n";
-    clock.StartSilent(WallSeconds());
-  }
-
-  IdleLifeParams idle;
-  idle.head_motion = idle.saccades = !options.still;
-  FaceAnimator animator(rig, idle);
-  float intensity = 0.7f;
-  std::array<bool, kEmotionCount> emotion_on{};
-  for (const auto& [emotion, value] : options.emotions) {
-    animator.character().SetEmotion(emotion, value);
-    emotion_on[static_cast<std::size_t>(emotion)] = true;
-    intensity = value;
-  }
-  FaceRenderer renderer(rig);
-  Hud hud;
-  FrameTimer timer;
-  SpeechWorker worker;
-  if (!options.say.empty()) worker.Request(options.say, options.voice);
-
-  TextLine line;
-  std::string message = "voice " + options.voice +
-                        ": type a line, Enter speaks it. Empty line: 1-6 emotions, +/- intensity, space pause";
-  bool paused = false, dragging = false, swallow_text = false, running = true;
-  double paused_time = 0.0;
-  SDL_StartTextInput();
-
-  const auto toggle_pause = [&] {
-    paused = !paused;
-    if (audio.is_open()) {
-      audio.SetPaused(paused);
-    } else if (paused) {
-      clock.Stop(WallSeconds());
-    } else {
-      clock.StartSilent(WallSeconds());
-    }
-    paused_time = clock.Now(WallSeconds());
-  };
-
-  const double start_wall = WallSeconds();
-  Image screenshot;
-  while (running) {
-    if (options.quit_after > 0.0 && WallSeconds() - start_wall >= options.quit_after) running = false;
-    SDL_Event event;
-    while (SDL_PollEvent(&event)) {
-      switch (event.type) {
-        case SDL_QUIT: running = false; break;
-        case SDL_TEXTINPUT:
-          if (swallow_text) {
-            swallow_text = false;  // the key already acted as a command
-          } else {
-            line.Insert(event.text.text);
-          }
-          break;
-        case SDL_KEYDOWN: {
-          const SDL_Keycode key = event.key.keysym.sym;
-          swallow_text = false;
-          // With an empty line, keys are commands; otherwise they edit the line.
-          if (line.text.empty()) {
-            if (key >= SDLK_1 && key <= SDLK_6) {
-              const auto e = static_cast<std::size_t>(key - SDLK_1);
-              emotion_on[e] = !emotion_on[e];
-              animator.character().SetEmotion(static_cast<Emotion>(e), emotion_on[e] ? intensity : 0.0f);
-              swallow_text = true;
-              break;
-            }
-            if (key == SDLK_PLUS || key == SDLK_EQUALS || key == SDLK_KP_PLUS || key == SDLK_MINUS ||
-                key == SDLK_KP_MINUS) {
-              const bool up = key == SDLK_PLUS || key == SDLK_EQUALS || key == SDLK_KP_PLUS;
-              intensity = std::clamp(intensity + (up ? 0.1f : -0.1f), 0.1f, 1.0f);
-              for (std::size_t e = 0; e < kEmotionCount; ++e) {
-                if (emotion_on[e]) animator.character().SetEmotion(static_cast<Emotion>(e), intensity);
-              }
-              swallow_text = true;
-              break;
-            }
-            if (key == SDLK_SPACE) {
-              toggle_pause();
-              swallow_text = true;
-              break;
-            }
-          }
-          switch (key) {
-            case SDLK_ESCAPE: running = false; break;
-            case SDLK_BACKSPACE: line.Backspace(); break;
-            case SDLK_DELETE: line.Delete(); break;
-            case SDLK_LEFT: line.cursor = PreviousChar(line.text, line.cursor); break;
-            case SDLK_RIGHT: line.cursor = NextChar(line.text, line.cursor); break;
-            case SDLK_HOME: line.cursor = 0; break;
-            case SDLK_END: line.cursor = line.text.size(); break;
-            case SDLK_UP: line.Browse(-1); break;
-            case SDLK_DOWN: line.Browse(+1); break;
-            case SDLK_TAB: renderer.ResetCamera(); break;
-            case SDLK_RETURN:
-            case SDLK_KP_ENTER:
-              if (!line.text.empty()) worker.Request(line.Take(), options.voice);
-              break;
-            default: break;
-          }
-          break;
-        }
-        case SDL_MOUSEBUTTONDOWN:
-          if (event.button.button == SDL_BUTTON_LEFT) dragging = true;
-          break;
-        case SDL_MOUSEBUTTONUP:
-          if (event.button.button == SDL_BUTTON_LEFT) dragging = false;
-          break;
-        case SDL_MOUSEMOTION:
-          if (dragging) {
-            renderer.camera().Orbit(-0.4f * static_cast<float>(event.motion.xrel),
-                                    0.4f * static_cast<float>(event.motion.yrel));
-          }
-          break;
-        case SDL_MOUSEWHEEL: renderer.camera().Zoom(static_cast<float>(event.wheel.y)); break;
-        default: break;
-      }
-    }
-
-    // A synthesized line: play it and schedule the mouth at the time its first sample is heard.
-    if (std::optional<SpeechResult> result = worker.Poll()) {
-      if (!result->error.empty()) {
-        message = "speech error: " + result->error;
-        std::cerr << message << '\n';
-      } else {
-        const double start = audio.is_open() ? audio.Play(result->line.audio) : clock.Now(WallSeconds());
-        const CharacterError error = animator.character().Speak(result->line.phonemes, Seconds(start));
-        message = error == CharacterError::kNone ? "\"" + result->text + "\"" : std::string("Speak: ") + ToString(error);
-      }
-    }
-
-    const double time = paused ? paused_time : clock.Now(WallSeconds());
-    int width = 0, height = 0;
-    SDL_GL_GetDrawableSize(sdl.window, &width, &height);
-    timer.BeginFrame();
-    animator.Update(time, &timer);
-    renderer.Upload(animator.positions(), animator.normals());
-    timer.Mark(Stage::kUpload);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    renderer.Draw(width, height, animator.head_rotation());
-    HudState state = MakeHudState(animator, timer, time);
-    state.emotion_intensity = intensity;
-    state.show_input = true;
-    state.input = line.text;
-    state.cursor = line.cursor;
-    state.status = std::string(paused ? "PAUSED  " : "") + "clock " + ToString(clock.status()) + "  " +
-                   (worker.busy() ? "synthesizing...  " : "") + message;
-    hud.Draw(state, width, height);
-    timer.Mark(Stage::kDraw);
-    timer.EndFrame();
-    if (!running && !options.screenshot.empty()) ReadBackBuffer(width, height, &screenshot);
-    SDL_GL_SwapWindow(sdl.window);
-  }
-  SDL_StopTextInput();
-  if (!options.screenshot.empty() && screenshot.width > 0) {
-    WritePng(options.screenshot, screenshot);
-    std::cout << "wrote " << options.screenshot.string() << '\n';
-  }
-
-  const TimingSummary summary = timer.Summarize();
-  std::cout << FormatSummary(summary, "facerig-player " + rig_name);
-  if (!options.timing_json.empty()) {
-    WriteTimingJson(options.timing_json, summary, timer.samples(), rig_name, rig.vertex_count(), rig.shape_count());
-    std::cout << "wrote " << options.timing_json.string() << '\n';
-  }
+  OpenAudioOrWallClock(&audio, &clock);
+  WindowLoop loop(rig, options, sdl.window, audio, clock);
+  loop.Run();
+  WriteScreenshot(options, loop.screenshot());
+  ReportTiming(loop.timer(), rig, rig_name, options);
   return 0;
 }
 
