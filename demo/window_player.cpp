@@ -193,178 +193,25 @@ class EmotionKeys {
 class WindowLoop {
  public:
   WindowLoop(const Rig& rig, const PlayerOptions& options, SDL_Window* window, AudioOutput& audio,
-             AudioClock& clock)
-      : options_(options),
-        window_(window),
-        audio_(audio),
-        clock_(clock),
-        animator_(rig, IdleFor(options)),
-        emotions_(options, animator_.character()),
-        renderer_(rig),
-        message_("voice " + options.voice +
-                 ": type a line, Enter speaks it. Empty line: 1-6 emotions, +/- intensity, space pause") {
-    if (!options.say.empty()) worker_.Request(options.say, options.voice);
-  }
-
+             AudioClock& clock);
   // Until the window closes, Esc or --quit-after; the last frame drawn is the screenshot.
-  void Run() {
-    SDL_StartTextInput();
-    const double start_wall = WallSeconds();
-    while (running_) {
-      if (options_.quit_after > 0.0 && WallSeconds() - start_wall >= options_.quit_after) running_ = false;
-      HandleEvents();
-      PlayFinishedSpeech();
-      DrawFrame();
-    }
-    SDL_StopTextInput();
-  }
+  void Run();
 
   const FrameTimer& timer() const { return timer_; }
   // Read back only with --screenshot (width 0 otherwise).
   const Image& screenshot() const { return screenshot_; }
 
  private:
-  static IdleLifeParams IdleFor(const PlayerOptions& options) {
-    IdleLifeParams idle;
-    idle.head_motion = idle.saccades = !options.still;
-    return idle;
-  }
-
-  void HandleEvents() {
-    SDL_Event event;
-    while (SDL_PollEvent(&event)) {
-      switch (event.type) {
-        case SDL_QUIT: running_ = false; break;
-        case SDL_TEXTINPUT: HandleText(event.text.text); break;
-        case SDL_KEYDOWN: HandleKey(event.key.keysym.sym); break;
-        case SDL_MOUSEBUTTONDOWN:
-          if (event.button.button == SDL_BUTTON_LEFT) dragging_ = true;
-          break;
-        case SDL_MOUSEBUTTONUP:
-          if (event.button.button == SDL_BUTTON_LEFT) dragging_ = false;
-          break;
-        case SDL_MOUSEMOTION:
-          if (dragging_) {
-            renderer_.camera().Orbit(-0.4f * static_cast<float>(event.motion.xrel),
-                                     0.4f * static_cast<float>(event.motion.yrel));
-          }
-          break;
-        case SDL_MOUSEWHEEL: renderer_.camera().Zoom(static_cast<float>(event.wheel.y)); break;
-        default: break;
-      }
-    }
-  }
-
-  void HandleText(const char* utf8) {
-    if (swallow_text_) {
-      swallow_text_ = false;  // the key already acted as a command
-    } else {
-      line_.Insert(utf8);
-    }
-  }
-
-  void HandleKey(SDL_Keycode key) {
-    swallow_text_ = false;
-    // With an empty line, keys are commands; otherwise they edit the line.
-    if (line_.text.empty() && HandleCommandKey(key)) {
-      swallow_text_ = true;
-      return;
-    }
-    HandleEditKey(key);
-  }
-
+  void HandleEvents();
+  void HandleText(const char* utf8);
+  void HandleKey(SDL_Keycode key);
   // Emotions, intensity and pause. Returns false for keys that are not commands.
-  bool HandleCommandKey(SDL_Keycode key) {
-    if (key >= SDLK_1 && key <= SDLK_6) {
-      emotions_.Toggle(static_cast<std::size_t>(key - SDLK_1));
-      return true;
-    }
-    const bool up = key == SDLK_PLUS || key == SDLK_EQUALS || key == SDLK_KP_PLUS;
-    if (up || key == SDLK_MINUS || key == SDLK_KP_MINUS) {
-      emotions_.StepIntensity(up);
-      return true;
-    }
-    if (key == SDLK_SPACE) {
-      TogglePause();
-      return true;
-    }
-    return false;
-  }
-
-  void HandleEditKey(SDL_Keycode key) {
-    switch (key) {
-      case SDLK_ESCAPE: running_ = false; break;
-      case SDLK_BACKSPACE: line_.Backspace(); break;
-      case SDLK_DELETE: line_.Delete(); break;
-      case SDLK_LEFT: line_.cursor = PreviousChar(line_.text, line_.cursor); break;
-      case SDLK_RIGHT: line_.cursor = NextChar(line_.text, line_.cursor); break;
-      case SDLK_HOME: line_.cursor = 0; break;
-      case SDLK_END: line_.cursor = line_.text.size(); break;
-      case SDLK_UP: line_.Browse(-1); break;
-      case SDLK_DOWN: line_.Browse(+1); break;
-      case SDLK_TAB: renderer_.ResetCamera(); break;
-      case SDLK_RETURN:
-      case SDLK_KP_ENTER:
-        if (!line_.text.empty()) worker_.Request(line_.Take(), options_.voice);
-        break;
-      default: break;
-    }
-  }
-
-  void TogglePause() {
-    paused_ = !paused_;
-    if (audio_.is_open()) {
-      audio_.SetPaused(paused_);
-    } else if (paused_) {
-      clock_.Stop(WallSeconds());
-    } else {
-      clock_.StartSilent(WallSeconds());
-    }
-    paused_time_ = clock_.Now(WallSeconds());
-  }
-
-  // A synthesized line: play it and schedule the mouth at the time its first sample is heard.
-  void PlayFinishedSpeech() {
-    std::optional<SpeechResult> result = worker_.Poll();
-    if (!result) return;
-    if (!result->error.empty()) {
-      message_ = "speech error: " + result->error;
-      std::cerr << message_ << '\n';
-      return;
-    }
-    const double start = audio_.is_open() ? audio_.Play(result->line.audio) : clock_.Now(WallSeconds());
-    const CharacterError error = animator_.character().Speak(result->line.phonemes, Seconds(start));
-    message_ = error == CharacterError::kNone ? "\"" + result->text + "\"" : std::string("Speak: ") + ToString(error);
-  }
-
-  void DrawFrame() {
-    const double time = paused_ ? paused_time_ : clock_.Now(WallSeconds());
-    int width = 0, height = 0;
-    SDL_GL_GetDrawableSize(window_, &width, &height);
-    timer_.BeginFrame();
-    animator_.Update(time, &timer_);
-    renderer_.Upload(animator_.positions(), animator_.normals());
-    timer_.Mark(Stage::kUpload);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    renderer_.Draw(width, height, animator_.head_rotation());
-    hud_.Draw(MakeWindowHudState(time), width, height);
-    timer_.Mark(Stage::kDraw);
-    timer_.EndFrame();
-    if (!running_ && !options_.screenshot.empty()) ReadBackBuffer(width, height, &screenshot_);
-    SDL_GL_SwapWindow(window_);
-  }
-
-  // The headless HUD plus the text line and the status line.
-  HudState MakeWindowHudState(double time) {
-    HudState state = MakeHudState(animator_, timer_, time);
-    state.emotion_intensity = emotions_.intensity();
-    state.show_input = true;
-    state.input = line_.text;
-    state.cursor = line_.cursor;
-    state.status = std::string(paused_ ? "PAUSED  " : "") + "clock " + ToString(clock_.status()) + "  " +
-                   (worker_.busy() ? "synthesizing...  " : "") + message_;
-    return state;
-  }
+  bool HandleCommandKey(SDL_Keycode key);
+  void HandleEditKey(SDL_Keycode key);
+  void TogglePause();
+  void PlayFinishedSpeech();
+  void DrawFrame();
+  HudState MakeWindowHudState(double time);
 
   const PlayerOptions& options_;
   SDL_Window* window_;
@@ -382,6 +229,173 @@ class WindowLoop {
   double paused_time_ = 0.0;
   Image screenshot_;
 };
+
+IdleLifeParams IdleFor(const PlayerOptions& options) {
+  IdleLifeParams idle;
+  idle.head_motion = idle.saccades = !options.still;
+  return idle;
+}
+
+WindowLoop::WindowLoop(const Rig& rig, const PlayerOptions& options, SDL_Window* window, AudioOutput& audio,
+                       AudioClock& clock)
+    : options_(options),
+      window_(window),
+      audio_(audio),
+      clock_(clock),
+      animator_(rig, IdleFor(options)),
+      emotions_(options, animator_.character()),
+      renderer_(rig),
+      message_("voice " + options.voice +
+               ": type a line, Enter speaks it. Empty line: 1-6 emotions, +/- intensity, space pause") {
+  if (!options.say.empty()) worker_.Request(options.say, options.voice);
+}
+
+void WindowLoop::Run() {
+  SDL_StartTextInput();
+  const double start_wall = WallSeconds();
+  while (running_) {
+    if (options_.quit_after > 0.0 && WallSeconds() - start_wall >= options_.quit_after) running_ = false;
+    HandleEvents();
+    PlayFinishedSpeech();
+    DrawFrame();
+  }
+  SDL_StopTextInput();
+}
+
+void WindowLoop::HandleEvents() {
+  SDL_Event event;
+  while (SDL_PollEvent(&event)) {
+    switch (event.type) {
+      case SDL_QUIT: running_ = false; break;
+      case SDL_TEXTINPUT: HandleText(event.text.text); break;
+      case SDL_KEYDOWN: HandleKey(event.key.keysym.sym); break;
+      case SDL_MOUSEBUTTONDOWN:
+        if (event.button.button == SDL_BUTTON_LEFT) dragging_ = true;
+        break;
+      case SDL_MOUSEBUTTONUP:
+        if (event.button.button == SDL_BUTTON_LEFT) dragging_ = false;
+        break;
+      case SDL_MOUSEMOTION:
+        if (dragging_) {
+          renderer_.camera().Orbit(-0.4f * static_cast<float>(event.motion.xrel),
+                                   0.4f * static_cast<float>(event.motion.yrel));
+        }
+        break;
+      case SDL_MOUSEWHEEL: renderer_.camera().Zoom(static_cast<float>(event.wheel.y)); break;
+      default: break;
+    }
+  }
+}
+
+void WindowLoop::HandleText(const char* utf8) {
+  if (swallow_text_) {
+    swallow_text_ = false;  // the key already acted as a command
+  } else {
+    line_.Insert(utf8);
+  }
+}
+
+void WindowLoop::HandleKey(SDL_Keycode key) {
+  swallow_text_ = false;
+  // With an empty line, keys are commands; otherwise they edit the line.
+  if (line_.text.empty() && HandleCommandKey(key)) {
+    swallow_text_ = true;
+    return;
+  }
+  HandleEditKey(key);
+}
+
+bool WindowLoop::HandleCommandKey(SDL_Keycode key) {
+  if (key >= SDLK_1 && key <= SDLK_6) {
+    emotions_.Toggle(static_cast<std::size_t>(key - SDLK_1));
+    return true;
+  }
+  const bool up = key == SDLK_PLUS || key == SDLK_EQUALS || key == SDLK_KP_PLUS;
+  if (up || key == SDLK_MINUS || key == SDLK_KP_MINUS) {
+    emotions_.StepIntensity(up);
+    return true;
+  }
+  if (key == SDLK_SPACE) {
+    TogglePause();
+    return true;
+  }
+  return false;
+}
+
+void WindowLoop::HandleEditKey(SDL_Keycode key) {
+  switch (key) {
+    case SDLK_ESCAPE: running_ = false; break;
+    case SDLK_BACKSPACE: line_.Backspace(); break;
+    case SDLK_DELETE: line_.Delete(); break;
+    case SDLK_LEFT: line_.cursor = PreviousChar(line_.text, line_.cursor); break;
+    case SDLK_RIGHT: line_.cursor = NextChar(line_.text, line_.cursor); break;
+    case SDLK_HOME: line_.cursor = 0; break;
+    case SDLK_END: line_.cursor = line_.text.size(); break;
+    case SDLK_UP: line_.Browse(-1); break;
+    case SDLK_DOWN: line_.Browse(+1); break;
+    case SDLK_TAB: renderer_.ResetCamera(); break;
+    case SDLK_RETURN:
+    case SDLK_KP_ENTER:
+      if (!line_.text.empty()) worker_.Request(line_.Take(), options_.voice);
+      break;
+    default: break;
+  }
+}
+
+void WindowLoop::TogglePause() {
+  paused_ = !paused_;
+  if (audio_.is_open()) {
+    audio_.SetPaused(paused_);
+  } else if (paused_) {
+    clock_.Stop(WallSeconds());
+  } else {
+    clock_.StartSilent(WallSeconds());
+  }
+  paused_time_ = clock_.Now(WallSeconds());
+}
+
+// A synthesized line: play it and schedule the mouth at the time its first sample is heard.
+void WindowLoop::PlayFinishedSpeech() {
+  std::optional<SpeechResult> result = worker_.Poll();
+  if (!result) return;
+  if (!result->error.empty()) {
+    message_ = "speech error: " + result->error;
+    std::cerr << message_ << '\n';
+    return;
+  }
+  const double start = audio_.is_open() ? audio_.Play(result->line.audio) : clock_.Now(WallSeconds());
+  const CharacterError error = animator_.character().Speak(result->line.phonemes, Seconds(start));
+  message_ = error == CharacterError::kNone ? "\"" + result->text + "\"" : std::string("Speak: ") + ToString(error);
+}
+
+void WindowLoop::DrawFrame() {
+  const double time = paused_ ? paused_time_ : clock_.Now(WallSeconds());
+  int width = 0, height = 0;
+  SDL_GL_GetDrawableSize(window_, &width, &height);
+  timer_.BeginFrame();
+  animator_.Update(time, &timer_);
+  renderer_.Upload(animator_.positions(), animator_.normals());
+  timer_.Mark(Stage::kUpload);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  renderer_.Draw(width, height, animator_.head_rotation());
+  hud_.Draw(MakeWindowHudState(time), width, height);
+  timer_.Mark(Stage::kDraw);
+  timer_.EndFrame();
+  if (!running_ && !options_.screenshot.empty()) ReadBackBuffer(width, height, &screenshot_);
+  SDL_GL_SwapWindow(window_);
+}
+
+// The headless HUD plus the text line and the status line.
+HudState WindowLoop::MakeWindowHudState(double time) {
+  HudState state = MakeHudState(animator_, timer_, time);
+  state.emotion_intensity = emotions_.intensity();
+  state.show_input = true;
+  state.input = line_.text;
+  state.cursor = line_.cursor;
+  state.status = std::string(paused_ ? "PAUSED  " : "") + "clock " + ToString(clock_.status()) + "  " +
+                 (worker_.busy() ? "synthesizing...  " : "") + message_;
+  return state;
+}
 
 // The --screenshot PNG, when a frame was read back.
 void WriteScreenshot(const PlayerOptions& options, const Image& screenshot) {
