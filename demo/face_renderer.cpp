@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <epoxy/gl.h>
@@ -239,16 +240,99 @@ unsigned CompileProgram(const char* vertex_source, const char* fragment_source, 
   return program;
 }
 
-FaceRenderer::FaceRenderer(const Rig& rig) : vertex_count_(rig.vertex_count()) {
-  // Rig units and axes -> scene metres with Y up (glTF's frame).
+namespace {
+
+// Rig units and axes -> scene metres with Y up (glTF's frame).
+glm::mat4 RigToScene(const Rig& rig) {
   const auto metres = static_cast<float>(MetresPerUnit(rig.units()));
-  rig_to_scene_ = glm::scale(glm::mat4(1.0f), glm::vec3(metres));
+  glm::mat4 rig_to_scene = glm::scale(glm::mat4(1.0f), glm::vec3(metres));
   if (rig.up_axis() == UpAxis::kZ) {
     // Z up, -Y towards the viewer (Blender's front view) -> Y up, +Z towards the viewer.
-    rig_to_scene_ = glm::rotate(glm::mat4(1.0f), glm::radians(-90.0f), glm::vec3(1, 0, 0)) * rig_to_scene_;
+    rig_to_scene = glm::rotate(glm::mat4(1.0f), glm::radians(-90.0f), glm::vec3(1, 0, 0)) * rig_to_scene;
   }
+  return rig_to_scene;
+}
 
-  // Parts -> draw ranges with materials; a rig without parts is all skin.
+// The vertices of the part's triangles, sorted, each once.
+std::vector<std::uint32_t> PartVertices(const Rig& rig, const Part& part) {
+  std::vector<std::uint32_t> vertices;
+  for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
+    for (std::uint32_t v : rig.triangles()[t]) vertices.push_back(v);
+  }
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  return vertices;
+}
+
+// A sclera that carries the iris: the angle from the eyeball's forward axis
+// over the iris's angular radius.
+void SetScleraRadial(std::span<const glm::vec3> positions, const std::vector<std::uint32_t>& vertices,
+                     const glm::vec3& center, const glm::vec3& forward, std::vector<float>* radial) {
+  constexpr float kIrisHalfAngle = 0.52f;  // a 12 mm iris on a 24 mm eyeball
+  for (std::uint32_t v : vertices) {
+    const glm::vec3 d = positions[v] - center;
+    const float length = glm::length(d);
+    const float angle = length > 0.0f ? std::acos(std::clamp(glm::dot(d / length, forward), -1.0f, 1.0f)) : 3.0f;
+    (*radial)[v] = angle / kIrisHalfAngle;
+  }
+}
+
+// An iris mesh: distance across the forward axis over the part's radius
+// (a domed iris works too).
+void SetIrisRadial(std::span<const glm::vec3> positions, const std::vector<std::uint32_t>& vertices,
+                   const glm::vec3& center, const glm::vec3& forward, std::vector<float>* radial) {
+  float max_distance = 0.0f;
+  for (std::uint32_t v : vertices) {
+    const glm::vec3 d = positions[v] - center;
+    max_distance = std::max(max_distance, glm::length(d - forward * glm::dot(d, forward)));
+  }
+  for (std::uint32_t v : vertices) {
+    const glm::vec3 d = positions[v] - center;
+    (*radial)[v] = max_distance > 0.0f ? glm::length(d - forward * glm::dot(d, forward)) / max_distance : 0.0f;
+  }
+}
+
+// The iris shading reads a_radial: 0 at the iris centre, 1 at its rim
+// (-1: not an eye vertex). For rigs without a pupil mesh (ICT-FaceKit),
+// whose opaque sclera covers the iris mesh, the sclera itself carries the
+// iris. It is attached to the vertices, so it follows eyeLook* shapes.
+std::vector<float> IrisRadial(const Rig& rig, const glm::mat4& rig_to_scene, bool procedural_pupil) {
+  std::vector<float> radial(rig.vertex_count(), -1.0f);
+  const std::span<const glm::vec3> positions = rig.positions();
+  const glm::vec3 forward = glm::normalize(glm::vec3(glm::inverse(rig_to_scene) * glm::vec4(0, 0, 1, 0)));
+  for (const Part& part : rig.parts()) {
+    const Material material = MaterialForPart(part.name);
+    if (material != Material::kIris && !(material == Material::kSclera && procedural_pupil)) continue;
+    const std::vector<std::uint32_t> vertices = PartVertices(rig, part);
+    if (vertices.empty()) continue;
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (std::uint32_t v : vertices) {
+      lo = glm::min(lo, positions[v]);
+      hi = glm::max(hi, positions[v]);
+    }
+    const glm::vec3 center = (lo + hi) * 0.5f;
+    if (material == Material::kSclera) {
+      SetScleraRadial(positions, vertices, center, forward, &radial);
+    } else {
+      SetIrisRadial(positions, vertices, center, forward, &radial);
+    }
+  }
+  return radial;
+}
+
+}  // namespace
+
+FaceRenderer::FaceRenderer(const Rig& rig) : vertex_count_(rig.vertex_count()), rig_to_scene_(RigToScene(rig)) {
+  SetDrawRanges(rig);
+  const std::vector<float> radial = IrisRadial(rig, rig_to_scene_, procedural_pupil_);
+  FrameVisibleParts(rig);
+  ResetCamera();
+  CompileShaders();
+  CreateBuffers(rig, radial);
+}
+
+void FaceRenderer::SetDrawRanges(const Rig& rig) {
+  // A rig without parts is all skin.
   for (const Part& part : rig.parts()) {
     DrawRange range{part.first_triangle * 3, part.triangle_count * 3, MaterialForPart(part.name), part.name};
     if (range.index_count > 0) ranges_.push_back(range);
@@ -259,56 +343,11 @@ FaceRenderer::FaceRenderer(const Rig& rig) : vertex_count_(rig.vertex_count()) {
   const bool has_pupil = std::any_of(ranges_.begin(), ranges_.end(),
                                      [](const DrawRange& r) { return r.material == Material::kPupil; });
   procedural_pupil_ = !has_pupil;
+}
 
-  // The iris shading reads a_radial: 0 at the iris centre, 1 at its rim
-  // (-1: not an eye vertex). For rigs without a pupil mesh (ICT-FaceKit),
-  // whose opaque sclera covers the iris mesh, the sclera itself carries the
-  // iris: radial = angle from the eyeball's forward axis / the iris's angular
-  // radius. It is attached to the vertices, so it follows eyeLook* shapes.
-  std::vector<float> radial(vertex_count_, -1.0f);
-  const std::span<const glm::vec3> positions = rig.positions();
-  const glm::vec3 forward = glm::normalize(glm::vec3(glm::inverse(rig_to_scene_) * glm::vec4(0, 0, 1, 0)));
-  for (const Part& part : rig.parts()) {
-    const Material material = MaterialForPart(part.name);
-    if (material != Material::kIris && !(material == Material::kSclera && procedural_pupil_)) continue;
-    std::vector<std::uint32_t> vertices;
-    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
-      for (std::uint32_t v : rig.triangles()[t]) vertices.push_back(v);
-    }
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    if (vertices.empty()) continue;
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (std::uint32_t v : vertices) {
-      lo = glm::min(lo, positions[v]);
-      hi = glm::max(hi, positions[v]);
-    }
-    const glm::vec3 center = (lo + hi) * 0.5f;
-    if (material == Material::kSclera) {
-      constexpr float kIrisHalfAngle = 0.52f;  // a 12 mm iris on a 24 mm eyeball
-      for (std::uint32_t v : vertices) {
-        const glm::vec3 d = positions[v] - center;
-        const float length = glm::length(d);
-        const float angle = length > 0.0f ? std::acos(std::clamp(glm::dot(d / length, forward), -1.0f, 1.0f)) : 3.0f;
-        radial[v] = angle / kIrisHalfAngle;
-      }
-      continue;
-    }
-    // An iris mesh: distance across the forward axis over the part's radius
-    // (a domed iris works too).
-    float max_distance = 0.0f;
-    for (std::uint32_t v : vertices) {
-      const glm::vec3 d = positions[v] - center;
-      max_distance = std::max(max_distance, glm::length(d - forward * glm::dot(d, forward)));
-    }
-    for (std::uint32_t v : vertices) {
-      const glm::vec3 d = positions[v] - center;
-      radial[v] = max_distance > 0.0f ? glm::length(d - forward * glm::dot(d, forward)) / max_distance : 0.0f;
-    }
-  }
-
-  // Framing from the visible parts' bounding box.
+void FaceRenderer::FrameVisibleParts(const Rig& rig) {
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  const std::span<const glm::vec3> positions = rig.positions();
   for (const DrawRange& range : ranges_) {
     if (range.material == Material::kHidden) continue;
     for (std::uint32_t i = range.first_index / 3; i < (range.first_index + range.index_count) / 3; ++i) {
@@ -326,8 +365,9 @@ FaceRenderer::FaceRenderer(const Rig& rig) : vertex_count_(rig.vertex_count()) {
   scene_size_ = std::max(glm::length(hi - lo), 1e-6f);
   // The head turns about the top of the neck: below and behind the centre.
   neck_pivot_ = glm::vec3(scene_center_.x, glm::mix(lo.y, hi.y, 0.3f), glm::mix(lo.z, hi.z, 0.35f));
-  ResetCamera();
+}
 
+void FaceRenderer::CompileShaders() {
   program_ = CompileProgram(kVertexShader, kFragmentShader, "face");
   u_model_ = glGetUniformLocation(program_, "u_model");
   u_view_ = glGetUniformLocation(program_, "u_view");
@@ -337,7 +377,9 @@ FaceRenderer::FaceRenderer(const Rig& rig) : vertex_count_(rig.vertex_count()) {
   u_base_color_ = glGetUniformLocation(program_, "u_base_color");
   u_procedural_pupil_ = glGetUniformLocation(program_, "u_procedural_pupil");
   u_camera_position_ = glGetUniformLocation(program_, "u_camera_position");
+}
 
+void FaceRenderer::CreateBuffers(const Rig& rig, std::span<const float> radial) {
   glGenVertexArrays(1, &vao_);
   glBindVertexArray(vao_);
   const auto vertex_bytes = static_cast<GLsizeiptr>(vertex_count_ * sizeof(glm::vec3));

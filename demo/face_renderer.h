@@ -77,6 +77,11 @@ class FaceRenderer {
     Material material = Material::kSkin;
     std::string name;
   };
+  // Construction steps, in this order.
+  void SetDrawRanges(const Rig& rig);      // a range per part with its material; procedural_pupil_
+  void FrameVisibleParts(const Rig& rig);  // scene box and neck pivot from the visible parts
+  void CompileShaders();                   // program_ and the uniform locations
+  void CreateBuffers(const Rig& rig, std::span<const float> radial);
   glm::mat4 ModelMatrix(const glm::mat4& head_rotation) const;
 
   std::size_t vertex_count_ = 0;
