@@ -70,9 +70,7 @@ glm::vec3 ClosestPointOnTriangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec
   return a + ab * v + ac * w;
 }
 
-ClosestPointQuery::ClosestPointQuery(std::span<const glm::vec3> positions,
-                                     std::span<const Triangle> triangles)
-    : positions_(positions.begin(), positions.end()), triangles_(triangles.begin(), triangles.end()) {
+ClosestPointQuery::ClosestPointQuery(const Mesh& mesh) : positions_(mesh.positions), triangles_(mesh.triangles) {
   if (positions_.empty() || triangles_.empty()) {
     throw InvalidInputError("closest point: the mesh has no vertices or no triangles");
   }

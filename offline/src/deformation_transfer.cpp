@@ -252,13 +252,13 @@ void AddTriangleBlock(const Triangle& t, const Eigen::Matrix3d& local, std::span
 
 }  // namespace
 
-void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
-                                   std::span<const glm::vec3> target_neutral,
-                                   std::span<const Triangle> triangles,
+void PrecomputeDeformationTransfer(const Mesh& source, std::span<const glm::vec3> target_neutral,
                                    std::span<const std::vector<glm::vec3>> source_expressions,
                                    const DeformationTransferParams& params,
                                    DeformationTransferData& data) {
   const Clock::time_point start = Clock::now();
+  const std::span<const glm::vec3> source_neutral = source.positions;
+  const std::span<const Triangle> triangles = source.triangles;
   const std::size_t n = source_neutral.size();
   ValidateTransferInputs(source_neutral, target_neutral, triangles, source_expressions, params);
   auto impl = std::make_unique<DeformationTransferData::Impl>();

@@ -114,9 +114,10 @@ glm::dvec3 ClosestPointOnSegment(const glm::dvec3& p, const glm::dvec3& a, const
 
 }  // namespace
 
-EyelidMargins FindEyelidMargins(std::span<const glm::vec3> neutral,
-                                std::span<const glm::vec3> blink, std::span<const Triangle> triangles,
+EyelidMargins FindEyelidMargins(const Mesh& neutral_mesh, std::span<const glm::vec3> blink,
                                 std::size_t region_first, std::size_t region_last) {
+  const std::span<const glm::vec3> neutral = neutral_mesh.positions;
+  const std::span<const Triangle> triangles = neutral_mesh.triangles;
   if (blink.size() != neutral.size()) throw TransferInputError("blink", "vertex count differs");
   region_last = std::min(region_last, neutral.size());
   if (region_first >= region_last) throw TransferInputError("blink", "empty region");

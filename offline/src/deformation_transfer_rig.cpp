@@ -7,14 +7,12 @@
 
 namespace facerig {
 
-DeformationTransferResult DeformationTransfer(
-    std::span<const glm::vec3> source_neutral, std::span<const glm::vec3> target_neutral,
-    std::span<const Triangle> triangles, std::span<const std::vector<glm::vec3>> source_expressions,
-    const DeformationTransferParams& params) {
+DeformationTransferResult DeformationTransfer(const Mesh& source, std::span<const glm::vec3> target_neutral,
+                                              std::span<const std::vector<glm::vec3>> source_expressions,
+                                              const DeformationTransferParams& params) {
   if (params.threads < 1) throw TransferInputError("params", "threads must be >= 1");
   DeformationTransferData data;
-  PrecomputeDeformationTransfer(source_neutral, target_neutral, triangles, source_expressions,
-                                params, data);
+  PrecomputeDeformationTransfer(source, target_neutral, source_expressions, params, data);
   DeformationTransferResult result;
   result.anchor_count = data.anchor_count;
   result.floating_components = data.floating_components;
@@ -95,8 +93,7 @@ RawRig TransferRig(const Rig& template_rig, std::span<const glm::vec3> target_ne
                    const DeformationTransferParams& params, DeformationTransferResult* result) {
   CheckPositions(target_neutral, template_rig.vertex_count(), "target neutral");
   const std::vector<std::vector<glm::vec3>> expressions = RigExpressionMeshes(template_rig);
-  DeformationTransferResult transfer = DeformationTransfer(
-      template_rig.positions(), target_neutral, template_rig.triangles(), expressions, params);
+  DeformationTransferResult transfer = DeformationTransfer(NeutralMesh(template_rig), target_neutral, expressions, params);
   RawRig raw = RigBuilder::ToRaw(template_rig);
   raw.positions.assign(target_neutral.begin(), target_neutral.end());
   raw.normals.clear();

@@ -51,7 +51,7 @@ std::vector<TemplatePart> DeriveParts(const Rig& rig) {
 
 // The nearest region vertex to each detected landmark point.
 std::vector<std::uint32_t> DetectLandmarkVertices(const Rig& rig, VertexRange region, LandmarkDetector& detector) {
-  const LandmarkResult detected = detector.Detect(rig.positions(), rig.triangles());
+  const LandmarkResult detected = detector.Detect(NeutralMesh(rig));
   std::vector<std::uint32_t> vertex_of(kDlibLandmarkCount, 0);
   for (std::size_t i = 0; i < detected.landmarks.points.size(); ++i) {
     float best = std::numeric_limits<float>::infinity();

@@ -263,15 +263,13 @@ struct LandmarkDetector::Impl {
   dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
   dlib::shape_predictor predictor;
 
-  // Mesh data of the current Detect() call.
-  std::span<const glm::vec3> positions;
-  std::span<const Triangle> triangles;
-  std::vector<glm::vec3> normals;
+  // The mesh of the current Detect() call, with smooth normals for shading.
+  Mesh shaded;
   int views_tried = 0;
 
   RgbImage Render(const RasterView& view, RasterBuffers* buffers_out) {
-    RasterBuffers buffers = Rasterize(positions, triangles, view);
-    RgbImage image = Shade(buffers, positions, normals, triangles, {}, view);
+    RasterBuffers buffers = Rasterize(shaded, view);
+    RgbImage image = Shade(buffers, shaded, {}, view);
     if (buffers_out != nullptr) *buffers_out = std::move(buffers);
     return image;
   }
@@ -325,16 +323,19 @@ LandmarkDetector::LandmarkDetector(LandmarkDetector&&) noexcept = default;
 LandmarkDetector& LandmarkDetector::operator=(LandmarkDetector&&) noexcept = default;
 const LandmarkParams& LandmarkDetector::params() const { return impl_->params; }
 
-LandmarkResult LandmarkDetector::Detect(std::span<const glm::vec3> positions,
-                                        std::span<const Triangle> triangles) {
+LandmarkResult LandmarkDetector::Detect(const Mesh& mesh) {
   const auto start = std::chrono::steady_clock::now();
-  CheckMesh(positions, triangles, "landmarks");
+  CheckMesh(mesh, "landmarks");
+  const std::span<const glm::vec3> positions = mesh.positions;
+  const std::span<const Triangle> triangles = mesh.triangles;
   Impl& impl = *impl_;
   const LandmarkParams& params = impl.params;
-  impl.positions = positions;
-  impl.triangles = triangles;
-  impl.normals.assign(positions.size(), glm::vec3(0.0f));
-  ComputeVertexNormals(positions, triangles, impl.normals);
+  impl.shaded = Mesh{.positions = mesh.positions, .triangles = mesh.triangles};
+  std::vector<glm::vec3> normals(positions.size());
+  ComputeVertexNormals(positions, triangles, normals);
+  for (const Triangle& t : triangles) {
+    for (std::uint32_t v : t) impl.shaded.corner_normals.push_back(normals[v]);
+  }
   impl.views_tried = 0;
 
   // The front-view estimate and the whole-mesh framing only need the overall
@@ -360,7 +361,8 @@ LandmarkResult LandmarkDetector::Detect(std::span<const glm::vec3> positions,
   const std::span<const Triangle> frame_triangles = use_proxy ? std::span<const Triangle>(proxy.triangles) : triangles;
   const std::span<const glm::vec3> framed_positions =
       proxy.positions.empty() ? positions : std::span<const glm::vec3>(proxy.positions);
-  const ClosestPointQuery surface(frame_positions, frame_triangles);
+  const ClosestPointQuery surface(Mesh{.positions = {frame_positions.begin(), frame_positions.end()},
+                                       .triangles = {frame_triangles.begin(), frame_triangles.end()}});
   const MeshFrame frame = EstimateFrame(frame_positions, frame_triangles, surface);
   const glm::vec3 facing = glm::normalize(glm::cross(frame.lateral, frame.up));
 

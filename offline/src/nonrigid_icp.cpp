@@ -102,14 +102,13 @@ glm::vec3 ApplyAffine(const Eigen::MatrixXd& x, std::size_t vertex, glm::vec3 p)
 
 }  // namespace
 
-NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
-                              std::span<const Triangle> template_triangles,
-                              std::span<const glm::vec3> target_positions,
-                              std::span<const Triangle> target_triangles,
+NonrigidIcpResult NonrigidIcp(const Mesh& template_mesh, const Mesh& target,
                               const RegistrationLandmarks& landmarks, const NonrigidIcpParams& params) {
   const auto start = Clock::now();
-  CheckMesh(template_positions, template_triangles, "non-rigid ICP template");
-  CheckMesh(target_positions, target_triangles, "non-rigid ICP target");
+  CheckMesh(template_mesh, "non-rigid ICP template");
+  CheckMesh(target, "non-rigid ICP target");
+  const std::span<const glm::vec3> template_positions = template_mesh.positions;
+  const std::span<const Triangle> template_triangles = template_mesh.triangles;
   if (params.stiffness.empty()) throw InvalidInputError("non-rigid ICP: the stiffness schedule is empty");
   const std::size_t landmark_count = landmarks.template_vertices.size();
   if (landmarks.target_points.size() != landmark_count ||
@@ -163,7 +162,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
   // the rigid step and (queries mapped in and out of the working frame) the
   // non-rigid one: on a million-vertex scan a second copy cost ~2 s and
   // ~200 MB.
-  const ClosestPointQuery target_world(target_positions, target_triangles);
+  const ClosestPointQuery target_world(target);
   // The similarity comes from the confident landmarks (dlib's jaw points
   // follow the silhouette) when at least 6 of them exist, else from all.
   std::vector<glm::vec3> source_landmarks, target_landmarks;
@@ -182,7 +181,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
   if (params.rigid_prealign) {
     const bool use_landmarks = source_landmarks.size() >= 3;
     const RigidAlignResult rigid = RigidAlign(
-        template_positions, region_triangles_global, target_world,
+        Mesh{.positions = template_mesh.positions, .triangles = region_triangles_global}, target_world,
         use_landmarks ? std::span<const glm::vec3>(source_landmarks) : std::span<const glm::vec3>(),
         use_landmarks ? std::span<const glm::vec3>(target_landmarks) : std::span<const glm::vec3>(),
         params.rigid, nullptr);
@@ -237,11 +236,11 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
   // the residual percentages.
   std::vector<glm::vec3> surface_points;
   {
-    std::vector<std::uint8_t> used(target_positions.size(), 0);
-    for (const Triangle& t : target_triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
-    surface_points.reserve(target_positions.size());
-    for (std::size_t v = 0; v < target_positions.size(); ++v) {
-      if (used[v]) surface_points.push_back(target_positions[v]);
+    std::vector<std::uint8_t> used(target.vertex_count(), 0);
+    for (const Triangle& t : target.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
+    surface_points.reserve(target.vertex_count());
+    for (std::size_t v = 0; v < target.vertex_count(); ++v) {
+      if (used[v]) surface_points.push_back(target.positions[v]);
     }
   }
   result.residual.target_diagonal = glm::length(BoundsDiagonalVector(surface_points));
@@ -460,7 +459,7 @@ NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
     if (local_of[v] == kNone) inner.push_back(v);
   }
   if (!inner.empty()) {
-    const ClosestPointQuery rest_surface(rest, region_triangles);
+    const ClosestPointQuery rest_surface(Mesh{.positions = {rest.begin(), rest.end()}, .triangles = region_triangles});
     for (std::uint32_t v : inner) {
       const glm::vec3 p = to_work(aligned[v]);
       const ClosestPointHit hit = rest_surface.Find(p);

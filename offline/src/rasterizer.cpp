@@ -67,20 +67,20 @@ glm::vec3 ProjectToImage(const RasterView& view, glm::vec3 world) {
   return {0.5f * w + cam.x * scale, 0.5f * h - cam.y * scale, depth};
 }
 
-bool RasterBuffers::SurfacePoint(int x, int y, std::span<const glm::vec3> positions,
-                                 std::span<const Triangle> triangles, glm::vec3& point) const {
+bool RasterBuffers::SurfacePoint(int x, int y, const Mesh& mesh, glm::vec3& point) const {
   if (x < 0 || y < 0 || x >= width || y >= height) return false;
   const std::int32_t id = triangle_ids[index(x, y)];
-  if (id == kNoTriangle || static_cast<std::size_t>(id) >= triangles.size()) return false;
-  const Triangle& t = triangles[static_cast<std::size_t>(id)];
+  if (id == kNoTriangle || static_cast<std::size_t>(id) >= mesh.triangles.size()) return false;
+  const Triangle& t = mesh.triangles[static_cast<std::size_t>(id)];
   const glm::vec3 b = barycentrics[index(x, y)];
-  point = b.x * positions[t[0]] + b.y * positions[t[1]] + b.z * positions[t[2]];
+  point = b.x * mesh.positions[t[0]] + b.y * mesh.positions[t[1]] + b.z * mesh.positions[t[2]];
   return true;
 }
 
-RasterBuffers Rasterize(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                        const RasterView& view) {
+RasterBuffers Rasterize(const Mesh& mesh, const RasterView& view) {
   CheckView(view);
+  const std::span<const glm::vec3> positions = mesh.positions;
+  const std::span<const Triangle> triangles = mesh.triangles;
   RasterBuffers buffers;
   buffers.width = view.width;
   buffers.height = view.height;
@@ -150,10 +150,11 @@ RasterBuffers Rasterize(std::span<const glm::vec3> positions, std::span<const Tr
   return buffers;
 }
 
-RgbImage Shade(const RasterBuffers& buffers, std::span<const glm::vec3> positions,
-               std::span<const glm::vec3> normals, std::span<const Triangle> triangles,
-               std::span<const glm::vec3> triangle_albedo, const RasterView& view,
-               const ShadeParams& params) {
+RgbImage Shade(const RasterBuffers& buffers, const Mesh& mesh, std::span<const glm::vec3> triangle_albedo,
+               const RasterView& view, const ShadeParams& params) {
+  const std::span<const glm::vec3> positions = mesh.positions;
+  const std::span<const glm::vec3> normals = mesh.corner_normals;
+  const std::span<const Triangle> triangles = mesh.triangles;
   RgbImage image;
   image.width = buffers.width;
   image.height = buffers.height;
@@ -174,8 +175,9 @@ RgbImage Shade(const RasterBuffers& buffers, std::span<const glm::vec3> position
         } else {
           const glm::vec3 b = buffers.barycentrics[i];
           glm::vec3 n;
-          if (normals.size() == positions.size()) {
-            n = b.x * normals[t[0]] + b.y * normals[t[1]] + b.z * normals[t[2]];
+          if (normals.size() == 3 * triangles.size()) {
+            const std::size_t corner = 3 * static_cast<std::size_t>(id);
+            n = b.x * normals[corner] + b.y * normals[corner + 1] + b.z * normals[corner + 2];
           } else {
             n = glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]);
           }
@@ -218,9 +220,15 @@ std::vector<glm::vec3> PartAlbedo(const Rig& rig) {
 RgbImage RenderRig(const Rig& rig, std::span<const glm::vec3> positions,
                    std::span<const glm::vec3> normals, const RasterView& view,
                    const ShadeParams& params) {
-  const RasterBuffers buffers = Rasterize(positions, rig.triangles(), view);
+  Mesh posed{.positions = {positions.begin(), positions.end()}, .triangles = {rig.triangles().begin(), rig.triangles().end()}};
+  if (normals.size() == positions.size()) {
+    for (const Triangle& t : posed.triangles) {
+      for (std::uint32_t v : t) posed.corner_normals.push_back(normals[v]);
+    }
+  }
+  const RasterBuffers buffers = Rasterize(posed, view);
   const std::vector<glm::vec3> albedo = PartAlbedo(rig);
-  return Shade(buffers, positions, normals, rig.triangles(), albedo, view, params);
+  return Shade(buffers, posed, albedo, view, params);
 }
 
 std::vector<std::uint8_t> ToGray(const RgbImage& image) {

@@ -190,7 +190,7 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
   std::size_t parts_left_out = 0;
   const std::vector<Triangle> skin = RegistrationTriangles(target.positions, target.triangles,
                                                            params.registration_min_part_area, parts_left_out);
-  NonrigidIcpResult fit = NonrigidIcp(template_rig.positions(), template_rig.triangles(), target.positions, skin,
+  NonrigidIcpResult fit = NonrigidIcp(NeutralMesh(template_rig), Mesh{.positions = target.positions, .triangles = skin},
                                       landmarks, registration);
   BuildRigResult result =
       BuildRigOnRegistration(template_rig, template_info, std::move(target), std::move(fit), params);
@@ -289,8 +289,9 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplat
   if (!fitted_rig) throw InvalidInputError("the transferred template rig is invalid: " + problem);
   const std::vector<TemplateRim> rims =
       TemplateRims(margins, aligned.aligned, result.registration.positions);
-  result.mapping = ComputeTopologyMapping(result.registration.positions, template_rig.triangles(), target.positions,
-                                          target.triangles, params.mapping, rims);
+  result.mapping = ComputeTopologyMapping(
+      Mesh{.positions = result.registration.positions, .triangles = {template_rig.triangles().begin(), template_rig.triangles().end()}},
+      NeutralMesh(target), params.mapping, rims);
   result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
   result.fitted_rig = std::move(fitted);
   result.timings.mapping_seconds = SecondsSince(mapping_start);

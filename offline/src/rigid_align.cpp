@@ -55,7 +55,9 @@ SimilarityTransform SimilarityTransform::operator*(const SimilarityTransform& ot
   return result;
 }
 
-void CheckMesh(std::span<const glm::vec3> positions, std::span<const Triangle> triangles, const char* what) {
+void CheckMesh(const Mesh& mesh, const char* what) {
+  const std::span<const glm::vec3> positions = mesh.positions;
+  const std::span<const Triangle> triangles = mesh.triangles;
   if (positions.empty() || triangles.empty()) {
     throw InvalidInputError(std::string(what) + ": the mesh is empty (" + std::to_string(positions.size()) +
                             " vertices, " + std::to_string(triangles.size()) + " triangles)");
@@ -128,17 +130,13 @@ SimilarityTransform Umeyama(std::span<const glm::vec3> source, std::span<const g
   return result;
 }
 
-RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
-                            std::span<const Triangle> source_triangles,
-                            std::span<const glm::vec3> target_positions,
-                            std::span<const Triangle> target_triangles,
+RigidAlignResult RigidAlign(const Mesh& source, const Mesh& target_mesh,
                             std::span<const glm::vec3> source_landmarks,
                             std::span<const glm::vec3> target_landmarks, const RigidAlignParams& params,
                             const SimilarityTransform* initial) {
-  CheckMesh(target_positions, target_triangles, "rigid alignment target");
-  const ClosestPointQuery target(target_positions, target_triangles);
-  return RigidAlign(source_positions, source_triangles, target, source_landmarks, target_landmarks, params,
-                    initial);
+  CheckMesh(target_mesh, "rigid alignment target");
+  const ClosestPointQuery target(target_mesh);
+  return RigidAlign(source, target, source_landmarks, target_landmarks, params, initial);
 }
 
 namespace {
@@ -322,13 +320,14 @@ double LandmarkRms(const SimilarityTransform& transform, std::span<const glm::ve
 
 }  // namespace
 
-RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
-                            std::span<const Triangle> source_triangles, const ClosestPointQuery& target,
+RigidAlignResult RigidAlign(const Mesh& source, const ClosestPointQuery& target,
                             std::span<const glm::vec3> source_landmarks,
                             std::span<const glm::vec3> target_landmarks, const RigidAlignParams& params,
                             const SimilarityTransform* initial) {
   const auto start = std::chrono::steady_clock::now();
-  CheckMesh(source_positions, source_triangles, "rigid alignment source");
+  CheckMesh(source, "rigid alignment source");
+  const std::span<const glm::vec3> source_positions = source.positions;
+  const std::span<const Triangle> source_triangles = source.triangles;
   if (source_landmarks.size() != target_landmarks.size()) {
     throw InvalidInputError("rigid alignment: " + std::to_string(source_landmarks.size()) +
                             " source landmarks but " + std::to_string(target_landmarks.size()) +

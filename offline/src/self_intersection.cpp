@@ -386,10 +386,10 @@ void TestCell(std::array<std::int32_t, 3> cell, const Member* begin, const Membe
 
 }  // namespace
 
-SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> positions,
-                                             std::span<const Triangle> triangles,
-                                             const SelfIntersectionParams& params) {
+SelfIntersectionResult FindSelfIntersections(const Mesh& mesh, const SelfIntersectionParams& params) {
   const auto start = std::chrono::steady_clock::now();
+  const std::span<const glm::vec3> positions = mesh.positions;
+  const std::span<const Triangle> triangles = mesh.triangles;
   SelfIntersectionResult result;
   const TestedTriangles tested = CollectTestedTriangles(positions, triangles, params, result);
   if (tested.index.size() >= 2) {

@@ -195,7 +195,8 @@ PartSurfaces BuildPartSurfaces(std::span<const glm::vec3> fitted_template, std::
           it->second.template_triangle.push_back(static_cast<std::uint32_t>(t));
         }
       }
-      it->second.query = std::make_unique<ClosestPointQuery>(fitted_template, subset);
+      it->second.query = std::make_unique<ClosestPointQuery>(
+          Mesh{.positions = {fitted_template.begin(), fitted_template.end()}, .triangles = std::move(subset)});
     }
     result.surface_of_part[part] = &it->second;
   }
@@ -281,15 +282,16 @@ void RecordHit(TopologyMapping& mapping, std::size_t v, const ClosestPointHit& h
 
 }  // namespace
 
-TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
-                                       std::span<const Triangle> template_triangles,
-                                       std::span<const glm::vec3> target_positions,
-                                       std::span<const Triangle> target_triangles,
+TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const Mesh& target_mesh,
                                        const TopologyMappingParams& params,
                                        std::span<const TemplateRim> template_rims) {
+  const std::span<const glm::vec3> fitted_template = fitted_template_mesh.positions;
+  const std::span<const Triangle> template_triangles = fitted_template_mesh.triangles;
+  const std::span<const glm::vec3> target_positions = target_mesh.positions;
+  const std::span<const Triangle> target_triangles = target_mesh.triangles;
   CheckTarget(target_positions, target_triangles);
   CheckParams(params);
-  const ClosestPointQuery whole(fitted_template, template_triangles);  // validates the template
+  const ClosestPointQuery whole(fitted_template_mesh);  // validates the template
   const float diagonal = BoundingDiagonalOf(fitted_template);
   const float full = params.full_weight_distance * diagonal;
   const float zero = params.zero_weight_distance * diagonal;

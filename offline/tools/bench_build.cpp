@@ -85,7 +85,7 @@ StageTimes TimeWholeBuild(facerig::LandmarkDetector& detector, const facerig::Ri
                           const facerig::FaceTemplateInfo& ict_info, const facerig::RawRig& target_rig,
                           const facerig::BuildRigParams& params) {
   const auto start = Clock::now();
-  const facerig::LandmarkResult detected = detector.Detect(target_rig.positions, target_rig.triangles);
+  const facerig::LandmarkResult detected = detector.Detect(facerig::NeutralMesh(target_rig));
   const double landmark_seconds = SecondsSince(start);
   const facerig::RegistrationLandmarks pairs =
       facerig::PairLandmarks(ict_info.landmark_vertices, detected.landmarks);
@@ -187,7 +187,7 @@ int RunBuildBenchmark(int argc, char** argv) {
 
       // What `facerig build` does after loading: landmarks, then the pipeline.
       const auto start = Clock::now();
-      const facerig::LandmarkResult detected = detector.Detect(target.positions, target.triangles);
+      const facerig::LandmarkResult detected = detector.Detect(target.mesh());
       const double landmark_seconds = SecondsSince(start);
       const facerig::RegistrationLandmarks pairs =
           facerig::PairLandmarks(model.info.landmark_vertices, detected.landmarks);

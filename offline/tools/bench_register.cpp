@@ -158,13 +158,13 @@ int RunRegisterBenchmark(int argc, char** argv) {
       const facerig::test::RegistrationTarget target = facerig::test::MakeRegistrationTarget(ict, options);
 
       const std::clock_t lm_cpu_start = std::clock();
-      const facerig::LandmarkResult detected = detector.Detect(target.positions, target.triangles);
+      const facerig::LandmarkResult detected = detector.Detect(target.mesh());
       const double lm_cpu = static_cast<double>(std::clock() - lm_cpu_start) / CLOCKS_PER_SEC;
       const LandmarkError lm = MeasureLandmarks(detected.landmarks, target);
 
       const std::clock_t cpu_start = std::clock();
       const facerig::NonrigidIcpResult fit =
-          facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles,
+          facerig::NonrigidIcp(ict.mesh(), target.mesh(),
                                PairLandmarks(ict, detected.landmarks), params);
       const double cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
       const double corr = CorrespondenceMeanCm(ict, fit, target);
@@ -174,7 +174,7 @@ int RunRegisterBenchmark(int argc, char** argv) {
       truth.points = target.true_landmarks;
       const double corr_truth = CorrespondenceMeanCm(
           ict,
-          facerig::NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles,
+          facerig::NonrigidIcp(ict.mesh(), target.mesh(),
                                PairLandmarks(ict, truth), params),
           target);
 
@@ -267,13 +267,12 @@ int RunRegisterBenchmark(int argc, char** argv) {
       const facerig::test::RegistrationTarget target = facerig::test::MakeRegistrationTarget(ict, options);
       const double make_seconds = SecondsSince(make_start);
       const double rss_before = PeakResidentMegabytes();
-      const facerig::LandmarkResult detected = detector.Detect(target.positions, target.triangles);
+      const facerig::LandmarkResult detected = detector.Detect(target.mesh());
       const LandmarkError lm = MeasureLandmarks(detected.landmarks, target);
       facerig::NonrigidIcpParams scan_params = params;
       scan_params.progress = Progress;
-      const facerig::NonrigidIcpResult fit = facerig::NonrigidIcp(
-          ict.neutral, ict.triangles, target.positions, target.triangles, PairLandmarks(ict, detected.landmarks),
-          scan_params);
+      const facerig::NonrigidIcpResult fit =
+          facerig::NonrigidIcp(ict.mesh(), target.mesh(), PairLandmarks(ict, detected.landmarks), scan_params);
       const double corr = CorrespondenceMeanCm(ict, fit, target);
       const double rss_after = PeakResidentMegabytes();
       const double mesh_megabytes =

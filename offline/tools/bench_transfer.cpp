@@ -140,6 +140,7 @@ int RunTransferBenchmark(int argc, char** argv) {
   }
   const std::span<const glm::vec3> neutral = rig.positions();
   const Meshes expressions = facerig::RigExpressionMeshes(rig);
+  const facerig::Mesh rig_mesh = facerig::NeutralMesh(rig);
   std::printf("template %s: %zu vertices, %zu triangles, %zu shapes; %d random identities (seed %u), "
               "%d threads\n",
               ict_dir.c_str(), rig.vertex_count(), rig.triangle_count(), rig.shape_count(), faces,
@@ -150,7 +151,7 @@ int RunTransferBenchmark(int argc, char** argv) {
   std::vector<std::size_t> blinks;
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     if (auto s = rig.FindShape(name)) {
-      eyes.push_back(facerig::FindEyelidMargins(neutral, expressions[*s], rig.triangles(), 0, kLidLast));
+      eyes.push_back(facerig::FindEyelidMargins(facerig::NeutralMesh(rig), expressions[*s], 0, kLidLast));
       blinks.push_back(*s);
     }
   }
@@ -191,7 +192,7 @@ int RunTransferBenchmark(int argc, char** argv) {
         params.mode = m == 0 ? facerig::TransferMode::kClassic : facerig::TransferMode::kIdentityGradient;
         const std::clock_t cpu_start = std::clock();
         const facerig::DeformationTransferResult result =
-            facerig::DeformationTransfer(neutral, target, rig.triangles(), expressions, params);
+            facerig::DeformationTransfer(rig_mesh, target, expressions, params);
         modes[static_cast<std::size_t>(m)].cpu_seconds +=
             static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC / faces;
         ModeReport& mode = modes[static_cast<std::size_t>(m)];

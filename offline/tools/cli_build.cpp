@@ -162,7 +162,7 @@ int RunBuild(const BuildOptions& options) {
       target_landmarks = ReadLandmarksJson(options.landmarks);
     } else {
       std::fputs("detecting landmarks on the target...\n", stderr);
-      LandmarkResult detected = get_detector().Detect(target.positions, target.triangles);
+      LandmarkResult detected = get_detector().Detect(NeutralMesh(target));
       target_landmarks = std::move(detected.landmarks);
       target_eyes_fitted = detected.eyes_fitted;
     }

@@ -51,7 +51,7 @@ int RunLandmarks(const LandmarksOptions& options) {
     const auto model_start = std::chrono::steady_clock::now();
     LandmarkDetector detector(params);
     const double model_seconds = SecondsSince(model_start);
-    const LandmarkResult result = detector.Detect(mesh.positions, mesh.triangles);
+    const LandmarkResult result = detector.Detect(NeutralMesh(mesh));
     if (!debug_png.empty()) WritePng(debug_png, DrawLandmarks(result));
     WriteLandmarksJson(output, result.landmarks);
     std::printf(
@@ -98,7 +98,7 @@ int RunRegister(const RegisterOptions& options) {
       target_landmarks = ReadLandmarksJson(landmarks_path);
     } else {
       std::fprintf(stderr, "detecting landmarks on the target...\n");
-      target_landmarks = get_detector().Detect(target.positions, target.triangles).landmarks;
+      target_landmarks = get_detector().Detect(NeutralMesh(target)).landmarks;
     }
     FaceTemplateInfo template_info = ResolveFaceTemplateInfo(rig, template_path, template_info_path);
     if (template_info.landmark_vertices.empty()) std::fprintf(stderr, "detecting landmarks on the template...\n");
@@ -111,8 +111,7 @@ int RunRegister(const RegisterOptions& options) {
     params.region_vertex_count = template_info.region.last + 1;
     std::fprintf(stderr, "rigid alignment and non-rigid ICP (%zu landmarks)...\n", landmarks.target_points.size());
     params.progress = [](std::size_t done, std::size_t total) { ProgressBar("non-rigid ICP", done, total); };
-    const NonrigidIcpResult fit = NonrigidIcp(rig.positions(), rig.triangles(), target.positions,
-                                              target.triangles, landmarks, params);
+    const NonrigidIcpResult fit = NonrigidIcp(NeutralMesh(rig), NeutralMesh(target), landmarks, params);
 
     std::vector<glm::vec3> normals(fit.positions.size());
     ComputeVertexNormals(fit.positions, rig.triangles(), normals);

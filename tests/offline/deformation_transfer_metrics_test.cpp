@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "facerig/offline/deformation_transfer.h"
+#include "support/test_meshes.h"
 
 namespace {
 
@@ -55,7 +56,7 @@ TEST_CASE("Eyelid gap: the lids meet as curves though the lid slides", "[deforma
   const std::vector<glm::vec3> neutral = OpenEye();
   const std::vector<glm::vec3> blink = UpperMarginAt(0.0f, slide);
   const facerig::EyelidMargins margins =
-      facerig::FindEyelidMargins(neutral, blink, EyeTriangles(), 0, neutral.size());
+      facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, EyeTriangles()), blink, 0, neutral.size());
   CHECK(margins.upper == std::vector<std::uint32_t>{Vertex(kUpperMargin, 0), Vertex(kUpperMargin, 2),
                                                     Vertex(kUpperMargin, 4)});
   CHECK(margins.lower == std::vector<std::uint32_t>{Vertex(kLowerMargin, 0), Vertex(kLowerMargin, 2),
@@ -93,17 +94,17 @@ TEST_CASE("Eyelid margins: invalid inputs", "[deformation_transfer]") {
   const std::vector<glm::vec3> neutral = OpenEye();
   const std::vector<facerig::Triangle> triangles = EyeTriangles();
   const std::vector<glm::vec3> short_mesh{{0, 0, 0}};
-  CHECK_THROWS_AS(facerig::FindEyelidMargins(neutral, short_mesh, triangles, 0, neutral.size()),
+  CHECK_THROWS_AS(facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, triangles), short_mesh, 0, neutral.size()),
                   facerig::TransferInputError);
   // Nothing moves: no lids meet.
-  CHECK_THROWS_AS(facerig::FindEyelidMargins(neutral, neutral, triangles, 0, neutral.size()),
+  CHECK_THROWS_AS(facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, triangles), neutral, 0, neutral.size()),
                   facerig::TransferInputError);
   // The lids meet at one vertex only: no lower margin to measure along.
   std::vector<glm::vec3> pinch = neutral;
   pinch[Vertex(kUpperMargin, 2)].y = 0.0f;
-  CHECK_THROWS_AS(facerig::FindEyelidMargins(neutral, pinch, triangles, 0, neutral.size()),
+  CHECK_THROWS_AS(facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, triangles), pinch, 0, neutral.size()),
                   facerig::TransferInputError);
   // The lower margin's vertices are joined by no edge.
   const std::vector<glm::vec3> blink = UpperMarginAt(0.0f, {0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
-  CHECK_THROWS_AS(facerig::FindEyelidMargins(neutral, blink, {}, 0, neutral.size()), facerig::TransferInputError);
+  CHECK_THROWS_AS(facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, {}), blink, 0, neutral.size()), facerig::TransferInputError);
 }

@@ -27,10 +27,7 @@ constexpr std::size_t kLidLast = 17039;
 constexpr std::size_t kTeethFirst = 17039;
 constexpr std::size_t kTeethLast = 21451;
 
-struct TinyMesh {
-  std::vector<glm::vec3> positions;
-  std::vector<facerig::Triangle> triangles;
-};
+using TinyMesh = facerig::Mesh;
 
 TinyMesh Tetrahedron() {
   return {{{0.0f, 0.0f, 0.0f}, {1.0f, 0.1f, 0.0f}, {0.2f, 1.0f, 0.1f}, {0.3f, 0.2f, 1.0f}},
@@ -167,8 +164,7 @@ TEST_CASE("Transferring no deformation returns the target unchanged", "[deformat
     params.mode = mode;
     params.anchor_vertices = {0};
     const Meshes expressions{source.positions};
-    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
-        source.positions, target.positions, source.triangles, expressions, params);
+    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(source, target.positions, expressions, params);
     REQUIRE(result.expressions.size() == 1);
     CHECK(MaxDistance(result.expressions[0], target.positions) < 1e-5f);
     CHECK(result.residuals[0] < 1e-5);
@@ -189,8 +185,7 @@ TEST_CASE("A rotation of the source transfers exactly", "[deformation_transfer]"
   params.displacement_prior = 0.0;  // pure deformation transfer: the prior pulls towards the deltas
   for (bool scaled_normal : {false, true}) {
     params.scaled_normal = scaled_normal;
-    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
-        source.positions, target.positions, source.triangles, expressions, params);
+    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(source, target.positions, expressions, params);
     std::vector<glm::vec3> expected;
     for (const glm::vec3& p : target.positions) expected.push_back(rotation * p);
     CHECK(MaxDistance(result.expressions[0], expected) < 1e-5f);
@@ -209,8 +204,7 @@ TEST_CASE("A uniform scale of the source transfers exactly with the 4th-vertex f
   params.anchor_vertices = {0};
   params.displacement_prior = 0.0;  // pure deformation transfer
   params.scaled_normal = true;  // the normal scales like the edges: the gradient is exactly 1.5 I
-  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
-      source.positions, target.positions, source.triangles, expressions, params);
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(source, target.positions, expressions, params);
   std::vector<glm::vec3> expected;
   for (const glm::vec3& p : target.positions) {
     expected.push_back(target.positions[0] + 1.5f * (p - target.positions[0]));
@@ -232,15 +226,13 @@ TEST_CASE("Precompute once, solve per expression, threads do not change the resu
   }
   facerig::DeformationTransferParams params;
   params.threads = 1;
-  const facerig::DeformationTransferResult one = facerig::DeformationTransfer(
-      source.positions, target.positions, source.triangles, expressions, params);
+  const facerig::DeformationTransferResult one = facerig::DeformationTransfer(source, target.positions, expressions, params);
   params.threads = 2;
-  const facerig::DeformationTransferResult two = facerig::DeformationTransfer(
-      source.positions, target.positions, source.triangles, expressions, params);
+  const facerig::DeformationTransferResult two = facerig::DeformationTransfer(source, target.positions, expressions, params);
   // Static anchors: the rows y <= 2 that no expression moves.
   CHECK(one.anchor_count == 27);
   facerig::DeformationTransferData data;
-  facerig::PrecomputeDeformationTransfer(source.positions, target.positions, source.triangles,
+  facerig::PrecomputeDeformationTransfer(source, target.positions,
                                          expressions, params, data);
   CHECK(data.free_count == 81 - 27);
   for (std::size_t k = 0; k < expressions.size(); ++k) {
@@ -267,15 +259,14 @@ TEST_CASE("The displacement prior moves the result towards displacement transfer
   float previous = 1e30f;
   for (double prior : {0.0, 0.01, 1.0, 100.0}) {
     params.displacement_prior = prior;
-    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
-        source.positions, target.positions, source.triangles, expressions, params);
+    const facerig::DeformationTransferResult result = facerig::DeformationTransfer(source, target.positions, expressions, params);
     const float distance = MaxDistance(result.expressions[0], additive);
     CHECK(distance <= previous);
     previous = distance;
   }
   CHECK(previous < 0.01f);
   params.displacement_prior = -1.0;
-  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, target.positions, source.triangles,
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source, target.positions,
                                                expressions, params),
                   facerig::TransferInputError);
 }
@@ -297,8 +288,7 @@ TEST_CASE("A part without anchors follows the template's mean displacement",
   for (std::size_t v = 4; v < 8; ++v) expressions[0][v] += shift;
   facerig::DeformationTransferParams params;
   params.anchor_vertices = {0, 1};
-  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
-      mesh.positions, target.positions, mesh.triangles, expressions, params);
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(mesh, target.positions, expressions, params);
   CHECK(result.floating_components == 1);
   for (std::size_t v = 0; v < 8; ++v) {
     const glm::vec3 expected = target.positions[v] + (v >= 4 ? shift : glm::vec3(0.0f));
@@ -317,11 +307,9 @@ TEST_CASE("What the template leaves still stays still, without static anchors", 
   }
   facerig::DeformationTransferParams params;
   params.anchor_vertices = {0};
-  const facerig::DeformationTransferResult pinned = facerig::DeformationTransfer(
-      source.positions, target.positions, source.triangles, expressions, params);
+  const facerig::DeformationTransferResult pinned = facerig::DeformationTransfer(source, target.positions, expressions, params);
   params.still_fraction = 0.0;
-  const facerig::DeformationTransferResult gradient_only = facerig::DeformationTransfer(
-      source.positions, target.positions, source.triangles, expressions, params);
+  const facerig::DeformationTransferResult gradient_only = facerig::DeformationTransfer(source, target.positions, expressions, params);
   float pinned_leak = 0.0f;
   float gradient_leak = 0.0f;
   for (std::size_t v = 0; v < target.positions.size(); ++v) {
@@ -332,7 +320,7 @@ TEST_CASE("What the template leaves still stays still, without static anchors", 
   CHECK(pinned_leak == 0.0f);
   CHECK(gradient_leak > 1e-3f);  // one anchor: the gradient mismatch moves the still rows
   params.still_fraction = 1.0;
-  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, target.positions, source.triangles,
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source, target.positions,
                                                expressions, params),
                   facerig::TransferInputError);
 }
@@ -346,7 +334,7 @@ TEST_CASE("The result says whether contacts acted and how many pairs each expres
   const Meshes expressions{source.positions, CloseSlit(source)};
   facerig::DeformationTransferParams params;
   const facerig::DeformationTransferResult with_contacts =
-      facerig::DeformationTransfer(source.positions, target, source.triangles, expressions, params);
+      facerig::DeformationTransfer(source, target, expressions, params);
   CHECK(with_contacts.contacts_active);
   // The neutral closes nothing; the slit's 5 moving upper-edge vertices each meet the one below.
   CHECK(with_contacts.contact_counts == std::vector<std::size_t>{0, 5});
@@ -354,7 +342,7 @@ TEST_CASE("The result says whether contacts acted and how many pairs each expres
   SECTION("contact_weight 0 turns them off") { params.contact_weight = 0.0; }
   SECTION("without still pinning they cannot act, and the result says so") { params.still_fraction = 0.0; }
   const facerig::DeformationTransferResult without =
-      facerig::DeformationTransfer(source.positions, target, source.triangles, expressions, params);
+      facerig::DeformationTransfer(source, target, expressions, params);
   CHECK_FALSE(without.contacts_active);
   CHECK(without.contact_counts == std::vector<std::size_t>{0, 0});
 }
@@ -375,13 +363,13 @@ TEST_CASE("Contacts close the slit on a taller target, or keep the template's of
   };
   facerig::DeformationTransferParams params;
   const float closed = widest_gap(
-      facerig::DeformationTransfer(source.positions, target, source.triangles, expressions, params).expressions[0]);
+      facerig::DeformationTransfer(source, target, expressions, params).expressions[0]);
   params.close_contacts = false;
   const float kept = widest_gap(
-      facerig::DeformationTransfer(source.positions, target, source.triangles, expressions, params).expressions[0]);
+      facerig::DeformationTransfer(source, target, expressions, params).expressions[0]);
   params.contact_weight = 0.0;
   const float without = widest_gap(
-      facerig::DeformationTransfer(source.positions, target, source.triangles, expressions, params).expressions[0]);
+      facerig::DeformationTransfer(source, target, expressions, params).expressions[0]);
   WARN("slit gap after closing: closed " << closed << ", template offset kept " << kept << ", no contacts "
                                          << without << " (template 0.02)");
   // Measured: 0.008, 0.027, 0.19 (the contacts are soft, weight 10).
@@ -418,8 +406,7 @@ TEST_CASE("Parts the template moves by one rigid motion move rigidly together", 
   for (std::size_t v = sheet; v < sheet + 4; ++v) target.positions[v] = 1.3f * target.positions[v] + glm::vec3(0.0f, 0.4f, 0.0f);
   facerig::DeformationTransferParams params;
   params.anchor_vertices = {0, 1, 2};
-  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
-      mesh.positions, target.positions, mesh.triangles, expressions, params);
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(mesh, target.positions, expressions, params);
   const std::vector<glm::vec3>& moved = result.expressions[0];
   // One rigid motion for both parts: every distance between their vertices is kept.
   float worst_stretch = 0.0f;
@@ -443,8 +430,7 @@ TEST_CASE("Parts the template moves by one rigid motion move rigidly together", 
   // Each part placed on its own (rigid_tolerance 0: gradients, then its own
   // mean displacement) moves them apart.
   params.rigid_tolerance = 0.0;
-  const facerig::DeformationTransferResult separate = facerig::DeformationTransfer(
-      mesh.positions, target.positions, mesh.triangles, expressions, params);
+  const facerig::DeformationTransferResult separate = facerig::DeformationTransfer(mesh, target.positions, expressions, params);
   const float apart = glm::length(separate.expressions[0][sheet] - separate.expressions[0][sheet + 4]);
   const float together = glm::length(moved[sheet] - moved[sheet + 4]);
   const float rest = glm::length(target.positions[sheet] - target.positions[sheet + 4]);
@@ -463,8 +449,7 @@ TEST_CASE("Degenerate and needle triangles are regularized, not fatal", "[deform
   for (glm::vec3& p : expressions[0]) p.z += 0.1f * p.x;
   facerig::DeformationTransferParams params;
   params.anchor_vertices = {0};
-  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(
-      source.positions, target.positions, source.triangles, expressions, params);
+  const facerig::DeformationTransferResult result = facerig::DeformationTransfer(source, target.positions, expressions, params);
   CHECK(result.regularized_triangles >= 2);
   for (const glm::vec3& p : result.expressions[0]) {
     CHECK((std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)));
@@ -478,7 +463,7 @@ TEST_CASE("Invalid inputs throw typed errors naming the mesh", "[deformation_tra
   const Meshes expressions{source.positions};
   std::vector<glm::vec3> short_target(source.positions.begin(), source.positions.end() - 1);
   try {
-    facerig::DeformationTransfer(source.positions, short_target, source.triangles, expressions);
+    facerig::DeformationTransfer(source, short_target, expressions);
     FAIL("no exception");
   } catch (const facerig::TransferInputError& error) {
     CHECK(error.mesh() == "target neutral");
@@ -486,24 +471,24 @@ TEST_CASE("Invalid inputs throw typed errors naming the mesh", "[deformation_tra
   }
   const Meshes bad_expression{short_target};
   try {
-    facerig::DeformationTransfer(source.positions, source.positions, source.triangles, bad_expression);
+    facerig::DeformationTransfer(source, source.positions, bad_expression);
     FAIL("no exception");
   } catch (const facerig::TransferInputError& error) {
     CHECK(error.mesh() == "source expression 0");
   }
   facerig::DeformationTransferParams params;
   params.anchor_vertices = {99};
-  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, source.positions, source.triangles,
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source, source.positions,
                                                expressions, params),
                   facerig::TransferInputError);
   std::vector<facerig::Triangle> bad_triangles = source.triangles;
   bad_triangles[3][1] = 16;
-  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, source.positions, bad_triangles,
+  CHECK_THROWS_AS(facerig::DeformationTransfer(facerig::test::MeshOf(source.positions, bad_triangles), source.positions,
                                                expressions),
                   facerig::InvalidInputError);
   std::vector<glm::vec3> nan_target = source.positions;
   nan_target[5].x = std::nanf("");
-  CHECK_THROWS_AS(facerig::DeformationTransfer(source.positions, nan_target, source.triangles, expressions),
+  CHECK_THROWS_AS(facerig::DeformationTransfer(source, nan_target, expressions),
                   facerig::TransferInputError);
   facerig::DeformationTransferData data;
   std::vector<glm::vec3> out;
@@ -521,7 +506,7 @@ TEST_CASE("A negative, NaN or infinite contact_weight is refused, naming it", "[
     INFO("contact_weight " << weight);
     params.contact_weight = weight;
     try {
-      facerig::DeformationTransfer(source.positions, source.positions, source.triangles, expressions, params);
+      facerig::DeformationTransfer(source, source.positions, expressions, params);
       FAIL_CHECK("no exception");
     } catch (const facerig::TransferInputError& error) {
       CHECK(error.mesh() == "params");
@@ -531,7 +516,7 @@ TEST_CASE("A negative, NaN or infinite contact_weight is refused, naming it", "[
     }
   }
   params.contact_weight = 0.0;  // off, not an error
-  CHECK_NOTHROW(facerig::DeformationTransfer(source.positions, source.positions, source.triangles, expressions,
+  CHECK_NOTHROW(facerig::DeformationTransfer(source, source.positions, expressions,
                                              params));
 }
 
@@ -562,10 +547,10 @@ TEST_CASE("Classic deformation transfer of the ICT rig onto random identities (s
     const Meshes truth = TrueExpressions(face);
     facerig::DeformationTransferParams params;
     const facerig::DeformationTransferResult classic =
-        facerig::DeformationTransfer(rig.positions(), face, rig.triangles(), Ict().expressions, params);
+        facerig::DeformationTransfer(facerig::NeutralMesh(rig), face, Ict().expressions, params);
     params.mode = facerig::TransferMode::kIdentityGradient;
     const facerig::DeformationTransferResult identity =
-        facerig::DeformationTransfer(rig.positions(), face, rig.triangles(), Ict().expressions, params);
+        facerig::DeformationTransfer(facerig::NeutralMesh(rig), face, Ict().expressions, params);
     REQUIRE(classic.expressions.size() == 53);
     const ErrorTable classic_errors = Measure(classic.expressions, truth, face);
     const ErrorTable identity_errors = Measure(identity.expressions, truth, face);
@@ -616,11 +601,11 @@ TEST_CASE("eyeBlink closes the lids as far as the template's deltas do (shared d
   const std::vector<glm::vec3> face = RandomIctFace(11);
   const Meshes truth = TrueExpressions(face);
   const facerig::DeformationTransferResult classic =
-      facerig::DeformationTransfer(rig.positions(), face, rig.triangles(), Ict().expressions);
+      facerig::DeformationTransfer(facerig::NeutralMesh(rig), face, Ict().expressions);
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     const std::size_t s = *rig.FindShape(name);
     const facerig::EyelidMargins margins =
-        facerig::FindEyelidMargins(rig.positions(), Ict().expressions[s], rig.triangles(), 0, kLidLast);
+        facerig::FindEyelidMargins(facerig::NeutralMesh(rig), Ict().expressions[s], 0, kLidLast);
     REQUIRE(margins.upper.size() >= 3);
     const facerig::EyelidGap on_template = facerig::MeasureEyelidGap(Ict().expressions[s], margins);
     const facerig::EyelidGap on_truth = facerig::MeasureEyelidGap(truth[s], margins);

@@ -80,16 +80,16 @@ TEST_CASE("Landmark JSON round trip and malformed files", "[landmarks]") {
 }
 
 TEST_CASE("Landmarks: bad input gives typed errors", "[landmarks]") {
-  CHECK_THROWS_AS(Detector().Detect({}, {}), InvalidInputError);
+  CHECK_THROWS_AS(Detector().Detect(facerig::test::MeshOf({}, {})), InvalidInputError);
   std::vector<glm::vec3> positions;
   std::vector<Triangle> triangles;
   MakeBlob(positions, triangles);
   std::vector<glm::vec3> nan = positions;
   nan[5].x = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(Detector().Detect(nan, triangles), InvalidInputError);
+  CHECK_THROWS_AS(Detector().Detect(facerig::test::MeshOf(nan, triangles)), InvalidInputError);
   // A mesh with no face: the error suggests a landmark file.
   try {
-    (void)Detector().Detect(positions, triangles);
+    (void)Detector().Detect(facerig::test::MeshOf(positions, triangles));
     FAIL("a blob has no face");
   } catch (const LandmarkDetectionError& e) {
     CHECK(std::string(e.what()).find("--landmarks") != std::string::npos);
@@ -117,7 +117,7 @@ TEST_CASE("Landmarks on random re-meshed ICT faces (shared data)", "[landmarks][
     test::RegistrationTargetOptions options;
     options.seed = seed;
     const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
-    const LandmarkResult result = detector.Detect(target.positions, target.triangles);
+    const LandmarkResult result = detector.Detect(target.mesh());
     if (seed == 31u) {
       WritePng(test::OutputPath("landmarks_debug_31.png"), DrawLandmarks(result));
       // The target itself, for trying the command-line tools by hand.
@@ -130,8 +130,8 @@ TEST_CASE("Landmarks on random re-meshed ICT faces (shared data)", "[landmarks][
     const double interocular = static_cast<double>(glm::length(target.true_landmarks[36] - target.true_landmarks[45]));
     // The eye-corner PCA correction (paper 004 3.3) and the eyes fitted to
     // the openings (the default), measured against the plain detection.
-    const LandmarkResult plain = plain_detector.Detect(target.positions, target.triangles);
-    const LandmarkResult pca = pca_detector.Detect(target.positions, target.triangles);
+    const LandmarkResult plain = plain_detector.Detect(target.mesh());
+    const LandmarkResult pca = pca_detector.Detect(target.mesh());
     corners_moved += pca.corrected;
     eyes_fitted += result.eyes_fitted;
     for (std::size_t k = 36; k < 48; ++k) {
@@ -190,13 +190,12 @@ TEST_CASE("Landmarks on the built-in stylized head: eyes fitted to its eye openi
   const std::vector<std::vector<glm::vec3>> expressions = RigExpressionMeshes(head);
   LandmarkParams plain_params;
   plain_params.fit_eyes_to_openings = false;
-  const LandmarkResult plain = LandmarkDetector(plain_params).Detect(head.positions(), head.triangles());
-  const LandmarkResult fitted = Detector().Detect(head.positions(), head.triangles());
+  const LandmarkResult plain = LandmarkDetector(plain_params).Detect(facerig::NeutralMesh(head));
+  const LandmarkResult fitted = Detector().Detect(facerig::NeutralMesh(head));
   CHECK(fitted.eyes_fitted == 2);
   // The head's own lid margins, from its blinks; the eye points' distances to them over the eye width.
   for (const auto& [blink, first] : {std::pair<const char*, std::size_t>{"eyeBlink_R", 36}, {"eyeBlink_L", 42}}) {
-    const EyelidMargins lids = FindEyelidMargins(head.positions(), expressions[*head.FindShape(blink)],
-                                                 head.triangles(), 0, head.vertex_count());
+    const EyelidMargins lids = FindEyelidMargins(facerig::NeutralMesh(head), expressions[*head.FindShape(blink)], 0, head.vertex_count());
     auto off_margin = [&](glm::vec3 p, const std::vector<std::uint32_t>& margin) {
       float nearest = std::numeric_limits<float>::max();
       for (std::uint32_t v : margin) nearest = std::min(nearest, glm::length(head.positions()[v] - p));
@@ -224,7 +223,7 @@ TEST_CASE("Landmarks on a 400k-vertex re-meshed ICT face (shared data)", "[landm
   const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
   REQUIRE(target.positions.size() == 400000);
   REQUIRE(target.triangles.size() > Detector().params().proxy_triangle_limit);
-  const LandmarkResult result = Detector().Detect(target.positions, target.triangles);
+  const LandmarkResult result = Detector().Detect(target.mesh());
   const double interocular = static_cast<double>(glm::length(target.true_landmarks[36] - target.true_landmarks[45]));
   double no_jaw = 0.0;
   for (std::size_t k = 17; k < 68; ++k) {
@@ -254,7 +253,7 @@ TEST_CASE("Landmarks: measure dlib's offsets against the ICT landmark vertices (
     test::RegistrationTargetOptions options;
     options.seed = seed;
     const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
-    const LandmarkResult result = detector.Detect(target.positions, target.triangles);
+    const LandmarkResult result = detector.Detect(target.mesh());
     const float box = 0.5f * static_cast<float>(params.landmark_image_size);
     for (std::size_t k = 0; k < 68; ++k) {
       const glm::vec3 truth = ProjectToImage(result.view, target.true_landmarks[k]);

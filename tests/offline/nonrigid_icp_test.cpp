@@ -12,6 +12,7 @@
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/registration_error.h"
 #include "support/registration_targets.h"
+#include "support/test_meshes.h"
 
 namespace facerig {
 namespace {
@@ -81,7 +82,7 @@ TEST_CASE("Non-rigid ICP fits a bent sheet onto another bend", "[nonrigid_icp]")
     p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
     landmarks.target_points.push_back(p);
   }
-  const NonrigidIcpResult fit = NonrigidIcp(source, source_triangles, target, target_triangles, landmarks);
+  const NonrigidIcpResult fit = NonrigidIcp(facerig::test::MeshOf(source, source_triangles), facerig::test::MeshOf(target, target_triangles), landmarks);
   REQUIRE(fit.positions.size() == source.size());
   CHECK(fit.residual.mean_percent < 0.1);
   CHECK(fit.residual.p95_percent < 0.3);
@@ -113,10 +114,10 @@ TEST_CASE("Non-rigid ICP: CHOLMOD and Eigen's simplicial solver give the same fi
   NonrigidIcpParams params;
   params.use_cholmod = true;
   const NonrigidIcpResult preferred =
-      NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
+      NonrigidIcp(facerig::test::MeshOf(source, source_triangles), facerig::test::MeshOf(target, target_triangles), landmarks, params);
   params.use_cholmod = false;
   const NonrigidIcpResult simplicial =
-      NonrigidIcp(source, source_triangles, target, target_triangles, landmarks, params);
+      NonrigidIcp(facerig::test::MeshOf(source, source_triangles), facerig::test::MeshOf(target, target_triangles), landmarks, params);
   REQUIRE(preferred.positions.size() == simplicial.positions.size());
   float worst = 0.0f;
   for (std::size_t v = 0; v < source.size(); ++v) {
@@ -180,7 +181,7 @@ TEST_CASE("Non-rigid ICP on a non-manifold target with stray points", "[nonrigid
     p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
     landmarks.target_points.push_back(p);
   }
-  const NonrigidIcpResult fit = NonrigidIcp(source, source_triangles, target, target_triangles, landmarks);
+  const NonrigidIcpResult fit = NonrigidIcp(facerig::test::MeshOf(source, source_triangles), facerig::test::MeshOf(target, target_triangles), landmarks);
   REQUIRE(fit.positions.size() == source.size());
   // The far stray point does not count in the target's size...
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -203,20 +204,20 @@ TEST_CASE("Non-rigid ICP rejects invalid input", "[nonrigid_icp]") {
   std::vector<glm::vec3> sheet;
   std::vector<Triangle> triangles;
   MakeSheet(5, 0.1f, sheet, triangles);
-  CHECK_THROWS_AS(NonrigidIcp({}, {}, sheet, triangles, {}), InvalidInputError);
-  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, {}, {}, {}), InvalidInputError);
+  CHECK_THROWS_AS(NonrigidIcp(facerig::test::MeshOf({}, {}), facerig::test::MeshOf(sheet, triangles), {}), InvalidInputError);
+  CHECK_THROWS_AS(NonrigidIcp(facerig::test::MeshOf(sheet, triangles), facerig::test::MeshOf({}, {}), {}), InvalidInputError);
   std::vector<glm::vec3> nan = sheet;
   nan[3].z = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, nan, triangles, {}), InvalidInputError);
+  CHECK_THROWS_AS(NonrigidIcp(facerig::test::MeshOf(sheet, triangles), facerig::test::MeshOf(nan, triangles), {}), InvalidInputError);
   RegistrationLandmarks landmarks;
   landmarks.template_vertices = {0, 1, 99};
   landmarks.target_points = {sheet[0], sheet[1], sheet[2]};
-  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, sheet, triangles, landmarks), InvalidInputError);
+  CHECK_THROWS_AS(NonrigidIcp(facerig::test::MeshOf(sheet, triangles), facerig::test::MeshOf(sheet, triangles), landmarks), InvalidInputError);
   landmarks.template_vertices = {0, 1};
-  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, sheet, triangles, landmarks), InvalidInputError);
+  CHECK_THROWS_AS(NonrigidIcp(facerig::test::MeshOf(sheet, triangles), facerig::test::MeshOf(sheet, triangles), landmarks), InvalidInputError);
   NonrigidIcpParams params;
   params.stiffness.clear();
-  CHECK_THROWS_AS(NonrigidIcp(sheet, triangles, sheet, triangles, {}, params), InvalidInputError);
+  CHECK_THROWS_AS(NonrigidIcp(facerig::test::MeshOf(sheet, triangles), facerig::test::MeshOf(sheet, triangles), {}, params), InvalidInputError);
 }
 
 // With `detect`, the target's landmarks come from the automatic detector
@@ -233,12 +234,12 @@ void RunIctFit(bool remesh, std::uint32_t seed, double units_per_cm, bool detect
   RegistrationLandmarks landmarks = IctLandmarks(target);
   if (detect) {
     LandmarkDetector detector;
-    const LandmarkResult detected = detector.Detect(target.positions, target.triangles);
+    const LandmarkResult detected = detector.Detect(target.mesh());
     landmarks.target_points = detected.landmarks.points;
     landmarks.confidence = detected.landmarks.confidence;
   }
   const NonrigidIcpResult fit =
-      NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles, landmarks, params);
+      NonrigidIcp(ict.mesh(), target.mesh(), landmarks, params);
   const FitReport report = Measure(fit, target);
   std::printf(
       "nicp %s seed %u (%s landmarks): target %zu vertices, rotation %.1f deg, %.2f units/cm: correspondence mean %.3f cm "
@@ -287,7 +288,7 @@ TEST_CASE("Landmarks and registration on a non-manifold re-meshed ICT face with 
   test::RegistrationTarget target = test::MakeRegistrationTarget(options);
   const std::size_t added = AddNonManifoldDefects(target.positions, target.triangles, 400, 0.003f);
   LandmarkDetector detector;
-  const LandmarkResult detected = detector.Detect(target.positions, target.triangles);
+  const LandmarkResult detected = detector.Detect(target.mesh());
   const double interocular = static_cast<double>(glm::length(target.true_landmarks[36] - target.true_landmarks[45]));
   double landmark_error = 0.0;
   for (std::size_t k = 17; k < 68; ++k) {
@@ -300,7 +301,7 @@ TEST_CASE("Landmarks and registration on a non-manifold re-meshed ICT face with 
   landmarks.target_points = detected.landmarks.points;
   landmarks.confidence = detected.landmarks.confidence;
   const NonrigidIcpResult fit =
-      NonrigidIcp(ict.neutral, ict.triangles, target.positions, target.triangles, landmarks, params);
+      NonrigidIcp(ict.mesh(), target.mesh(), landmarks, params);
   const FitReport report = Measure(fit, target);
   std::printf("non-manifold target (%zu defect triangles, 21 stray vertices): landmark error/IOD %.4f without jaw; "
               "correspondence mean %.3f cm, residual mean %.4f%% p95 %.4f%%; %.2f s\n",

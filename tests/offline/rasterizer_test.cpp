@@ -1,4 +1,5 @@
 #include "facerig/offline/rasterizer.h"
+#include "support/test_meshes.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -19,7 +20,7 @@ TEST_CASE("A single triangle gets its id and barycentrics", "[rasterizer]") {
   const std::vector<glm::vec3> positions = {{-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}, {-1.0f, 1.0f, 0.0f}};
   const std::vector<facerig::Triangle> triangles = {{0, 1, 2}};
   const facerig::RasterView view = FrontView(64);
-  const facerig::RasterBuffers buffers = facerig::Rasterize(positions, triangles, view);
+  const facerig::RasterBuffers buffers = facerig::Rasterize(facerig::test::MeshOf(positions, triangles), view);
   REQUIRE(buffers.width == 64);
   REQUIRE(buffers.height == 64);
 
@@ -38,7 +39,7 @@ TEST_CASE("A single triangle gets its id and barycentrics", "[rasterizer]") {
       const glm::vec3 b = buffers.barycentrics[i];
       REQUIRE(b.x + b.y + b.z == Approx(1.0f).margin(1e-5));
       glm::vec3 point;
-      REQUIRE(buffers.SurfacePoint(x, y, positions, triangles, point));
+      REQUIRE(buffers.SurfacePoint(x, y, facerig::test::MeshOf(positions, triangles), point));
       const glm::vec3 pixel = facerig::ProjectToImage(view, point);
       CHECK(pixel.x == Approx(x + 0.5).margin(1e-3));
       CHECK(pixel.y == Approx(y + 0.5).margin(1e-3));
@@ -60,7 +61,7 @@ TEST_CASE("The nearer of two overlapping triangles wins, in either order", "[ras
     const std::vector<facerig::Triangle> triangles =
         near_first ? std::vector<facerig::Triangle>{{3, 4, 5}, {0, 1, 2}}
                    : std::vector<facerig::Triangle>{{0, 1, 2}, {3, 4, 5}};
-    const facerig::RasterBuffers buffers = facerig::Rasterize(positions, triangles, FrontView(32));
+    const facerig::RasterBuffers buffers = facerig::Rasterize(facerig::test::MeshOf(positions, triangles), FrontView(32));
     const std::int32_t near_id = near_first ? 0 : 1;
     CHECK(buffers.triangle_ids[buffers.index(16, 20)] == near_id);
     CHECK(buffers.depths[buffers.index(16, 20)] == Approx(0.5f));
@@ -71,22 +72,22 @@ TEST_CASE("Back faces are flagged and shaded dark", "[rasterizer]") {
   const std::vector<glm::vec3> positions = {{-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
   const std::vector<facerig::Triangle> clockwise = {{0, 2, 1}};
   const facerig::RasterView view = FrontView(16);
-  const facerig::RasterBuffers buffers = facerig::Rasterize(positions, clockwise, view);
+  const facerig::RasterBuffers buffers = facerig::Rasterize(facerig::test::MeshOf(positions, clockwise), view);
   const std::size_t centre = buffers.index(8, 9);
   REQUIRE(buffers.triangle_ids[centre] == 0);
   CHECK(buffers.back_facing[centre] == 1);
   const facerig::ShadeParams params;
-  const facerig::RgbImage image = facerig::Shade(buffers, positions, {}, clockwise, {}, view, params);
+  const facerig::RgbImage image = facerig::Shade(buffers, facerig::test::MeshOf(positions, clockwise), {}, view, params);
   CHECK(image.pixels[3 * centre] == static_cast<std::uint8_t>(std::lround(params.back_face.r * 255.0f)));
 
   // Front facing and lit from 30 degrees above the view axis: brighter.
   const std::vector<facerig::Triangle> front = {{0, 1, 2}};
   const facerig::RgbImage lit =
-      facerig::Shade(facerig::Rasterize(positions, front, view), positions, {}, front, {}, view, params);
+      facerig::Shade(facerig::Rasterize(facerig::test::MeshOf(positions, front), view), facerig::test::MeshOf(positions, front), {}, view, params);
   CHECK(lit.pixels[3 * centre] > 150);
   // Deterministic.
   const facerig::RgbImage again =
-      facerig::Shade(facerig::Rasterize(positions, front, view), positions, {}, front, {}, view, params);
+      facerig::Shade(facerig::Rasterize(facerig::test::MeshOf(positions, front), view), facerig::test::MeshOf(positions, front), {}, view, params);
   CHECK(lit.pixels == again.pixels);
 }
 
@@ -94,9 +95,9 @@ TEST_CASE("Rasterize rejects bad views and indices", "[rasterizer]") {
   const std::vector<glm::vec3> positions = {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
   facerig::RasterView view = FrontView(8);
   view.width = 0;
-  CHECK_THROWS_AS(facerig::Rasterize(positions, std::vector<facerig::Triangle>{{0, 1, 2}}, view),
+  CHECK_THROWS_AS(facerig::Rasterize(facerig::test::MeshOf(positions, std::vector<facerig::Triangle>{{0, 1, 2}}), view),
                   std::invalid_argument);
-  CHECK_THROWS_AS(facerig::Rasterize(positions, std::vector<facerig::Triangle>{{0, 1, 3}}, FrontView(8)),
+  CHECK_THROWS_AS(facerig::Rasterize(facerig::test::MeshOf(positions, std::vector<facerig::Triangle>{{0, 1, 3}}), FrontView(8)),
                   std::invalid_argument);
 }
 

@@ -60,7 +60,7 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
     auto skin_inner_crossings = [&](std::span<const glm::vec3> positions) {
       SelfIntersectionParams params;
       params.max_pairs = std::numeric_limits<std::size_t>::max();
-      const SelfIntersectionResult found = FindSelfIntersections(positions, ict.triangles(), params);
+      const SelfIntersectionResult found = FindSelfIntersections(facerig::test::MeshOf(positions, ict.triangles()), params);
       std::size_t count = 0;
       auto skin = [&](std::uint32_t t) {
         const Triangle& tri = ict.triangles()[t];
@@ -195,7 +195,7 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
   // Without that, the template's eye opening registered above the head's and
   // its blink did not close the head's eyes.
   LandmarkDetector detector;
-  const LandmarkResult detected = detector.Detect(head.positions, head.triangles);
+  const LandmarkResult detected = detector.Detect(facerig::test::MeshOf(head.positions, head.triangles));
   CHECK(detected.eyes_fitted == 2);
   const BuildRigResult built =
       BuildRig(ict, IctInfo(), head, PairLandmarks(IctInfo().landmark_vertices, detected.landmarks));

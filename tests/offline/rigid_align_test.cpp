@@ -13,6 +13,7 @@
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/offline/registration_error.h"
 #include "support/registration_targets.h"
+#include "support/test_meshes.h"
 
 namespace facerig {
 namespace {
@@ -101,7 +102,7 @@ TEST_CASE("Closest point on a mesh matches brute force", "[rigid_align]") {
   std::vector<glm::vec3> positions;
   std::vector<Triangle> triangles;
   MakeBumpySphere(positions, triangles);
-  const ClosestPointQuery query(positions, triangles);
+  const ClosestPointQuery query(facerig::test::MeshOf(positions, triangles));
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-2.0f, 2.0f);
   for (int i = 0; i < 200; ++i) {
@@ -125,10 +126,10 @@ TEST_CASE("Closest point on a mesh matches brute force", "[rigid_align]") {
   // Boundary: an open square.
   const std::vector<glm::vec3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   const std::vector<Triangle> two{{0, 1, 2}, {0, 2, 3}};
-  const ClosestPointQuery open(square, two);
+  const ClosestPointQuery open(facerig::test::MeshOf(square, two));
   CHECK(open.Find({2, 0.5f, 0}).on_boundary);
   CHECK_FALSE(open.Find({0.5f, 0.5f, 1}).on_boundary);
-  CHECK_THROWS_AS(ClosestPointQuery({}, {}), InvalidInputError);
+  CHECK_THROWS_AS(ClosestPointQuery(facerig::test::MeshOf({}, {})), InvalidInputError);
 }
 
 TEST_CASE("Point-to-plane ICP converges from a 25 degree start at scale 100", "[rigid_align]") {
@@ -142,7 +143,7 @@ TEST_CASE("Point-to-plane ICP converges from a 25 degree start at scale 100", "[
       std::vector<glm::vec3> target;
       for (const glm::vec3& p : positions) target.push_back(truth.Apply(p));
       // No landmarks: the start is centroids and RMS radii, 25 degrees off.
-      const RigidAlignResult result = RigidAlign(positions, triangles, target, triangles);
+      const RigidAlignResult result = RigidAlign(facerig::test::MeshOf(positions, triangles), facerig::test::MeshOf(target, triangles));
       INFO("axis " << axis.transpose() << " scale " << scale << " iterations " << result.iterations);
       CHECK(RotationErrorDegrees(result.transform.rotation, truth.rotation) < 0.2);
       CHECK(result.transform.scale == Approx(scale).epsilon(2e-3));
@@ -155,15 +156,15 @@ TEST_CASE("Rigid alignment rejects bad meshes", "[rigid_align]") {
   std::vector<glm::vec3> positions;
   std::vector<Triangle> triangles;
   MakeBumpySphere(positions, triangles);
-  CHECK_THROWS_AS(RigidAlign({}, {}, positions, triangles), InvalidInputError);
+  CHECK_THROWS_AS(RigidAlign(facerig::test::MeshOf({}, {}), facerig::test::MeshOf(positions, triangles)), InvalidInputError);
   std::vector<glm::vec3> nan = positions;
   nan[10].x = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(RigidAlign(nan, triangles, positions, triangles), InvalidInputError);
+  CHECK_THROWS_AS(RigidAlign(facerig::test::MeshOf(nan, triangles), facerig::test::MeshOf(positions, triangles)), InvalidInputError);
   std::vector<Triangle> bad = triangles;
   bad[3][1] = 1u << 30;
-  CHECK_THROWS_AS(RigidAlign(positions, bad, positions, triangles), InvalidInputError);
+  CHECK_THROWS_AS(RigidAlign(facerig::test::MeshOf(positions, bad), facerig::test::MeshOf(positions, triangles)), InvalidInputError);
   const std::vector<glm::vec3> three(3, glm::vec3(0.0f));
-  CHECK_THROWS_AS(RigidAlign(positions, triangles, positions, triangles, three, {}), InvalidInputError);
+  CHECK_THROWS_AS(RigidAlign(facerig::test::MeshOf(positions, triangles), facerig::test::MeshOf(positions, triangles), three, {}), InvalidInputError);
 }
 
 TEST_CASE("Rigid alignment of the ICT face onto a re-meshed random face (shared data)",
@@ -176,8 +177,7 @@ TEST_CASE("Rigid alignment of the ICT face onto a re-meshed random face (shared 
     const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
     std::vector<glm::vec3> template_landmarks;
     for (std::uint32_t v : ict.info.landmark_vertices) template_landmarks.push_back(ict.neutral[v]);
-    const RigidAlignResult result = RigidAlign(ict.neutral, ict.head_triangles, target.positions,
-                                               target.triangles, template_landmarks, target.true_landmarks);
+    const RigidAlignResult result = RigidAlign(ict.head_mesh(), target.mesh(), template_landmarks, target.true_landmarks);
     INFO("seed " << seed << " rotation " << target.rotation_degrees << " iterations " << result.iterations);
     // A random identity is not a similar copy of the neutral: a few degrees and
     // percent of slack; the landmarks end up within a centimetre.

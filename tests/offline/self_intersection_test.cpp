@@ -13,9 +13,7 @@ namespace {
 
 __extension__ typedef __int128 Int128;
 
-struct Soup {
-  std::vector<glm::vec3> positions;
-  std::vector<facerig::Triangle> triangles;
+struct Soup : facerig::Mesh {
 
   // A quad a b c d as triangles (a b c) and (a c d).
   void AddQuad(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
@@ -32,7 +30,7 @@ struct Soup {
 };
 
 std::size_t Count(const Soup& soup) {
-  return facerig::FindSelfIntersections(soup.positions, soup.triangles).intersecting_pairs;
+  return facerig::FindSelfIntersections(soup).intersecting_pairs;
 }
 
 // The exact orientation of integer points (|coordinate| < 2^24, exact as floats).
@@ -57,7 +55,7 @@ TEST_CASE("Two quads crossing each other: the three triangle pairs that cross", 
   facerig::SelfIntersectionParams params;
   params.max_pairs = 10;
   const facerig::SelfIntersectionResult result =
-      facerig::FindSelfIntersections(soup.positions, soup.triangles, params);
+      facerig::FindSelfIntersections(soup, params);
   CHECK(result.intersecting_pairs == 3);
   REQUIRE(result.pairs.size() == 3);
   CHECK(result.pairs[0] == std::pair<std::uint32_t, std::uint32_t>{0, 2});
@@ -68,7 +66,7 @@ TEST_CASE("Two quads crossing each other: the three triangle pairs that cross", 
   // max_pairs limits the list, not the count.
   params.max_pairs = 1;
   const facerig::SelfIntersectionResult limited =
-      facerig::FindSelfIntersections(soup.positions, soup.triangles, params);
+      facerig::FindSelfIntersections(soup, params);
   CHECK(limited.intersecting_pairs == 3);
   CHECK(limited.pairs.size() == 1);
   // Move B off A: nothing.
@@ -156,7 +154,7 @@ TEST_CASE("Degenerate triangles have no plane and never count", "[self_intersect
   soup.AddTriangle({0, 0, -1}, {0, 0, 0.5f}, {0, 0, 1});
   // A repeated vertex.
   soup.AddTriangle({0.1f, 0, -1}, {0.1f, 0, -1}, {0.1f, 0.1f, 1});
-  const facerig::SelfIntersectionResult result = facerig::FindSelfIntersections(soup.positions, soup.triangles);
+  const facerig::SelfIntersectionResult result = facerig::FindSelfIntersections(soup);
   CHECK(result.intersecting_pairs == 0);
   CHECK(result.degenerate_triangles == 2);
   CHECK(result.tested_triangles == 3);
@@ -172,11 +170,11 @@ TEST_CASE("Region: only triangles with every vertex in the range", "[self_inters
   facerig::SelfIntersectionParams params;
   params.region_first = 0;
   params.region_last = 4;
-  CHECK(facerig::FindSelfIntersections(soup.positions, soup.triangles, params).intersecting_pairs == 0);
+  CHECK(facerig::FindSelfIntersections(soup, params).intersecting_pairs == 0);
   params.region_last = 8;
-  CHECK(facerig::FindSelfIntersections(soup.positions, soup.triangles, params).intersecting_pairs == 3);
+  CHECK(facerig::FindSelfIntersections(soup, params).intersecting_pairs == 3);
   params.region_first = 1;  // drops both triangles of A (they use vertex 0)
-  const auto result = facerig::FindSelfIntersections(soup.positions, soup.triangles, params);
+  const auto result = facerig::FindSelfIntersections(soup, params);
   CHECK(result.intersecting_pairs == 0);
   CHECK(result.tested_triangles == 2);
 }
@@ -185,11 +183,11 @@ TEST_CASE("Invalid inputs: bad index or non-finite position", "[self_intersectio
   Soup soup;
   soup.AddTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
   soup.triangles.push_back({0, 1, 7});
-  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup.positions, soup.triangles), std::invalid_argument);
+  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup), std::invalid_argument);
   soup.triangles.pop_back();
   soup.positions[1].x = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup.positions, soup.triangles), std::invalid_argument);
-  CHECK(facerig::FindSelfIntersections({}, {}).intersecting_pairs == 0);
+  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup), std::invalid_argument);
+  CHECK(facerig::FindSelfIntersections(facerig::test::MeshOf({}, {})).intersecting_pairs == 0);
 }
 
 TEST_CASE("Exact orientation: coplanar integer points give 0, signs match 128-bit integers",
@@ -301,16 +299,16 @@ TEST_CASE("ICT-FaceKit: the grid agrees with testing every pair around the mouth
                                        closed[b[2]]);
     }
   }
-  const facerig::SelfIntersectionResult around_mouth = facerig::FindSelfIntersections(closed, mouth);
+  const facerig::SelfIntersectionResult around_mouth = facerig::FindSelfIntersections(facerig::test::MeshOf(closed, mouth));
   CHECK(around_mouth.intersecting_pairs == brute);
   CHECK(brute > 100);
 
   // The whole rig (26,719 vertices, 52,220 triangles): issue 6 asks for well under 100 ms.
-  const facerig::SelfIntersectionResult whole = facerig::FindSelfIntersections(rig.positions(), rig.triangles());
+  const facerig::SelfIntersectionResult whole = facerig::FindSelfIntersections(facerig::NeutralMesh(rig));
   facerig::SelfIntersectionParams face;
   face.region_last = 9409;
   const facerig::SelfIntersectionResult face_only =
-      facerig::FindSelfIntersections(rig.positions(), rig.triangles(), face);
+      facerig::FindSelfIntersections(facerig::NeutralMesh(rig), face);
   WARN("ICT neutral: " << whole.intersecting_pairs << " intersecting pairs in " << 1e3 * whole.seconds << " ms ("
                        << whole.candidate_pairs << " candidate pairs); the face alone "
                        << face_only.intersecting_pairs << " in " << 1e3 * face_only.seconds

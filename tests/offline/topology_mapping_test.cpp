@@ -31,8 +31,7 @@ std::vector<facerig::TemplateRim> SlitRims(bool flipped) {
 std::vector<glm::vec3> MappedBlink(const SlitSheet& sheet, std::span<const facerig::TemplateRim> rims,
                                    std::size_t* rim_vertices) {
   facerig::TopologyMappingParams params;
-  const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(
-      sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, params, rims);
+  const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(sheet, sheet, params, rims);
   *rim_vertices = mapping.rim_vertices;
   std::vector<glm::vec3> mapped;
   facerig::MapVertexValues(mapping, sheet.triangles, facerig::test::SlitBlinkDeltas(), mapped);
@@ -88,8 +87,7 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
     facerig::TopologyMappingParams params;
     params.boundary_inset = 0.03f;
     params.rim_smoothing_radius = radius;
-    const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(
-        sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, params, rims);
+    const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(sheet, sheet, params, rims);
     CHECK(mapping.rim_vertices == 3);
     REQUIRE(mapping.rims.size() == 1);
     CHECK(mapping.rims[0].passes == expected_passes);
@@ -124,8 +122,7 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
   for (float bad : {-0.1f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
     facerig::TopologyMappingParams params;
     params.rim_smoothing_radius = bad;
-    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
-                                                    sheet.triangles, params, rims),
+    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet, sheet, params, rims),
                     facerig::InvalidInputError);
   }
 }
@@ -135,7 +132,7 @@ TEST_CASE("Topology mapping: a rim whose sides an expression brings together clo
   const SlitSheet sheet = facerig::test::MakeSlitSheet();
   const std::vector<facerig::TemplateRim> rims = SlitRims(false);
   const facerig::TopologyMapping mapping =
-      facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, {}, rims);
+      facerig::ComputeTopologyMapping(sheet, sheet, {}, rims);
   REQUIRE(mapping.rims.size() == 1);
   CHECK(mapping.rims[0].rest_gap[0] > 0.0f);
   // The slit's upper edge comes down by `drop` of its 1.0 gap, the row above by half.
@@ -185,22 +182,20 @@ TEST_CASE("Topology mapping: a rim whose sides an expression brings together clo
   facerig::TopologyMappingParams off;
   off.rim_closing_ratio = 0.0f;
   const facerig::TopologyMapping plain =
-      facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions, sheet.triangles, off, rims);
+      facerig::ComputeTopologyMapping(sheet, sheet, off, rims);
   std::vector<glm::vec3> deltas = open10;
   facerig::CloseRims(plain, sheet.positions, deltas);
   CHECK(deltas == open10);
   for (float bad : {-0.1f, 1.0f, std::numeric_limits<float>::quiet_NaN()}) {
     facerig::TopologyMappingParams params;
     params.rim_closing_ratio = bad;
-    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
-                                                    sheet.triangles, params, rims),
+    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet, sheet, params, rims),
                     facerig::InvalidInputError);
   }
   for (float bad : {0.0f, -1.0f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
     facerig::TopologyMappingParams params;
     params.rim_closing_reach = bad;
-    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
-                                                    sheet.triangles, params, rims),
+    CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet, sheet, params, rims),
                     facerig::InvalidInputError);
   }
 }
@@ -208,11 +203,9 @@ TEST_CASE("Topology mapping: a rim whose sides an expression brings together clo
 TEST_CASE("Topology mapping: template rims out of range or out of order are refused", "[topology_mapping]") {
   const SlitSheet sheet = facerig::test::MakeSlitSheet();
   const std::vector<facerig::TemplateRim> out_of_range = {{kColumns * kRows, {0, 1, 0}}};
-  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
-                                                    sheet.triangles, {}, out_of_range),
+  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet, sheet, {}, out_of_range),
                     Catch::Contains("template rim vertex 77"));
   const std::vector<facerig::TemplateRim> unordered = {{Vertex(4, 4), {0, -1, 0}}, {Vertex(3, 4), {0, -1, 0}}};
-  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet.positions, sheet.triangles, sheet.positions,
-                                                    sheet.triangles, {}, unordered),
+  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet, sheet, {}, unordered),
                     Catch::Contains("out of order"));
 }

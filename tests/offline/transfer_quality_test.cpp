@@ -71,7 +71,7 @@ Pairs IntersectingPairs(std::span<const glm::vec3> positions) {
   facerig::SelfIntersectionParams params;
   params.region_last = kInnerLast;
   params.max_pairs = std::numeric_limits<std::size_t>::max();
-  return facerig::FindSelfIntersections(positions, facerig::test::IctRig().triangles(), params).pairs;
+  return facerig::FindSelfIntersections(facerig::test::MeshOf(positions, facerig::test::IctRig().triangles()), params).pairs;
 }
 
 // Intersecting pairs of an expression that its own neutral does not have, by
@@ -269,7 +269,7 @@ TEST_CASE("jawOpen + mouthClose closes the lips as the template does, and eyeBli
     for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
       const std::size_t s = *rig.FindShape(name);
       const facerig::EyelidMargins lids =
-          facerig::FindEyelidMargins(rig.positions(), data.template_expressions[s], rig.triangles(), 0, kLidLast);
+          facerig::FindEyelidMargins(facerig::NeutralMesh(rig), data.template_expressions[s], 0, kLidLast);
       const facerig::EyelidGap lid_template = facerig::MeasureEyelidGap(data.template_expressions[s], lids);
       const facerig::EyelidGap lid_truth = facerig::MeasureEyelidGap(data.truth[s], lids);
       const facerig::EyelidGap lid = facerig::MeasureEyelidGap((*transferred)[s], lids);
@@ -324,7 +324,7 @@ TEST_CASE("eyeBlink closes eyes opened wider than the template's: contacts (shar
   std::vector<facerig::EyelidMargins> eyes;
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     blinks.push_back(expressions[*rig.FindShape(name)]);
-    eyes.push_back(facerig::FindEyelidMargins(rig.positions(), blinks.back(), rig.triangles(), 0, kLidLast));
+    eyes.push_back(facerig::FindEyelidMargins(facerig::NeutralMesh(rig), blinks.back(), 0, kLidLast));
   }
   const std::vector<glm::vec3> wide = WidenEyes(rig.positions(), eyes, 0.5f);
   // The widened eye is open wider: its lid gap at rest grows.
@@ -332,9 +332,9 @@ TEST_CASE("eyeBlink closes eyes opened wider than the template's: contacts (shar
     CHECK(facerig::MeasureEyelidGap(wide, eye).mean_gap > 1.2 * facerig::MeasureEyelidGap(rig.positions(), eye).mean_gap);
   }
   facerig::DeformationTransferParams params;
-  const auto with_contacts = facerig::DeformationTransfer(rig.positions(), wide, rig.triangles(), blinks, params);
+  const auto with_contacts = facerig::DeformationTransfer(facerig::NeutralMesh(rig), wide, blinks, params);
   params.contact_weight = 0.0;
-  const auto without = facerig::DeformationTransfer(rig.positions(), wide, rig.triangles(), blinks, params);
+  const auto without = facerig::DeformationTransfer(facerig::NeutralMesh(rig), wide, blinks, params);
   for (std::size_t e = 0; e < eyes.size(); ++e) {
     const facerig::EyelidGap on_template = facerig::MeasureEyelidGap(blinks[e], eyes[e]);
     const facerig::EyelidGap closed = facerig::MeasureEyelidGap(with_contacts.expressions[e], eyes[e]);

@@ -30,7 +30,7 @@ FaceTemplateInfo LoadIctTemplateInfo(const Rig& rig) {
 
 IctFaceModel LoadIctFaces(const std::filesystem::path& ict_dir) {
   IctFaceModel m;
-  ObjMesh neutral = ReadObj(ict_dir / "generic_neutral_mesh.obj");
+  RawRig neutral = ToRawRig(ReadObj(ict_dir / "generic_neutral_mesh.obj"));
   m.neutral = std::move(neutral.positions);
   m.triangles = std::move(neutral.triangles);
   {
@@ -195,7 +195,7 @@ RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const Regis
   std::vector<glm::vec3> positions(face.begin(), face.begin() + model.head_vertex_count());
   std::vector<Triangle> triangles = model.head_triangles;
   if (options.remesh) {
-    const ClosestPointQuery surface(positions, triangles);
+    const ClosestPointQuery surface(Mesh{.positions = positions, .triangles = triangles});
     Remesh(positions, triangles, options.target_vertex_count);
     // Jitter every vertex along the surface by up to a third of the local edge
     // length and project it back: no target vertex sits on an ICT vertex.
@@ -255,7 +255,7 @@ namespace facerig::test {
 
 BuiltRigErrors MeasureBuiltRig(const IctFaceModel& model, const Rig& template_rig, const RegistrationTarget& target,
                                const Rig& built) {
-  const ClosestPointQuery truth_surface(target.true_ict_positions, model.head_triangles);
+  const ClosestPointQuery truth_surface(Mesh{.positions = target.true_ict_positions, .triangles = model.head_triangles});
   std::vector<std::uint32_t> face_vertices;  // target vertices on the face region
   std::vector<ClosestPointHit> material;
   for (std::uint32_t v = 0; v < target.positions.size(); ++v) {

@@ -18,6 +18,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/rigid_align.h"
 #include "facerig/runtime/rig.h"
@@ -35,6 +36,8 @@ struct IctFaceModel {
   // registered region, the "face" group and the 68 landmark vertices.
   FaceTemplateInfo info;
   std::uint32_t head_vertex_count() const { return info.region.last + 1; }
+  Mesh mesh() const { return Mesh{.positions = neutral, .triangles = triangles}; }
+  Mesh head_mesh() const { return Mesh{.positions = neutral, .triangles = head_triangles}; }
   std::uint32_t face_vertex_count() const { return info.Group("face").last + 1; }
 };
 // The shipped ICT-FaceKit descriptor, validated against `rig` (its fingerprint too).
@@ -72,6 +75,8 @@ struct RegistrationTarget {
   SimilarityTransform from_ict;  // ICT centimetres -> target
   double units_per_cm = 1.0;
   double rotation_degrees = 0.0;
+
+  Mesh mesh() const { return Mesh{.positions = positions, .triangles = triangles}; }
 };
 
 RegistrationTarget MakeRegistrationTarget(const IctFaceModel& model, const RegistrationTargetOptions& options);

@@ -10,6 +10,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig::test {
@@ -24,10 +25,7 @@ inline constexpr std::uint32_t kSlitLast = 8;
 constexpr std::uint32_t Vertex(std::uint32_t x, std::uint32_t y) { return x + kColumns * y; }
 }  // namespace slit
 
-struct SlitSheet {
-  std::vector<glm::vec3> positions;
-  std::vector<Triangle> triangles;
-};
+using SlitSheet = Mesh;
 
 // with_slit false: the same sheet without the hole. row_y: each row's height
 // (empty: y).

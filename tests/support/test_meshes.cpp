@@ -14,6 +14,10 @@
 
 namespace facerig::test {
 
+Mesh MeshOf(std::span<const glm::vec3> positions, std::span<const Triangle> triangles) {
+  return Mesh{.positions = {positions.begin(), positions.end()}, .triangles = {triangles.begin(), triangles.end()}};
+}
+
 RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas) {
   RawRig raw;
   for (int y = 0; y < n; ++y) {

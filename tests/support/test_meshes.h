@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/speech/viseme.h"
@@ -15,6 +16,9 @@ namespace facerig::test {
 // "right" halves of the triangles), UVs, and `shape_count` sparse shapes, each
 // moving a different subset of vertices (deterministic). With normal deltas
 // when `with_normal_deltas`.
+// A mesh of positions and triangles only (the tests' small hand-made meshes).
+Mesh MeshOf(std::span<const glm::vec3> positions, std::span<const Triangle> triangles);
+
 RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas = false);
 Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);
 // A viseme key from times in seconds.

@@ -99,11 +99,11 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
   }
   const std::string neutral_name = FindNeutral(folder, options);
   const fs::path neutral_path = folder / neutral_name;
-  ObjMesh neutral = ReadObj(neutral_path);
+  const Mesh neutral = ReadObj(neutral_path);
   const std::vector<std::string> names = ShapeNames(folder, neutral_name, options);
 
   // Parse the expression meshes on all cores; each is independent.
-  std::vector<ObjMesh> meshes(names.size());
+  std::vector<Mesh> meshes(names.size());
   std::vector<std::exception_ptr> errors(names.size());
   const unsigned workers = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(),
                                                            static_cast<unsigned>(names.size())));
@@ -124,11 +124,9 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
     if (error) std::rethrow_exception(error);
   }
 
-  RawRig raw;
-  raw.positions = std::move(neutral.positions);
-  raw.uvs = std::move(neutral.uvs);
-  raw.triangles = std::move(neutral.triangles);
-  raw.parts = std::move(neutral.parts);
+  const VertexAttributes neutral_attributes = PerVertexAttributes(neutral);
+  RawRig raw = ToRawRig(neutral);
+  raw.normals.clear();  // area-weighted, as the expressions' normal deltas
   raw.up_axis = options.up_axis;
 
   glm::vec3 lo = raw.positions.front(), hi = lo;
@@ -144,7 +142,7 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
   local.drop_threshold = options.relative_drop_threshold * diagonal;
   local.units = raw.units;
   local.units_guessed = options.units == Units::kUnknown;
-  local.uv_seam_vertices = neutral.uv_seam_vertices;
+  local.uv_seam_vertices = neutral_attributes.uv_seam_vertices;
 
   std::vector<glm::vec3> deltas(raw.positions.size());
   std::vector<glm::vec3> neutral_normals, shape_normals, normal_deltas;
@@ -157,13 +155,13 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
   }
   for (std::size_t i = 0; i < names.size(); ++i) {
     const fs::path path = folder / (names[i] + ".obj");
-    const ObjMesh& mesh = meshes[i];
+    const Mesh& mesh = meshes[i];
     if (mesh.positions.size() != raw.positions.size()) {
       throw IoError(IoErrorKind::kTopologyMismatch, path.string(),
                     std::to_string(mesh.positions.size()) + " vertices, the neutral " + neutral_name +
                         " has " + std::to_string(raw.positions.size()));
     }
-    if (mesh.triangles != raw.triangles) {
+    if (mesh.triangles != neutral.triangles) {
       throw IoError(IoErrorKind::kTopologyMismatch, path.string(),
                     "faces differ from the neutral " + neutral_name);
     }
@@ -183,7 +181,7 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
     }
     raw.shapes.push_back(MakeSparseShape(names[i], deltas, normal_deltas, local.drop_threshold));
     local.kept_entries += raw.shapes.back().vertex_indices.size();
-    meshes[i] = ObjMesh();  // release early: 53 meshes of ICT size are ~100 MB
+    meshes[i] = Mesh();  // release early: 53 meshes of ICT size are ~100 MB
   }
 
   std::string problem;

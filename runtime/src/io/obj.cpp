@@ -1,9 +1,9 @@
 #include "facerig/runtime/io/obj.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <unordered_map>
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
@@ -18,7 +18,7 @@ class ObjParser {
  public:
   ObjParser(std::string_view text, const std::string& path) : text_(text), path_(path) {}
 
-  ObjMesh Parse() {
+  Mesh Parse(ObjStats* stats) {
     std::size_t pos = 0;
     while (pos < text_.size()) {
       std::size_t end = text_.find('\n', pos);
@@ -27,6 +27,7 @@ class ObjParser {
       ParseLine(text_.substr(pos, end - pos));
       pos = end + 1;
     }
+    if (stats) stats->polygon_count = polygon_count_;
     return Finish();
   }
 
@@ -110,18 +111,6 @@ class ObjParser {
     return corner;
   }
 
-  void AttachAttribute(std::vector<std::uint32_t>& chosen, std::uint32_t vertex, std::uint32_t attribute,
-                       std::vector<bool>& seam) {
-    if (attribute == kUnset) return;
-    if (chosen.size() <= vertex) chosen.resize(positions_.size(), kUnset);
-    if (chosen[vertex] == kUnset) {
-      chosen[vertex] = attribute;
-    } else if (chosen[vertex] != attribute) {
-      if (seam.size() <= vertex) seam.resize(positions_.size(), false);
-      seam[vertex] = true;
-    }
-  }
-
   void ParseFace(std::string_view rest) {
     corners_.clear();
     for (std::string_view token = NextToken(rest); !token.empty(); token = NextToken(rest)) {
@@ -129,13 +118,10 @@ class ObjParser {
     }
     if (corners_.size() < 3) Fail(IoErrorKind::kParse, "a face needs at least 3 vertices");
     ++polygon_count_;
-    for (const Corner& c : corners_) {
-      AttachAttribute(vertex_uv_, c.v, c.vt, uv_seam_);
-      AttachAttribute(vertex_normal_, c.v, c.vn, normal_seam_);
-    }
     // Fan triangulation: exact for the convex polygons OBJ exporters write.
     for (std::size_t i = 1; i + 1 < corners_.size(); ++i) {
       triangles_.push_back({corners_[0].v, corners_[i].v, corners_[i + 1].v});
+      for (const Corner* c : {&corners_[0], &corners_[i], &corners_[i + 1]}) corner_attributes_.push_back(*c);
       triangle_group_.push_back(current_group_);
       triangle_material_.push_back(current_material_);
     }
@@ -178,51 +164,63 @@ class ObjParser {
     // Other statements (mtllib, s, l, p, vp, curves) do not affect a triangle mesh.
   }
 
-  ObjMesh Finish() {
+  // Corner attributes where any face gives them. A corner without one takes
+  // the first value given for its vertex elsewhere (zero when none is), so a
+  // face that omits `vt` does not make a seam.
+  template <typename T>
+  std::vector<T> CornerValues(const std::vector<T>& values, std::uint32_t Corner::*index) const {
+    std::vector<T> corners;
+    std::vector<std::uint32_t> first_of_vertex(positions_.size(), kUnset);
+    bool any = false;
+    for (std::size_t c = 0; c < corner_attributes_.size(); ++c) {
+      const std::uint32_t given = corner_attributes_[c].*index;
+      std::uint32_t& first = first_of_vertex[triangles_[c / 3][c % 3]];
+      if (given != kUnset && first == kUnset) first = given;
+      any = any || given != kUnset;
+    }
+    if (!any) return corners;
+    corners.reserve(corner_attributes_.size());
+    for (std::size_t c = 0; c < corner_attributes_.size(); ++c) {
+      std::uint32_t chosen = corner_attributes_[c].*index;
+      if (chosen == kUnset) chosen = first_of_vertex[triangles_[c / 3][c % 3]];
+      corners.push_back(chosen == kUnset ? T(0.0f) : values[chosen]);
+    }
+    return corners;
+  }
+
+  // Per-triangle indices into `names`; unnamed triangles go to "default".
+  static std::vector<std::uint32_t> NamedIndices(const std::vector<std::uint32_t>& keys,
+                                                 std::vector<std::string>& names) {
+    std::vector<std::uint32_t> indices(keys.begin(), keys.end());
+    std::uint32_t unnamed = kUnset;
+    for (std::uint32_t& index : indices) {
+      if (index != kUnset) continue;
+      if (unnamed == kUnset) {
+        unnamed = static_cast<std::uint32_t>(names.size());
+        names.emplace_back("default");
+      }
+      index = unnamed;
+    }
+    return indices;
+  }
+
+  Mesh Finish() {
     if (positions_.empty()) Fail(IoErrorKind::kEmpty, "no vertices");
     if (triangles_.empty()) Fail(IoErrorKind::kEmpty, "no faces");
-    ObjMesh mesh;
+    Mesh mesh;
+    mesh.corner_uvs = CornerValues(uvs_, &Corner::vt);
+    mesh.corner_normals = CornerValues(normals_, &Corner::vn);
     mesh.positions = std::move(positions_);
-    mesh.polygon_count = polygon_count_;
-    const std::size_t n = mesh.positions.size();
-
-    // Per-vertex attributes; vertices without one get zeros.
-    if (!vertex_uv_.empty()) {
-      mesh.uvs.assign(n, glm::vec2(0.0f));
-      for (std::size_t v = 0; v < vertex_uv_.size(); ++v) {
-        if (vertex_uv_[v] != kUnset) mesh.uvs[v] = uvs_[vertex_uv_[v]];
-      }
-    }
-    if (!vertex_normal_.empty()) {
-      mesh.normals.assign(n, glm::vec3(0.0f));
-      for (std::size_t v = 0; v < vertex_normal_.size(); ++v) {
-        if (vertex_normal_[v] != kUnset) mesh.normals[v] = normals_[vertex_normal_[v]];
-      }
-    }
-    for (bool seam : uv_seam_) mesh.uv_seam_vertices += seam ? 1 : 0;
-    for (bool seam : normal_seam_) mesh.normal_seam_vertices += seam ? 1 : 0;
-
-    // Parts by material when the file names any, else by group; stable order.
-    const std::vector<std::uint32_t>& keys = any_material_ ? triangle_material_ : triangle_group_;
-    const std::vector<std::string>& names = any_material_ ? material_names_ : group_names_;
-    std::vector<std::uint32_t> key_order;  // part keys in order of first appearance
-    std::unordered_map<std::uint32_t, std::size_t> key_rank;
-    for (std::uint32_t key : keys) {
-      if (key_rank.emplace(key, key_order.size()).second) key_order.push_back(key);
-    }
-    std::vector<std::vector<std::uint32_t>> buckets(key_order.size());
-    for (std::size_t t = 0; t < triangles_.size(); ++t) {
-      buckets[key_rank[keys[t]]].push_back(static_cast<std::uint32_t>(t));
-    }
-    mesh.triangles.reserve(triangles_.size());
-    for (std::size_t b = 0; b < buckets.size(); ++b) {
-      const std::uint32_t key = key_order[b];
-      RawPart part;
-      part.name = key == kUnset ? "default" : names[key];
-      part.first_triangle = static_cast<std::uint32_t>(mesh.triangles.size());
-      part.triangle_count = static_cast<std::uint32_t>(buckets[b].size());
-      for (std::uint32_t t : buckets[b]) mesh.triangles.push_back(triangles_[t]);
-      mesh.parts.push_back(std::move(part));
+    mesh.triangles = std::move(triangles_);
+    // Parts by material when the file names any, else by group.
+    if (any_material_) {
+      mesh.triangle_materials = NamedIndices(triangle_material_, material_names_);
+      for (const std::string& name : material_names_) mesh.materials.push_back(Material{.name = name});
+      mesh.triangle_parts = mesh.triangle_materials;
+      mesh.part_names = material_names_;
+    } else {
+      mesh.triangle_parts = NamedIndices(triangle_group_, group_names_);
+      mesh.part_names = std::move(group_names_);
     }
     return mesh;
   }
@@ -241,11 +239,8 @@ class ObjParser {
   std::uint32_t current_group_ = kUnset;
   std::uint32_t current_material_ = kUnset;
   bool any_material_ = false;
-  std::vector<std::uint32_t> vertex_uv_;
-  std::vector<std::uint32_t> vertex_normal_;
-  std::vector<bool> uv_seam_;
-  std::vector<bool> normal_seam_;
-  std::vector<Corner> corners_;
+  std::vector<Corner> corners_;            // of the face being parsed
+  std::vector<Corner> corner_attributes_;  // 3 per triangle
   std::size_t polygon_count_ = 0;
 };
 
@@ -258,14 +253,14 @@ void AppendFloat(std::string& out, float value) {
 
 }  // namespace
 
-ObjMesh ParseObj(std::string_view text, const std::string& path_for_errors) {
+Mesh ParseObj(std::string_view text, const std::string& path_for_errors, ObjStats* stats) {
   if (text.empty()) throw IoError(IoErrorKind::kEmpty, path_for_errors, "the file is empty");
-  return ObjParser(text, path_for_errors).Parse();
+  return ObjParser(text, path_for_errors).Parse(stats);
 }
 
-ObjMesh ReadObj(const std::filesystem::path& path) {
+Mesh ReadObj(const std::filesystem::path& path, ObjStats* stats) {
   const std::string text = ReadFileText(path);
-  return ParseObj(text, path.string());
+  return ParseObj(text, path.string(), stats);
 }
 
 void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,

@@ -26,13 +26,7 @@ Rig LoadRig(const std::filesystem::path& path, const ObjLoadOptions& obj_options
   if (ext == ".frig") return ReadFrig(path);
   if (ext == ".glb" || ext == ".gltf") return ReadGltf(path);
   if (ext == ".obj") {
-    ObjMesh mesh = ReadObj(path);
-    RawRig raw;
-    raw.positions = std::move(mesh.positions);
-    raw.normals = std::move(mesh.normals);
-    raw.uvs = std::move(mesh.uvs);
-    raw.triangles = std::move(mesh.triangles);
-    raw.parts = std::move(mesh.parts);
+    RawRig raw = ToRawRig(ReadObj(path));
     raw.units = obj_options.units;
     raw.up_axis = obj_options.up_axis;
     // A file that leaves some vertex without a normal gets all normals

@@ -127,7 +127,7 @@ TEST_CASE("ICT-FaceKit template folder imports (shared data)", "[template_folder
   // Every shape at weight 1 reproduces its OBJ within the drop threshold.
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {
     const std::string name(rig.shape_name(s));
-    const facerig::ObjMesh expression = facerig::ReadObj(facerig::test::IctDir() / (name + ".obj"));
+    const facerig::Mesh expression = facerig::ReadObj(facerig::test::IctDir() / (name + ".obj"));
     std::vector<glm::vec3> posed(rig.positions().begin(), rig.positions().end());
     const facerig::BlendShapeView shape = rig.shape(s);
     for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {

@@ -91,9 +91,9 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   // One OBJ per shape plus the neutral, each on the target's vertices.
   CHECK(std::distance(fs::directory_iterator(folder / "shapes"), fs::directory_iterator{}) ==
         static_cast<std::ptrdiff_t>(ict.shape_count() + 1));
-  const ObjMesh neutral = ReadObj(folder / "shapes" / "neutral.obj");
+  const Mesh neutral = ReadObj(folder / "shapes" / "neutral.obj");
   CHECK(neutral.positions.size() == target.positions.size());
-  const ObjMesh jaw_open = ReadObj(folder / "shapes" / "jawOpen.obj");
+  const Mesh jaw_open = ReadObj(folder / "shapes" / "jawOpen.obj");
   REQUIRE(jaw_open.positions.size() == target.positions.size());
   const BlendShapeView jaw = frig.shape(frig.FindShape("jawOpen").value());
   REQUIRE(!jaw.vertex_indices.empty());

@@ -240,7 +240,7 @@ TEST_CASE("facerig register with a landmark file and --template-info: the templa
   REQUIRE(result.exit_code == 0);
   CHECK(Contains(result.error_output, "non-rigid ICP"));  // the progress bar
 
-  const ObjMesh obj = ReadObj(fitted);
+  const Mesh obj = ReadObj(fitted);
   REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
   const double error_cm = FaceErrorCm(obj.positions, target);
   INFO("face region error " << error_cm << " cm");
@@ -269,7 +269,7 @@ TEST_CASE("facerig register without landmarks detects them on the target (shared
   REQUIRE(result.exit_code == 0);
   CHECK(Contains(result.error_output, "detecting landmarks on the target"));
 
-  const ObjMesh obj = ReadObj(fitted);
+  const Mesh obj = ReadObj(fitted);
   REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
   const double error_cm = FaceErrorCm(obj.positions, target);
   INFO("face region error " << error_cm << " cm");

@@ -39,9 +39,15 @@ TEST_CASE("OBJ: quads, n-gons, all index forms, negative indices", "[obj]") {
       "g second\n"
       "f -4/-3 -1/-2 -3/-1\n"          // negative, v/vt: vertices 2 5 3
       "f 1 2 5 3 4\n";                 // pentagon, plain
-  const facerig::ObjMesh mesh = ParseObj(text, "mem.obj");
+  facerig::ObjStats stats;
+  const facerig::Mesh parsed = ParseObj(text, "mem.obj", &stats);
+  REQUIRE(parsed.Validate());
+  REQUIRE(parsed.corner_uvs.size() == parsed.triangles.size() * 3);
+  REQUIRE(parsed.corner_uvs[3 * 3 + 1] == glm::vec2(1, 1));  // the negative face: vt -2 is the file's third
+  REQUIRE(parsed.materials.empty());
+  const facerig::RawRig mesh = facerig::ToRawRig(parsed);
   REQUIRE(mesh.positions.size() == 5);
-  REQUIRE(mesh.polygon_count == 4);
+  REQUIRE(stats.polygon_count == 4);
   REQUIRE(mesh.triangles.size() == 2 + 1 + 1 + 3);
   REQUIRE(mesh.triangles[0] == facerig::Triangle{0, 1, 2});
   REQUIRE(mesh.triangles[1] == facerig::Triangle{0, 2, 3});
@@ -56,7 +62,7 @@ TEST_CASE("OBJ: quads, n-gons, all index forms, negative indices", "[obj]") {
   REQUIRE(mesh.normals.size() == 5);
   // Vertex 3 gets vt 3 from the quad, then vt 4 (-1) from the negative face:
   // one seam; vertex 2 gets vt 2 both times: none.
-  REQUIRE(mesh.uv_seam_vertices == 1);
+  REQUIRE(facerig::PerVertexAttributes(parsed).uv_seam_vertices == 1);
 }
 
 TEST_CASE("OBJ: materials become parts, reordered so each part is one range", "[obj]") {
@@ -65,7 +71,12 @@ TEST_CASE("OBJ: materials become parts, reordered so each part is one range", "[
       "usemtl skin\nf 1 2 3\n"
       "usemtl teeth\nf 1 3 4\n"
       "usemtl skin\nf 2 3 4\n";
-  const facerig::ObjMesh mesh = ParseObj(text, "mem.obj");
+  const facerig::Mesh parsed = ParseObj(text, "mem.obj");
+  REQUIRE(parsed.materials.size() == 2);
+  REQUIRE(parsed.materials[1].name == "teeth");
+  REQUIRE(parsed.triangle_materials == std::vector<std::uint32_t>{0, 1, 0});
+  REQUIRE(parsed.triangles[1] == facerig::Triangle{0, 2, 3});  // the file's order
+  const facerig::RawRig mesh = facerig::ToRawRig(parsed);
   REQUIRE(mesh.parts.size() == 2);
   REQUIRE(mesh.parts[0].name == "skin");
   REQUIRE(mesh.parts[0].triangle_count == 2);
@@ -109,7 +120,8 @@ TEST_CASE("OBJ: write then read gives the same mesh", "[obj]") {
   const facerig::Rig rig = facerig::test::MakeGridRig(5, 0);
   const auto path = facerig::test::OutputPath("grid_roundtrip.obj");
   facerig::WriteObj(path, rig);
-  const facerig::ObjMesh mesh = facerig::ReadObj(path);
+  const facerig::Mesh read = facerig::ReadObj(path);
+  const facerig::RawRig mesh = facerig::ToRawRig(read);
   REQUIRE(mesh.positions.size() == rig.vertex_count());
   for (std::size_t v = 0; v < rig.vertex_count(); ++v) {
     REQUIRE(mesh.positions[v] == rig.positions()[v]);  // shortest round-trip float text
@@ -119,7 +131,7 @@ TEST_CASE("OBJ: write then read gives the same mesh", "[obj]") {
   REQUIRE(std::equal(mesh.triangles.begin(), mesh.triangles.end(), rig.triangles().begin()));
   REQUIRE(mesh.parts.size() == 2);
   REQUIRE(mesh.parts[1].name == "right");
-  REQUIRE(mesh.uv_seam_vertices == 0);
+  REQUIRE(facerig::PerVertexAttributes(read).uv_seam_vertices == 0);
 }
 
 TEST_CASE("OBJ: writing into a missing folder fails cleanly and leaves the old file", "[obj]") {

@@ -15,6 +15,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -33,7 +34,7 @@ class ClosestPointQuery {
  public:
   // Copies the mesh. Throws InvalidInputError on an empty mesh, a vertex index
   // out of range or a non-finite position.
-  ClosestPointQuery(std::span<const glm::vec3> positions, std::span<const Triangle> triangles);
+  explicit ClosestPointQuery(const Mesh& mesh);
 
   // The nearest surface point within `max_distance` (hit.triangle == -1 when none).
   ClosestPointHit Find(glm::vec3 query,

@@ -26,6 +26,7 @@
 
 #include "facerig/offline/registration_error.h"
 #include "facerig/offline/stats.h"
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 
@@ -187,14 +188,12 @@ struct DeformationTransferData {
 };
 
 // Builds and factorizes the system for a target.
-// source_neutral, target_neutral: #V positions; triangles index both.
+// source: the template's neutral mesh; target_neutral: #V positions on its topology.
 // source_expressions: the template's expressions (each #V), used only to find
 // the static anchor set when params.anchor_vertices is empty (may then not be empty).
 // \throw TransferInputError on mismatched sizes or bad indices (naming the mesh);
 // \throw TransferSolverError when the factorization fails.
-void PrecomputeDeformationTransfer(std::span<const glm::vec3> source_neutral,
-                                   std::span<const glm::vec3> target_neutral,
-                                   std::span<const Triangle> triangles,
+void PrecomputeDeformationTransfer(const Mesh& source, std::span<const glm::vec3> target_neutral,
                                    std::span<const std::vector<glm::vec3>> source_expressions,
                                    const DeformationTransferParams& params,
                                    DeformationTransferData& data);
@@ -224,10 +223,9 @@ struct DeformationTransferResult {
 };
 
 // Precompute + one solve per expression, expressions spread over params.threads.
-DeformationTransferResult DeformationTransfer(
-    std::span<const glm::vec3> source_neutral, std::span<const glm::vec3> target_neutral,
-    std::span<const Triangle> triangles, std::span<const std::vector<glm::vec3>> source_expressions,
-    const DeformationTransferParams& params = {});
+DeformationTransferResult DeformationTransfer(const Mesh& source, std::span<const glm::vec3> target_neutral,
+                                              std::span<const std::vector<glm::vec3>> source_expressions,
+                                              const DeformationTransferParams& params = {});
 
 // The rig's neutral and every shape applied at weight 1 (dense, #V each).
 std::vector<std::vector<glm::vec3>> RigExpressionMeshes(const Rig& rig);
@@ -283,7 +281,7 @@ ExpressionError MeasureExpressionError(std::span<const glm::vec3> rest,
 // shortest mesh-edge path (neutral lengths, avoiding the upper lid) from the
 // partner of smallest x to that of largest x. Vertices searched:
 // [region_first, region_last) (ICT: 0-17038, face and eye sockets, where the
-// lid margins are). triangles: the mesh's, indices into neutral.
+// lid margins are).
 struct EyelidMargins {
   std::vector<std::uint32_t> upper;
   std::vector<std::uint32_t> lower;         // lower[i] meets upper[i]
@@ -292,8 +290,7 @@ struct EyelidMargins {
 };
 // \throw TransferInputError when the blink closes nothing or no mesh path
 // joins the lower partners.
-EyelidMargins FindEyelidMargins(std::span<const glm::vec3> neutral,
-                                std::span<const glm::vec3> blink, std::span<const Triangle> triangles,
+EyelidMargins FindEyelidMargins(const Mesh& neutral_mesh, std::span<const glm::vec3> blink,
                                 std::size_t region_first, std::size_t region_last);
 
 // How closed an eye is on a (transferred) blink mesh, over eye width, for the

@@ -104,7 +104,7 @@ class LandmarkDetector {
   // \throw InvalidInputError on an empty mesh, NaN coordinates or indices out of range.
   // \throw LandmarkDetectionError when no view shows a face (the message
   //        suggests a landmark file).
-  LandmarkResult Detect(std::span<const glm::vec3> positions, std::span<const Triangle> triangles);
+  LandmarkResult Detect(const Mesh& mesh);
 
   const LandmarkParams& params() const;
 

@@ -111,10 +111,7 @@ struct NonrigidIcpResult {
 // \throw InvalidInputError on empty meshes, NaN coordinates, landmark
 //        indices out of range or mismatched lengths, empty stiffness schedule.
 // \throw SolverError when the factorization fails.
-NonrigidIcpResult NonrigidIcp(std::span<const glm::vec3> template_positions,
-                              std::span<const Triangle> template_triangles,
-                              std::span<const glm::vec3> target_positions,
-                              std::span<const Triangle> target_triangles,
+NonrigidIcpResult NonrigidIcp(const Mesh& template_mesh, const Mesh& target,
                               const RegistrationLandmarks& landmarks, const NonrigidIcpParams& params = {});
 
 }  // namespace facerig

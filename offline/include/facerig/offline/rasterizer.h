@@ -17,6 +17,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -62,15 +63,13 @@ struct RasterBuffers {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
   }
   // The 3D surface point under pixel (x, y), or false when the pixel is empty.
-  bool SurfacePoint(int x, int y, std::span<const glm::vec3> positions,
-                    std::span<const Triangle> triangles, glm::vec3& point) const;
+  bool SurfacePoint(int x, int y, const Mesh& mesh, glm::vec3& point) const;
 };
 
 // Rasterizes every triangle (both windings) with a depth test. Deterministic:
 // ties keep the lower triangle id. Throws std::invalid_argument on a bad view
 // or a vertex index out of range.
-RasterBuffers Rasterize(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                        const RasterView& view);
+RasterBuffers Rasterize(const Mesh& mesh, const RasterView& view);
 
 struct RgbImage {
   int width = 0;
@@ -87,10 +86,10 @@ struct ShadeParams {
   glm::vec3 back_face{0.05f, 0.03f, 0.03f};
 };
 
-// Lambert shading of the z-buffer with smooth (interpolated) vertex normals.
+// Lambert shading of the z-buffer with the mesh's corner normals
+// interpolated (face normals when it has none).
 // triangle_albedo: one colour per triangle (see PartAlbedo), or empty for grey.
-RgbImage Shade(const RasterBuffers& buffers, std::span<const glm::vec3> positions,
-               std::span<const glm::vec3> normals, std::span<const Triangle> triangles,
+RgbImage Shade(const RasterBuffers& buffers, const Mesh& mesh,
                std::span<const glm::vec3> triangle_albedo, const RasterView& view,
                const ShadeParams& params = {});
 

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <glm/vec3.hpp>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -76,25 +77,20 @@ struct RigidAlignResult {
 // centroids and RMS radii of the vertex sets (no rotation).
 // \throw InvalidInputError on empty meshes, NaN coordinates, mismatched
 //        landmark counts.
-RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
-                            std::span<const Triangle> source_triangles,
-                            std::span<const glm::vec3> target_positions,
-                            std::span<const Triangle> target_triangles,
+RigidAlignResult RigidAlign(const Mesh& source, const Mesh& target,
                             std::span<const glm::vec3> source_landmarks = {},
                             std::span<const glm::vec3> target_landmarks = {},
                             const RigidAlignParams& params = {},
                             const SimilarityTransform* initial = nullptr);
 
 // The same with a prebuilt closest-point structure of the target.
-RigidAlignResult RigidAlign(std::span<const glm::vec3> source_positions,
-                            std::span<const Triangle> source_triangles, const ClosestPointQuery& target,
+RigidAlignResult RigidAlign(const Mesh& source, const ClosestPointQuery& target,
                             std::span<const glm::vec3> source_landmarks,
                             std::span<const glm::vec3> target_landmarks, const RigidAlignParams& params,
                             const SimilarityTransform* initial);
 
 // Checks positions for non-finite values and triangles for indices out of
 // range. \throw InvalidInputError naming `what` and the vertex/triangle.
-void CheckMesh(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-               const char* what);
+void CheckMesh(const Mesh& mesh, const char* what);
 
 }  // namespace facerig

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -52,9 +53,7 @@ struct SelfIntersectionResult {
 
 // \pre every triangle index < positions.size(); positions finite.
 // \throw std::invalid_argument for an out-of-range triangle index or a non-finite position.
-SelfIntersectionResult FindSelfIntersections(std::span<const glm::vec3> positions,
-                                             std::span<const Triangle> triangles,
-                                             const SelfIntersectionParams& params = {});
+SelfIntersectionResult FindSelfIntersections(const Mesh& mesh, const SelfIntersectionParams& params = {});
 
 // True when the two triangles cross (the pair rule above; shared vertices are
 // not looked at here: pass triangles of distinct vertices).

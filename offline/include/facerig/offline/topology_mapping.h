@@ -21,6 +21,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 
@@ -120,14 +121,11 @@ struct TopologyMapping {
   double mean_distance = 0.0;        // over full-weight vertices, target units
 };
 
-// fitted_template: template positions registered onto the target (target
-// frame and units); template_triangles: the template's triangles;
+// fitted_template: the template registered onto the target (target frame
+// and units);
 // template_rims: the template's margins, by increasing vertex, or empty.
 // \throw InvalidInputError on empty meshes, indices out of range, NaN.
-TopologyMapping ComputeTopologyMapping(std::span<const glm::vec3> fitted_template,
-                                       std::span<const Triangle> template_triangles,
-                                       std::span<const glm::vec3> target_positions,
-                                       std::span<const Triangle> target_triangles,
+TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template, const Mesh& target,
                                        const TopologyMappingParams& params = {},
                                        std::span<const TemplateRim> template_rims = {});
 

@@ -2,10 +2,7 @@
 //
 // Reading: `v`, `vt`, `vn`, `f` (triangles, quads and n-gons, fan-triangulated),
 // the forms v, v/vt, v//vn and v/vt/vn, negative (relative) indices, `g`, `o`
-// and `usemtl`. Parts: by material when the file has any `usemtl`, otherwise by
-// group (`g`/`o`); triangles are reordered stably so each part is one range.
-// UVs and normals are per vertex (the facerig rig is per vertex): where a
-// vertex has several (a UV seam), the first one seen wins and the seam is counted.
+// and `usemtl`, into a Mesh (mesh.h).
 #pragma once
 
 #include <cstddef>
@@ -15,25 +12,22 @@
 #include <string_view>
 #include <vector>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
 
-struct ObjMesh {
-  std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;  // empty, or one per vertex
-  std::vector<glm::vec2> uvs;      // empty, or one per vertex
-  std::vector<Triangle> triangles;
-  std::vector<RawPart> parts;      // tiles the triangles in order
-  std::size_t polygon_count = 0;   // faces in the file before triangulation
-  std::size_t uv_seam_vertices = 0;      // vertices given more than one UV
-  std::size_t normal_seam_vertices = 0;  // vertices given more than one normal
+struct ObjStats {
+  std::size_t polygon_count = 0;  // faces in the file before triangulation
 };
 
+// The mesh in the file's triangle order: per-corner UVs and normals; parts by
+// material when the file has any `usemtl` (then one material per name), else
+// by group; triangles outside any get the part "default".
 // Throws IoError with the path and 1-based line on malformed input.
-ObjMesh ParseObj(std::string_view text, const std::string& path_for_errors);
-ObjMesh ReadObj(const std::filesystem::path& path);
+Mesh ParseObj(std::string_view text, const std::string& path_for_errors, ObjStats* stats = nullptr);
+Mesh ReadObj(const std::filesystem::path& path, ObjStats* stats = nullptr);
 
 // Writes a mesh with per-vertex positions (and normals, UVs if non-empty), one
 // `usemtl` per part. Atomic (temporary file + rename).

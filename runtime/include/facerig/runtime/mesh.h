@@ -1,0 +1,78 @@
+// The one mesh type: what readers produce and every offline algorithm takes.
+//
+// Attributes that differ across a seam (UVs, normals) are per triangle corner,
+// as files store them; the runtime Rig is per vertex (rig_builder.h converts).
+// Parts and materials are per triangle, indices into the mesh's own tables.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "facerig/runtime/rig.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+
+enum class AlphaMode : std::uint8_t { kOpaque = 0, kMask, kBlend };
+
+struct Material {
+  std::string name{};
+  glm::vec4 base_colour{1.0f};  // linear RGBA
+  // Image files, named relative to the mesh file's folder; empty: none.
+  std::string base_colour_image{};
+  std::string normal_image{};
+  AlphaMode alpha_mode = AlphaMode::kOpaque;
+  float alpha_cutoff = 0.5f;  // kMask only
+  bool double_sided = false;
+};
+
+struct Mesh {
+  std::vector<glm::vec3> positions{};
+  std::vector<Triangle> triangles{};
+  std::vector<glm::vec2> corner_uvs{};      // empty, or 3 per triangle
+  std::vector<glm::vec3> corner_normals{};  // empty, or 3 per triangle
+  // Empty (the whole mesh is one part), or one index into part_names per triangle.
+  std::vector<std::uint32_t> triangle_parts{};
+  std::vector<std::string> part_names{};
+  // Empty (no material), or one index into materials per triangle.
+  std::vector<std::uint32_t> triangle_materials{};
+  std::vector<Material> materials{};
+
+  std::size_t vertex_count() const { return positions.size(); }
+  std::size_t triangle_count() const { return triangles.size(); }
+  // The same topology, parts and materials with other positions (a pose of
+  // this mesh, e.g. one expression); positions.size() must equal vertex_count().
+  Mesh WithPositions(std::vector<glm::vec3> posed) const;
+  // True when every index and array size is consistent and every coordinate
+  // finite; `problem` (if given) names the first offending element,
+  // e.g. "triangle 12: vertex index 900 >= 850".
+  bool Validate(std::string* problem = nullptr) const;
+};
+
+// Per-vertex attributes of a mesh (the Rig's layout): where a vertex has
+// several corner values (a seam), the first corner in triangle order wins.
+struct VertexAttributes {
+  std::vector<glm::vec3> normals;  // empty when the mesh has none
+  std::vector<glm::vec2> uvs;      // empty when the mesh has none
+  std::size_t uv_seam_vertices = 0;      // vertices given more than one UV
+  std::size_t normal_seam_vertices = 0;  // vertices given more than one normal
+};
+VertexAttributes PerVertexAttributes(const Mesh& mesh);
+
+// The neutral mesh of a rig: positions, triangles, parts (one name per part
+// range) and its per-vertex UVs and normals spread to the corners.
+Mesh NeutralMesh(const Rig& rig);
+Mesh NeutralMesh(const RawRig& rig);
+
+// The rig layout of a mesh (no shapes): per-vertex attributes as above, and
+// triangles grouped by part (parts in order of first appearance, triangles
+// in order within each) so that each part is one range.
+RawRig ToRawRig(const Mesh& mesh);
+
+}  // namespace facerig

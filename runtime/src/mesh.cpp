@@ -1,0 +1,164 @@
+#include "facerig/runtime/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <utility>
+
+namespace facerig {
+namespace {
+
+bool Finite(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+bool SizeIsNoneOr(std::size_t size, std::size_t expected) { return size == 0 || size == expected; }
+
+template <typename T>
+std::vector<T> SpreadToCorners(std::span<const T> per_vertex, std::span<const Triangle> triangles) {
+  std::vector<T> corners;
+  if (per_vertex.empty()) return corners;
+  corners.reserve(triangles.size() * 3);
+  for (const Triangle& t : triangles) {
+    for (std::uint32_t v : t) corners.push_back(per_vertex[v]);
+  }
+  return corners;
+}
+
+// First corner value per vertex; counts the vertices whose corners disagree.
+template <typename T>
+std::vector<T> FirstCornerValues(std::span<const T> corners, std::span<const Triangle> triangles,
+                                 std::size_t vertex_count, std::size_t& seam_vertices) {
+  std::vector<T> values;
+  seam_vertices = 0;
+  if (corners.empty()) return values;
+  values.assign(vertex_count, T(0.0f));
+  std::vector<std::uint8_t> state(vertex_count, 0);  // 0 unseen, 1 seen, 2 seam counted
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::uint32_t v = triangles[t][c];
+      const T& value = corners[t * 3 + c];
+      if (state[v] == 0) {
+        values[v] = value;
+        state[v] = 1;
+      } else if (state[v] == 1 && values[v] != value) {
+        state[v] = 2;
+        ++seam_vertices;
+      }
+    }
+  }
+  return values;
+}
+
+std::vector<std::uint32_t> PartRangeIndices(std::span<const RawPart> parts, std::size_t triangle_count,
+                                            std::vector<std::string>& names) {
+  std::vector<std::uint32_t> triangle_parts;
+  if (parts.empty()) return triangle_parts;
+  triangle_parts.resize(triangle_count, 0);
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    names.push_back(parts[p].name);
+    const std::size_t end = std::min<std::size_t>(parts[p].first_triangle + parts[p].triangle_count, triangle_count);
+    for (std::size_t t = parts[p].first_triangle; t < end; ++t) triangle_parts[t] = static_cast<std::uint32_t>(p);
+  }
+  return triangle_parts;
+}
+
+}  // namespace
+
+Mesh Mesh::WithPositions(std::vector<glm::vec3> posed) const {
+  Mesh mesh = *this;
+  mesh.positions = std::move(posed);
+  return mesh;
+}
+
+bool Mesh::Validate(std::string* problem) const {
+  auto fail = [&](std::string text) {
+    if (problem) *problem = std::move(text);
+    return false;
+  };
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    if (!Finite(positions[v])) return fail("vertex " + std::to_string(v) + ": coordinate is not finite");
+  }
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (std::uint32_t v : triangles[t]) {
+      if (v >= positions.size()) {
+        return fail("triangle " + std::to_string(t) + ": vertex index " + std::to_string(v) +
+                    " >= " + std::to_string(positions.size()));
+      }
+    }
+  }
+  const std::size_t corners = triangles.size() * 3;
+  if (!SizeIsNoneOr(corner_uvs.size(), corners)) return fail("corner UVs: not 3 per triangle");
+  if (!SizeIsNoneOr(corner_normals.size(), corners)) return fail("corner normals: not 3 per triangle");
+  if (!SizeIsNoneOr(triangle_parts.size(), triangles.size())) return fail("triangle parts: not 1 per triangle");
+  if (!SizeIsNoneOr(triangle_materials.size(), triangles.size())) {
+    return fail("triangle materials: not 1 per triangle");
+  }
+  for (std::size_t t = 0; t < triangle_parts.size(); ++t) {
+    if (triangle_parts[t] >= part_names.size()) return fail("triangle " + std::to_string(t) + ": part index out of range");
+  }
+  for (std::size_t t = 0; t < triangle_materials.size(); ++t) {
+    if (triangle_materials[t] >= materials.size()) {
+      return fail("triangle " + std::to_string(t) + ": material index out of range");
+    }
+  }
+  return true;
+}
+
+VertexAttributes PerVertexAttributes(const Mesh& mesh) {
+  VertexAttributes attributes;
+  attributes.uvs = FirstCornerValues<glm::vec2>(mesh.corner_uvs, mesh.triangles, mesh.vertex_count(),
+                                                attributes.uv_seam_vertices);
+  attributes.normals = FirstCornerValues<glm::vec3>(mesh.corner_normals, mesh.triangles, mesh.vertex_count(),
+                                                    attributes.normal_seam_vertices);
+  return attributes;
+}
+
+Mesh NeutralMesh(const Rig& rig) {
+  Mesh mesh;
+  mesh.positions.assign(rig.positions().begin(), rig.positions().end());
+  mesh.triangles.assign(rig.triangles().begin(), rig.triangles().end());
+  mesh.corner_uvs = SpreadToCorners(rig.uvs(), rig.triangles());
+  mesh.corner_normals = SpreadToCorners(rig.normals(), rig.triangles());
+  std::vector<RawPart> parts;
+  for (const Part& part : rig.parts()) parts.push_back({part.name, part.first_triangle, part.triangle_count});
+  mesh.triangle_parts = PartRangeIndices(parts, mesh.triangles.size(), mesh.part_names);
+  return mesh;
+}
+
+Mesh NeutralMesh(const RawRig& rig) {
+  Mesh mesh;
+  mesh.positions = rig.positions;
+  mesh.triangles = rig.triangles;
+  mesh.corner_uvs = SpreadToCorners<glm::vec2>(rig.uvs, rig.triangles);
+  mesh.corner_normals = SpreadToCorners<glm::vec3>(rig.normals, rig.triangles);
+  mesh.triangle_parts = PartRangeIndices(rig.parts, mesh.triangles.size(), mesh.part_names);
+  return mesh;
+}
+
+RawRig ToRawRig(const Mesh& mesh) {
+  VertexAttributes attributes = PerVertexAttributes(mesh);  // first corner in the file's order
+  RawRig raw;
+  raw.positions = mesh.positions;
+  raw.uvs = std::move(attributes.uvs);
+  raw.normals = std::move(attributes.normals);
+  if (mesh.triangle_parts.empty()) {
+    raw.triangles = mesh.triangles;
+    return raw;
+  }
+  // Parts in order of first appearance, each part's triangles in file order.
+  std::vector<std::uint32_t> part_order;
+  std::vector<std::vector<std::uint32_t>> part_triangles(mesh.part_names.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::uint32_t part = mesh.triangle_parts[t];
+    if (part_triangles[part].empty()) part_order.push_back(part);
+    part_triangles[part].push_back(static_cast<std::uint32_t>(t));
+  }
+  raw.triangles.reserve(mesh.triangles.size());
+  for (std::uint32_t part : part_order) {
+    raw.parts.push_back({mesh.part_names[part], static_cast<std::uint32_t>(raw.triangles.size()),
+                         static_cast<std::uint32_t>(part_triangles[part].size())});
+    for (std::uint32_t t : part_triangles[part]) raw.triangles.push_back(mesh.triangles[t]);
+  }
+  return raw;
+}
+
+}  // namespace facerig
