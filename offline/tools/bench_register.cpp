@@ -320,7 +320,8 @@ int RunRegisterBenchmark(int argc, char** argv) {
   nlohmann::json report;
   try {
     const auto load_start = Clock::now();
-    const facerig::test::IctFaceModel ict = facerig::test::LoadIctFaces(settings.ict_dir);
+    const std::string& ict_dir = settings.ict_dir;
+    const facerig::test::IctFaceModel ict = facerig::test::LoadIctFaces(ict_dir);
     const double ict_seconds = SecondsSince(load_start);
     const auto model_start = Clock::now();
     facerig::LandmarkDetector detector;
