@@ -1,5 +1,6 @@
 #include "cli_options.h"
 #include "bench_blend.h"
+#include "bench_common.h"
 #include "bench_json.h"
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -32,8 +34,7 @@ double MedianMicroseconds(Body&& body) {
     body();
     samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
   }
-  std::nth_element(samples.begin(), samples.begin() + static_cast<long>(samples.size() / 2), samples.end());
-  return samples[samples.size() / 2];
+  return UpperMedian(std::move(samples));
 }
 
 struct Workload {
@@ -107,6 +108,84 @@ struct Roofline {
   }
 };
 
+// One workload's medians and the bytes it moves.
+struct WorkloadTimes {
+  std::size_t entries = 0;
+  std::size_t allocations = 0;  // most heap allocations in one positions-only run
+  double sparse_us = 0.0;
+  double blend_normals_us = 0.0;
+  double recompute_normals_us = 0.0;
+  double dense_us = 0.0;
+  double roofline_us = 0.0;
+  double bytes = 0.0;
+  double sparse_gbps = 0.0;
+  double roofline_gbps = 0.0;
+};
+
+// The measured part: the sparse job in each normal mode, the dense
+// reference and the roofline kernel on the same weights.
+WorkloadTimes TimeWorkload(const facerig::Rig& rig, const facerig::DenseBlendShapes& dense, const Workload& workload,
+                           std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals,
+                           Eigen::VectorXf& dense_out) {
+  facerig::BlendJob job;
+  job.rig = &rig;
+  job.weights = workload.weights;
+  job.out_positions = positions;
+  job.out_normals = normals;
+
+  WorkloadTimes t;
+  job.normal_mode = facerig::NormalMode::kNone;
+  t.sparse_us = MedianMicroseconds([&] {
+    facerig::test::AllocationCounter counter;
+    if (job.Run() != facerig::BlendJobError::kNone) std::abort();
+    t.allocations = std::max(t.allocations, counter.count());
+  });
+  job.normal_mode = facerig::NormalMode::kBlendDeltas;
+  t.blend_normals_us = MedianMicroseconds([&] { (void)job.Run(); });
+  job.normal_mode = facerig::NormalMode::kRecompute;
+  t.recompute_normals_us = MedianMicroseconds([&] { (void)job.Run(); });
+  t.dense_us = MedianMicroseconds([&] { facerig::DenseBlend(dense, workload.weights, dense_out); });
+
+  t.entries = ActiveEntries(rig, workload.weights);
+  Roofline roofline(rig.vertex_count(), t.entries);
+  t.roofline_us = MedianMicroseconds([&] { roofline.Run(); });
+  t.bytes = static_cast<double>(rig.vertex_count() * 24 + t.entries * (4 + 12 + 24));
+  t.sparse_gbps = t.bytes / (t.sparse_us * 1e3);
+  t.roofline_gbps = t.bytes / (t.roofline_us * 1e3);
+  return t;
+}
+
+void PrintTableHeader() {
+  std::printf("\n%-9s %8s %9s | %9s %8s | %9s %8s | %10s %10s | %9s %8s %6s\n", "workload", "entries",
+              "sparse us", "GB/s", "x roof", "dense us", "x faster", "+blend n", "+recomp n",
+              "roof us", "GB/s", "allocs");
+}
+
+void PrintTableRow(const Workload& workload, const WorkloadTimes& t) {
+  std::printf("%-9s %8zu %9.1f | %9.2f %8.2f | %9.1f %8.1f | %10.1f %10.1f | %9.1f %8.2f %6zu\n",
+              workload.name.c_str(), t.entries, t.sparse_us, t.sparse_gbps, t.sparse_us / t.roofline_us,
+              t.dense_us, t.dense_us / t.sparse_us, t.blend_normals_us, t.recompute_normals_us, t.roofline_us,
+              t.roofline_gbps, t.allocations);
+}
+
+nlohmann::json WorkloadJson(const Workload& workload, const WorkloadTimes& t) {
+  return {{"name", workload.name},
+          {"active_shapes",
+           std::count_if(workload.weights.begin(), workload.weights.end(), [](float w) { return w != 0.0f; })},
+          {"active_entries", t.entries},
+          {"sparse_us", t.sparse_us},
+          {"sparse_blend_normals_us", t.blend_normals_us},
+          {"sparse_recompute_normals_us", t.recompute_normals_us},
+          {"dense_us", t.dense_us},
+          {"roofline_us", t.roofline_us},
+          {"bytes", t.bytes},
+          {"sparse_gbps", t.sparse_gbps},
+          {"roofline_gbps", t.roofline_gbps},
+          {"sparse_over_roofline", t.sparse_us / t.roofline_us},
+          {"dense_over_sparse", t.dense_us / t.sparse_us},
+          {"allocations", t.allocations}};
+}
+
 }  // namespace
 
 int RunBlendBenchmark(int argc, char** argv) {
@@ -123,8 +202,7 @@ int RunBlendBenchmark(int argc, char** argv) {
   try {
     rig = facerig::LoadRigOrTemplateFolder(rig_path, options);
   } catch (const facerig::IoError& error) {
-    std::fprintf(stderr, "facerig-bench: %s\n", error.what());
-    return 1;
+    return ReportBenchFailure(error);
   }
   std::printf("rig %s: %zu vertices, %zu triangles, %zu shapes, %zu sparse entries\n",
               rig_path.c_str(), rig.vertex_count(), rig.triangle_count(), rig.shape_count(),
@@ -138,55 +216,11 @@ int RunBlendBenchmark(int argc, char** argv) {
   report["rig"] = rig_path;
   report["vertices"] = rig.vertex_count();
   report["shapes"] = rig.shape_count();
-  std::printf("\n%-9s %8s %9s | %9s %8s | %9s %8s | %10s %10s | %9s %8s %6s\n", "workload", "entries",
-              "sparse us", "GB/s", "x roof", "dense us", "x faster", "+blend n", "+recomp n",
-              "roof us", "GB/s", "allocs");
+  PrintTableHeader();
   for (const Workload& workload : MakeWorkloads(rig)) {
-    facerig::BlendJob job;
-    job.rig = &rig;
-    job.weights = workload.weights;
-    job.out_positions = positions;
-    job.out_normals = normals;
-
-    std::size_t allocations = 0;
-    job.normal_mode = facerig::NormalMode::kNone;
-    const double sparse_us = MedianMicroseconds([&] {
-      facerig::test::AllocationCounter counter;
-      if (job.Run() != facerig::BlendJobError::kNone) std::abort();
-      allocations = std::max(allocations, counter.count());
-    });
-    job.normal_mode = facerig::NormalMode::kBlendDeltas;
-    const double blend_normals_us = MedianMicroseconds([&] { (void)job.Run(); });
-    job.normal_mode = facerig::NormalMode::kRecompute;
-    const double recompute_normals_us = MedianMicroseconds([&] { (void)job.Run(); });
-    const double dense_us = MedianMicroseconds([&] { facerig::DenseBlend(dense, workload.weights, dense_out); });
-
-    const std::size_t entries = ActiveEntries(rig, workload.weights);
-    Roofline roofline(rig.vertex_count(), entries);
-    const double roofline_us = MedianMicroseconds([&] { roofline.Run(); });
-    const double bytes = static_cast<double>(rig.vertex_count() * 24 + entries * (4 + 12 + 24));
-    const double sparse_gbps = bytes / (sparse_us * 1e3);
-    const double roofline_gbps = bytes / (roofline_us * 1e3);
-
-    std::printf("%-9s %8zu %9.1f | %9.2f %8.2f | %9.1f %8.1f | %10.1f %10.1f | %9.1f %8.2f %6zu\n",
-                workload.name.c_str(), entries, sparse_us, sparse_gbps, sparse_us / roofline_us,
-                dense_us, dense_us / sparse_us, blend_normals_us, recompute_normals_us, roofline_us,
-                roofline_gbps, allocations);
-    report["workloads"].push_back({{"name", workload.name},
-                                   {"active_shapes", std::count_if(workload.weights.begin(), workload.weights.end(),
-                                                                   [](float w) { return w != 0.0f; })},
-                                   {"active_entries", entries},
-                                   {"sparse_us", sparse_us},
-                                   {"sparse_blend_normals_us", blend_normals_us},
-                                   {"sparse_recompute_normals_us", recompute_normals_us},
-                                   {"dense_us", dense_us},
-                                   {"roofline_us", roofline_us},
-                                   {"bytes", bytes},
-                                   {"sparse_gbps", sparse_gbps},
-                                   {"roofline_gbps", roofline_gbps},
-                                   {"sparse_over_roofline", sparse_us / roofline_us},
-                                   {"dense_over_sparse", dense_us / sparse_us},
-                                   {"allocations", allocations}});
+    const WorkloadTimes times = TimeWorkload(rig, dense, workload, positions, normals, dense_out);
+    PrintTableRow(workload, times);
+    report["workloads"].push_back(WorkloadJson(workload, times));
   }
   std::printf("\nsparse us: positions only; +blend n / +recomp n: the same job with normals from\n"
               "blended normal deltas / recomputed from positions. roof: streaming the same bytes.\n");

@@ -1,5 +1,6 @@
 #include "cli_options.h"
 #include "bench_crowd.h"
+#include "bench_common.h"
 #include "bench_json.h"
 
 #include <algorithm>
@@ -42,6 +43,92 @@ struct CrowdMember {
   double offset = 0.0;
 };
 
+// Characters speaking the lines in turn, each with its own seed, start time
+// and emotion, and output buffers sized once.
+std::vector<CrowdMember> MakeCrowd(std::size_t count, const facerig::CharacterRig& character_rig,
+                                   const std::vector<facerig::SpeechLine>& lines, std::size_t vertex_count) {
+  std::vector<CrowdMember> crowd(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    facerig::CharacterParams params;
+    params.seed = i;
+    CrowdMember& member = crowd[i];
+    member.character = std::make_unique<facerig::Character>(character_rig, params);
+    const facerig::SpeechLine& line = lines[i % lines.size()];
+    member.offset = 0.37 * static_cast<double>(i % 11);  // characters start at different times
+    member.line_length = line.audio_duration().count();
+    (void)member.character->Speak(line.phonemes, facerig::Seconds(member.offset));
+    member.character->SetEmotion(static_cast<facerig::Emotion>(i % facerig::kEmotionCount), 0.5f);
+    member.positions.resize(vertex_count);
+    member.normals.resize(vertex_count);
+  }
+  return crowd;
+}
+
+// Microseconds per frame: the whole frame, and the summed update and blend parts.
+struct FrameTimes {
+  std::vector<double> frame_us, update_us_total, blend_us_total;
+};
+
+// The measured part. One core: the frame loop runs on this thread only.
+FrameTimes RunFrames(std::vector<CrowdMember>& crowd, const facerig::Rig& rig, bool with_normals, int frames) {
+  FrameTimes times;
+  for (int frame = 0; frame < frames; ++frame) {
+    const double time = 0.5 + static_cast<double>(frame) / 60.0;
+    double update_us = 0.0, blend_us = 0.0;
+    const auto frame_start = Clock::now();
+    for (CrowdMember& member : crowd) {
+      const auto t0 = Clock::now();
+      (void)member.character->Update(facerig::Seconds(time));
+      const auto t1 = Clock::now();
+      const facerig::BlendJob job{&rig, member.character->weights(),
+                                  with_normals ? facerig::NormalMode::kRecompute : facerig::NormalMode::kNone,
+                                  member.positions, member.normals};
+      (void)job.Run();
+      const auto t2 = Clock::now();
+      update_us += std::chrono::duration<double, std::micro>(t1 - t0).count();
+      blend_us += std::chrono::duration<double, std::micro>(t2 - t1).count();
+    }
+    times.frame_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - frame_start).count());
+    times.update_us_total.push_back(update_us);
+    times.blend_us_total.push_back(blend_us);
+  }
+  return times;
+}
+
+// The p99 by the floor index into the sorted values (unlike facerig::Percentile).
+double FloorP99(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(0.99 * static_cast<double>(v.size() - 1))];
+}
+
+struct CrowdSummary {
+  double frame_median = 0.0;
+  double frame_p99 = 0.0;
+  double update_per_character_us = 0.0;
+  double blend_per_character_us = 0.0;
+  double per_character_us = 0.0;
+  std::size_t max_characters = 0;  // within one 60 fps frame
+};
+
+CrowdSummary Summarize(const FrameTimes& times, std::size_t count) {
+  CrowdSummary s;
+  s.frame_median = UpperMedian(times.frame_us);
+  s.frame_p99 = FloorP99(times.frame_us);
+  s.update_per_character_us = UpperMedian(times.update_us_total) / static_cast<double>(count);
+  s.blend_per_character_us = UpperMedian(times.blend_us_total) / static_cast<double>(count);
+  s.per_character_us = s.frame_median / static_cast<double>(count);
+  s.max_characters = static_cast<std::size_t>(kFrameBudgetUs / s.per_character_us);
+  return s;
+}
+
+void PrintTable(const CrowdSummary& s) {
+  std::printf("| frame (all characters) median / p99 | %.0f / %.0f us (budget %.0f us at 60 fps) |\n",
+              s.frame_median, s.frame_p99, kFrameBudgetUs);
+  std::printf("| per character: update / blend / total | %.2f / %.2f / %.2f us |\n", s.update_per_character_us,
+              s.blend_per_character_us, s.per_character_us);
+  std::printf("| largest N within one 60 fps frame | %zu |\n", s.max_characters);
+}
+
 }  // namespace
 
 int RunCrowdBenchmark(int argc, char** argv) {
@@ -63,81 +150,29 @@ int RunCrowdBenchmark(int argc, char** argv) {
   try {
     rig = facerig::LoadRigOrTemplateFolder(rig_path);
   } catch (const facerig::IoError& error) {
-    std::fprintf(stderr, "facerig-bench: %s\n", error.what());
-    return 1;
+    return ReportBenchFailure(error);
   }
   const facerig::CharacterRig character_rig = facerig::CharacterRig::Build(rig);
   facerig::EspeakPhonemeSource source;
   std::vector<facerig::SpeechLine> lines;
   for (const char* text : kLines) lines.push_back(source.Synthesize(text, "en-us"));
 
-  std::vector<CrowdMember> crowd(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    facerig::CharacterParams params;
-    params.seed = i;
-    CrowdMember& member = crowd[i];
-    member.character = std::make_unique<facerig::Character>(character_rig, params);
-    const facerig::SpeechLine& line = lines[i % lines.size()];
-    member.offset = 0.37 * static_cast<double>(i % 11);  // characters start at different times
-    member.line_length = line.audio_duration().count();
-    (void)member.character->Speak(line.phonemes, facerig::Seconds(member.offset));
-    member.character->SetEmotion(static_cast<facerig::Emotion>(i % facerig::kEmotionCount), 0.5f);
-    member.positions.resize(rig.vertex_count());
-    member.normals.resize(rig.vertex_count());
-  }
-
-  // One core: the frame loop runs on this thread only.
-  std::vector<double> frame_us, update_us_total, blend_us_total;
-  for (int frame = 0; frame < frames; ++frame) {
-    const double time = 0.5 + static_cast<double>(frame) / 60.0;
-    double update_us = 0.0, blend_us = 0.0;
-    const auto frame_start = Clock::now();
-    for (CrowdMember& member : crowd) {
-      const auto t0 = Clock::now();
-      (void)member.character->Update(facerig::Seconds(time));
-      const auto t1 = Clock::now();
-      const facerig::BlendJob job{&rig, member.character->weights(),
-                                  with_normals ? facerig::NormalMode::kRecompute : facerig::NormalMode::kNone,
-                                  member.positions, member.normals};
-      (void)job.Run();
-      const auto t2 = Clock::now();
-      update_us += std::chrono::duration<double, std::micro>(t1 - t0).count();
-      blend_us += std::chrono::duration<double, std::micro>(t2 - t1).count();
-    }
-    frame_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - frame_start).count());
-    update_us_total.push_back(update_us);
-    blend_us_total.push_back(blend_us);
-  }
-  auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  auto p99 = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[static_cast<std::size_t>(0.99 * static_cast<double>(v.size() - 1))];
-  };
-  const double frame_median = median(frame_us);
-  const double per_character_us = frame_median / static_cast<double>(count);
-  const auto max_characters = static_cast<std::size_t>(kFrameBudgetUs / per_character_us);
+  std::vector<CrowdMember> crowd = MakeCrowd(count, character_rig, lines, rig.vertex_count());
+  const CrowdSummary summary = Summarize(RunFrames(crowd, rig, with_normals, frames), count);
   std::printf("crowd: %zu characters on %s (%zu vertices, %zu shapes), %s, %d frames, one core\n", count,
               rig_path.c_str(), rig.vertex_count(), rig.shape_count(),
               with_normals ? "positions + recomputed normals" : "positions", frames);
-  std::printf("| frame (all characters) median / p99 | %.0f / %.0f us (budget %.0f us at 60 fps) |\n",
-              frame_median, p99(frame_us), kFrameBudgetUs);
-  std::printf("| per character: update / blend / total | %.2f / %.2f / %.2f us |\n",
-              median(update_us_total) / static_cast<double>(count),
-              median(blend_us_total) / static_cast<double>(count), per_character_us);
-  std::printf("| largest N within one 60 fps frame | %zu |\n", max_characters);
+  PrintTable(summary);
   if (!json_path.empty()) {
     const nlohmann::json report = {{"rig", rig_path},
                                    {"characters", count},
                                    {"normals", with_normals},
-                                   {"frame_us_median", frame_median},
-                                   {"frame_us_p99", p99(frame_us)},
-                                   {"update_us_per_character", median(update_us_total) / static_cast<double>(count)},
-                                   {"blend_us_per_character", median(blend_us_total) / static_cast<double>(count)},
-                                   {"per_character_us", per_character_us},
-                                   {"max_characters_60fps", max_characters}};
+                                   {"frame_us_median", summary.frame_median},
+                                   {"frame_us_p99", summary.frame_p99},
+                                   {"update_us_per_character", summary.update_per_character_us},
+                                   {"blend_us_per_character", summary.blend_per_character_us},
+                                   {"per_character_us", summary.per_character_us},
+                                   {"max_characters_60fps", summary.max_characters}};
     return WriteBenchJson(json_path, report);
   }
   return 0;
