@@ -744,7 +744,9 @@ void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
   if (rig.vertex_count() == 0 || rig.triangle_count() == 0) {
     throw IoError(IoErrorKind::kWriteFailed, path.string(), "the rig is empty (no vertices or triangles)");
   }
-  WriteModel(path, format, BuildModel(rig, path.stem().string()));
+  gltf_internal::RequireUtf8Names(rig, path.string());
+  // The mesh and node are named after the file, whatever bytes its name has.
+  WriteModel(path, format, BuildModel(rig, gltf_internal::SanitizedUtf8(path.stem().string())));
 }
 
 }  // namespace facerig

@@ -19,9 +19,12 @@
 
 namespace facerig {
 
-// Throws IoError naming the path (and byte offset where known).
+// Throws IoError naming the path (and byte offset where known). External
+// buffer files must be regular files inside the file's folder (no absolute
+// path, no '..' or symbolic link leading out); texture files are not opened.
 Rig ReadGltf(const std::filesystem::path& path);
 // Format from the extension (.glb or .gltf). Atomic (temporary file + rename).
+// Shape and part names must be valid UTF-8 (IoError kWriteFailed otherwise).
 void WriteGltf(const std::filesystem::path& path, const Rig& rig);
 
 }  // namespace facerig
