@@ -255,6 +255,39 @@ std::size_t FirstInvalidUtf8(std::string_view text) {
   return std::string_view::npos;
 }
 
+// Checks what tinygltf would take badly: the GLB container (for precise
+// errors) or the start of the JSON, and the JSON's nesting. A .gltf that is
+// really binary is read as such (`format` becomes kBinary); the converse is a
+// wrong magic. Returns the bytes to parse.
+std::span<const unsigned char> CheckContainer(std::span<const unsigned char> bytes, const std::string& where,
+                                              Format* format) {
+  if (bytes.empty()) throw IoError(IoErrorKind::kEmpty, where, "the file is empty");
+  if (*format == Format::kText && bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    *format = Format::kBinary;
+  }
+  if (*format == Format::kBinary) {
+    bytes = bytes.first(CheckGlbHeader(bytes, where));
+    const std::size_t json_length = LoadU32(bytes.data() + kGlbHeaderSize);
+    const auto* json = reinterpret_cast<const char*>(bytes.data() + kGlbHeaderSize + kGlbChunkHeaderSize);
+    try {
+      CheckJsonNesting(std::string_view(json, json_length), where);
+    } catch (const IoError& e) {  // the offset in the file, not in the chunk
+      throw IoError(e.kind(), where, e.message(), 0,
+                    e.offset() + static_cast<std::int64_t>(kGlbHeaderSize + kGlbChunkHeaderSize));
+    }
+  } else {
+    std::size_t first = 0;
+    if (bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF) first = 3;
+    while (first < bytes.size() && std::isspace(bytes[first])) ++first;
+    if (first == bytes.size() || bytes[first] != '{') {
+      throw IoError(IoErrorKind::kBadMagic, where, "not glTF JSON (it does not start with '{')", 0,
+                    static_cast<std::int64_t>(first));
+    }
+    CheckJsonNesting(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), where);
+  }
+  return bytes;
+}
+
 }  // namespace
 
 void RequireUtf8Names(const Rig& rig, const std::string& path) {
@@ -303,38 +336,16 @@ void RefuseCompression(const tinygltf::Model& model, const std::string& path) {
 
 tinygltf::Model ParseModel(const std::filesystem::path& path, Format format, std::uint64_t* file_size,
                            Images images) {
-  const std::string where = path.string();
   // tinygltf takes 32-bit lengths; GLB cannot exceed 4 GiB anyway.
   const std::vector<std::byte> file = ReadInputFile(path, std::numeric_limits<std::uint32_t>::max());
-  if (file.empty()) throw IoError(IoErrorKind::kEmpty, where, "the file is empty");
   *file_size = file.size();
-  std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(file.data()), file.size());
+  return ParseModelBytes({reinterpret_cast<const unsigned char*>(file.data()), file.size()}, path, format, images);
+}
 
-  // A .gltf that is really binary is read as such; the converse is a wrong magic.
-  if (format == Format::kText && bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    format = Format::kBinary;
-  }
-  if (format == Format::kBinary) {
-    bytes = bytes.first(CheckGlbHeader(bytes, where));
-    const std::size_t json_length = LoadU32(bytes.data() + kGlbHeaderSize);
-    const auto* json = reinterpret_cast<const char*>(bytes.data() + kGlbHeaderSize + kGlbChunkHeaderSize);
-    try {
-      CheckJsonNesting(std::string_view(json, json_length), where);
-    } catch (const IoError& e) {  // the offset in the file, not in the chunk
-      throw IoError(e.kind(), where, e.message(), 0,
-                    e.offset() + static_cast<std::int64_t>(kGlbHeaderSize + kGlbChunkHeaderSize));
-    }
-  } else {
-    std::size_t first = 0;
-    if (bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF) first = 3;
-    while (first < bytes.size() && std::isspace(bytes[first])) ++first;
-    if (first == bytes.size() || bytes[first] != '{') {
-      throw IoError(IoErrorKind::kBadMagic, where, "not glTF JSON (it does not start with '{')", 0,
-                    static_cast<std::int64_t>(first));
-    }
-    CheckJsonNesting(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), where);
-  }
-
+tinygltf::Model ParseModelBytes(std::span<const unsigned char> bytes, const std::filesystem::path& path,
+                                Format format, Images images) {
+  const std::string where = path.string();
+  bytes = CheckContainer(bytes, where, &format);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(images == Images::kSkip ? &SkipImage : &KeepEncodedImage, nullptr);
   tinygltf::Model model;

@@ -93,6 +93,17 @@ TEST_CASE("gltf container: an external buffer inside the folder reads", "[gltf][
   CHECK(ReadGltf(folder / "alias.gltf").vertex_count() == 16);
 }
 
+TEST_CASE("gltf container: ParseGltf reads from bytes what ReadGltf reads from the file", "[gltf][hostile]") {
+  const fs::path folder = test::FreshOutputFolder("gltf_hostile/bytes");
+  const Rig rig = test::MakeGridRig(4, 2, false);
+  for (const char* name : {"grid.glb", "grid.gltf"}) {
+    WriteGltf(folder / name, rig);
+    const std::vector<std::byte> bytes = ReadFileBytes(folder / name);
+    CHECK(test::RigsEqual(ParseGltf(bytes, folder / name), ReadGltf(folder / name), 0.0f));
+  }
+  CHECK_THROWS_AS(ParseGltf({}, "empty.glb"), IoError);
+}
+
 TEST_CASE("gltf container: JSON nested 15,000 levels deep is refused before parsing", "[gltf][hostile]") {
   const fs::path folder = test::FreshOutputFolder("gltf_hostile/deep");
   ExternalGltf gltf = MakeExternalGltf(folder);

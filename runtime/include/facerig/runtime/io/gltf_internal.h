@@ -43,6 +43,10 @@ enum class Images {
 // IoError naming the path (and the field, e.g. "buffers[0].uri").
 tinygltf::Model ParseModel(const std::filesystem::path& path, Format format, std::uint64_t* file_size,
                            Images images = Images::kSkip);
+// Same, from the file's bytes: `path` names the file in errors, and external
+// URIs resolve in its folder.
+tinygltf::Model ParseModelBytes(std::span<const unsigned char> bytes, const std::filesystem::path& path,
+                                Format format, Images images = Images::kSkip);
 
 // Throws IoError(kUnsupportedFormat) naming the path when the file uses
 // Draco or meshopt compression: its vertex data is not in plain accessors
