@@ -101,6 +101,7 @@ MorphTargetsWritten WriteGltfWithMorphTargets(const std::filesystem::path& sourc
                                               const std::filesystem::path& output, const Rig& rig) {
   const Format source_format = FormatFromExtension(source);
   const Format output_format = FormatFromExtension(output);
+  gltf_internal::RequireUtf8Names(rig, output.string());
   const std::string where = source.string();
   std::uint64_t file_size = 0;
   tinygltf::Model model = ParseModel(source, source_format, &file_size, Images::kKeepEncoded);

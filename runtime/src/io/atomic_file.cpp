@@ -7,6 +7,7 @@
 #include <string>
 
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/input_file.h"
 
 namespace facerig {
 namespace {
@@ -39,38 +40,6 @@ void WriteBytes(const std::filesystem::path& path, const void* data, std::size_t
   }
 }
 
-template <typename Buffer>
-Buffer ReadWhole(const std::filesystem::path& path, std::uint64_t max_bytes) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw IoError(IoErrorKind::kOpenFailed, path.string(), "is a directory, not a file");
-  }
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (!file) {
-    throw IoError(IoErrorKind::kOpenFailed, path.string(), std::strerror(errno));
-  }
-  std::fseek(file, 0, SEEK_END);
-  const long size = std::ftell(file);
-  std::fseek(file, 0, SEEK_SET);
-  if (size < 0) {
-    std::fclose(file);
-    throw IoError(IoErrorKind::kOpenFailed, path.string(), "cannot determine the file size");
-  }
-  if (static_cast<std::uint64_t>(size) > max_bytes) {
-    std::fclose(file);
-    throw IoError(IoErrorKind::kAbsurdCount, path.string(),
-                  "file of " + std::to_string(size) + " bytes is larger than the limit of " +
-                      std::to_string(max_bytes));
-  }
-  Buffer buffer(static_cast<std::size_t>(size), {});
-  const std::size_t read = size == 0 ? 0 : std::fread(buffer.data(), 1, buffer.size(), file);
-  std::fclose(file);
-  if (read != buffer.size()) {
-    throw IoError(IoErrorKind::kTruncated, path.string(), "short read");
-  }
-  return buffer;
-}
-
 }  // namespace
 
 void WriteFileAtomically(const std::filesystem::path& path, std::span<const std::byte> bytes) {
@@ -82,11 +51,11 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view tex
 }
 
 std::vector<std::byte> ReadFileBytes(const std::filesystem::path& path, std::uint64_t max_bytes) {
-  return ReadWhole<std::vector<std::byte>>(path, max_bytes);
+  return ReadInputFile(path, max_bytes);
 }
 
 std::string ReadFileText(const std::filesystem::path& path, std::uint64_t max_bytes) {
-  return ReadWhole<std::string>(path, max_bytes);
+  return ReadInputText(path, max_bytes);
 }
 
 }  // namespace facerig

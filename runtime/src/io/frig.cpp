@@ -11,6 +11,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/input_file.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
@@ -730,7 +731,7 @@ Rig ParseFrig(std::span<const std::byte> bytes, const std::string& path_for_erro
 }
 
 Rig ReadFrig(const std::filesystem::path& path) {
-  const std::vector<std::byte> bytes = ReadFileBytes(path);
+  const std::vector<std::byte> bytes = ReadInputFile(path);
   return ParseFrig(bytes, path.string());
 }
 

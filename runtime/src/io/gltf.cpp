@@ -739,12 +739,23 @@ Rig ReadGltf(const std::filesystem::path& path) {
   return reader.Read();
 }
 
+Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& path) {
+  const Format format = FormatFromExtension(path);
+  tinygltf::Model model = gltf_internal::ParseModelBytes(
+      {reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()}, path, format);
+  gltf_internal::RefuseCompression(model, path.string());
+  GltfReader reader(path.string(), std::move(model), bytes.size());
+  return reader.Read();
+}
+
 void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
   const Format format = FormatFromExtension(path);
   if (rig.vertex_count() == 0 || rig.triangle_count() == 0) {
     throw IoError(IoErrorKind::kWriteFailed, path.string(), "the rig is empty (no vertices or triangles)");
   }
-  WriteModel(path, format, BuildModel(rig, path.stem().string()));
+  gltf_internal::RequireUtf8Names(rig, path.string());
+  // The mesh and node are named after the file, whatever bytes its name has.
+  WriteModel(path, format, BuildModel(rig, gltf_internal::SanitizedUtf8(path.stem().string())));
 }
 
 }  // namespace facerig

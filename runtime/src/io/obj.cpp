@@ -7,6 +7,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/input_file.h"
 
 namespace facerig {
 namespace {
@@ -259,7 +260,7 @@ Mesh ParseObj(std::string_view text, const std::string& path_for_errors, ObjStat
 }
 
 Mesh ReadObj(const std::filesystem::path& path, ObjStats* stats) {
-  const std::string text = ReadFileText(path);
+  const std::string text = ReadInputText(path);
   return ParseObj(text, path.string(), stats);
 }
 

@@ -10,6 +10,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/input_file.h"
 
 namespace facerig {
 namespace {
@@ -35,6 +36,7 @@ struct ShapeWeightEntry {
 void ParseShapeWeights(std::string_view text, const std::string& source, const char* key_kind,
                        const char* expected_keys, const std::function<std::optional<std::size_t>(std::string_view)>& parse_key,
                        const std::function<void(std::size_t, std::vector<ShapeWeightEntry>&)>& on_entries) {
+  CheckJsonNesting(text, source);
   const nlohmann::json json = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
   if (json.is_discarded()) throw IoError(IoErrorKind::kParse, source, "not valid JSON");
   if (!json.is_object()) {
@@ -105,7 +107,7 @@ VisemeMappingOverrides ParseVisemeMappingJson(std::string_view text, const std::
 }
 
 VisemeMappingOverrides ReadVisemeMappingFile(const std::filesystem::path& path) {
-  return ParseVisemeMappingJson(ReadFileText(path, kMaxMappingFileBytes), path.string());
+  return ParseVisemeMappingJson(ReadInputText(path, kMaxMappingFileBytes), path.string());
 }
 
 EmotionOverrides ParseEmotionJson(std::string_view text, const std::string& source) {
@@ -122,7 +124,7 @@ EmotionOverrides ParseEmotionJson(std::string_view text, const std::string& sour
 }
 
 EmotionOverrides ReadEmotionFile(const std::filesystem::path& path) {
-  return ParseEmotionJson(ReadFileText(path, kMaxMappingFileBytes), path.string());
+  return ParseEmotionJson(ReadInputText(path, kMaxMappingFileBytes), path.string());
 }
 
 }  // namespace facerig

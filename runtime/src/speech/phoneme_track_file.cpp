@@ -10,6 +10,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/input_file.h"
 
 namespace facerig {
 namespace {
@@ -253,11 +254,12 @@ PhonemeTrack ParsePhonemeTrack(std::string_view json, const std::string& path) {
                   std::to_string(json.size()) + " bytes (at most " +
                       std::to_string(kPhonemeTrackMaxFileBytes) + ")");
   }
+  CheckJsonNesting(json, path);
   return TrackReader(json, path).Read();
 }
 
 PhonemeTrack ReadPhonemeTrack(const std::filesystem::path& path) {
-  const std::string text = ReadFileText(path, kPhonemeTrackMaxFileBytes);
+  const std::string text = ReadInputText(path, kPhonemeTrackMaxFileBytes);
   return ParsePhonemeTrack(text, path.string());
 }
 

@@ -18,8 +18,8 @@ namespace facerig {
 void WriteFileAtomically(const std::filesystem::path& path, std::span<const std::byte> bytes);
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view text);
 
-// Reads a whole file. Throws IoError(kOpenFailed) naming the path. Files larger
-// than `max_bytes` are refused with kAbsurdCount rather than allocated.
+// Reads a whole file: ReadInputFile / ReadInputText (input_file.h), which
+// refuse anything but a regular file and check `max_bytes` before allocating.
 std::vector<std::byte> ReadFileBytes(const std::filesystem::path& path,
                                      std::uint64_t max_bytes = std::uint64_t{4} << 30);
 std::string ReadFileText(const std::filesystem::path& path,

@@ -13,15 +13,24 @@
 // nodes, materials, animations), see gltf_with_morph_targets.h.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
+#include <span>
 
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
 
-// Throws IoError naming the path (and byte offset where known).
+// Throws IoError naming the path (and byte offset where known). External
+// buffer files must be regular files inside the file's folder (no absolute
+// path, no '..' or symbolic link leading out); texture files are not opened.
 Rig ReadGltf(const std::filesystem::path& path);
+// Same, from the bytes of a .glb or .gltf (the format from the extension of
+// `path`, which names the file in errors and whose folder holds any external
+// buffers).
+Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& path);
 // Format from the extension (.glb or .gltf). Atomic (temporary file + rename).
+// Shape and part names must be valid UTF-8 (IoError kWriteFailed otherwise).
 void WriteGltf(const std::filesystem::path& path, const Rig& rig);
 
 }  // namespace facerig

@@ -12,6 +12,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -35,14 +36,28 @@ enum class Images {
 // Reads and parses a .glb or .gltf (a .gltf that is really binary is read as
 // such). With Images::kKeepEncoded, an image that is a data URI or an external
 // file has its file bytes (PNG, JPEG...) in Image::image, not decoded pixels;
-// images in bufferViews are left where they are. Throws IoError naming the path.
+// images in bufferViews are left where they are. With Images::kSkip, external
+// image files are not opened. External buffer and image files are read only
+// inside the file's folder and only when regular (input_file.h); JSON nested
+// deeper than kMaxJsonNesting is refused before tinygltf parses it. Throws
+// IoError naming the path (and the field, e.g. "buffers[0].uri").
 tinygltf::Model ParseModel(const std::filesystem::path& path, Format format, std::uint64_t* file_size,
                            Images images = Images::kSkip);
+// Same, from the file's bytes: `path` names the file in errors, and external
+// URIs resolve in its folder.
+tinygltf::Model ParseModelBytes(std::span<const unsigned char> bytes, const std::filesystem::path& path,
+                                Format format, Images images = Images::kSkip);
 
 // Throws IoError(kUnsupportedFormat) naming the path when the file uses
 // Draco or meshopt compression: its vertex data is not in plain accessors
 // (a compressed POSITION accessor has no bufferView and would read as zeros).
 void RefuseCompression(const tinygltf::Model& model, const std::string& path);
+
+// Throws IoError(kWriteFailed) naming `path` and the name's index when a
+// shape or part name of `rig` is not valid UTF-8, which glTF requires.
+void RequireUtf8Names(const Rig& rig, const std::string& path);
+// `text` with every byte that is not part of valid UTF-8 replaced by '?'.
+std::string SanitizedUtf8(std::string_view text);
 
 // Serialises `model` (every buffer embedded: buffer 0 as the BIN chunk of a
 // .glb when it has no uri, the others as data URIs) and writes it atomically.

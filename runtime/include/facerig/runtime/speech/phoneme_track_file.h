@@ -41,7 +41,8 @@ struct PhonemeTrack {
 
 // Reads a track file. Throws IoError with the path, the JSON pointer of the
 // offending value (e.g. "/phonemes/3/start") in the message and its line:
-// kOpenFailed, kParse (malformed JSON, missing or mistyped fields, symbols
+// kOpenFailed (also for a FIFO, device or directory), kParse (malformed JSON,
+// JSON nested deeper than kMaxJsonNesting, missing or mistyped fields, symbols
 // longer than 8 bytes, backwards starts), kNonFinite (NaN/Inf, negative or
 // overflowing times), kAbsurdCount (sizes over the limits above),
 // kUnsupportedVersion.

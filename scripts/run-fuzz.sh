@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (fuzz/) with clang into build-fuzz and runs each
+# for SECONDS (default 60), starting from fuzz/seeds/<target>/; the corpus
+# grows in build-fuzz/corpus/<target>/. Exits non-zero on the first finding
+# (crash, sanitizer report, leak, timeout, or an exception other than IoError);
+# the input that caused it is left in build-fuzz/findings/.
+#   scripts/run-fuzz.sh [SECONDS] [TARGET...]   (targets: gltf frig obj phoneme_track)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(gltf frig obj phoneme_track)
+build=${FACERIG_FUZZ_BUILD_DIR:-build-fuzz}
+
+if ! command -v clang++ >/dev/null; then
+  echo "run-fuzz.sh: clang++ is missing (apt-get install -y clang libclang-rt-14-dev)" >&2
+  exit 2
+fi
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+  -DFACERIG_FUZZ=ON -DFACERIG_BUILD_OFFLINE=OFF -DFACERIG_BUILD_ESPEAK=OFF -DFACERIG_BUILD_DEMO=OFF \
+  -DFACERIG_BUILD_TESTS=OFF ${FACERIG_CMAKE_ARGS:-} >/dev/null
+cmake --build "$build" -j "${FACERIG_FUZZ_JOBS:-$(nproc)}" --target "${targets[@]/%/_fuzzer}"
+
+mkdir -p "$build/findings"
+for target in "${targets[@]}"; do
+  corpus="$build/corpus/$target"
+  mkdir -p "$corpus"
+  echo "== $target: ${seconds} s"
+  log="$build/findings/$target.log"
+  status=0
+  # -rss_limit_mb: a reader may allocate what the input's size justifies, not more.
+  "$build/fuzz/${target}_fuzzer" "$corpus" "fuzz/seeds/$target" -max_total_time="$seconds" \
+    -max_len=65536 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$build/findings/${target}-" >"$log" 2>&1 || status=$?
+  grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs)" "$log" || true
+  if [ "$status" -ne 0 ]; then
+    tail -n 40 "$log" >&2
+    echo "run-fuzz.sh: $target found a problem (exit $status); see $build/findings/" >&2
+    exit 1
+  fi
+done
+echo "run-fuzz.sh: no findings in ${#targets[@]} targets x ${seconds} s"
