@@ -16,8 +16,8 @@ std::vector<glm::vec3> AverageFace(std::span<const std::vector<glm::vec3>> faces
                                "has " + std::to_string(faces[f].size()) + " vertices, expected " +
                                    std::to_string(n));
     }
-    RigidMotion transform;
-    if (align && f > 0 && n >= 3) transform = FitRigidMotion(faces[f], faces[0]);
+    SimilarityTransform transform;
+    if (align && f > 0 && n >= 3) transform = FitRigid(faces[f], faces[0]);
     for (std::size_t v = 0; v < n; ++v) sum[v] += glm::dvec3(transform.Apply(faces[f][v]));
   }
   std::vector<glm::vec3> average(n);

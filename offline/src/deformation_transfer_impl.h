@@ -2,6 +2,7 @@
 // the precomputed data (DeformationTransferData::Impl) that precompute and solve share.
 #pragma once
 
+#include "facerig/offline/similarity.h"
 #include "facerig/offline/deformation_transfer.h"
 
 #include <algorithm>
@@ -169,7 +170,7 @@ struct DeformationTransferData::Impl {
     std::vector<std::uint32_t> floating_components;
     std::vector<std::uint32_t> moving;  // one part's unpinned vertices
     struct RigidFit {
-      Eigen::Matrix4d transform;  // template rest -> expression
+      SimilarityTransform transform;  // template rest -> expression (rigid)
       std::vector<std::uint32_t> vertices;
       std::size_t group;  // index of the first fit with the same motion
     };

@@ -189,13 +189,13 @@ void DeformationTransferData::Impl::PinRigidMotions(std::span<const glm::vec3> e
                                                     std::vector<glm::vec3>& out,
                                                     Scratch& scratch) const {
   // Sum of |R x + t - x'|^2 and of |x' - x|^2 over vertices (x rest, x' moved).
-  auto fit_error = [&](const Eigen::Matrix4d& fit, std::span<const std::uint32_t> vertices) {
+  auto fit_error = [&](const SimilarityTransform& fit, std::span<const std::uint32_t> vertices) {
     double residual2 = 0.0;
     double motion2 = 0.0;
     for (std::uint32_t v : vertices) {
       const Eigen::Vector3d rest = ToEigen(source_neutral[v]);
       const Eigen::Vector3d moved = ToEigen(expression[v]);
-      residual2 += (fit.topLeftCorner<3, 3>() * rest + fit.topRightCorner<3, 1>() - moved).squaredNorm();
+      residual2 += (fit.rotation * rest + fit.translation - moved).squaredNorm();
       motion2 += (moved - rest).squaredNorm();
     }
     return std::pair{residual2, motion2};
@@ -209,17 +209,14 @@ void DeformationTransferData::Impl::PinRigidMotions(std::span<const glm::vec3> e
       if (!scratch.pinned[v]) scratch.moving.push_back(v);
     }
     if (scratch.moving.size() < 4) continue;
-    const auto count = static_cast<Eigen::Index>(scratch.moving.size());
-    Eigen::Matrix3Xd rest(3, count);
-    Eigen::Matrix3Xd moved(3, count);
-    for (Eigen::Index i = 0; i < count; ++i) {
-      const std::uint32_t v = scratch.moving[static_cast<std::size_t>(i)];
-      rest.col(i) = ToEigen(source_neutral[v]);
-      moved.col(i) = ToEigen(expression[v]);
+    SimilarityTransform fit;
+    try {
+      fit = FitRigid(source_neutral, expression, scratch.moving);
+    } catch (const InvalidInputError&) {
+      continue;  // the part's free vertices coincide: no rigid motion to keep
     }
-    const Eigen::Matrix4d fit = Eigen::umeyama(rest, moved, false);
     const auto [residual2, motion2] = fit_error(fit, scratch.moving);
-    if (fit.allFinite() && motion2 > 0.0 && residual2 <= tolerance2 * motion2) {
+    if (fit.rotation.allFinite() && motion2 > 0.0 && residual2 <= tolerance2 * motion2) {
       scratch.rigid_fits.push_back({fit, scratch.moving, scratch.rigid_fits.size()});
     }
   }
@@ -255,7 +252,7 @@ void DeformationTransferData::Impl::PinRigidMotions(std::span<const glm::vec3> e
     target_centroid /= static_cast<double>(count);
     const Eigen::Vector3d shift =
         target_centroid + displacement_scale * displacement / static_cast<double>(count);
-    const Eigen::Matrix3d rotation = fits[g].transform.topLeftCorner<3, 3>();
+    const Eigen::Matrix3d rotation = fits[g].transform.rotation;
     for (const Scratch::RigidFit& fit : fits) {
       if (fit.group != g) continue;
       for (std::uint32_t v : fit.vertices) {

@@ -19,11 +19,6 @@ namespace facerig {
 
 namespace {
 
-Eigen::Vector3d ToEigen(glm::vec3 p) { return {p.x, p.y, p.z}; }
-glm::vec3 ToGlm(const Eigen::Vector3d& p) {
-  return {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
-}
-
 glm::vec3 Extent(std::span<const glm::vec3> positions, std::span<const std::uint32_t> subset) {
   const std::size_t count = subset.empty() ? positions.size() : subset.size();
   if (count == 0) return glm::vec3(0.0f);
@@ -110,60 +105,6 @@ class Reader {
 
 }  // namespace
 
-glm::vec3 RigidMotion::Apply(glm::vec3 p) const {
-  return ToGlm(rotation * ToEigen(p) + translation);
-}
-
-glm::vec3 RigidMotion::ApplyRotation(glm::vec3 v) const { return ToGlm(rotation * ToEigen(v)); }
-
-RigidMotion RigidMotion::Inverse() const {
-  RigidMotion inverse;
-  inverse.rotation = rotation.transpose();
-  inverse.translation = -(inverse.rotation * translation);
-  inverse.rms = rms;
-  return inverse;
-}
-
-RigidMotion FitRigidMotion(std::span<const glm::vec3> moving, std::span<const glm::vec3> fixed,
-                          std::span<const std::uint32_t> subset) {
-  CheckSize(fixed.size(), moving.size(), "fixed points");
-  const std::size_t count = subset.empty() ? moving.size() : subset.size();
-  if (count < 3) throw TransferInputError("alignment points", "needs at least 3 points");
-  auto index = [&](std::size_t i) -> std::size_t { return subset.empty() ? i : subset[i]; };
-  Eigen::Vector3d mean_moving = Eigen::Vector3d::Zero();
-  Eigen::Vector3d mean_fixed = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::size_t v = index(i);
-    if (v >= moving.size()) {
-      throw TransferInputError("alignment points", "vertex " + std::to_string(v) + " out of range");
-    }
-    mean_moving += ToEigen(moving[v]);
-    mean_fixed += ToEigen(fixed[v]);
-  }
-  mean_moving /= static_cast<double>(count);
-  mean_fixed /= static_cast<double>(count);
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::size_t v = index(i);
-    covariance += (ToEigen(fixed[v]) - mean_fixed) * (ToEigen(moving[v]) - mean_moving).transpose();
-  }
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-  // No reflections.
-  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) d(2, 2) = -1.0;
-  RigidMotion transform;
-  transform.rotation = svd.matrixU() * d * svd.matrixV().transpose();
-  transform.translation = mean_fixed - transform.rotation * mean_moving;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::size_t v = index(i);
-    sum += (transform.rotation * ToEigen(moving[v]) + transform.translation - ToEigen(fixed[v]))
-               .squaredNorm();
-  }
-  transform.rms = std::sqrt(sum / static_cast<double>(count));
-  return transform;
-}
-
 DisplacementMatrices ComputeDisplacementMatrices(std::span<const glm::vec3> neutral,
                                                  std::span<const std::vector<glm::vec3>> poses,
                                                  std::span<const std::string> names,
@@ -180,7 +121,7 @@ DisplacementMatrices ComputeDisplacementMatrices(std::span<const glm::vec3> neut
   for (std::size_t k = 0; k < poses.size(); ++k) {
     CheckSize(poses[k].size(), n, "pose '" + names[k] + "'");
     std::vector<glm::vec3> displacement(n);
-    RigidMotion align;
+    SimilarityTransform align;
     if (params.rigid_align && n >= 3) {
       std::vector<std::uint32_t> subset = params.alignment_vertices;
       if (subset.empty()) {
@@ -194,7 +135,7 @@ DisplacementMatrices ComputeDisplacementMatrices(std::span<const glm::vec3> neut
                          [&motion](std::uint32_t a, std::uint32_t b) { return motion[a] < motion[b]; });
         subset.erase(half, subset.end());
       }
-      align = FitRigidMotion(poses[k], neutral, subset);
+      align = FitRigid(poses[k], neutral, subset);
     }
     for (std::size_t v = 0; v < n; ++v) displacement[v] = align.Apply(poses[k][v]) - neutral[v];
     matrices.displacements.push_back(std::move(displacement));
@@ -232,7 +173,7 @@ DisplacementTransferResult TransferDisplacements(const DisplacementMatrices& mat
   std::vector<glm::vec3> model_in_base(model_neutral.begin(), model_neutral.end());
   if (!params.base_neutral.empty()) CheckSize(params.base_neutral.size(), n, "base neutral");
   if (!params.base_neutral.empty() && params.align_model) {
-    result.model_to_base = FitRigidMotion(model_neutral, params.base_neutral);
+    result.model_to_base = FitRigid(model_neutral, params.base_neutral, {}, &result.model_to_base_rms);
     for (glm::vec3& p : model_in_base) p = result.model_to_base.Apply(p);
   }
   const std::span<const std::uint32_t> box_subset = params.bounding_box_vertices;
@@ -259,14 +200,14 @@ DisplacementTransferResult TransferDisplacements(const DisplacementMatrices& mat
       result.scale[axis] = model_extent[axis] / base_extent[axis];
     }
   }
-  const RigidMotion base_to_model = result.model_to_base.Inverse();
+  const SimilarityTransform base_to_model = result.model_to_base.Inverse();
   result.poses.resize(matrices.displacements.size());
   for (std::size_t k = 0; k < matrices.displacements.size(); ++k) {
     std::vector<glm::vec3>& pose = result.poses[k];
     pose.resize(n);
     for (std::size_t v = 0; v < n; ++v) {
       const glm::vec3 d = matrices.displacements[k][v] * result.scale;
-      pose[v] = model_neutral[v] + base_to_model.ApplyRotation(d);
+      pose[v] = model_neutral[v] + base_to_model.ApplyToDirection(d);
     }
   }
   result.seconds = SecondsSince(start);

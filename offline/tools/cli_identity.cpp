@@ -167,9 +167,8 @@ int RunCaricature(const CaricatureOptions& options) {
     std::vector<glm::vec3> average(average_rig.positions().begin(), average_rig.positions().end());
     double alignment_rms = 0.0;
     if (align) {
-      const RigidMotion motion = FitRigidMotion(average, rig.positions());
+      const SimilarityTransform motion = FitRigid(average, rig.positions(), {}, &alignment_rms);
       for (glm::vec3& p : average) p = motion.Apply(p);
-      alignment_rms = motion.rms;
     }
     const double load_seconds = SecondsSince(start);
     CaricatureParams params;

@@ -97,7 +97,7 @@ TEST_CASE("A rotated model gets rotated displacements", "[displacement_transfer]
   facerig::DisplacementTransferParams params;
   params.base_neutral = base;
   const facerig::DisplacementTransferResult r = facerig::TransferDisplacements(m, model, params);
-  CHECK(r.model_to_base.rms < 1e-5);
+  CHECK(r.model_to_base_rms < 1e-5);
   CHECK(glm::length(r.scale - glm::vec3(1.0f)) < 1e-5f);
   CHECK(glm::length(r.poses[0][1] - (model[1] + glm::vec3(-0.4f, 0.0f, 0.0f))) < 1e-5f);
 }

@@ -16,28 +16,13 @@
 
 #include <Eigen/Core>
 
+#include "facerig/offline/similarity.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
 
 // p' = rotation * p + translation.
-struct RigidMotion {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  double rms = 0.0;  // residual over the points used, mesh units
-
-  glm::vec3 Apply(glm::vec3 p) const;
-  glm::vec3 ApplyRotation(glm::vec3 v) const;
-  RigidMotion Inverse() const;
-};
-
-// Least-squares rigid motion taking `moving` onto `fixed` (Kabsch; Mattos et
-// al.'s ICP with the correspondences known), over `subset` (empty: all).
-// \throw TransferInputError on size mismatch or fewer than 3 points.
-RigidMotion FitRigidMotion(std::span<const glm::vec3> moving, std::span<const glm::vec3> fixed,
-                          std::span<const std::uint32_t> subset = {});
-
 struct DisplacementMatrices {
   std::vector<std::string> names;                   // one per pose
   std::vector<std::vector<glm::vec3>> displacements;  // per pose, #V (the matrix M^k)
@@ -79,7 +64,8 @@ struct DisplacementTransferParams {
 struct DisplacementTransferResult {
   std::vector<std::vector<glm::vec3>> poses;  // per pose, #V model positions
   glm::vec3 scale{1.0f};                      // per-axis factor applied (base frame)
-  RigidMotion model_to_base;
+  SimilarityTransform model_to_base;  // rigid (scale 1)
+  double model_to_base_rms = 0.0;     // its residual, base units
   double seconds = 0.0;
 };
 

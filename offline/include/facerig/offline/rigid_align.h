@@ -13,33 +13,13 @@
 #include <Eigen/Core>
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/similarity.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
 
 class ClosestPointQuery;
-
-struct SimilarityTransform {
-  double scale = 1.0;
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-
-  glm::vec3 Apply(glm::vec3 p) const;
-  // Rotation only (directions, normals).
-  glm::vec3 ApplyToDirection(glm::vec3 d) const;
-  SimilarityTransform Inverse() const;
-  // (this * other)(x) = this(other(x)).
-  SimilarityTransform operator*(const SimilarityTransform& other) const;
-};
-
-// Least-squares similarity (or rigid, when !with_scale) transform mapping
-// `source[i]` onto `target[i]` (Umeyama 1991), optionally weighted.
-// \pre source.size() == target.size() >= 3, weights empty or the same size.
-// \throw InvalidInputError on mismatched sizes, fewer than 3 points with
-//        positive weight, non-finite input, or all points coincident.
-SimilarityTransform Umeyama(std::span<const glm::vec3> source, std::span<const glm::vec3> target,
-                            std::span<const float> weights = {}, bool with_scale = true);
 
 struct RigidAlignParams {
   int max_iterations = 40;
