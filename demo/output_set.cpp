@@ -64,6 +64,7 @@ void CheckReplaceableFolder(const fs::path& folder) {
 
 // Atomically swaps two existing paths (Linux renameat2); false if the file system cannot.
 bool Exchange(const fs::path& a, const fs::path& b, std::error_code& error) {
+  if (FailureInjected("no-exchange")) return false;
   if (::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0) return true;
   if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP) error = std::error_code(errno, std::generic_category());
   return false;
@@ -73,7 +74,12 @@ bool Exchange(const fs::path& a, const fs::path& b, std::error_code& error) {
 
 bool FailureInjected(std::string_view what) {
   const char* value = std::getenv("FACERIG_PLAYER_INJECT_FAILURE");
-  return value != nullptr && what == value;
+  for (std::string_view list = value != nullptr ? value : ""; !list.empty();) {
+    const std::size_t comma = std::min(list.find(','), list.size());
+    if (list.substr(0, comma) == what) return true;
+    list.remove_prefix(std::min(comma + 1, list.size()));
+  }
+  return false;
 }
 
 OutputSet::~OutputSet() {
@@ -164,7 +170,7 @@ void OutputSet::Commit() {
                                 : Place(entries_[i], &placed[i]);
     if (error) {
       failure = "cannot rename " + entries_[i].temporary.filename().string() + " to " +
-                entries_[i].final_path.string() + ": " + error.message();
+                entries_[i].given.string() + ": " + error.message();
     }
   }
   if (failure.empty()) {
@@ -179,7 +185,7 @@ void OutputSet::Commit() {
   std::string restore_failures;
   for (std::size_t i = entries_.size(); i-- > 0;) {
     if (const std::error_code error = Unplace(entries_[i], placed[i])) {
-      restore_failures += "; could not restore " + entries_[i].final_path.string() + ": " + error.message();
+      restore_failures += "; could not restore " + entries_[i].given.string() + ": " + error.message();
     }
   }
   failure += restore_failures.empty() ? "; the previous outputs are unchanged" : restore_failures;

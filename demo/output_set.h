@@ -63,9 +63,10 @@ class OutputSet {
   bool committed_ = false;
 };
 
-// Test hook: true when the environment variable FACERIG_PLAYER_INJECT_FAILURE
-// equals `what` ("wav": the WAV write runs out of space part-way; "rename":
-// the last rename of Commit() fails).
+// Test hook: true when the comma-separated list in the environment variable
+// FACERIG_PLAYER_INJECT_FAILURE holds `what`: "wav" (the WAV write runs out of
+// space part-way), "rename" (the last rename of Commit() fails), "no-exchange"
+// (Commit() acts as on a file system without an atomic exchange).
 bool FailureInjected(std::string_view what);
 
 }  // namespace facerig::player

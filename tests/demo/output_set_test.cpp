@@ -124,10 +124,12 @@ int RunAndSignal(const fs::path& out, int signal) {
 }  // namespace
 
 TEST_CASE("Player outputs: a run replaces the whole set and leaves no temporaries", "[demo]") {
-  const fs::path out = MakePreviousSet("normal");
+  // Also where the file system has no atomic exchange (the previous outputs are set aside a moment).
+  const std::string environment = GENERATE(as<std::string>(), "", "FACERIG_PLAYER_INJECT_FAILURE=no-exchange");
+  const fs::path out = MakePreviousSet(environment.empty() ? "normal" : "normal_no_exchange");
   std::string output;
-  REQUIRE(RunPlayer(out, "", &output) == 0);
-  INFO(output);
+  REQUIRE(RunPlayer(out, environment, &output) == 0);
+  INFO(environment << ": " << output);
   std::vector<std::string> frames;
   for (const auto& entry : fs::directory_iterator(out / "frames")) frames.push_back(entry.path().filename());
   CHECK(frames.size() == 10);  // 1 s at 10 fps; the old frame_09999.png is gone: replaced, not merged
@@ -140,7 +142,7 @@ TEST_CASE("Player outputs: a run replaces the whole set and leaves no temporarie
 }
 
 TEST_CASE("Player outputs: a failed WAV write or rename fails the run and keeps the previous set", "[demo]") {
-  for (const std::string failure : {"wav", "rename"}) {
+  for (const std::string failure : {"wav", "rename", "rename,no-exchange"}) {
     const fs::path out = MakePreviousSet("failure_" + failure);
     std::string output;
     const int code = RunPlayer(out, "FACERIG_PLAYER_INJECT_FAILURE=" + failure, &output);
@@ -150,7 +152,8 @@ TEST_CASE("Player outputs: a failed WAV write or rename fails the run and keeps 
       CHECK(output.find("cannot write WAV " + (out / "speech.wav").string() + ": No space left on device") !=
             std::string::npos);
     } else {
-      CHECK(output.find("cannot rename") != std::string::npos);
+      CHECK(output.find("cannot rename .facerig-tmp-") != std::string::npos);
+      CHECK(output.find(" to " + (out / "timing.json").string() + ": ") != std::string::npos);
     }
     CHECK(output.find("the previous outputs are unchanged") != std::string::npos);
     CheckPreviousSetIntact(out);
