@@ -1,20 +1,46 @@
 #include "headless_player.h"
 
+#include <signal.h>
+
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
 
 #include "egl_context.h"
 #include "face_animator.h"
 #include "face_renderer.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "hud.h"
+#include "output_set.h"
 
 namespace facerig::player {
 namespace {
+
+// The signal that asked the run to stop (0: none); set by the handler, read between steps.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+void ThrowIfStopped() {
+  if (g_stop_signal != 0) throw Interrupted(g_stop_signal);
+}
+
+// Where each output is written before OutputSet::Commit() (empty: not written).
+struct TemporaryOutputs {
+  std::filesystem::path frames, wav, mp4, mp4_wav, timing_json;
+};
+
+// WriteTimingJson does not see a failed close (a full disk): read the file back.
+void CheckCompleteJson(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in || !nlohmann::json::accept(in)) {
+    throw std::runtime_error("cannot write timing JSON " + path.string() + ": incomplete after writing");
+  }
+}
 
 std::string FramePath(int index) {
   char name[32];
@@ -22,22 +48,21 @@ std::string FramePath(int index) {
   return name;
 }
 
-void WriteMp4(const PlayerOptions& options, const std::filesystem::path& wav, std::ostream& log) {
-  if (std::system("command -v ffmpeg >/dev/null 2>&1") != 0) {
-    log << "warning: --mp4 needs ffmpeg (Debian: ffmpeg); not written\n";
-    return;
-  }
-  const auto quote = [](const std::filesystem::path& path) {
-    std::string quoted = "'";
-    for (char c : path.string()) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return quoted + "'";
-  };
+bool HasFfmpeg() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
+
+std::string Quote(const std::filesystem::path& path) {
+  std::string quoted = "'";
+  for (char c : path.string()) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// Muxes the frames and `wav` (if any) into `mp4` with ffmpeg.
+void WriteMp4(const PlayerOptions& options, const TemporaryOutputs& outputs, const std::filesystem::path& wav) {
   std::string command = "ffmpeg -loglevel error -y -framerate " + std::to_string(options.fps) + " -i " +
-                        quote(options.frames_dir / "frame_%05d.png");
-  if (!wav.empty()) command += " -itsoffset " + std::to_string(options.lead_in) + " -i " + quote(wav) + " -c:a aac";
-  command += " -c:v libx264 -pix_fmt yuv420p " + quote(options.mp4);
+                        Quote(outputs.frames / "frame_%05d.png");
+  if (!wav.empty()) command += " -itsoffset " + std::to_string(options.lead_in) + " -i " + Quote(wav) + " -c:a aac";
+  command += " -c:v libx264 -pix_fmt yuv420p " + Quote(outputs.mp4);
   if (std::system(command.c_str()) != 0) throw std::runtime_error("ffmpeg failed: " + command);
-  log << "wrote " << options.mp4.string() << '\n';
 }
 
 // The --emotion options, and the speech scheduled `options.lead_in` after frame 0.
@@ -71,9 +96,10 @@ int FrameCount(const PlayerOptions& options, const SpeechLine& speech) {
   return std::max(1, static_cast<int>(std::ceil(duration * options.fps - 1e-9)));
 }
 
-// Frame i at time i / fps into options.frames_dir, with its timing and lip aperture.
-void RenderFrames(const PlayerOptions& options, FaceAnimator& animator, FaceRenderer& renderer,
-                  OffscreenTarget& target, Hud* hud, HeadlessResult* result) {
+// Frame i at time i / fps into `frames_dir`, with its timing and lip aperture; the
+// result lists the frames under options.frames_dir, where they go at the end.
+void RenderFrames(const PlayerOptions& options, const std::filesystem::path& frames_dir, FaceAnimator& animator,
+                  FaceRenderer& renderer, OffscreenTarget& target, Hud* hud, HeadlessResult* result) {
   const int frame_count = FrameCount(options, result->speech);
   FrameTimer timer(static_cast<std::size_t>(frame_count));
   Image image;
@@ -95,31 +121,86 @@ void RenderFrames(const PlayerOptions& options, FaceAnimator& animator, FaceRend
     timer.EndFrame();
     result->lip_aperture.push_back(animator.LipAperture());
     target.Read(&image);
-    const std::filesystem::path path = options.frames_dir / FramePath(frame);
-    WritePng(path, image);
-    result->frames.push_back(path);
+    WritePng(frames_dir / FramePath(frame), image);
+    result->frames.push_back(options.frames_dir / FramePath(frame));
+    ThrowIfStopped();
   }
   result->samples = timer.samples();
   result->timing = timer.Summarize();
 }
 
-// --wav, and --mp4 (with the speech in a WAV next to it when there is no --wav).
-void WriteSpeechAndVideo(const PlayerOptions& options, const SpeechLine& speech, std::ostream& log) {
-  if (!options.wav.empty()) {
-    WriteWav(options.wav, speech.audio, speech.sample_rate > 0 ? speech.sample_rate : EspeakPhonemeSource::kSampleRate);
-  }
+// The temporary path of each output (OutputSet::Add); empty for those not written.
+TemporaryOutputs AddOutputs(const PlayerOptions& options, const SpeechLine& speech, OutputSet& set,
+                            std::ostream& log) {
+  TemporaryOutputs outputs;
+  outputs.frames = set.Add(options.frames_dir, OutputSet::Kind::kFolder);
+  if (!options.wav.empty()) outputs.wav = set.Add(options.wav, OutputSet::Kind::kFile);
   if (!options.mp4.empty()) {
-    std::filesystem::path wav = options.wav;
-    if (wav.empty() && !speech.audio.empty()) {
-      wav = options.mp4;
-      wav.replace_extension(".wav");
-      WriteWav(wav, speech.audio, speech.sample_rate);
+    if (options.wav.empty() && !speech.audio.empty()) {  // the speech goes into a WAV next to the MP4
+      std::filesystem::path wav = options.mp4;
+      outputs.mp4_wav = set.Add(wav.replace_extension(".wav"), OutputSet::Kind::kFile);
     }
-    WriteMp4(options, wav, log);
+    if (HasFfmpeg()) {
+      outputs.mp4 = set.Add(options.mp4, OutputSet::Kind::kFile);
+    } else {
+      log << "warning: --mp4 needs ffmpeg (Debian: ffmpeg); not written\n";
+    }
+  }
+  if (!options.timing_json.empty()) outputs.timing_json = set.Add(options.timing_json, OutputSet::Kind::kFile);
+  return outputs;
+}
+
+// --wav, --mp4 (with the speech in a WAV next to it when there is no --wav) and --timing.
+void WriteSpeechVideoAndTiming(const PlayerOptions& options, const Rig& rig, const TemporaryOutputs& outputs,
+                               const HeadlessResult& result) {
+  const SpeechLine& speech = result.speech;
+  if (!outputs.wav.empty()) {
+    WriteWav(outputs.wav, speech.audio, speech.sample_rate > 0 ? speech.sample_rate : EspeakPhonemeSource::kSampleRate);
+  }
+  if (!outputs.mp4_wav.empty()) WriteWav(outputs.mp4_wav, speech.audio, speech.sample_rate);
+  ThrowIfStopped();
+  if (!outputs.mp4.empty()) WriteMp4(options, outputs, outputs.wav.empty() ? outputs.mp4_wav : outputs.wav);
+  ThrowIfStopped();
+  if (!outputs.timing_json.empty()) {
+    WriteTimingJson(outputs.timing_json, result.timing, result.samples, RigPath(options).filename().string(),
+                    rig.vertex_count(), rig.shape_count());
+    CheckCompleteJson(outputs.timing_json);
   }
 }
 
+// Renders the frames and writes every output under its temporary name.
+void RenderAndWrite(const Rig& rig, const PlayerOptions& options, const TemporaryOutputs& outputs,
+                    HeadlessResult* result) {
+  HeadlessGlContext context;
+  result->gl_description = context.description();
+  IdleLifeParams idle;
+  idle.head_motion = idle.saccades = !options.still;
+  FaceAnimator animator(rig, idle);
+  StartAnimation(options, &animator, result);
+  FaceRenderer renderer(rig);
+  OffscreenTarget target(options.width, options.height, options.msaa);
+  std::optional<Hud> hud;
+  if (options.hud) hud.emplace();
+  MeasureMouth(animator, renderer, options, result);
+
+  RenderFrames(options, outputs.frames, animator, renderer, target, hud ? &*hud : nullptr, result);
+  WriteSpeechVideoAndTiming(options, rig, outputs, *result);
+}
+
 }  // namespace
+
+Interrupted::Interrupted(int signal)
+    : std::runtime_error(std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM")),
+      signal_(signal) {}
+
+void InstallStopSignalHandlers() {
+  struct sigaction action {};
+  action.sa_handler = [](int signal) { g_stop_signal = signal; };
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::ostream& log) {
   HeadlessResult result;
@@ -127,27 +208,22 @@ HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::os
     EspeakPhonemeSource source;
     result.speech = source.Synthesize(options.say, options.voice);
   }
-  std::error_code error;
-  std::filesystem::create_directories(options.frames_dir, error);
-  if (error) throw std::runtime_error("cannot create " + options.frames_dir.string() + ": " + error.message());
+  ThrowIfStopped();
+  OutputSet set;  // removes the temporaries on any exception
+  const TemporaryOutputs outputs = AddOutputs(options, result.speech, set, log);
+  try {
+    RenderAndWrite(rig, options, outputs, &result);
+    ThrowIfStopped();
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(set.WithFinalPaths(e.what()) + "; the previous outputs are unchanged");
+  }
+  set.Commit();  // signals are not checked from here on: the set goes in place whole
 
-  HeadlessGlContext context;
-  result.gl_description = context.description();
-  IdleLifeParams idle;
-  idle.head_motion = idle.saccades = !options.still;
-  FaceAnimator animator(rig, idle);
-  StartAnimation(options, &animator, &result);
-  FaceRenderer renderer(rig);
-  OffscreenTarget target(options.width, options.height, options.msaa);
-  std::optional<Hud> hud;
-  if (options.hud) hud.emplace();
-  MeasureMouth(animator, renderer, options, &result);
-
-  RenderFrames(options, animator, renderer, target, hud ? &*hud : nullptr, &result);
-  WriteSpeechAndVideo(options, result.speech, log);
+  if (!outputs.mp4.empty()) log << "wrote " << options.mp4.string() << '\n';
   return result;
 }
-
 
 Image RenderNeutral(const Rig& rig, int width, int height) {
   HeadlessGlContext context;

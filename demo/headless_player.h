@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -31,9 +32,26 @@ struct HeadlessResult {
   std::vector<FrameSample> samples;
 };
 
+// A headless run stopped by SIGINT or SIGTERM (see InstallStopSignalHandlers).
+class Interrupted : public std::runtime_error {
+ public:
+  explicit Interrupted(int signal);
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
+// SIGINT and SIGTERM then only set a flag, which RunHeadless checks after each
+// frame and between its writes: it removes its temporaries and throws Interrupted.
+void InstallStopSignalHandlers();
+
 // Synthesizes options.say (espeak-ng; SpeechError on a bad voice), renders
 // the frames into options.frames_dir, writes options.wav / .mp4 / .timing_json.
-// Progress and warnings go to `log`. Throws std::runtime_error (and subclasses).
+// The outputs are one set (OutputSet): written under temporary names and put in
+// place together at the end (the frames folder is replaced, not merged); on any
+// error or Interrupted nothing changes. Progress and warnings go to `log`.
+// Throws std::runtime_error (and subclasses) naming the output's final path.
 HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::ostream& log);
 
 // One frame of the rig at rest (all weights 0, no head motion), for tests.

@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  const std::filesystem::path rig_path = options.rig.empty() ? DefaultRigPath() : options.rig;
+  const std::filesystem::path rig_path = RigPath(options);
   std::optional<facerig::Rig> rig;
   try {
     rig = facerig::LoadRigOrTemplateFolder(rig_path);
@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
 
   try {
     if (!options.headless) return RunWindow(*rig, rig_name, options);
+    InstallStopSignalHandlers();
     const HeadlessResult result = RunHeadless(*rig, options, std::cout);
     std::cout << "OpenGL: " << result.gl_description << '\n';
     std::cout << "wrote " << result.frames.size() << " frames (" << options.width << "x" << options.height << ", "
@@ -60,12 +61,11 @@ int main(int argc, char** argv) {
                 << result.speech.audio_duration() << " s)\n";
     }
     std::cout << FormatSummary(result.timing, "facerig-player --headless " + rig_name);
-    if (!options.timing_json.empty()) {
-      WriteTimingJson(options.timing_json, result.timing, result.samples, rig_name, rig->vertex_count(),
-                      rig->shape_count());
-      std::cout << "wrote " << options.timing_json.string() << '\n';
-    }
+    if (!options.timing_json.empty()) std::cout << "wrote " << options.timing_json.string() << '\n';
     return 0;
+  } catch (const Interrupted& e) {
+    std::cerr << "facerig-player: " << e.what() << "; nothing written, the previous outputs are unchanged\n";
+    return 128 + e.signal();
   } catch (const facerig::SpeechError& e) {
     std::cerr << "facerig-player: speech: " << e.what() << '\n';
     return 1;

@@ -1,5 +1,7 @@
 #include "media_writer.h"
 
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -9,18 +11,42 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "output_set.h"
+
 namespace facerig::player {
 namespace {
 
-void PutU32(std::ofstream& out, std::uint32_t value) {
-  const char bytes[4] = {static_cast<char>(value & 0xff), static_cast<char>((value >> 8) & 0xff),
-                         static_cast<char>((value >> 16) & 0xff), static_cast<char>(value >> 24)};
-  out.write(bytes, 4);
+void PutU32(std::vector<char>& out, std::uint32_t value) {
+  for (int shift = 0; shift < 32; shift += 8) out.push_back(static_cast<char>((value >> shift) & 0xff));
 }
 
-void PutU16(std::ofstream& out, std::uint16_t value) {
-  const char bytes[2] = {static_cast<char>(value & 0xff), static_cast<char>(value >> 8)};
-  out.write(bytes, 2);
+void PutU16(std::vector<char>& out, std::uint16_t value) {
+  out.push_back(static_cast<char>(value & 0xff));
+  out.push_back(static_cast<char>(value >> 8));
+}
+
+void PutText(std::vector<char>& out, const char* text) {
+  out.insert(out.end(), text, text + std::strlen(text));
+}
+
+// Writes all of `bytes` to a new file at `path`; a short write or a failed
+// flush or close (a full disk) removes the file and throws "cannot write
+// `what` PATH: reason". The "wav" failure injection stops half-way with ENOSPC.
+void WriteWholeFile(const std::filesystem::path& path, std::span<const char> bytes, const char* what) {
+  const auto fail = [&](int error) {
+    std::error_code ignored;
+    std::filesystem::remove(path, ignored);
+    throw std::runtime_error(std::string("cannot write ") + what + " " + path.string() + ": " + std::strerror(error));
+  };
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) fail(errno);
+  const bool injected = FailureInjected("wav") && std::strcmp(what, "WAV") == 0;
+  const std::size_t size = injected ? bytes.size() / 2 : bytes.size();
+  bool ok = std::fwrite(bytes.data(), 1, size, file) == size && std::fflush(file) == 0;
+  int error = ok ? 0 : errno;
+  if (injected) ok = false, error = ENOSPC;
+  if (std::fclose(file) != 0 && ok) ok = false, error = errno;
+  if (!ok) fail(error);
 }
 
 std::uint32_t GetU32(const unsigned char* p) {
@@ -31,30 +57,24 @@ std::uint32_t GetU32(const unsigned char* p) {
 
 void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> samples,
               int sample_rate) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("cannot write WAV " + path.string());
   const auto data_bytes = static_cast<std::uint32_t>(samples.size() * 2);
-  out.write("RIFF", 4);
-  PutU32(out, 36 + data_bytes);
-  out.write("WAVEfmt ", 8);
-  PutU32(out, 16);  // PCM fmt chunk size
-  PutU16(out, 1);   // PCM
-  PutU16(out, 1);   // mono
-  PutU32(out, static_cast<std::uint32_t>(sample_rate));
-  PutU32(out, static_cast<std::uint32_t>(sample_rate) * 2);  // byte rate
-  PutU16(out, 2);                                            // block align
-  PutU16(out, 16);                                           // bits per sample
-  out.write("data", 4);
-  PutU32(out, data_bytes);
+  std::vector<char> bytes;
+  bytes.reserve(44 + samples.size() * 2);
+  PutText(bytes, "RIFF");
+  PutU32(bytes, 36 + data_bytes);
+  PutText(bytes, "WAVEfmt ");
+  PutU32(bytes, 16);  // PCM fmt chunk size
+  PutU16(bytes, 1);   // PCM
+  PutU16(bytes, 1);   // mono
+  PutU32(bytes, static_cast<std::uint32_t>(sample_rate));
+  PutU32(bytes, static_cast<std::uint32_t>(sample_rate) * 2);  // byte rate
+  PutU16(bytes, 2);                                            // block align
+  PutU16(bytes, 16);                                           // bits per sample
+  PutText(bytes, "data");
+  PutU32(bytes, data_bytes);
   // Little-endian samples, written byte by byte so the file is right on any host.
-  std::vector<char> bytes(samples.size() * 2);
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    const auto value = static_cast<std::uint16_t>(samples[i]);
-    bytes[2 * i] = static_cast<char>(value & 0xff);
-    bytes[2 * i + 1] = static_cast<char>(value >> 8);
-  }
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw std::runtime_error("cannot write WAV " + path.string());
+  for (const std::int16_t sample : samples) PutU16(bytes, static_cast<std::uint16_t>(sample));
+  WriteWholeFile(path, bytes, "WAV");
 }
 
 std::vector<std::int16_t> ReadWav(const std::filesystem::path& path, int* sample_rate) {
@@ -91,13 +111,16 @@ void WritePng(const std::filesystem::path& path, const Image& image) {
                      const_cast<std::uint8_t*>(image.rgba.data()));
   cv::Mat bgr;
   cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
+  // Encoded in memory and written here, because imwrite does not report a failed close (a full disk).
+  std::vector<std::uint8_t> png;
   bool ok = false;
   try {
-    ok = cv::imwrite(path.string(), bgr);
+    ok = cv::imencode(".png", bgr, png);
   } catch (const cv::Exception& e) {
     throw std::runtime_error("cannot write PNG " + path.string() + ": " + e.what());
   }
   if (!ok) throw std::runtime_error("cannot write PNG " + path.string());
+  WriteWholeFile(path, std::span(reinterpret_cast<const char*>(png.data()), png.size()), "PNG");
 }
 
 Image ReadPng(const std::filesystem::path& path) {

@@ -15,13 +15,16 @@ struct Image {
   std::vector<std::uint8_t> rgba;  // width * height * 4
 };
 
-// Writes exactly `samples` as a 16-bit PCM mono WAV. Throws std::runtime_error with the path.
+// Writes exactly `samples` as a 16-bit PCM mono WAV. On any write error (a full disk: a
+// short write, a failed flush or close) removes the file and throws std::runtime_error
+// "cannot write WAV PATH: reason".
 void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> samples,
               int sample_rate);
 // Reads a 16-bit PCM mono WAV written by WriteWav (for tests). Throws std::runtime_error.
 std::vector<std::int16_t> ReadWav(const std::filesystem::path& path, int* sample_rate);
 
-// Writes the image as an RGB PNG (OpenCV imgcodecs). Throws std::runtime_error with the path.
+// Writes the image as an RGB PNG (OpenCV imgcodecs). Like WriteWav, a write error removes
+// the file and throws std::runtime_error "cannot write PNG PATH: reason".
 void WritePng(const std::filesystem::path& path, const Image& image);
 // Reads a PNG into RGBA. Throws std::runtime_error with the path.
 Image ReadPng(const std::filesystem::path& path);

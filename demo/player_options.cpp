@@ -48,7 +48,9 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
   --hud            headless: draw the HUD into the frames
   --version        print the version and exit
 
-exit codes: 0 ok, 1 failure, 2 bad command line.
+exit codes: 0 ok, 1 failure, 2 bad command line, 130 / 143 headless run stopped by
+SIGINT / SIGTERM. Headless outputs are written as one set: a failed or stopped run
+leaves the previous frames, WAV, MP4 and timing JSON as they were.
 
 window keys: type a line and press Enter to speak it (Up/Down: history); with an empty line:
   1-6 toggle joy, sadness, fear, anger, surprise, disgust; +/- intensity; space pause;
@@ -139,6 +141,10 @@ std::filesystem::path DefaultRigPath() {
   std::error_code error;
   if (std::filesystem::exists(default_head, error)) return default_head;
   return std::filesystem::path(FACERIG_SHARED_DATA_DIR) / "ict-facekit";
+}
+
+std::filesystem::path RigPath(const PlayerOptions& options) {
+  return options.rig.empty() ? DefaultRigPath() : options.rig;
 }
 
 }  // namespace facerig::player

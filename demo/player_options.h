@@ -56,5 +56,7 @@ std::string UsageText();
 // the built-in head the build generates (build/data/default_head.frig) when it exists, else the
 // ICT-FaceKit folder under the shared data directory.
 std::filesystem::path DefaultRigPath();
+// options.rig, else DefaultRigPath().
+std::filesystem::path RigPath(const PlayerOptions& options);
 
 }  // namespace facerig::player

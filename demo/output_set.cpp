@@ -1,0 +1,220 @@
+#include "output_set.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <system_error>
+
+namespace facerig::player {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Absolute, normalized, without a trailing separator: "out/frames/" -> "/cwd/out/frames".
+fs::path OutputPath(const fs::path& path) {
+  fs::path normal = fs::absolute(path).lexically_normal();
+  if (!normal.has_filename()) normal = normal.parent_path();
+  if (normal == normal.root_path()) throw std::runtime_error("cannot write an output over " + normal.string());
+  return normal;
+}
+
+std::string TemporaryName(std::string_view tag, const fs::path& final_path) {
+  return std::string(kTemporaryPrefix) + std::to_string(::getpid()) + "-" + std::string(tag) +
+         final_path.filename().string();
+}
+
+bool IsInside(const fs::path& inner, const fs::path& outer) {
+  const fs::path relative = inner.lexically_relative(outer);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+// A temporary left by a process that no longer runs (or a name without a process id).
+bool IsStale(const std::string& name) {
+  if (name.rfind(kTemporaryPrefix, 0) != 0) return false;
+  const char* digits = name.data() + kTemporaryPrefix.size();
+  int pid = 0;
+  const auto [end, error] = std::from_chars(digits, name.data() + name.size(), pid);
+  if (error != std::errc() || *end != '-' || pid <= 0) return true;
+  return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+// The frames folder is replaced as a whole: refuse to replace one that holds anything else.
+void CheckReplaceableFolder(const fs::path& folder) {
+  std::error_code error;
+  if (!fs::exists(folder, error)) return;
+  if (!fs::is_directory(folder, error)) throw std::runtime_error(folder.string() + " exists and is not a folder");
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    const bool frame = name.rfind("frame_", 0) == 0 && entry.path().extension() == ".png" &&
+                       entry.is_regular_file(error);
+    if (!frame) {
+      throw std::runtime_error(folder.string() + " holds " + name +
+                               ", not only frame_NNNNN.png files; not replacing it (remove it or choose "
+                               "another --frames folder)");
+    }
+  }
+}
+
+// Atomically swaps two existing paths (Linux renameat2); false if the file system cannot.
+bool Exchange(const fs::path& a, const fs::path& b, std::error_code& error) {
+  if (FailureInjected("no-exchange")) return false;
+  if (::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0) return true;
+  if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP) error = std::error_code(errno, std::generic_category());
+  return false;
+}
+
+}  // namespace
+
+bool FailureInjected(std::string_view what) {
+  const char* value = std::getenv("FACERIG_PLAYER_INJECT_FAILURE");
+  for (std::string_view list = value != nullptr ? value : ""; !list.empty();) {
+    const std::size_t comma = std::min(list.find(','), list.size());
+    if (list.substr(0, comma) == what) return true;
+    list.remove_prefix(std::min(comma + 1, list.size()));
+  }
+  return false;
+}
+
+OutputSet::~OutputSet() {
+  if (!committed_) Abandon();
+}
+
+void OutputSet::RemoveStaleTemporaries(const fs::path& folder) {
+  if (std::find(cleaned_folders_.begin(), cleaned_folders_.end(), folder) != cleaned_folders_.end()) return;
+  cleaned_folders_.push_back(folder);
+  std::error_code error;
+  for (fs::directory_iterator it(folder, error), end; !error && it != end; it.increment(error)) {
+    if (!IsStale(it->path().filename().string())) continue;
+    std::error_code ignored;
+    fs::remove_all(it->path(), ignored);  // another run may be removing it too
+  }
+}
+
+fs::path OutputSet::Add(const fs::path& final_path, Kind kind) {
+  Entry entry{OutputPath(final_path), {}, final_path, kind};
+  for (const Entry& other : entries_) {
+    if (other.final_path == entry.final_path) throw std::runtime_error(final_path.string() + " is given twice");
+    if (IsInside(entry.final_path, other.final_path) || IsInside(other.final_path, entry.final_path)) {
+      throw std::runtime_error("the outputs " + other.given.string() + " and " + final_path.string() +
+                               " are inside one another");
+    }
+  }
+  const fs::path folder = entry.final_path.parent_path();
+  std::error_code error;
+  if (kind == Kind::kFolder) {
+    fs::create_directories(folder, error);
+    if (error) throw std::runtime_error("cannot create " + folder.string() + ": " + error.message());
+    CheckReplaceableFolder(entry.final_path);
+  } else if (fs::is_directory(entry.final_path, error)) {
+    throw std::runtime_error(final_path.string() + " is a folder");
+  }
+  RemoveStaleTemporaries(folder);
+  entry.temporary = folder / TemporaryName("", entry.final_path);
+  fs::remove_all(entry.temporary, error);
+  if (kind == Kind::kFolder && !fs::create_directory(entry.temporary, error)) {
+    throw std::runtime_error("cannot create " + entry.temporary.string() + ": " + error.message());
+  }
+  entries_.push_back(entry);
+  return entry.temporary;
+}
+
+// Puts one entry's temporary in place; `placed` says what was done, also when it fails part-way.
+std::error_code OutputSet::Place(const Entry& entry, Placed* placed) {
+  std::error_code error;
+  if (!fs::exists(entry.final_path, error)) {
+    fs::rename(entry.temporary, entry.final_path, error);
+    if (!error) *placed = Placed::kNew;
+  } else if (Exchange(entry.temporary, entry.final_path, error)) {
+    *placed = Placed::kExchanged;  // the previous output now has the temporary name
+  } else if (!error) {
+    // No atomic exchange on this file system: the previous output is set aside for a moment.
+    fs::rename(entry.final_path, AsidePath(entry), error);
+    if (error) return error;
+    *placed = Placed::kAsideOnly;
+    fs::rename(entry.temporary, entry.final_path, error);
+    if (!error) *placed = Placed::kAside;
+  }
+  return error;
+}
+
+// Undoes Place(): the new output back to its temporary name, the previous one to its place.
+std::error_code OutputSet::Unplace(const Entry& entry, Placed placed) {
+  std::error_code error;
+  switch (placed) {
+    case Placed::kNothing: break;
+    case Placed::kNew: fs::rename(entry.final_path, entry.temporary, error); break;
+    case Placed::kExchanged: Exchange(entry.temporary, entry.final_path, error); break;
+    case Placed::kAside: fs::rename(entry.final_path, entry.temporary, error); [[fallthrough]];
+    case Placed::kAsideOnly: if (!error) fs::rename(AsidePath(entry), entry.final_path, error); break;
+  }
+  return error;
+}
+
+fs::path OutputSet::AsidePath(const Entry& entry) {
+  return entry.temporary.parent_path() / TemporaryName("old-", entry.final_path);
+}
+
+void OutputSet::Commit() {
+  std::vector<Placed> placed(entries_.size(), Placed::kNothing);
+  std::string failure;
+  for (std::size_t i = 0; i < entries_.size() && failure.empty(); ++i) {
+    std::error_code error = FailureInjected("rename") && i + 1 == entries_.size()
+                                ? std::make_error_code(std::errc::io_error)
+                                : Place(entries_[i], &placed[i]);
+    if (error) {
+      failure = "cannot rename " + entries_[i].temporary.filename().string() + " to " +
+                entries_[i].given.string() + ": " + error.message();
+    }
+  }
+  if (failure.empty()) {
+    committed_ = true;
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+      std::error_code ignored;  // what is left is removed by the next run
+      if (placed[i] == Placed::kExchanged) fs::remove_all(entries_[i].temporary, ignored);
+      if (placed[i] == Placed::kAside) fs::remove_all(AsidePath(entries_[i]), ignored);
+    }
+    return;
+  }
+  std::string restore_failures;
+  for (std::size_t i = entries_.size(); i-- > 0;) {
+    if (const std::error_code error = Unplace(entries_[i], placed[i])) {
+      restore_failures += "; could not restore " + entries_[i].given.string() + ": " + error.message();
+    }
+  }
+  failure += restore_failures.empty() ? "; the previous outputs are unchanged" : restore_failures;
+  Abandon();
+  throw std::runtime_error(failure);
+}
+
+void OutputSet::Abandon() noexcept {
+  for (const Entry& entry : entries_) {
+    std::error_code ignored;
+    fs::remove_all(entry.temporary, ignored);
+  }
+}
+
+std::string OutputSet::WithFinalPaths(std::string message) const {
+  std::vector<const Entry*> longest_first;
+  for (const Entry& entry : entries_) longest_first.push_back(&entry);
+  // A temporary folder "…-out" must not match inside a temporary file "…-out.wav".
+  std::sort(longest_first.begin(), longest_first.end(), [](const Entry* a, const Entry* b) {
+    return a->temporary.native().size() > b->temporary.native().size();
+  });
+  for (const Entry* entry : longest_first) {
+    const std::string& temporary = entry->temporary.native();
+    for (std::size_t at = message.find(temporary); at != std::string::npos;
+         at = message.find(temporary, at + entry->given.native().size())) {
+      message.replace(at, temporary.size(), entry->given.native());
+    }
+  }
+  return message;
+}
+
+}  // namespace facerig::player
