@@ -2,19 +2,18 @@
 #include "facerig/offline/landmarks.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <sstream>
+#include <span>
 #include <string>
-#include <system_error>
+#include <utility>
+#include <vector>
 
 #include <dlib/image_processing.h>
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <glm/geometric.hpp>
-#include <nlohmann/json.hpp>
 
 #include "eye_openings.h"
 #include "facerig/offline/registration_error.h"
@@ -25,9 +24,10 @@
 #include "landmarks_internal.h"
 
 namespace facerig {
-namespace {
 
 using namespace landmarks_detail;  // NOLINT: this file's own internal pieces
+
+namespace {
 
 struct Detection {
   double score = -std::numeric_limits<double>::infinity();
@@ -119,99 +119,107 @@ struct LandmarkDetector::Impl {
   // Which side is the face: the detector decides (both sides of the symmetry
   // plane, then the lateral directions should symmetry have failed). Views
   // frame all of `framed_positions`.
-  Candidate FindFaceSide(std::span<const glm::vec3> framed_positions, const MeshFrame& frame) {
-    const glm::vec3 facing = glm::normalize(glm::cross(frame.lateral, frame.up));
-    Candidate best{};
-    auto consider = [&](glm::vec3 forward, glm::vec3 up) {
-      Candidate c{forward, up, FrontView(framed_positions, forward, up, params.search_image_size), {}};
-      c.detection = Detect(c.view);
-      if (c.detection.score > best.detection.score) best = c;
-      return c.detection.found();
-    };
-    // dlib does not find faces on the back of a head: a confident hit on the
-    // first side settles it.
-    const bool facing_found = consider(facing, frame.up);
-    const bool behind_found = facing_found && best.detection.score >= 0.5 ? false : consider(-facing, frame.up);
-    if (!facing_found && !behind_found) {
-      consider(frame.lateral, frame.up);
-      consider(-frame.lateral, frame.up);
-    }
-    if (!best.detection.found()) {
-      throw LandmarkDetectionError(
-          "landmarks: the face detector found no face in any view of the mesh (is it a face, roughly "
-          "upright with +Y up?); give the landmarks in a file instead (--landmarks LM.json: {\"points\": "
-          "[[x, y, z], ...]} in dlib's 68-point order, or a subset with \"indices\")");
-    }
-    return best;
-  }
+  Candidate FindFaceSide(std::span<const glm::vec3> framed_positions, const MeshFrame& frame);
 
   // Nearby rotations (yaw and pitch, both ways): keep the one the detector
   // likes best. Close-ups (the face box fills half the image) are cheaper to
   // render and scan than the whole mesh, and comparable with each other.
-  Candidate RefineByCloseUps(const Candidate& centre) {
-    Candidate best = centre;
-    const float scale = PixelsPerUnit(centre.view);
-    const dlib::rectangle& box = centre.detection.rect;
-    const glm::vec3 face_centre = Unproject(
-        centre.view, {0.5f * static_cast<float>(box.left() + box.right() + 1),
-                      0.5f * static_cast<float>(box.top() + box.bottom() + 1)});
-    const float face_size = static_cast<float>(std::max(box.width(), box.height())) / scale;
-    bool have_close_up = false;
-    auto consider_close_up = [&](glm::vec3 forward, glm::vec3 up) {
-      Candidate c{forward, up, FaceView(forward, up, face_centre, face_size, params.refine_image_size), {}};
-      c.detection = Detect(c.view);
-      // The first close-up replaces the whole-mesh view (scores compare
-      // only between views framed alike).
-      if (c.detection.found() && (!have_close_up || c.detection.score > best.detection.score)) {
-        best = c;
-        have_close_up = true;
-      }
-    };
-    const auto step = static_cast<float>(params.refine_step_degrees * kPi / 180.0);
-    const glm::vec3 right = glm::normalize(glm::cross(centre.up, centre.forward));
-    consider_close_up(centre.forward, centre.up);
-    for (float sign : {-1.0f, 1.0f}) {
-      consider_close_up(Rotate(centre.forward, centre.up, sign * step), centre.up);  // yaw
-      consider_close_up(Rotate(centre.forward, right, sign * step), Rotate(centre.up, right, sign * step));  // pitch
-    }
-    return best;
-  }
+  Candidate RefineByCloseUps(const Candidate& centre);
 
   // Close-up on the detected face: its box fills half of the image.
-  CloseUp RenderCloseUp(const Candidate& best) {
-    const RasterView& search = best.view;
-    const float search_scale = PixelsPerUnit(search);
-    const dlib::rectangle& rect = best.detection.rect;
-    const glm::vec2 rect_centre(0.5f * static_cast<float>(rect.left() + rect.right() + 1),
-                                0.5f * static_cast<float>(rect.top() + rect.bottom() + 1));
-    const float rect_size = static_cast<float>(std::max(rect.width(), rect.height()));
-    CloseUp close_up;
-    close_up.view = search;
-    close_up.view.centre = Unproject(search, rect_centre);
-    close_up.view.half_extent = rect_size / search_scale;
-    close_up.view.width = params.landmark_image_size;
-    close_up.view.height = params.landmark_image_size;
-    close_up.image = Render(close_up.view, &close_up.buffers);
-    close_up.face_height = rect_size / search_scale;
-    return close_up;
-  }
+  CloseUp RenderCloseUp(const Candidate& best);
 
   // dlib's 68 points on the close-up, as pixel centres.
-  std::vector<glm::vec2> PredictLandmarkPixels(const RgbImage& image) {
-    const long quarter = params.landmark_image_size / 4;
-    const dlib::rectangle face_box(quarter, quarter, 3 * quarter, 3 * quarter);
-    const dlib::full_object_detection shape = predictor(ToDlib(image), face_box);
-    if (shape.num_parts() != kDlibLandmarkCount) {
-      throw LandmarkDetectionError("landmarks: the shape predictor did not return 68 points");
-    }
-    std::vector<glm::vec2> pixels(kDlibLandmarkCount);
-    for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
-      const dlib::point part = shape.part(static_cast<unsigned long>(k));
-      pixels[k] = {static_cast<float>(part.x()) + 0.5f, static_cast<float>(part.y()) + 0.5f};
-    }
-    return pixels;
-  }
+  std::vector<glm::vec2> PredictLandmarkPixels(const RgbImage& image);
 };
+
+Candidate LandmarkDetector::Impl::FindFaceSide(std::span<const glm::vec3> framed_positions, const MeshFrame& frame) {
+  const glm::vec3 facing = glm::normalize(glm::cross(frame.lateral, frame.up));
+  Candidate best{};
+  auto consider = [&](glm::vec3 forward, glm::vec3 up) {
+    Candidate c{forward, up, FrontView(framed_positions, forward, up, params.search_image_size), {}};
+    c.detection = Detect(c.view);
+    if (c.detection.score > best.detection.score) best = c;
+    return c.detection.found();
+  };
+  // dlib does not find faces on the back of a head: a confident hit on the
+  // first side settles it.
+  const bool facing_found = consider(facing, frame.up);
+  const bool behind_found = facing_found && best.detection.score >= 0.5 ? false : consider(-facing, frame.up);
+  if (!facing_found && !behind_found) {
+    consider(frame.lateral, frame.up);
+    consider(-frame.lateral, frame.up);
+  }
+  if (!best.detection.found()) {
+    throw LandmarkDetectionError(
+        "landmarks: the face detector found no face in any view of the mesh (is it a face, roughly "
+        "upright with +Y up?); give the landmarks in a file instead (--landmarks LM.json: {\"points\": "
+        "[[x, y, z], ...]} in dlib's 68-point order, or a subset with \"indices\")");
+  }
+  return best;
+}
+
+Candidate LandmarkDetector::Impl::RefineByCloseUps(const Candidate& centre) {
+  Candidate best = centre;
+  const float scale = PixelsPerUnit(centre.view);
+  const dlib::rectangle& box = centre.detection.rect;
+  const glm::vec3 face_centre = Unproject(
+      centre.view, {0.5f * static_cast<float>(box.left() + box.right() + 1),
+                    0.5f * static_cast<float>(box.top() + box.bottom() + 1)});
+  const float face_size = static_cast<float>(std::max(box.width(), box.height())) / scale;
+  bool have_close_up = false;
+  auto consider_close_up = [&](glm::vec3 forward, glm::vec3 up) {
+    Candidate c{forward, up, FaceView(forward, up, face_centre, face_size, params.refine_image_size), {}};
+    c.detection = Detect(c.view);
+    // The first close-up replaces the whole-mesh view (scores compare
+    // only between views framed alike).
+    if (c.detection.found() && (!have_close_up || c.detection.score > best.detection.score)) {
+      best = c;
+      have_close_up = true;
+    }
+  };
+  const auto step = static_cast<float>(params.refine_step_degrees * kPi / 180.0);
+  const glm::vec3 right = glm::normalize(glm::cross(centre.up, centre.forward));
+  consider_close_up(centre.forward, centre.up);
+  for (float sign : {-1.0f, 1.0f}) {
+    consider_close_up(Rotate(centre.forward, centre.up, sign * step), centre.up);  // yaw
+    consider_close_up(Rotate(centre.forward, right, sign * step), Rotate(centre.up, right, sign * step));  // pitch
+  }
+  return best;
+}
+
+CloseUp LandmarkDetector::Impl::RenderCloseUp(const Candidate& best) {
+  const RasterView& search = best.view;
+  const float search_scale = PixelsPerUnit(search);
+  const dlib::rectangle& rect = best.detection.rect;
+  const glm::vec2 rect_centre(0.5f * static_cast<float>(rect.left() + rect.right() + 1),
+                              0.5f * static_cast<float>(rect.top() + rect.bottom() + 1));
+  const float rect_size = static_cast<float>(std::max(rect.width(), rect.height()));
+  CloseUp close_up;
+  close_up.view = search;
+  close_up.view.centre = Unproject(search, rect_centre);
+  close_up.view.half_extent = rect_size / search_scale;
+  close_up.view.width = params.landmark_image_size;
+  close_up.view.height = params.landmark_image_size;
+  close_up.image = Render(close_up.view, &close_up.buffers);
+  close_up.face_height = rect_size / search_scale;
+  return close_up;
+}
+
+std::vector<glm::vec2> LandmarkDetector::Impl::PredictLandmarkPixels(const RgbImage& image) {
+  const long quarter = params.landmark_image_size / 4;
+  const dlib::rectangle face_box(quarter, quarter, 3 * quarter, 3 * quarter);
+  const dlib::full_object_detection shape = predictor(ToDlib(image), face_box);
+  if (shape.num_parts() != kDlibLandmarkCount) {
+    throw LandmarkDetectionError("landmarks: the shape predictor did not return 68 points");
+  }
+  std::vector<glm::vec2> pixels(kDlibLandmarkCount);
+  for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
+    const dlib::point part = shape.part(static_cast<unsigned long>(k));
+    pixels[k] = {static_cast<float>(part.x()) + 0.5f, static_cast<float>(part.y()) + 0.5f};
+  }
+  return pixels;
+}
 
 LandmarkDetector::LandmarkDetector(const LandmarkParams& params) : impl_(std::make_unique<Impl>()) {
   impl_->params = params;
@@ -259,118 +267,6 @@ LandmarkResult LandmarkDetector::Detect(const Mesh& mesh) {
   result.views_tried = impl.views_tried;
   result.seconds = SecondsSince(start);
   return result;
-}
-
-RgbImage DrawLandmarks(const LandmarkResult& result) {
-  RgbImage image = result.image;
-  auto put = [&](int x, int y, std::array<std::uint8_t, 3> colour) {
-    if (x < 0 || y < 0 || x >= image.width || y >= image.height) return;
-    const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
-                               static_cast<std::size_t>(x));
-    for (std::size_t c = 0; c < 3; ++c) image.pixels[i + c] = colour[c];
-  };
-  for (std::size_t k = 0; k < result.pixels.size(); ++k) {
-    const bool jaw = k < 17;
-    const bool snapped = k < result.landmarks.confidence.size() &&
-                         result.landmarks.confidence[k] < (jaw ? 0.999f * 0.3f : 0.999f);
-    const std::array<std::uint8_t, 3> colour = snapped ? std::array<std::uint8_t, 3>{255, 60, 60}
-                                               : jaw   ? std::array<std::uint8_t, 3>{255, 210, 0}
-                                                       : std::array<std::uint8_t, 3>{40, 255, 80};
-    const int cx = static_cast<int>(std::floor(result.pixels[k].x));
-    const int cy = static_cast<int>(std::floor(result.pixels[k].y));
-    for (int d = -2; d <= 2; ++d) {
-      put(cx + d, cy, colour);
-      put(cx, cy + d, colour);
-    }
-  }
-  return image;
-}
-
-void WriteLandmarksJson(const std::filesystem::path& path, const FaceLandmarks& landmarks) {
-  if (landmarks.confidence.size() != landmarks.points.size() ||
-      (!landmarks.indices.empty() && landmarks.indices.size() != landmarks.points.size())) {
-    throw IoError(IoErrorKind::kWriteFailed, path.string(), "landmark points, confidences and indices differ in length");
-  }
-  nlohmann::json json;
-  json["format"] = "facerig-landmarks";
-  json["version"] = 1;
-  json["order"] = "dlib-68";
-  nlohmann::json points = nlohmann::json::array();
-  for (const glm::vec3& p : landmarks.points) points.push_back({p.x, p.y, p.z});
-  json["points"] = std::move(points);
-  json["confidence"] = landmarks.confidence;
-  if (!landmarks.indices.empty()) json["indices"] = landmarks.indices;
-  const std::filesystem::path temporary = path.string() + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << json.dump(1) << "\n";
-    if (!out) throw IoError(IoErrorKind::kWriteFailed, temporary.string(), "cannot write the landmark file");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot rename the landmark file into place");
-  }
-}
-
-FaceLandmarks ReadLandmarksJson(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(IoErrorKind::kOpenFailed, path.string(), "cannot open the landmark file");
-  std::stringstream text;
-  text << in.rdbuf();
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::exception& e) {
-    throw IoError(IoErrorKind::kParse, path.string(), std::string("not JSON: ") + e.what());
-  }
-  FaceLandmarks landmarks;
-  try {
-    if (!json.is_object() || !json.contains("points") || !json["points"].is_array()) {
-      throw IoError(IoErrorKind::kParse, path.string(), "expected an object with a \"points\" array");
-    }
-    for (const auto& p : json["points"]) {
-      if (!p.is_array() || p.size() != 3) {
-        throw IoError(IoErrorKind::kParse, path.string(), "each point must be [x, y, z]");
-      }
-      const glm::vec3 point(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
-      if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z)) {
-        throw IoError(IoErrorKind::kNonFinite, path.string(), "a landmark point is not finite");
-      }
-      landmarks.points.push_back(point);
-    }
-    const std::size_t n = landmarks.points.size();
-    if (n == 0) throw IoError(IoErrorKind::kEmpty, path.string(), "the landmark file has no points");
-    if (json.contains("confidence")) {
-      landmarks.confidence = json["confidence"].get<std::vector<float>>();
-      for (float c : landmarks.confidence) {
-        if (!(c >= 0.0f && c <= 1.0f)) {
-          throw IoError(IoErrorKind::kParse, path.string(), "confidences must be in [0, 1]");
-        }
-      }
-    } else {
-      landmarks.confidence.assign(n, 1.0f);
-    }
-    if (json.contains("indices")) {
-      landmarks.indices = json["indices"].get<std::vector<std::uint32_t>>();
-    } else {
-      for (std::uint32_t i = 0; i < n; ++i) landmarks.indices.push_back(i);
-    }
-    if (landmarks.confidence.size() != n || landmarks.indices.size() != n) {
-      throw IoError(IoErrorKind::kParse, path.string(),
-                    "\"points\", \"confidence\" and \"indices\" must have the same length");
-    }
-    for (std::uint32_t i : landmarks.indices) {
-      if (i >= kDlibLandmarkCount) {
-        throw IoError(IoErrorKind::kIndexOutOfRange, path.string(),
-                      "landmark index " + std::to_string(i) + " is outside dlib's 0..67");
-      }
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw IoError(IoErrorKind::kParse, path.string(), std::string("malformed landmark file: ") + e.what());
-  }
-  return landmarks;
 }
 
 }  // namespace facerig
