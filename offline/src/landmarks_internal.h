@@ -1,7 +1,8 @@
 // Internal pieces of the landmark detector (landmarks*.cpp), one topic per
 // file: framing the face from the mesh alone (landmarks_frame.cpp), lifting
 // the 2D landmarks of a close-up back to the surface (landmarks_lift.cpp),
-// and the detector itself, the only file that includes dlib (landmarks.cpp).
+// the detector itself, the only file that includes dlib (landmarks.cpp), and
+// landmark files (landmarks_io.cpp).
 #pragma once
 
 #include <cstddef>
