@@ -1,0 +1,129 @@
+// Landmark files (JSON) and the debug drawing of a detection.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "facerig/offline/landmarks.h"
+#include "facerig/runtime/error.h"
+
+namespace facerig {
+
+RgbImage DrawLandmarks(const LandmarkResult& result) {
+  RgbImage image = result.image;
+  auto put = [&](int x, int y, std::array<std::uint8_t, 3> colour) {
+    if (x < 0 || y < 0 || x >= image.width || y >= image.height) return;
+    const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
+                               static_cast<std::size_t>(x));
+    for (std::size_t c = 0; c < 3; ++c) image.pixels[i + c] = colour[c];
+  };
+  for (std::size_t k = 0; k < result.pixels.size(); ++k) {
+    const bool jaw = k < 17;
+    const bool snapped = k < result.landmarks.confidence.size() &&
+                         result.landmarks.confidence[k] < (jaw ? 0.999f * 0.3f : 0.999f);
+    const std::array<std::uint8_t, 3> colour = snapped ? std::array<std::uint8_t, 3>{255, 60, 60}
+                                               : jaw   ? std::array<std::uint8_t, 3>{255, 210, 0}
+                                                       : std::array<std::uint8_t, 3>{40, 255, 80};
+    const int cx = static_cast<int>(std::floor(result.pixels[k].x));
+    const int cy = static_cast<int>(std::floor(result.pixels[k].y));
+    for (int d = -2; d <= 2; ++d) {
+      put(cx + d, cy, colour);
+      put(cx, cy + d, colour);
+    }
+  }
+  return image;
+}
+
+void WriteLandmarksJson(const std::filesystem::path& path, const FaceLandmarks& landmarks) {
+  if (landmarks.confidence.size() != landmarks.points.size() ||
+      (!landmarks.indices.empty() && landmarks.indices.size() != landmarks.points.size())) {
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "landmark points, confidences and indices differ in length");
+  }
+  nlohmann::json json;
+  json["format"] = "facerig-landmarks";
+  json["version"] = 1;
+  json["order"] = "dlib-68";
+  nlohmann::json points = nlohmann::json::array();
+  for (const glm::vec3& p : landmarks.points) points.push_back({p.x, p.y, p.z});
+  json["points"] = std::move(points);
+  json["confidence"] = landmarks.confidence;
+  if (!landmarks.indices.empty()) json["indices"] = landmarks.indices;
+  const std::filesystem::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << json.dump(1) << "\n";
+    if (!out) throw IoError(IoErrorKind::kWriteFailed, temporary.string(), "cannot write the landmark file");
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot rename the landmark file into place");
+  }
+}
+
+FaceLandmarks ReadLandmarksJson(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(IoErrorKind::kOpenFailed, path.string(), "cannot open the landmark file");
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(IoErrorKind::kParse, path.string(), std::string("not JSON: ") + e.what());
+  }
+  FaceLandmarks landmarks;
+  try {
+    if (!json.is_object() || !json.contains("points") || !json["points"].is_array()) {
+      throw IoError(IoErrorKind::kParse, path.string(), "expected an object with a \"points\" array");
+    }
+    for (const auto& p : json["points"]) {
+      if (!p.is_array() || p.size() != 3) {
+        throw IoError(IoErrorKind::kParse, path.string(), "each point must be [x, y, z]");
+      }
+      const glm::vec3 point(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+      if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z)) {
+        throw IoError(IoErrorKind::kNonFinite, path.string(), "a landmark point is not finite");
+      }
+      landmarks.points.push_back(point);
+    }
+    const std::size_t n = landmarks.points.size();
+    if (n == 0) throw IoError(IoErrorKind::kEmpty, path.string(), "the landmark file has no points");
+    if (json.contains("confidence")) {
+      landmarks.confidence = json["confidence"].get<std::vector<float>>();
+      for (float c : landmarks.confidence) {
+        if (!(c >= 0.0f && c <= 1.0f)) {
+          throw IoError(IoErrorKind::kParse, path.string(), "confidences must be in [0, 1]");
+        }
+      }
+    } else {
+      landmarks.confidence.assign(n, 1.0f);
+    }
+    if (json.contains("indices")) {
+      landmarks.indices = json["indices"].get<std::vector<std::uint32_t>>();
+    } else {
+      for (std::uint32_t i = 0; i < n; ++i) landmarks.indices.push_back(i);
+    }
+    if (landmarks.confidence.size() != n || landmarks.indices.size() != n) {
+      throw IoError(IoErrorKind::kParse, path.string(),
+                    "\"points\", \"confidence\" and \"indices\" must have the same length");
+    }
+    for (std::uint32_t i : landmarks.indices) {
+      if (i >= kDlibLandmarkCount) {
+        throw IoError(IoErrorKind::kIndexOutOfRange, path.string(),
+                      "landmark index " + std::to_string(i) + " is outside dlib's 0..67");
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(IoErrorKind::kParse, path.string(), std::string("malformed landmark file: ") + e.what());
+  }
+  return landmarks;
+}
+
+}  // namespace facerig
