@@ -21,7 +21,6 @@ player="$build/demo/facerig-player"
 
 if [[ -z ${DISPLAY:-} && -z ${WAYLAND_DISPLAY:-} ]]; then
   frames="$build/player_frames"
-  rm -rf "$frames"
   "$player" --headless --rig "$rig" --say "$text" --frames "$frames" --wav "$build/player.wav" \
     --size 640x480 --fps 30 --hud --timing "$build/player_timing.json"
   echo
