@@ -310,6 +310,9 @@ class GltfReader {
   const tinygltf::Accessor& GetAccessor(int index, const std::string& what) const;
   Elements ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
                         std::uint64_t element_size, bool allow_stride, const std::string& what) const;
+  const tinygltf::Accessor& GetVectorAccessor(int accessor_index, int components,
+                                              std::optional<std::size_t> expected_count,
+                                              const std::string& what) const;
   template <typename Vec>
   VecData<Vec> ReadVectors(int accessor_index, std::optional<std::size_t> expected_count, bool keep_sparse,
                            const std::string& what) const;
@@ -413,14 +416,15 @@ std::vector<std::uint32_t> GltfReader::ReadSparseIndices(const tinygltf::Accesso
   return indices;
 }
 
-template <typename Vec>
-VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size_t> expected_count,
-                                     bool keep_sparse, const std::string& what) const {
-  constexpr int kComponents = static_cast<int>(Vec::length());
+// A float (or small normalized integer) accessor of `components` components
+// and, when given, `expected_count` elements.
+const tinygltf::Accessor& GltfReader::GetVectorAccessor(int accessor_index, int components,
+                                                        std::optional<std::size_t> expected_count,
+                                                        const std::string& what) const {
   const tinygltf::Accessor& accessor = GetAccessor(accessor_index, what);
-  if (ComponentsOf(accessor.type) != kComponents) {
+  if (ComponentsOf(accessor.type) != components) {
     Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " is " +
-                                  TypeName(accessor.type) + ", expected VEC" + std::to_string(kComponents));
+                                  TypeName(accessor.type) + ", expected VEC" + std::to_string(components));
   }
   const int component_type = accessor.componentType;
   const std::size_t component_size = ComponentSize(component_type);
@@ -441,6 +445,16 @@ VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size
                                         " elements without data in a file of " + std::to_string(file_size_) +
                                         " bytes");
   }
+  return accessor;
+}
+
+template <typename Vec>
+VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size_t> expected_count,
+                                     bool keep_sparse, const std::string& what) const {
+  constexpr int kComponents = static_cast<int>(Vec::length());
+  const tinygltf::Accessor& accessor = GetVectorAccessor(accessor_index, kComponents, expected_count, what);
+  const int component_type = accessor.componentType;
+  const std::size_t component_size = ComponentSize(component_type);
   const std::size_t element_size = component_size * kComponents;
   auto load = [&](const unsigned char* p, std::size_t element) {
     Vec v;
