@@ -95,6 +95,74 @@ Targets ZeroTargets(tinygltf::Model* model, std::size_t vertex_count, std::size_
   return Targets(shape_count, std::map<std::string, int>{{"POSITION", accessor}});
 }
 
+// "mesh 2 ('Head')", for messages.
+std::string MeshLabel(int mesh_index, const std::string& mesh_name) {
+  return "mesh " + std::to_string(mesh_index) + (mesh_name.empty() ? std::string() : " ('" + mesh_name + "')");
+}
+
+// An animation of the old targets' weights has one value per old target.
+void RefuseAnimatedTargetWeights(const tinygltf::Model& model, int mesh_index, const std::string& mesh_label,
+                                 const std::string& where) {
+  for (const tinygltf::Animation& animation : model.animations) {
+    for (const tinygltf::AnimationChannel& channel : animation.channels) {
+      const int node = channel.target_node;
+      if (channel.target_path == "weights" && node >= 0 && node < static_cast<int>(model.nodes.size()) &&
+          model.nodes[static_cast<std::size_t>(node)].mesh == mesh_index) {
+        throw IoError(IoErrorKind::kUnsupportedFormat, where,
+                      "animation '" + animation.name + "' animates the morph target weights of " + mesh_label +
+                          ", which the rig's shapes would replace; remove that animation first");
+      }
+    }
+  }
+}
+
+// The rig's shapes as targets of each of the mesh's vertex blocks.
+std::vector<Targets> AddBlockTargets(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig,
+                                     const MeshVertices& vertices) {
+  std::vector<Targets> block_targets;
+  for (const VertexBlock& block : vertices.blocks) {
+    const bool with_normals = rig.has_normal_deltas() && block.primitive->attributes.count("NORMAL") > 0;
+    block_targets.push_back(
+        AddMorphTargets(model, buffer, rig, block.first_vertex, block.vertex_count, with_normals));
+  }
+  return block_targets;
+}
+
+// Every primitive's targets: its vertex block's, all-zero ones for a
+// primitive on other vertices, none without POSITION or without shapes.
+void SetPrimitiveTargets(tinygltf::Model* model, tinygltf::Mesh* mesh, const MeshVertices& vertices,
+                         const std::vector<Targets>& block_targets, std::size_t shape_count,
+                         const std::string& mesh_label, const std::string& where) {
+  std::map<std::size_t, Targets> zero_targets;  // by vertex count
+  for (tinygltf::Primitive& primitive : mesh->primitives) {
+    const auto position = primitive.attributes.find("POSITION");
+    const auto block = position == primitive.attributes.end()
+                           ? vertices.block_of_accessor.end()
+                           : vertices.block_of_accessor.find(position->second);
+    if (block != vertices.block_of_accessor.end()) {
+      primitive.targets = block_targets[block->second];
+      // A line or point primitive on the same vertices may lack their normals.
+      if (primitive.attributes.count("NORMAL") == 0) {
+        for (auto& target : primitive.targets) target.erase("NORMAL");
+      }
+      continue;
+    }
+    if (position == primitive.attributes.end() || shape_count == 0) {
+      primitive.targets.clear();
+      continue;
+    }
+    if (position->second < 0 || position->second >= static_cast<int>(model->accessors.size())) {
+      throw IoError(IoErrorKind::kIndexOutOfRange, where,
+                    mesh_label + ": a primitive's POSITION accessor " + std::to_string(position->second) +
+                        " does not exist");
+    }
+    const std::size_t count = model->accessors[static_cast<std::size_t>(position->second)].count;
+    auto [it, inserted] = zero_targets.try_emplace(count);
+    if (inserted) it->second = ZeroTargets(model, count, shape_count);
+    primitive.targets = it->second;
+  }
+}
+
 }  // namespace
 
 MorphTargetsWritten WriteGltfWithMorphTargets(const std::filesystem::path& source,
@@ -109,73 +177,26 @@ MorphTargetsWritten WriteGltfWithMorphTargets(const std::filesystem::path& sourc
 
   const int mesh_index = ChooseMesh(model);
   if (mesh_index < 0) throw IoError(IoErrorKind::kEmpty, where, "the file has no mesh");
-  const MeshVertices vertices =
-      GroupMeshVertices(model, model.meshes[static_cast<std::size_t>(mesh_index)], where, file_size);
+  tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
+  const MeshVertices vertices = GroupMeshVertices(model, mesh, where, file_size);
   MorphTargetsWritten written;
-  written.mesh_name = model.meshes[static_cast<std::size_t>(mesh_index)].name;
-  const std::string mesh_label = "mesh " + std::to_string(mesh_index) +
-                                 (written.mesh_name.empty() ? std::string() : " ('" + written.mesh_name + "')");
+  written.mesh_name = mesh.name;
+  const std::string mesh_label = MeshLabel(mesh_index, written.mesh_name);
   if (vertices.vertex_count != rig.vertex_count()) {
     throw IoError(IoErrorKind::kTopologyMismatch, where,
                   mesh_label + " has " + std::to_string(vertices.vertex_count) + " vertices but the rig has " +
                       std::to_string(rig.vertex_count()) + ": the rig was not built on this mesh");
   }
-
-  for (const tinygltf::Primitive& primitive : model.meshes[static_cast<std::size_t>(mesh_index)].primitives) {
+  for (const tinygltf::Primitive& primitive : mesh.primitives) {
     written.replaced_targets = std::max(written.replaced_targets, primitive.targets.size());
   }
-  // An animation of the old targets' weights has one value per old target.
-  for (const tinygltf::Animation& animation : model.animations) {
-    for (const tinygltf::AnimationChannel& channel : animation.channels) {
-      const int node = channel.target_node;
-      if (channel.target_path == "weights" && node >= 0 && node < static_cast<int>(model.nodes.size()) &&
-          model.nodes[static_cast<std::size_t>(node)].mesh == mesh_index) {
-        throw IoError(IoErrorKind::kUnsupportedFormat, where,
-                      "animation '" + animation.name + "' animates the morph target weights of " + mesh_label +
-                          ", which the rig's shapes would replace; remove that animation first");
-      }
-    }
-  }
+  RefuseAnimatedTargetWeights(model, mesh_index, mesh_label, where);
 
   if (output_format == Format::kBinary) MergeBuffers(&model);
   BufferBuilder buffer(&model, 0);
   written.embedded_images = EmbedImages(&model, &buffer);
-
-  std::vector<Targets> block_targets;
-  for (const VertexBlock& block : vertices.blocks) {
-    const bool with_normals = rig.has_normal_deltas() && block.primitive->attributes.count("NORMAL") > 0;
-    block_targets.push_back(
-        AddMorphTargets(&model, &buffer, rig, block.first_vertex, block.vertex_count, with_normals));
-  }
-  std::map<std::size_t, Targets> zero_targets;  // by vertex count
-  tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
-  for (tinygltf::Primitive& primitive : mesh.primitives) {
-    const auto position = primitive.attributes.find("POSITION");
-    const auto block = position == primitive.attributes.end()
-                           ? vertices.block_of_accessor.end()
-                           : vertices.block_of_accessor.find(position->second);
-    if (block != vertices.block_of_accessor.end()) {
-      primitive.targets = block_targets[block->second];
-      // A line or point primitive on the same vertices may lack their normals.
-      if (primitive.attributes.count("NORMAL") == 0) {
-        for (auto& target : primitive.targets) target.erase("NORMAL");
-      }
-      continue;
-    }
-    if (position == primitive.attributes.end() || rig.shape_count() == 0) {
-      primitive.targets.clear();
-      continue;
-    }
-    if (position->second < 0 || position->second >= static_cast<int>(model.accessors.size())) {
-      throw IoError(IoErrorKind::kIndexOutOfRange, where,
-                    mesh_label + ": a primitive's POSITION accessor " + std::to_string(position->second) +
-                        " does not exist");
-    }
-    const std::size_t count = model.accessors[static_cast<std::size_t>(position->second)].count;
-    auto [it, inserted] = zero_targets.try_emplace(count);
-    if (inserted) it->second = ZeroTargets(&model, count, rig.shape_count());
-    primitive.targets = it->second;
-  }
+  const std::vector<Targets> block_targets = AddBlockTargets(&model, &buffer, rig, vertices);
+  SetPrimitiveTargets(&model, &mesh, vertices, block_targets, rig.shape_count(), mesh_label, where);
   mesh.weights.assign(rig.shape_count(), 0.0);
   mesh.extras = WithTargetNames(mesh.extras, rig);
   // A node's own weights override the mesh's and must match its target count.

@@ -61,6 +61,97 @@ std::vector<std::string> ShapeNames(const fs::path& folder, const std::string& n
   return names;
 }
 
+// The expression meshes, parsed on all cores: each is independent. The first
+// failure in name order is rethrown.
+std::vector<Mesh> ReadExpressionMeshes(const fs::path& folder, const std::vector<std::string>& names) {
+  std::vector<Mesh> meshes(names.size());
+  std::vector<std::exception_ptr> errors(names.size());
+  const unsigned workers = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(),
+                                                           static_cast<unsigned>(names.size())));
+  std::vector<std::thread> threads;
+  for (unsigned w = 0; w < workers; ++w) {
+    threads.emplace_back([&, w] {
+      for (std::size_t i = w; i < names.size(); i += workers) {
+        try {
+          meshes[i] = ReadObj(folder / (names[i] + ".obj"));
+        } catch (...) {
+          errors[i] = std::current_exception();
+        }
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+  return meshes;
+}
+
+float BoundingDiagonal(const std::vector<glm::vec3>& positions) {
+  glm::vec3 lo = positions.front(), hi = lo;
+  for (const glm::vec3& p : positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  return glm::length(hi - lo);
+}
+
+// An expression must be the neutral moved: same vertex count, same faces.
+void CheckSameTopology(const Mesh& mesh, const fs::path& path, const Mesh& neutral, std::size_t vertex_count,
+                       const std::string& neutral_name) {
+  if (mesh.positions.size() != vertex_count) {
+    throw IoError(IoErrorKind::kTopologyMismatch, path.string(),
+                  std::to_string(mesh.positions.size()) + " vertices, the neutral " + neutral_name + " has " +
+                      std::to_string(vertex_count));
+  }
+  if (mesh.triangles != neutral.triangles) {
+    throw IoError(IoErrorKind::kTopologyMismatch, path.string(), "faces differ from the neutral " + neutral_name);
+  }
+}
+
+// Sparse shapes from expression meshes on the neutral's vertices: position
+// deltas, and area-weighted normal deltas when asked. The per-vertex buffers
+// are reused from one expression to the next.
+class ShapeDeltaMaker {
+ public:
+  ShapeDeltaMaker(const RawRig& neutral, bool with_normal_deltas)
+      : neutral_(neutral), with_normal_deltas_(with_normal_deltas), deltas_(neutral.positions.size()) {
+    if (!with_normal_deltas) return;
+    neutral_normals_.resize(neutral.positions.size());
+    shape_normals_.resize(neutral.positions.size());
+    normal_deltas_.resize(neutral.positions.size());
+    ComputeVertexNormals(neutral.positions, neutral.triangles, neutral_normals_);
+  }
+
+  // Empty without normal deltas.
+  const std::vector<glm::vec3>& neutral_normals() const { return neutral_normals_; }
+
+  // Counts the deltas at or under the report's drop threshold as it goes.
+  RawBlendShape Make(const std::string& name, const Mesh& mesh, TemplateImportReport* report) {
+    for (std::size_t v = 0; v < deltas_.size(); ++v) {
+      deltas_[v] = mesh.positions[v] - neutral_.positions[v];
+      const float length = glm::length(deltas_[v]);
+      if (length > 0.0f && length <= report->drop_threshold) {
+        ++report->dropped_entries;
+        report->largest_dropped = std::max(report->largest_dropped, length);
+      }
+    }
+    if (with_normal_deltas_) {
+      ComputeVertexNormals(mesh.positions, neutral_.triangles, shape_normals_);
+      for (std::size_t v = 0; v < normal_deltas_.size(); ++v) {
+        normal_deltas_[v] = shape_normals_[v] - neutral_normals_[v];
+      }
+    }
+    return MakeSparseShape(name, deltas_, normal_deltas_, report->drop_threshold);
+  }
+
+ private:
+  const RawRig& neutral_;
+  bool with_normal_deltas_;
+  std::vector<glm::vec3> deltas_;
+  std::vector<glm::vec3> neutral_normals_, shape_normals_, normal_deltas_;
+};
+
 }  // namespace
 
 bool GlobMatch(std::string_view pattern, std::string_view name) {
@@ -101,40 +192,13 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
   const fs::path neutral_path = folder / neutral_name;
   const Mesh neutral = ReadObj(neutral_path);
   const std::vector<std::string> names = ShapeNames(folder, neutral_name, options);
-
-  // Parse the expression meshes on all cores; each is independent.
-  std::vector<Mesh> meshes(names.size());
-  std::vector<std::exception_ptr> errors(names.size());
-  const unsigned workers = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(),
-                                                           static_cast<unsigned>(names.size())));
-  std::vector<std::thread> threads;
-  for (unsigned w = 0; w < workers; ++w) {
-    threads.emplace_back([&, w] {
-      for (std::size_t i = w; i < names.size(); i += workers) {
-        try {
-          meshes[i] = ReadObj(folder / (names[i] + ".obj"));
-        } catch (...) {
-          errors[i] = std::current_exception();
-        }
-      }
-    });
-  }
-  for (std::thread& thread : threads) thread.join();
-  for (const std::exception_ptr& error : errors) {
-    if (error) std::rethrow_exception(error);
-  }
+  std::vector<Mesh> meshes = ReadExpressionMeshes(folder, names);
 
   const VertexAttributes neutral_attributes = PerVertexAttributes(neutral);
   RawRig raw = ToRawRig(neutral);
   raw.normals.clear();  // area-weighted, as the expressions' normal deltas
   raw.up_axis = options.up_axis;
-
-  glm::vec3 lo = raw.positions.front(), hi = lo;
-  for (const glm::vec3& p : raw.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  const float diagonal = glm::length(hi - lo);
+  const float diagonal = BoundingDiagonal(raw.positions);
   raw.units = options.units != Units::kUnknown ? options.units : GuessHeadUnits(diagonal);
 
   TemplateImportReport local;
@@ -144,42 +208,11 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
   local.units_guessed = options.units == Units::kUnknown;
   local.uv_seam_vertices = neutral_attributes.uv_seam_vertices;
 
-  std::vector<glm::vec3> deltas(raw.positions.size());
-  std::vector<glm::vec3> neutral_normals, shape_normals, normal_deltas;
-  if (options.with_normal_deltas) {
-    neutral_normals.resize(raw.positions.size());
-    shape_normals.resize(raw.positions.size());
-    normal_deltas.resize(raw.positions.size());
-    ComputeVertexNormals(raw.positions, raw.triangles, neutral_normals);
-    raw.normals = neutral_normals;
-  }
+  ShapeDeltaMaker shape_deltas(raw, options.with_normal_deltas);
+  if (options.with_normal_deltas) raw.normals = shape_deltas.neutral_normals();
   for (std::size_t i = 0; i < names.size(); ++i) {
-    const fs::path path = folder / (names[i] + ".obj");
-    const Mesh& mesh = meshes[i];
-    if (mesh.positions.size() != raw.positions.size()) {
-      throw IoError(IoErrorKind::kTopologyMismatch, path.string(),
-                    std::to_string(mesh.positions.size()) + " vertices, the neutral " + neutral_name +
-                        " has " + std::to_string(raw.positions.size()));
-    }
-    if (mesh.triangles != neutral.triangles) {
-      throw IoError(IoErrorKind::kTopologyMismatch, path.string(),
-                    "faces differ from the neutral " + neutral_name);
-    }
-    for (std::size_t v = 0; v < deltas.size(); ++v) {
-      deltas[v] = mesh.positions[v] - raw.positions[v];
-      const float length = glm::length(deltas[v]);
-      if (length > 0.0f && length <= local.drop_threshold) {
-        ++local.dropped_entries;
-        local.largest_dropped = std::max(local.largest_dropped, length);
-      }
-    }
-    if (options.with_normal_deltas) {
-      ComputeVertexNormals(mesh.positions, raw.triangles, shape_normals);
-      for (std::size_t v = 0; v < normal_deltas.size(); ++v) {
-        normal_deltas[v] = shape_normals[v] - neutral_normals[v];
-      }
-    }
-    raw.shapes.push_back(MakeSparseShape(names[i], deltas, normal_deltas, local.drop_threshold));
+    CheckSameTopology(meshes[i], folder / (names[i] + ".obj"), neutral, raw.positions.size(), neutral_name);
+    raw.shapes.push_back(shape_deltas.Make(names[i], meshes[i], &local));
     local.kept_entries += raw.shapes.back().vertex_indices.size();
     meshes[i] = Mesh();  // release early: 53 meshes of ICT size are ~100 MB
   }

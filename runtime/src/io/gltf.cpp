@@ -40,88 +40,98 @@ using gltf_internal::WriteModel;
 // ---------------------------------------------------------------------------
 // Writing
 
-tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = kGenerator;
-  BufferBuilder buffer(&model);
+// POSITION, NORMAL and TEXCOORD_0, shared by every part's primitive.
+std::map<std::string, int> AddVertexAttributes(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig) {
   const std::size_t vertex_count = rig.vertex_count();
-
   std::map<std::string, int> attributes;
-  {
-    tinygltf::Accessor positions = FloatAccessor(
-        buffer.AddView(rig.positions().data(), rig.positions().size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
-        vertex_count, TINYGLTF_TYPE_VEC3);
-    SetMinMax(rig.positions(), false, &positions);
-    attributes["POSITION"] = AddAccessor(&model, std::move(positions));
-    attributes["NORMAL"] =
-        AddAccessor(&model, FloatAccessor(buffer.AddView(rig.normals().data(), rig.normals().size_bytes(),
-                                                         TINYGLTF_TARGET_ARRAY_BUFFER),
-                                          vertex_count, TINYGLTF_TYPE_VEC3));
-  }
+  tinygltf::Accessor positions = FloatAccessor(
+      buffer->AddView(rig.positions().data(), rig.positions().size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
+      vertex_count, TINYGLTF_TYPE_VEC3);
+  SetMinMax(rig.positions(), false, &positions);
+  attributes["POSITION"] = AddAccessor(model, std::move(positions));
+  attributes["NORMAL"] =
+      AddAccessor(model, FloatAccessor(buffer->AddView(rig.normals().data(), rig.normals().size_bytes(),
+                                                       TINYGLTF_TARGET_ARRAY_BUFFER),
+                                       vertex_count, TINYGLTF_TYPE_VEC3));
   if (!rig.uvs().empty()) {
     // glTF's UV origin is the top-left corner, OBJ's (and the rig's) bottom-left.
     std::vector<glm::vec2> flipped(rig.uvs().begin(), rig.uvs().end());
     for (glm::vec2& uv : flipped) uv.y = 1.0f - uv.y;
     attributes["TEXCOORD_0"] =
-        AddAccessor(&model, FloatAccessor(buffer.AddView(flipped.data(), flipped.size() * sizeof(glm::vec2),
+        AddAccessor(model, FloatAccessor(buffer->AddView(flipped.data(), flipped.size() * sizeof(glm::vec2),
                                                          TINYGLTF_TARGET_ARRAY_BUFFER),
-                                          vertex_count, TINYGLTF_TYPE_VEC2));
+                                         vertex_count, TINYGLTF_TYPE_VEC2));
   }
+  return attributes;
+}
 
-  const std::vector<std::map<std::string, int>> targets = AddMorphTargets(
-      &model, &buffer, rig, 0, static_cast<std::uint32_t>(vertex_count), rig.has_normal_deltas());
+// All triangles in one bufferView; each part's accessor is a byte range of it.
+struct IndexView {
+  int view = -1;
+  bool short_indices = false;  // 16-bit, else 32-bit
+};
 
-  // Indices: one view, one accessor per part (a byte range of it).
-  const bool short_indices = vertex_count <= 0xFFFF;  // 0xFFFF is the restart value, never used
-  int index_view = -1;
-  if (short_indices) {
+IndexView AddIndexView(BufferBuilder* buffer, const Rig& rig) {
+  IndexView index;
+  index.short_indices = rig.vertex_count() <= 0xFFFF;  // 0xFFFF is the restart value, never used
+  if (index.short_indices) {
     std::vector<std::uint16_t> indices;
     indices.reserve(rig.triangle_count() * 3);
     for (const Triangle& t : rig.triangles()) {
       for (std::uint32_t v : t) indices.push_back(static_cast<std::uint16_t>(v));
     }
-    index_view = buffer.AddView(indices.data(), indices.size() * sizeof(std::uint16_t),
-                                TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    index.view = buffer->AddView(indices.data(), indices.size() * sizeof(std::uint16_t),
+                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   } else {
-    index_view = buffer.AddView(rig.triangles().data(), rig.triangles().size_bytes(),
-                                TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    index.view = buffer->AddView(rig.triangles().data(), rig.triangles().size_bytes(),
+                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   }
-  const std::size_t index_size = short_indices ? 2 : 4;
+  return index;
+}
 
-  tinygltf::Mesh mesh;
-  mesh.name = name;
-  std::vector<std::string> part_names;
+// One triangle-list primitive per part, all on the same vertices and targets.
+std::vector<tinygltf::Primitive> PartPrimitives(tinygltf::Model* model, const Rig& rig, const IndexView& index,
+                                                const std::map<std::string, int>& attributes,
+                                                const std::vector<std::map<std::string, int>>& targets) {
+  const std::size_t index_size = index.short_indices ? 2 : 4;
+  std::vector<tinygltf::Primitive> primitives;
   for (const Part& part : rig.parts()) {
     tinygltf::Accessor indices;
-    indices.bufferView = index_view;
+    indices.bufferView = index.view;
     indices.byteOffset = std::size_t{part.first_triangle} * 3 * index_size;
     indices.componentType =
-        short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+        index.short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     indices.count = std::size_t{part.triangle_count} * 3;
     indices.type = TINYGLTF_TYPE_SCALAR;
     tinygltf::Primitive primitive;
     primitive.attributes = attributes;
-    primitive.indices = AddAccessor(&model, std::move(indices));
+    primitive.indices = AddAccessor(model, std::move(indices));
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
     primitive.targets = targets;
-    mesh.primitives.push_back(std::move(primitive));
-    part_names.push_back(part.name);
+    primitives.push_back(std::move(primitive));
   }
+  return primitives;
+}
 
+// What glTF has no field for: units, up axis and part names in
+// extras.facerig, the shape names in extras.targetNames.
+tinygltf::Value MeshExtras(const Rig& rig) {
+  std::vector<std::string> part_names;
+  for (const Part& part : rig.parts()) part_names.push_back(part.name);
   tinygltf::Value::Object facerig;
   facerig["units"] = tinygltf::Value(std::string(ToString(rig.units())));
   facerig["up"] = tinygltf::Value(std::string(rig.up_axis() == UpAxis::kZ ? "Z" : "Y"));
   facerig["parts"] = StringArray(part_names);
   tinygltf::Value::Object extras;
   extras["facerig"] = tinygltf::Value(std::move(facerig));
-  mesh.extras = tinygltf::Value(std::move(extras));
-  if (rig.shape_count() > 0) {
-    mesh.extras = WithTargetNames(mesh.extras, rig);
-    mesh.weights.assign(rig.shape_count(), 0.0);
-  }
-  model.meshes.push_back(std::move(mesh));
+  tinygltf::Value value(std::move(extras));
+  if (rig.shape_count() > 0) value = WithTargetNames(value, rig);
+  return value;
+}
 
+// One node for mesh 0 whose transform brings the rig's units and up axis to
+// glTF's metres and +Y, in the default scene.
+void AddSceneNode(tinygltf::Model* model, const Rig& rig, const std::string& name) {
   tinygltf::Node node;
   node.name = name;
   node.mesh = 0;
@@ -132,11 +142,30 @@ tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
     const double half = std::sqrt(0.5);
     node.rotation = {-half, 0.0, 0.0, half};
   }
-  model.nodes.push_back(std::move(node));
+  model->nodes.push_back(std::move(node));
   tinygltf::Scene scene;
   scene.nodes.push_back(0);
-  model.scenes.push_back(std::move(scene));
-  model.defaultScene = 0;
+  model->scenes.push_back(std::move(scene));
+  model->defaultScene = 0;
+}
+
+tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = kGenerator;
+  BufferBuilder buffer(&model);
+  const std::map<std::string, int> attributes = AddVertexAttributes(&model, &buffer, rig);
+  const std::vector<std::map<std::string, int>> targets = AddMorphTargets(
+      &model, &buffer, rig, 0, static_cast<std::uint32_t>(rig.vertex_count()), rig.has_normal_deltas());
+  const IndexView index = AddIndexView(&buffer, rig);
+
+  tinygltf::Mesh mesh;
+  mesh.name = name;
+  mesh.primitives = PartPrimitives(&model, rig, index, attributes, targets);
+  mesh.extras = MeshExtras(rig);
+  if (rig.shape_count() > 0) mesh.weights.assign(rig.shape_count(), 0.0);
+  model.meshes.push_back(std::move(mesh));
+  AddSceneNode(&model, rig, name);
   return model;
 }
 
@@ -281,6 +310,9 @@ class GltfReader {
   const tinygltf::Accessor& GetAccessor(int index, const std::string& what) const;
   Elements ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
                         std::uint64_t element_size, bool allow_stride, const std::string& what) const;
+  const tinygltf::Accessor& GetVectorAccessor(int accessor_index, int components,
+                                              std::optional<std::size_t> expected_count,
+                                              const std::string& what) const;
   template <typename Vec>
   VecData<Vec> ReadVectors(int accessor_index, std::optional<std::size_t> expected_count, bool keep_sparse,
                            const std::string& what) const;
@@ -290,6 +322,10 @@ class GltfReader {
                                                const std::string& what) const;
   RawBlendShape ReadShape(const std::vector<VertexBlock>& blocks, std::size_t target, std::string name,
                           bool with_normals) const;
+  void ReadVertices(const std::vector<VertexBlock>& blocks, RawRig* raw) const;
+  void ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw) const;
+  void ReadShapes(const tinygltf::Mesh& mesh, const std::vector<VertexBlock>& blocks, RawRig* raw) const;
+  void ReadFrame(const tinygltf::Mesh& mesh, RawRig* raw) const;
 
   std::string path_;
   tinygltf::Model model_;
@@ -380,14 +416,15 @@ std::vector<std::uint32_t> GltfReader::ReadSparseIndices(const tinygltf::Accesso
   return indices;
 }
 
-template <typename Vec>
-VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size_t> expected_count,
-                                     bool keep_sparse, const std::string& what) const {
-  constexpr int kComponents = static_cast<int>(Vec::length());
+// A float (or small normalized integer) accessor of `components` components
+// and, when given, `expected_count` elements.
+const tinygltf::Accessor& GltfReader::GetVectorAccessor(int accessor_index, int components,
+                                                        std::optional<std::size_t> expected_count,
+                                                        const std::string& what) const {
   const tinygltf::Accessor& accessor = GetAccessor(accessor_index, what);
-  if (ComponentsOf(accessor.type) != kComponents) {
+  if (ComponentsOf(accessor.type) != components) {
     Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " is " +
-                                  TypeName(accessor.type) + ", expected VEC" + std::to_string(kComponents));
+                                  TypeName(accessor.type) + ", expected VEC" + std::to_string(components));
   }
   const int component_type = accessor.componentType;
   const std::size_t component_size = ComponentSize(component_type);
@@ -408,6 +445,16 @@ VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size
                                         " elements without data in a file of " + std::to_string(file_size_) +
                                         " bytes");
   }
+  return accessor;
+}
+
+template <typename Vec>
+VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size_t> expected_count,
+                                     bool keep_sparse, const std::string& what) const {
+  constexpr int kComponents = static_cast<int>(Vec::length());
+  const tinygltf::Accessor& accessor = GetVectorAccessor(accessor_index, kComponents, expected_count, what);
+  const int component_type = accessor.componentType;
+  const std::size_t component_size = ComponentSize(component_type);
   const std::size_t element_size = component_size * kComponents;
   auto load = [&](const unsigned char* p, std::size_t element) {
     Vec v;
@@ -557,14 +604,9 @@ std::string StringOr(const tinygltf::Value& array, std::size_t index, std::strin
   return fallback;
 }
 
-Rig GltfReader::Read() {
-  const int mesh_index = ChooseMesh(model_);
-  if (mesh_index < 0) Fail(IoErrorKind::kEmpty, "the file has no mesh");
-  const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
-  const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
-  const std::vector<VertexBlock>& blocks = vertices.blocks;
-
-  RawRig raw;
+// Positions of every vertex block, back to back; normals and UVs only when
+// every block has them.
+void GltfReader::ReadVertices(const std::vector<VertexBlock>& blocks, RawRig* raw) const {
   bool all_normals = true, all_uvs = true;
   for (const VertexBlock& block : blocks) {
     all_normals = all_normals && block.primitive->attributes.count("NORMAL") > 0;
@@ -573,42 +615,47 @@ Rig GltfReader::Read() {
   for (const VertexBlock& block : blocks) {
     const std::string what = "accessor " + std::to_string(block.position_accessor) + " (POSITION)";
     VecData<glm::vec3> positions = ReadVectors<glm::vec3>(block.position_accessor, std::nullopt, false, what);
-    raw.positions.insert(raw.positions.end(), positions.values.begin(), positions.values.end());
+    raw->positions.insert(raw->positions.end(), positions.values.begin(), positions.values.end());
     if (all_normals) {
       VecData<glm::vec3> normals = ReadVectors<glm::vec3>(block.primitive->attributes.at("NORMAL"),
                                                           block.vertex_count, false, "NORMAL");
-      raw.normals.insert(raw.normals.end(), normals.values.begin(), normals.values.end());
+      raw->normals.insert(raw->normals.end(), normals.values.begin(), normals.values.end());
     }
     if (all_uvs) {
       VecData<glm::vec2> uvs = ReadVectors<glm::vec2>(block.primitive->attributes.at("TEXCOORD_0"),
                                                       block.vertex_count, false, "TEXCOORD_0");
       for (glm::vec2& uv : uvs.values) uv.y = 1.0f - uv.y;
-      raw.uvs.insert(raw.uvs.end(), uvs.values.begin(), uvs.values.end());
+      raw->uvs.insert(raw->uvs.end(), uvs.values.begin(), uvs.values.end());
     }
   }
-  if (raw.positions.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no vertices");
+  if (raw->positions.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no vertices");
+}
 
-  // Parts: one per primitive, named from extras.facerig.parts when present.
-  const tinygltf::Value& facerig = Member(mesh.extras, "facerig");
-  const tinygltf::Value& part_names = Member(facerig, "parts");
+// Parts: one per primitive, named from extras.facerig.parts when present.
+void GltfReader::ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw) const {
+  const tinygltf::Value& part_names = Member(Member(mesh.extras, "facerig"), "parts");
   for (std::size_t p : vertices.triangle_primitives) {
     const tinygltf::Primitive& primitive = mesh.primitives[p];
-    const VertexBlock& block = blocks[vertices.block_of_accessor.at(primitive.attributes.at("POSITION"))];
+    const VertexBlock& block =
+        vertices.blocks[vertices.block_of_accessor.at(primitive.attributes.at("POSITION"))];
     const std::string what = "primitive " + std::to_string(p);
     const std::vector<std::uint32_t> indices = ReadIndices(primitive, block, what);
     if (indices.empty()) continue;  // a part needs at least one triangle
     RawPart part;
     part.name = StringOr(part_names, p, "primitive" + std::to_string(p));
-    part.first_triangle = static_cast<std::uint32_t>(raw.triangles.size());
+    part.first_triangle = static_cast<std::uint32_t>(raw->triangles.size());
     part.triangle_count = static_cast<std::uint32_t>(indices.size() / 3);
     for (std::size_t i = 0; i < indices.size(); i += 3) {
-      raw.triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
+      raw->triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
     }
-    raw.parts.push_back(std::move(part));
+    raw->parts.push_back(std::move(part));
   }
-  if (raw.triangles.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no triangles");
+  if (raw->triangles.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no triangles");
+}
 
-  // Morph targets: glTF requires the same number on every primitive.
+// Morph targets: glTF requires the same number on every primitive.
+void GltfReader::ReadShapes(const tinygltf::Mesh& mesh, const std::vector<VertexBlock>& blocks,
+                            RawRig* raw) const {
   const std::size_t target_count = blocks.front().primitive->targets.size();
   bool normal_deltas = target_count > 0;
   for (const VertexBlock& block : blocks) {
@@ -620,29 +667,45 @@ Rig GltfReader::Read() {
   }
   const tinygltf::Value& target_names = Member(mesh.extras, "targetNames");
   for (std::size_t t = 0; t < target_count; ++t) {
-    raw.shapes.push_back(
+    raw->shapes.push_back(
         ReadShape(blocks, t, StringOr(target_names, t, "target" + std::to_string(t)), normal_deltas));
   }
+}
 
-  // Units and up axis: ours when written by facerig, else glTF's metres and +Y.
-  raw.units = Units::kMetres;
-  raw.up_axis = UpAxis::kY;
+// Units and up axis: ours when written by facerig, else glTF's metres and +Y.
+void GltfReader::ReadFrame(const tinygltf::Mesh& mesh, RawRig* raw) const {
+  const tinygltf::Value& facerig = Member(mesh.extras, "facerig");
+  raw->units = Units::kMetres;
+  raw->up_axis = UpAxis::kY;
   const tinygltf::Value& units = Member(facerig, "units");
   if (units.IsString()) {
     const std::optional<Units> parsed = ParseUnits(units.Get<std::string>());
     if (!parsed)
       Fail(IoErrorKind::kParse, "unknown units '" + units.Get<std::string>() + "' in extras.facerig");
-    raw.units = *parsed;
+    raw->units = *parsed;
   }
   const tinygltf::Value& up = Member(facerig, "up");
   if (up.IsString()) {
     const std::string axis = up.Get<std::string>();
     if (axis == "Z" || axis == "+Z") {
-      raw.up_axis = UpAxis::kZ;
+      raw->up_axis = UpAxis::kZ;
     } else if (axis != "Y" && axis != "+Y") {
       Fail(IoErrorKind::kParse, "unknown up axis '" + axis + "' in extras.facerig");
     }
   }
+}
+
+Rig GltfReader::Read() {
+  const int mesh_index = ChooseMesh(model_);
+  if (mesh_index < 0) Fail(IoErrorKind::kEmpty, "the file has no mesh");
+  const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
+  const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
+
+  RawRig raw;
+  ReadVertices(vertices.blocks, &raw);
+  ReadParts(mesh, vertices, &raw);
+  ReadShapes(mesh, vertices.blocks, &raw);
+  ReadFrame(mesh, &raw);
 
   std::string problem;
   std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
