@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <string_view>
 
 
 #include <glm/common.hpp>
@@ -132,6 +133,126 @@ std::vector<OpeningMargin> DescribedMargins(std::vector<OpeningMargin> margins, 
   return margins;
 }
 
+// Runs the build's stages: reports each through BuildRigParams::progress and
+// records its time in BuildRigResult::stages.
+class StageRunner {
+ public:
+  StageRunner(const BuildRigParams& params, BuildRigResult& result) : params_(params), result_(result) {}
+
+  template <typename Body>
+  auto Run(const char* name, Body&& body) {
+    if (params_.progress) params_.progress(name, 0, 1);
+    const auto start = std::chrono::steady_clock::now();
+    auto value = body();
+    result_.stages.push_back({name, SecondsSince(start)});
+    if (params_.progress) params_.progress(name, 1, 1);
+    return value;
+  }
+
+  double SecondsOf(std::string_view name) const {
+    for (const BuildStage& stage : result_.stages) {
+      if (stage.name == name) return stage.seconds;
+    }
+    return 0.0;
+  }
+
+ private:
+  const BuildRigParams& params_;
+  BuildRigResult& result_;
+};
+
+void CheckResidual(const ResidualStats& residual, const BuildRigParams& params) {
+  if (residual.mean_percent <= params.max_residual_mean_percent) return;
+  throw RegistrationMismatchError(
+      "the template does not match the target: registration residual mean " + std::to_string(residual.mean_percent) +
+      " % of the target's diagonal (p95 " + std::to_string(residual.p95_percent) + " %, limit " +
+      std::to_string(params.max_residual_mean_percent) + " %); is the target a face, and are the landmarks right?");
+}
+
+struct MarginStage {
+  std::vector<OpeningMargin> margins;
+  MarginAlignmentResult aligned;
+};
+
+// The fitted template's lid and lip margins moved onto the target's rims
+// (BuildRigParams::align_margins_to_openings), in result.registration.positions.
+MarginStage AlignMargins(const Rig& template_rig, const FaceTemplateInfo& template_info, const RawRig& target,
+                         const BuildRigParams& params, BuildRigResult& result) {
+  const auto start = std::chrono::steady_clock::now();
+  MarginStage stage;
+  if (params.align_margins_to_openings) {
+    stage.margins = DescribedMargins(FindOpeningMargins(template_rig), template_info);
+    stage.aligned = AlignMarginsToOpenings(result.registration.positions, template_rig.triangles(), stage.margins,
+                                           target.positions, target.triangles);
+    result.margin_vertices_aligned = stage.aligned.aligned_vertices;
+    result.margin_mean_correction = stage.aligned.mean_correction;
+  }
+  result.timings.margin_seconds = SecondsSince(start);
+  return stage;
+}
+
+// The fit taken back into the template's frame and units, where the
+// transfer's anchors and thresholds mean what they say; a fit that had to
+// crush the template is a mismatch.
+std::vector<glm::vec3> FitInTemplateFrame(const Rig& template_rig, std::uint32_t region_vertex_count,
+                                          const BuildRigParams& params, BuildRigResult& result) {
+  const SimilarityTransform to_template = result.registration.rigid.Inverse();
+  std::vector<glm::vec3> fitted(result.registration.positions.size());
+  for (std::size_t v = 0; v < fitted.size(); ++v) fitted[v] = to_template.Apply(result.registration.positions[v]);
+  result.deformation_percent = MeanDeformationPercent(template_rig.positions(), fitted, region_vertex_count);
+  if (!(result.deformation_percent <= params.max_deformation_percent)) {
+    throw RegistrationMismatchError(
+        "the template does not match the target: fitting it moved the template's surface by " +
+        std::to_string(result.deformation_percent) + " % of its size on average (limit " +
+        std::to_string(params.max_deformation_percent) + " %; registration residual mean " +
+        std::to_string(result.registration.residual.mean_percent) +
+        " % of the target's diagonal); is the target a face, and are the landmarks right?");
+  }
+  return fitted;
+}
+
+// The template topology with the transferred shapes, in the template's frame
+// (result.template_frame_rig: averages, caricatures and identity morphs
+// compare several fits there) and returned in the target's frame: deltas
+// rotate and scale with the similarity.
+RawRig FittedRigInTargetFrame(const Rig& template_rig, std::span<const glm::vec3> fitted_in_template,
+                              std::vector<RawBlendShape> shapes, RawRig& target, BuildRigResult& result) {
+  result.template_frame_rig = RigBuilder::ToRaw(template_rig);
+  result.template_frame_rig.positions.assign(fitted_in_template.begin(), fitted_in_template.end());
+  result.template_frame_rig.normals.clear();
+  result.template_frame_rig.shapes = shapes;
+  const SimilarityTransform& to_target = result.registration.rigid;
+  const auto scale = static_cast<float>(to_target.scale);
+  for (RawBlendShape& shape : shapes) {
+    for (glm::vec3& d : shape.position_deltas) d = scale * to_target.ApplyToDirection(d);
+    for (glm::vec3& d : shape.normal_deltas) d = to_target.ApplyToDirection(d);
+  }
+  if (target.units == Units::kUnknown) target.units = InferTargetUnits(template_rig.units(), to_target.scale);
+  RawRig fitted = RigBuilder::ToRaw(template_rig);
+  fitted.positions = result.registration.positions;
+  fitted.normals.clear();
+  fitted.shapes = std::move(shapes);
+  fitted.units = target.units;
+  fitted.up_axis = target.up_axis;
+  return fitted;
+}
+
+// The fitted rig's shapes onto the target's own vertices (result.rig), the
+// target's rims snapped to the aligned margins.
+void MapOntoTarget(const Rig& template_rig, RawRig fitted, const MarginStage& margins, RawRig target,
+                   const BuildRigParams& params, BuildRigResult& result) {
+  std::string problem;
+  std::optional<Rig> fitted_rig = RigBuilder::Build(fitted, &problem);
+  if (!fitted_rig) throw InvalidInputError("the transferred template rig is invalid: " + problem);
+  const std::vector<TemplateRim> rims =
+      TemplateRims(margins.margins, margins.aligned.aligned, result.registration.positions);
+  const Mesh fitted_template{.positions = result.registration.positions,
+                             .triangles = {template_rig.triangles().begin(), template_rig.triangles().end()}};
+  result.mapping = ComputeTopologyMapping(fitted_template, NeutralMesh(target), params.mapping, rims);
+  result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
+  result.fitted_rig = std::move(fitted);
+}
+
 }  // namespace
 
 const char* ToString(BuildMode mode) {
@@ -194,6 +315,7 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
                                       landmarks, registration);
   BuildRigResult result =
       BuildRigOnRegistration(template_rig, template_info, std::move(target), std::move(fit), params);
+  result.stages.insert(result.stages.begin(), BuildStage{"register", result.timings.registration_seconds});
   result.target_parts_left_out = parts_left_out;
   result.timings.total_seconds = SecondsSince(start);
   return result;
@@ -209,93 +331,34 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplat
     throw InvalidInputError("the registration has " + std::to_string(registered.positions.size()) +
                             " vertices, the template " + std::to_string(template_rig.vertex_count()));
   }
-  auto report = [&](const char* stage, std::size_t done, std::size_t total) {
-    if (params.progress) params.progress(stage, done, total);
-  };
   const std::uint32_t region_vertex_count = params.registration.region_vertex_count != 0
                                                 ? params.registration.region_vertex_count
                                                 : template_info.region.last + 1;
   BuildRigResult result;
   result.registration = std::move(registered);
   result.timings.registration_seconds = result.registration.timings.total_seconds;
-  const ResidualStats& residual = result.registration.residual;
-  if (!(residual.mean_percent <= params.max_residual_mean_percent)) {
-    throw RegistrationMismatchError(
-        "the template does not match the target: registration residual mean " + std::to_string(residual.mean_percent) +
-        " % of the target's diagonal (p95 " + std::to_string(residual.p95_percent) + " %, limit " +
-        std::to_string(params.max_residual_mean_percent) + " %); is the target a face, and are the landmarks right?");
-  }
+  CheckResidual(result.registration.residual, params);
 
-  // The margin alignment counts as part of the transfer stage.
-  const auto transfer_start = std::chrono::steady_clock::now();
-  MarginAlignmentResult aligned;
-  std::vector<OpeningMargin> margins;
-  if (params.align_margins_to_openings) {
-    margins = DescribedMargins(FindOpeningMargins(template_rig), template_info);
-    aligned = AlignMarginsToOpenings(result.registration.positions, template_rig.triangles(), margins,
-                                     target.positions, target.triangles);
-    result.margin_vertices_aligned = aligned.aligned_vertices;
-    result.margin_mean_correction = aligned.mean_correction;
-  }
-  result.timings.margin_seconds = SecondsSince(transfer_start);
-
-  // 2. Transfer in the template's frame.
-  report("transfer", 0, 1);
-  const SimilarityTransform to_target = result.registration.rigid;
-  const SimilarityTransform to_template = to_target.Inverse();
-  std::vector<glm::vec3> fitted_in_template(result.registration.positions.size());
-  for (std::size_t v = 0; v < fitted_in_template.size(); ++v) {
-    fitted_in_template[v] = to_template.Apply(result.registration.positions[v]);
-  }
-  result.deformation_percent = MeanDeformationPercent(template_rig.positions(), fitted_in_template,
-                                                      region_vertex_count);
-  if (!(result.deformation_percent <= params.max_deformation_percent)) {
-    throw RegistrationMismatchError(
-        "the template does not match the target: fitting it moved the template's surface by " +
-        std::to_string(result.deformation_percent) + " % of its size on average (limit " +
-        std::to_string(params.max_deformation_percent) + " %; registration residual mean " +
-        std::to_string(residual.mean_percent) + " % of the target's diagonal); is the target a face, and are the "
-        "landmarks right?");
-  }
-  std::vector<RawBlendShape> shapes = TransferExpressions(template_rig, fitted_in_template,
-                                                          region_vertex_count, params, result);
-  // The template-topology result in the template's frame (for averages,
-  // caricatures and identity morphs of several fits).
-  result.template_frame_rig = RigBuilder::ToRaw(template_rig);
-  result.template_frame_rig.positions = fitted_in_template;
-  result.template_frame_rig.normals.clear();
-  result.template_frame_rig.shapes = shapes;
-  // Into the target's frame: deltas rotate and scale with the similarity.
-  const auto scale = static_cast<float>(to_target.scale);
-  for (RawBlendShape& shape : shapes) {
-    for (glm::vec3& d : shape.position_deltas) d = scale * to_target.ApplyToDirection(d);
-    for (glm::vec3& d : shape.normal_deltas) d = to_target.ApplyToDirection(d);
-  }
-  if (target.units == Units::kUnknown) target.units = InferTargetUnits(template_rig.units(), to_target.scale);
-  RawRig fitted = RigBuilder::ToRaw(template_rig);
-  fitted.positions = result.registration.positions;
-  fitted.normals.clear();
-  fitted.shapes = std::move(shapes);
-  fitted.units = target.units;
-  fitted.up_axis = target.up_axis;
-  result.timings.transfer_seconds = SecondsSince(transfer_start);
-  report("transfer", 1, 1);
-
-  // 3. Onto the target's own vertices.
-  const auto mapping_start = std::chrono::steady_clock::now();
-  report("map", 0, 1);
-  std::string problem;
-  std::optional<Rig> fitted_rig = RigBuilder::Build(fitted, &problem);
-  if (!fitted_rig) throw InvalidInputError("the transferred template rig is invalid: " + problem);
-  const std::vector<TemplateRim> rims =
-      TemplateRims(margins, aligned.aligned, result.registration.positions);
-  result.mapping = ComputeTopologyMapping(
-      Mesh{.positions = result.registration.positions, .triangles = {template_rig.triangles().begin(), template_rig.triangles().end()}},
-      NeutralMesh(target), params.mapping, rims);
-  result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
-  result.fitted_rig = std::move(fitted);
-  result.timings.mapping_seconds = SecondsSince(mapping_start);
-  report("map", 1, 1);
+  StageRunner stage(params, result);
+  const MarginStage margins = stage.Run("align margins", [&] {
+    return AlignMargins(template_rig, template_info, target, params, result);
+  });
+  const std::vector<glm::vec3> fitted_in_template = stage.Run("to template frame", [&] {
+    return FitInTemplateFrame(template_rig, region_vertex_count, params, result);
+  });
+  std::vector<RawBlendShape> shapes = stage.Run("transfer", [&] {
+    return TransferExpressions(template_rig, fitted_in_template, region_vertex_count, params, result);
+  });
+  RawRig fitted = stage.Run("to target frame", [&] {
+    return FittedRigInTargetFrame(template_rig, fitted_in_template, std::move(shapes), target, result);
+  });
+  result.timings.transfer_seconds = stage.SecondsOf("align margins") + stage.SecondsOf("to template frame") +
+                                    stage.SecondsOf("transfer") + stage.SecondsOf("to target frame");
+  stage.Run("map", [&] {
+    MapOntoTarget(template_rig, std::move(fitted), margins, std::move(target), params, result);
+    return 0;
+  });
+  result.timings.mapping_seconds = stage.SecondsOf("map");
   result.timings.total_seconds = result.timings.registration_seconds + SecondsSince(start);
   return result;
 }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -131,115 +132,179 @@ void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
   }
 }
 
+struct BuildInputs {
+  Rig template_rig;
+  FaceTemplateInfo template_info;
+  RawRig target;
+  std::size_t target_vertices = 0;
+};
+
+BuildInputs LoadBuildInputs(const BuildOptions& options) {
+  for (const std::string& path : {options.output, options.frig, options.report, options.template_topology}) {
+    if (!path.empty()) CheckWritable(path);
+  }
+  if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
+  BuildInputs inputs;
+  inputs.template_rig = LoadRigOrTemplateFolder(options.template_path);
+  inputs.template_info = ResolveFaceTemplateInfo(inputs.template_rig, options.template_path, options.template_info);
+  inputs.target = LoadMeshForEditing(options.target_path, options.units);
+  inputs.target_vertices = inputs.target.positions.size();
+  return inputs;
+}
+
+struct BuildLandmarks {
+  RegistrationLandmarks pairs;
+  int target_eyes_fitted = 0;  // detected eyes put on the target's eye openings
+};
+
+// The target's landmarks (read or detected) paired with the template's (found
+// on the template when its descriptor has none: inputs.template_info gets them).
+BuildLandmarks FindBuildLandmarks(const BuildOptions& options, BuildInputs& inputs) {
+  LandmarkParams landmark_params;
+  if (!options.shape_predictor.empty()) landmark_params.shape_predictor = options.shape_predictor;
+  landmark_params.fit_eyes_to_openings = options.fit_eyes_to_openings;
+  std::optional<LandmarkDetector> detector;
+  auto get_detector = [&]() -> LandmarkDetector& {
+    if (!detector) detector.emplace(landmark_params);
+    return *detector;
+  };
+  BuildLandmarks found;
+  FaceLandmarks target_landmarks;
+  if (!options.landmarks.empty()) {
+    target_landmarks = ReadLandmarksJson(options.landmarks);
+  } else {
+    std::fputs("detecting landmarks on the target...\n", stderr);
+    LandmarkResult detected = get_detector().Detect(NeutralMesh(inputs.target));
+    target_landmarks = std::move(detected.landmarks);
+    found.target_eyes_fitted = detected.eyes_fitted;
+  }
+  const std::vector<std::uint32_t> template_vertex_of =
+      TemplateLandmarkVertices(inputs.template_rig, inputs.template_info, get_detector());
+  PrintTemplateInfo(inputs.template_info);
+  found.pairs = PairLandmarks(template_vertex_of, target_landmarks);
+  return found;
+}
+
+void WriteBuildOutputs(const BuildOptions& options, const Rig& rig, const BuildRigResult& built) {
+  SaveBuiltRig(options.target_path, options.output, rig);
+  if (!options.frig.empty()) SaveRig(options.frig, rig);
+  if (!options.obj_dir.empty()) WriteObjFolder(options.obj_dir, rig);
+  if (!options.template_topology.empty()) {
+    std::string problem;
+    const std::optional<Rig> fitted = RigBuilder::Build(built.template_frame_rig, &problem);
+    if (!fitted) throw InvalidInputError("the template-topology rig is invalid: " + problem);
+    SaveRig(options.template_topology, *fitted);
+  }
+}
+
+nlohmann::json RegistrationReport(const BuildRigResult& built) {
+  const ResidualStats& residual = built.registration.residual;
+  return {{"residual_percent_of_diagonal",
+           {{"mean", residual.mean_percent}, {"p95", residual.p95_percent}, {"max", residual.max_percent}}},
+          {"landmark_rms", built.registration.landmark_rms},
+          {"rigid_scale", built.registration.rigid.scale},
+          {"iterations_per_stage", built.registration.iterations_per_stage}};
+}
+
+nlohmann::json MappingReport(const TopologyMapping& mapping) {
+  return {{"full_weight_vertices", mapping.full_vertices},
+          {"rim_vertices", mapping.rim_vertices},
+          {"partial_weight_vertices", mapping.partial_vertices},
+          {"unmapped_vertices", mapping.unmapped_vertices},
+          {"facing_fallbacks", mapping.facing_fallbacks},
+          {"mean_distance", mapping.mean_distance}};
+}
+
+// Every stage of the command in order, with its time: the CLI's own (load,
+// landmarks, write) around the library's (BuildRigResult::stages).
+nlohmann::json StagesReport(std::span<const BuildStage> stages) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const BuildStage& stage : stages) list.push_back({{"name", stage.name}, {"seconds", stage.seconds}});
+  return list;
+}
+
+nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
+                           const BuildRigResult& built, const Rig& rig, std::span<const BuildStage> stages) {
+  nlohmann::json report;
+  report["template"] = options.template_path;
+  report["target"] = options.target_path;
+  report["mode"] = ToString(options.mode);
+  report["outputs"] = {{"glb", options.output},
+                       {"frig", options.frig},
+                       {"obj_dir", options.obj_dir},
+                       {"template_topology", options.template_topology}};
+  report["template_info"] = TemplateInfoReport(inputs.template_info);
+  report["target_vertices"] = inputs.target_vertices;
+  report["shapes"] = rig.shape_count();
+  report["units"] = ToString(rig.units());
+  report["landmarks"] = options.landmarks.empty() ? "detected" : options.landmarks;
+  report["options"] = {{"contacts", options.contacts}, {"eye_fit", options.fit_eyes_to_openings}};
+  report["target_eyes_fitted"] = landmarks.target_eyes_fitted;
+  report["registration"] = RegistrationReport(built);
+  report["transfer_anchors"] = built.transfer_anchors;
+  report["transfer_contacts"] = {{"active", built.transfer_contacts_active}, {"pairs", built.transfer_contacts}};
+  // Template lid margins moved onto the target's eye rims before the transfer.
+  report["margin_alignment"] = {{"vertices", built.margin_vertices_aligned},
+                                {"mean_move", built.margin_mean_correction}};
+  report["mapping"] = MappingReport(built.mapping);
+  report["stages"] = StagesReport(stages);
+  double total = 0.0;
+  for (const BuildStage& stage : stages) total += stage.seconds;
+  auto seconds_of = [&](std::string_view name) {
+    for (const BuildStage& stage : stages) {
+      if (stage.name == name) return stage.seconds;
+    }
+    return 0.0;
+  };
+  report["seconds"] = {{"load", seconds_of("load")},
+                       {"landmarks", seconds_of("landmarks")},
+                       {"register", built.timings.registration_seconds},
+                       {"transfer", built.timings.transfer_seconds},
+                       {"map", built.timings.mapping_seconds},
+                       {"write", seconds_of("write")},
+                       {"total", total}};
+  return report;
+}
+
 int RunBuild(const BuildOptions& options) {
   try {
-    const auto start = std::chrono::steady_clock::now();
-    for (const std::string& path : {options.output, options.frig, options.report, options.template_topology}) {
-      if (!path.empty()) CheckWritable(path);
-    }
-    if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
-
-    const Rig template_rig = LoadRigOrTemplateFolder(options.template_path);
-    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(template_rig, options.template_path, options.template_info);
-    RawRig target = LoadMeshForEditing(options.target_path, options.units);
-    const std::size_t target_vertices = target.positions.size();
-    const double load_seconds = SecondsSince(start);
-    std::fprintf(stderr, "template %zu vertices, %zu shapes; target %zu vertices (%.2f s to load)\n",
-                 template_rig.vertex_count(), template_rig.shape_count(), target_vertices, load_seconds);
-
-    const auto landmark_start = std::chrono::steady_clock::now();
-    LandmarkParams landmark_params;
-    if (!options.shape_predictor.empty()) landmark_params.shape_predictor = options.shape_predictor;
-    landmark_params.fit_eyes_to_openings = options.fit_eyes_to_openings;
-    std::optional<LandmarkDetector> detector;
-    auto get_detector = [&]() -> LandmarkDetector& {
-      if (!detector) detector.emplace(landmark_params);
-      return *detector;
+    std::vector<BuildStage> stages;
+    auto timed = [&stages](const char* name, auto&& body) {
+      const auto start = std::chrono::steady_clock::now();
+      auto value = body();
+      stages.push_back({name, SecondsSince(start)});
+      return value;
     };
-    FaceLandmarks target_landmarks;
-    int target_eyes_fitted = 0;
-    if (!options.landmarks.empty()) {
-      target_landmarks = ReadLandmarksJson(options.landmarks);
-    } else {
-      std::fputs("detecting landmarks on the target...\n", stderr);
-      LandmarkResult detected = get_detector().Detect(NeutralMesh(target));
-      target_landmarks = std::move(detected.landmarks);
-      target_eyes_fitted = detected.eyes_fitted;
-    }
-    const std::vector<std::uint32_t> template_vertex_of =
-        TemplateLandmarkVertices(template_rig, template_info, get_detector());
-    PrintTemplateInfo(template_info);
-    const RegistrationLandmarks landmarks = PairLandmarks(template_vertex_of, target_landmarks);
-    const double landmark_seconds = SecondsSince(landmark_start);
+    BuildInputs inputs = timed("load", [&] { return LoadBuildInputs(options); });
+    std::fprintf(stderr, "template %zu vertices, %zu shapes; target %zu vertices (%.2f s to load)\n",
+                 inputs.template_rig.vertex_count(), inputs.template_rig.shape_count(), inputs.target_vertices,
+                 stages.back().seconds);
+    const BuildLandmarks landmarks = timed("landmarks", [&] { return FindBuildLandmarks(options, inputs); });
 
     BuildRigParams params;
     params.mode = options.mode;
     if (!options.contacts) params.transfer.contact_weight = 0.0;
     params.progress = [](const char* stage, std::size_t done, std::size_t total) { ProgressBar(stage, done, total); };
-    const BuildRigResult built = BuildRig(template_rig, template_info, std::move(target), landmarks, params);
+    const BuildRigResult built =
+        BuildRig(inputs.template_rig, inputs.template_info, std::move(inputs.target), landmarks.pairs, params);
+    stages.insert(stages.end(), built.stages.begin(), built.stages.end());
     std::string problem;
     const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
     if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
+    timed("write", [&] {
+      WriteBuildOutputs(options, *rig, built);
+      return 0;
+    });
 
-    const auto write_start = std::chrono::steady_clock::now();
-    SaveBuiltRig(options.target_path, options.output, *rig);
-    if (!options.frig.empty()) SaveRig(options.frig, *rig);
-    if (!options.obj_dir.empty()) WriteObjFolder(options.obj_dir, *rig);
-    if (!options.template_topology.empty()) {
-      const std::optional<Rig> fitted = RigBuilder::Build(built.template_frame_rig, &problem);
-      if (!fitted) throw InvalidInputError("the template-topology rig is invalid: " + problem);
-      SaveRig(options.template_topology, *fitted);
-    }
-    const double write_seconds = SecondsSince(write_start);
-
+    double total = 0.0;
+    for (const BuildStage& stage : stages) total += stage.seconds;
     const ResidualStats& residual = built.registration.residual;
     std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "
                 "%.4f%% p95 %.4f%% of the diagonal; %.2f s\n",
                 options.output.c_str(), rig->vertex_count(), rig->shape_count(), ToString(options.mode),
-                ToString(rig->units()), residual.mean_percent, residual.p95_percent, SecondsSince(start));
+                ToString(rig->units()), residual.mean_percent, residual.p95_percent, total);
     if (!options.report.empty()) {
-      nlohmann::json report;
-      report["template"] = options.template_path;
-      report["target"] = options.target_path;
-      report["mode"] = ToString(options.mode);
-      report["outputs"] = {{"glb", options.output},
-                           {"frig", options.frig},
-                           {"obj_dir", options.obj_dir},
-                           {"template_topology", options.template_topology}};
-      report["template_info"] = TemplateInfoReport(template_info);
-      report["target_vertices"] = target_vertices;
-      report["shapes"] = rig->shape_count();
-      report["units"] = ToString(rig->units());
-      report["landmarks"] = options.landmarks.empty() ? "detected" : options.landmarks;
-      report["options"] = {{"contacts", options.contacts}, {"eye_fit", options.fit_eyes_to_openings}};
-      report["target_eyes_fitted"] = target_eyes_fitted;  // detected eyes put on the target's eye openings
-      report["registration"] = {{"residual_percent_of_diagonal",
-                                 {{"mean", residual.mean_percent},
-                                  {"p95", residual.p95_percent},
-                                  {"max", residual.max_percent}}},
-                                {"landmark_rms", built.registration.landmark_rms},
-                                {"rigid_scale", built.registration.rigid.scale},
-                                {"iterations_per_stage", built.registration.iterations_per_stage}};
-      report["transfer_anchors"] = built.transfer_anchors;
-      report["transfer_contacts"] = {{"active", built.transfer_contacts_active},
-                                     {"pairs", built.transfer_contacts}};
-      // Template lid margins moved onto the target's eye rims before the transfer.
-      report["margin_alignment"] = {{"vertices", built.margin_vertices_aligned},
-                                    {"mean_move", built.margin_mean_correction}};
-      report["mapping"] = {{"full_weight_vertices", built.mapping.full_vertices},
-                           {"rim_vertices", built.mapping.rim_vertices},
-                           {"partial_weight_vertices", built.mapping.partial_vertices},
-                           {"unmapped_vertices", built.mapping.unmapped_vertices},
-                           {"facing_fallbacks", built.mapping.facing_fallbacks},
-                           {"mean_distance", built.mapping.mean_distance}};
-      report["seconds"] = {{"load", load_seconds},
-                           {"landmarks", landmark_seconds},
-                           {"register", built.timings.registration_seconds},
-                           {"transfer", built.timings.transfer_seconds},
-                           {"map", built.timings.mapping_seconds},
-                           {"write", write_seconds},
-                           {"total", SecondsSince(start)}};
-      WriteJsonAtomically(options.report, report);
+      WriteJsonAtomically(options.report, BuildReport(options, inputs, landmarks, built, *rig, stages));
     }
     return 0;
   } catch (const std::exception& error) {

@@ -118,6 +118,17 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   CHECK(report["registration"]["residual_percent_of_diagonal"]["mean"].get<double>() < 0.1);
   CHECK(report["seconds"]["total"].get<double>() > 0.0);
   CHECK(report["mapping"]["unmapped_vertices"] == 0);
+  // Every stage of the build, in order, each with its time; they sum to the total.
+  std::vector<std::string> stage_names;
+  double stage_sum = 0.0;
+  for (const nlohmann::json& stage : report["stages"]) {
+    stage_names.push_back(stage["name"].get<std::string>());
+    stage_sum += stage["seconds"].get<double>();
+    CHECK(stage["seconds"].get<double>() >= 0.0);
+  }
+  CHECK(stage_names == std::vector<std::string>{"load", "landmarks", "register", "align margins", "to template frame",
+                                                "transfer", "to target frame", "map", "write"});
+  CHECK(stage_sum == Approx(report["seconds"]["total"].get<double>()));
 }
 
 TEST_CASE("(shared data) facerig build: a skinned glTF target keeps its skin, nodes, material and animation",

@@ -72,7 +72,8 @@ struct BuildRigParams {
   // registration fits surfaces, not rims, and a margin left a millimetre off
   // made the stylized head's blink stop short.
   bool align_margins_to_openings = true;
-  // Called with a stage name ("register", "transfer", "map") and progress in it.
+  // The one progress report of the build: called with the stage's name (the
+  // names of BuildRigResult::stages) and its progress (done of total).
   std::function<void(const char* stage, std::size_t done, std::size_t total)> progress;
 };
 
@@ -84,6 +85,12 @@ struct BuildRigTimings {
   double transfer_solve_seconds = 0.0;  // deformation transfer: all expressions
   double mapping_seconds = 0.0;
   double total_seconds = 0.0;
+};
+
+// One named stage of the build and its wall-clock time.
+struct BuildStage {
+  std::string name;
+  double seconds = 0.0;
 };
 
 struct BuildRigResult {
@@ -108,6 +115,10 @@ struct BuildRigResult {
   // shape: mean distance, % of the region's diagonal.
   double deformation_percent = 0.0;
   BuildRigTimings timings;
+  // Every stage in order: "register", "align margins", "to template frame",
+  // "transfer", "to target frame", "map" (BuildRigOnRegistration: the same
+  // without "register").
+  std::vector<BuildStage> stages;
 };
 
 // target: the user's mesh (positions, triangles, UVs, parts, units) as read by LoadRig.
