@@ -1,8 +1,8 @@
+// ReadGltf and ParseGltf: a rig from the mesh of a glTF document.
 #include "facerig/runtime/io/gltf.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <iterator>
 #include <map>
 #include <optional>
@@ -15,269 +15,24 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/io/gltf_internal.h"
+#include "gltf_components.h"
 
 namespace facerig {
 namespace {
 
-constexpr char kGenerator[] = "facerig";
-
-using gltf_internal::AddAccessor;
-using gltf_internal::AddMorphTargets;
-using gltf_internal::BufferBuilder;
 using gltf_internal::ChooseMesh;
-using gltf_internal::FloatAccessor;
+using gltf_internal::ComponentSize;
+using gltf_internal::ComponentsOf;
 using gltf_internal::Format;
 using gltf_internal::FormatFromExtension;
 using gltf_internal::GroupMeshVertices;
+using gltf_internal::IsIndexType;
+using gltf_internal::LoadAsFloat;
+using gltf_internal::LoadIndex;
 using gltf_internal::MeshVertices;
 using gltf_internal::ParseModel;
-using gltf_internal::SetMinMax;
-using gltf_internal::StringArray;
+using gltf_internal::TypeName;
 using gltf_internal::VertexBlock;
-using gltf_internal::WithTargetNames;
-using gltf_internal::WriteModel;
-
-// ---------------------------------------------------------------------------
-// Writing
-
-// POSITION, NORMAL and TEXCOORD_0, shared by every part's primitive.
-std::map<std::string, int> AddVertexAttributes(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig) {
-  const std::size_t vertex_count = rig.vertex_count();
-  std::map<std::string, int> attributes;
-  tinygltf::Accessor positions = FloatAccessor(
-      buffer->AddView(rig.positions().data(), rig.positions().size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
-      vertex_count, TINYGLTF_TYPE_VEC3);
-  SetMinMax(rig.positions(), false, &positions);
-  attributes["POSITION"] = AddAccessor(model, std::move(positions));
-  attributes["NORMAL"] =
-      AddAccessor(model, FloatAccessor(buffer->AddView(rig.normals().data(), rig.normals().size_bytes(),
-                                                       TINYGLTF_TARGET_ARRAY_BUFFER),
-                                       vertex_count, TINYGLTF_TYPE_VEC3));
-  if (!rig.uvs().empty()) {
-    // glTF's UV origin is the top-left corner, OBJ's (and the rig's) bottom-left.
-    std::vector<glm::vec2> flipped(rig.uvs().begin(), rig.uvs().end());
-    for (glm::vec2& uv : flipped) uv.y = 1.0f - uv.y;
-    attributes["TEXCOORD_0"] =
-        AddAccessor(model, FloatAccessor(buffer->AddView(flipped.data(), flipped.size() * sizeof(glm::vec2),
-                                                         TINYGLTF_TARGET_ARRAY_BUFFER),
-                                         vertex_count, TINYGLTF_TYPE_VEC2));
-  }
-  return attributes;
-}
-
-// All triangles in one bufferView; each part's accessor is a byte range of it.
-struct IndexView {
-  int view = -1;
-  bool short_indices = false;  // 16-bit, else 32-bit
-};
-
-IndexView AddIndexView(BufferBuilder* buffer, const Rig& rig) {
-  IndexView index;
-  index.short_indices = rig.vertex_count() <= 0xFFFF;  // 0xFFFF is the restart value, never used
-  if (index.short_indices) {
-    std::vector<std::uint16_t> indices;
-    indices.reserve(rig.triangle_count() * 3);
-    for (const Triangle& t : rig.triangles()) {
-      for (std::uint32_t v : t) indices.push_back(static_cast<std::uint16_t>(v));
-    }
-    index.view = buffer->AddView(indices.data(), indices.size() * sizeof(std::uint16_t),
-                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-  } else {
-    index.view = buffer->AddView(rig.triangles().data(), rig.triangles().size_bytes(),
-                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-  }
-  return index;
-}
-
-// One triangle-list primitive per part, all on the same vertices and targets.
-std::vector<tinygltf::Primitive> PartPrimitives(tinygltf::Model* model, const Rig& rig, const IndexView& index,
-                                                const std::map<std::string, int>& attributes,
-                                                const std::vector<std::map<std::string, int>>& targets) {
-  const std::size_t index_size = index.short_indices ? 2 : 4;
-  std::vector<tinygltf::Primitive> primitives;
-  for (const Part& part : rig.parts()) {
-    tinygltf::Accessor indices;
-    indices.bufferView = index.view;
-    indices.byteOffset = std::size_t{part.first_triangle} * 3 * index_size;
-    indices.componentType =
-        index.short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    indices.count = std::size_t{part.triangle_count} * 3;
-    indices.type = TINYGLTF_TYPE_SCALAR;
-    tinygltf::Primitive primitive;
-    primitive.attributes = attributes;
-    primitive.indices = AddAccessor(model, std::move(indices));
-    primitive.mode = TINYGLTF_MODE_TRIANGLES;
-    primitive.targets = targets;
-    primitives.push_back(std::move(primitive));
-  }
-  return primitives;
-}
-
-// What glTF has no field for: units, up axis and part names in
-// extras.facerig, the shape names in extras.targetNames.
-tinygltf::Value MeshExtras(const Rig& rig) {
-  std::vector<std::string> part_names;
-  for (const Part& part : rig.parts()) part_names.push_back(part.name);
-  tinygltf::Value::Object facerig;
-  facerig["units"] = tinygltf::Value(std::string(ToString(rig.units())));
-  facerig["up"] = tinygltf::Value(std::string(rig.up_axis() == UpAxis::kZ ? "Z" : "Y"));
-  facerig["parts"] = StringArray(part_names);
-  tinygltf::Value::Object extras;
-  extras["facerig"] = tinygltf::Value(std::move(facerig));
-  tinygltf::Value value(std::move(extras));
-  if (rig.shape_count() > 0) value = WithTargetNames(value, rig);
-  return value;
-}
-
-// One node for mesh 0 whose transform brings the rig's units and up axis to
-// glTF's metres and +Y, in the default scene.
-void AddSceneNode(tinygltf::Model* model, const Rig& rig, const std::string& name) {
-  tinygltf::Node node;
-  node.name = name;
-  node.mesh = 0;
-  const double scale = MetresPerUnit(rig.units());
-  if (scale != 1.0) node.scale = {scale, scale, scale};
-  if (rig.up_axis() == UpAxis::kZ) {
-    // -90 degrees about X: +Z becomes +Y and +Y becomes -Z.
-    const double half = std::sqrt(0.5);
-    node.rotation = {-half, 0.0, 0.0, half};
-  }
-  model->nodes.push_back(std::move(node));
-  tinygltf::Scene scene;
-  scene.nodes.push_back(0);
-  model->scenes.push_back(std::move(scene));
-  model->defaultScene = 0;
-}
-
-tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = kGenerator;
-  BufferBuilder buffer(&model);
-  const std::map<std::string, int> attributes = AddVertexAttributes(&model, &buffer, rig);
-  const std::vector<std::map<std::string, int>> targets = AddMorphTargets(
-      &model, &buffer, rig, 0, static_cast<std::uint32_t>(rig.vertex_count()), rig.has_normal_deltas());
-  const IndexView index = AddIndexView(&buffer, rig);
-
-  tinygltf::Mesh mesh;
-  mesh.name = name;
-  mesh.primitives = PartPrimitives(&model, rig, index, attributes, targets);
-  mesh.extras = MeshExtras(rig);
-  if (rig.shape_count() > 0) mesh.weights.assign(rig.shape_count(), 0.0);
-  model.meshes.push_back(std::move(mesh));
-  AddSceneNode(&model, rig, name);
-  return model;
-}
-
-// ---------------------------------------------------------------------------
-// Reading
-
-std::uint32_t LoadU32(const unsigned char* p) {
-  // GLB is little-endian, as is every platform facerig builds on.
-  std::uint32_t value;
-  std::memcpy(&value, p, sizeof(value));
-  return value;
-}
-
-std::size_t ComponentSize(int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return 2;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return 4;
-    default:
-      return 0;
-  }
-}
-
-const char* TypeName(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-      return "SCALAR";
-    case TINYGLTF_TYPE_VEC2:
-      return "VEC2";
-    case TINYGLTF_TYPE_VEC3:
-      return "VEC3";
-    case TINYGLTF_TYPE_VEC4:
-      return "VEC4";
-    default:
-      return "a matrix";
-  }
-}
-
-int ComponentsOf(int type) {
-  switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-      return 1;
-    case TINYGLTF_TYPE_VEC2:
-      return 2;
-    case TINYGLTF_TYPE_VEC3:
-      return 3;
-    case TINYGLTF_TYPE_VEC4:
-      return 4;
-    default:
-      return 0;
-  }
-}
-
-// Float attributes may also be (normalized) integers (KHR_mesh_quantization).
-float LoadAsFloat(const unsigned char* p, int component_type, bool normalized) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-      float value;
-      std::memcpy(&value, p, sizeof(value));
-      return value;
-    }
-    case TINYGLTF_COMPONENT_TYPE_BYTE: {
-      const auto value = static_cast<float>(static_cast<std::int8_t>(*p));
-      return normalized ? std::max(value / 127.0f, -1.0f) : value;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-      const auto value = static_cast<float>(*p);
-      return normalized ? value / 255.0f : value;
-    }
-    case TINYGLTF_COMPONENT_TYPE_SHORT: {
-      std::int16_t raw;
-      std::memcpy(&raw, p, sizeof(raw));
-      const auto value = static_cast<float>(raw);
-      return normalized ? std::max(value / 32767.0f, -1.0f) : value;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-      std::uint16_t raw;
-      std::memcpy(&raw, p, sizeof(raw));
-      const auto value = static_cast<float>(raw);
-      return normalized ? value / 65535.0f : value;
-    }
-    default:
-      return 0.0f;
-  }
-}
-
-std::uint32_t LoadIndex(const unsigned char* p, int component_type) {
-  switch (component_type) {
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return *p;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-      std::uint16_t value;
-      std::memcpy(&value, p, sizeof(value));
-      return value;
-    }
-    default:
-      return LoadU32(p);
-  }
-}
-
-bool IsIndexType(int component_type) {
-  return component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-         component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
-         component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-}
 
 // One vec2/vec3 accessor as read. Dense: `values` has count elements. An
 // accessor without a bufferView is zero except its sparse entries; when asked,
@@ -715,84 +470,6 @@ Rig GltfReader::Read() {
 
 }  // namespace
 
-namespace gltf_internal {
-
-int ChooseMesh(const tinygltf::Model& model) {
-  if (model.meshes.empty()) return -1;
-  int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-  if (scene < static_cast<int>(model.scenes.size())) {
-    std::vector<int> stack(model.scenes[scene].nodes.rbegin(), model.scenes[scene].nodes.rend());
-    std::vector<bool> visited(model.nodes.size(), false);  // a malformed file may loop
-    while (!stack.empty()) {
-      const int index = stack.back();
-      stack.pop_back();
-      if (index < 0 || index >= static_cast<int>(model.nodes.size()) || visited[index]) continue;
-      visited[index] = true;
-      const tinygltf::Node& node = model.nodes[index];
-      if (node.mesh >= 0 && node.mesh < static_cast<int>(model.meshes.size())) return node.mesh;
-      stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
-    }
-  }
-  return 0;
-}
-
-MeshVertices GroupMeshVertices(const tinygltf::Model& model, const tinygltf::Mesh& mesh, const std::string& path,
-                               std::uint64_t file_size) {
-  auto fail = [&path](IoErrorKind kind, const std::string& message) { throw IoError(kind, path, message); };
-  MeshVertices vertices;
-  std::vector<VertexBlock>& blocks = vertices.blocks;
-  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-    const tinygltf::Primitive& primitive = mesh.primitives[p];
-    if (primitive.mode != TINYGLTF_MODE_TRIANGLES) continue;
-    const std::string what = "primitive " + std::to_string(p);
-    const auto position = primitive.attributes.find("POSITION");
-    if (position == primitive.attributes.end()) fail(IoErrorKind::kParse, what + " has no POSITION");
-    vertices.triangle_primitives.push_back(p);
-    const auto [it, inserted] = vertices.block_of_accessor.emplace(position->second, blocks.size());
-    if (!inserted) {
-      // Sharing vertices means sharing everything attached to them.
-      const tinygltf::Primitive& first = *blocks[it->second].primitive;
-      auto attribute = [](const tinygltf::Primitive& q, const char* name) {
-        const auto found = q.attributes.find(name);
-        return found == q.attributes.end() ? -1 : found->second;
-      };
-      if (attribute(first, "NORMAL") != attribute(primitive, "NORMAL") ||
-          attribute(first, "TEXCOORD_0") != attribute(primitive, "TEXCOORD_0") ||
-          first.targets != primitive.targets) {
-        fail(IoErrorKind::kParse, what +
-                                      " shares its POSITION accessor with another primitive but not its "
-                                      "NORMAL, TEXCOORD_0 or morph targets, which a rig cannot represent");
-      }
-      continue;
-    }
-    VertexBlock block;
-    block.position_accessor = position->second;
-    block.primitive = &primitive;
-    block.first_vertex = static_cast<std::uint32_t>(vertices.vertex_count);
-    if (position->second < 0 || position->second >= static_cast<int>(model.accessors.size())) {
-      fail(IoErrorKind::kIndexOutOfRange, what + " POSITION: accessor " + std::to_string(position->second) +
-                                              " does not exist (" + std::to_string(model.accessors.size()) +
-                                              " accessors)");
-    }
-    const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(position->second)];
-    if (accessor.bufferView < 0 && accessor.count > file_size) {
-      fail(IoErrorKind::kAbsurdCount, what + " POSITION: " + std::to_string(accessor.count) +
-                                          " vertices without data in a file of " + std::to_string(file_size) +
-                                          " bytes");
-    }
-    vertices.vertex_count += accessor.count;
-    if (vertices.vertex_count > 0xFFFFFFF0u) fail(IoErrorKind::kAbsurdCount, "more than 2^32 vertices");
-    block.vertex_count = static_cast<std::uint32_t>(accessor.count);
-    blocks.push_back(block);
-  }
-  if (vertices.triangle_primitives.empty()) {
-    fail(IoErrorKind::kEmpty, "the mesh has no triangle-list primitive");
-  }
-  return vertices;
-}
-
-}  // namespace gltf_internal
-
 Rig ReadGltf(const std::filesystem::path& path) {
   const Format format = FormatFromExtension(path);
   std::uint64_t file_size = 0;
@@ -809,16 +486,6 @@ Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& pat
   gltf_internal::RefuseCompression(model, path.string());
   GltfReader reader(path.string(), std::move(model), bytes.size());
   return reader.Read();
-}
-
-void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
-  const Format format = FormatFromExtension(path);
-  if (rig.vertex_count() == 0 || rig.triangle_count() == 0) {
-    throw IoError(IoErrorKind::kWriteFailed, path.string(), "the rig is empty (no vertices or triangles)");
-  }
-  gltf_internal::RequireUtf8Names(rig, path.string());
-  // The mesh and node are named after the file, whatever bytes its name has.
-  WriteModel(path, format, BuildModel(rig, gltf_internal::SanitizedUtf8(path.stem().string())));
 }
 
 }  // namespace facerig
