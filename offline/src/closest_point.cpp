@@ -7,7 +7,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 
 namespace facerig {
 namespace {

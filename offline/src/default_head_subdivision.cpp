@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "default_head_internal.h"
+#include "facerig/offline/error.h"
 
 namespace facerig::default_head {
 namespace {
@@ -46,7 +47,7 @@ EdgeTable NumberEdges(std::size_t vertex_count, const std::vector<Triangle>& tri
         edge_order.push_back(e);
       }
       it->second.opposite.push_back(t[(k + 2) % 3]);
-      if (it->second.opposite.size() > 2) throw std::invalid_argument("Subdivide: non-manifold edge");
+      if (it->second.opposite.size() > 2) throw InvalidInputError("Subdivide: non-manifold edge");
     }
   }
   table.next = next;

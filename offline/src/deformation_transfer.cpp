@@ -8,7 +8,7 @@
 namespace facerig {
 
 TransferInputError::TransferInputError(std::string mesh, const std::string& message)
-    : InvalidInputError(mesh + ": " + message), mesh_(std::move(mesh)) {}
+    : InvalidInputError(mesh + ": " + message, mesh), mesh_(std::move(mesh)) {}
 
 const char* ToString(TransferMode mode) {
   switch (mode) {

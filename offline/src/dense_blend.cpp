@@ -1,4 +1,5 @@
 #include "facerig/offline/dense_blend.h"
+#include "facerig/offline/error.h"
 
 #include <stdexcept>
 
@@ -27,7 +28,7 @@ DenseBlendShapes MakeDenseBlendShapes(const Rig& rig) {
 
 void DenseBlend(const DenseBlendShapes& dense, std::span<const float> weights, Eigen::VectorXf& out) {
   if (static_cast<Eigen::Index>(weights.size()) != dense.deltas.cols()) {
-    throw std::invalid_argument("DenseBlend: weight count differs from the shape count");
+    throw InvalidInputError("DenseBlend: weight count differs from the shape count");
   }
   const Eigen::Map<const Eigen::VectorXf> w(weights.data(), static_cast<Eigen::Index>(weights.size()));
   out.noalias() = dense.neutral;

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "facerig/offline/landmarks.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/runtime/error.h"
 
 namespace facerig {

@@ -16,7 +16,7 @@
 #include <glm/geometric.hpp>
 
 #include "eye_openings.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/offline/rigid_align.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/error.h"

@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/closest_point.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "landmarks_internal.h"
 
 namespace facerig::landmarks_detail {

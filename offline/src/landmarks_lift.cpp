@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "landmarks_internal.h"
 
 namespace facerig::landmarks_detail {

@@ -8,12 +8,13 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/offline/error.h"
 
 namespace facerig {
 
 LipProbe::LipProbe(const Rig& rig, std::uint32_t upper, std::uint32_t lower) {
   if (upper >= rig.vertex_count() || lower >= rig.vertex_count()) {
-    throw std::invalid_argument("LipProbe: lip vertex outside the rig");
+    throw InvalidInputError("LipProbe: lip vertex outside the rig");
   }
   const std::array<std::uint32_t, 2> vertices = {upper, lower};
   neutral_ = {rig.positions()[upper], rig.positions()[lower]};

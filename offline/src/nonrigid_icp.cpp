@@ -19,7 +19,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/closest_point.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/rig_builder.h"
 #include "nonrigid_icp_impl.h"

@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/offline/stats.h"
 #include "nonrigid_icp_impl.h"
 

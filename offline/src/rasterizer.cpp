@@ -1,4 +1,5 @@
 #include "facerig/offline/rasterizer.h"
+#include "facerig/offline/error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,14 +40,14 @@ namespace {
 
 void CheckView(const RasterView& view) {
   if (view.width <= 0 || view.height <= 0 || view.width > 16384 || view.height > 16384) {
-    throw std::invalid_argument("RasterView: image size must be in [1, 16384]");
+    throw InvalidInputError("RasterView: image size must be in [1, 16384]");
   }
   if (view.vertical_fov > 0.0f) {
     if (!(view.vertical_fov < 3.1f) || !(view.distance > 0.0f)) {
-      throw std::invalid_argument("RasterView: perspective needs fov < pi and distance > 0");
+      throw InvalidInputError("RasterView: perspective needs fov < pi and distance > 0");
     }
   } else if (!(view.half_extent > 0.0f)) {
-    throw std::invalid_argument("RasterView: half_extent must be > 0");
+    throw InvalidInputError("RasterView: half_extent must be > 0");
   }
 }
 
@@ -93,7 +94,7 @@ RasterBuffers Rasterize(const Mesh& mesh, const RasterView& view) {
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     for (std::uint32_t v : triangles[t]) {
       if (v >= positions.size()) {
-        throw std::invalid_argument("Rasterize: triangle " + std::to_string(t) + " uses vertex " +
+        throw InvalidInputError("Rasterize: triangle " + std::to_string(t) + " uses vertex " +
                                     std::to_string(v) + " >= " + std::to_string(positions.size()));
       }
     }

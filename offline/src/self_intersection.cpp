@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 #include "facerig/offline/stats.h"
+#include "facerig/offline/error.h"
 
 namespace facerig {
 namespace {
@@ -243,7 +244,7 @@ TestedTriangles CollectTestedTriangles(std::span<const glm::vec3> positions, std
     const Triangle& tri = triangles[t];
     for (const std::uint32_t v : tri) {
       if (v >= positions.size()) {
-        throw std::invalid_argument("FindSelfIntersections: triangle " + std::to_string(t) + " uses vertex " +
+        throw InvalidInputError("FindSelfIntersections: triangle " + std::to_string(t) + " uses vertex " +
                                     std::to_string(v) + " of " + std::to_string(positions.size()));
       }
     }
@@ -253,7 +254,7 @@ TestedTriangles CollectTestedTriangles(std::span<const glm::vec3> positions, std
     const glm::vec3& c = positions[tri[2]];
     for (const glm::vec3* p : {&a, &b, &c}) {
       if (!std::isfinite(p->x) || !std::isfinite(p->y) || !std::isfinite(p->z)) {
-        throw std::invalid_argument("FindSelfIntersections: triangle " + std::to_string(t) +
+        throw InvalidInputError("FindSelfIntersections: triangle " + std::to_string(t) +
                                     " has a non-finite vertex position");
       }
     }

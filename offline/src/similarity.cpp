@@ -6,7 +6,7 @@
 
 #include <Eigen/Dense>
 
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 
 namespace facerig {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/deformation_transfer.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "mesh_edges.h"
 #include "topology_mapping_rims.h"
 

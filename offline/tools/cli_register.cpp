@@ -19,7 +19,7 @@
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
 #include "facerig/offline/rasterizer.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"

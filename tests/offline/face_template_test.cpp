@@ -11,7 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/offline/landmarks.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
 #include "support/test_meshes.h"

@@ -12,7 +12,7 @@
 
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/deformation_transfer.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
 #include "support/registration_targets.h"

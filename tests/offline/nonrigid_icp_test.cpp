@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/landmarks.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "support/registration_targets.h"
 #include "support/test_meshes.h"
 

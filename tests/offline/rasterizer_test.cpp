@@ -1,5 +1,6 @@
 #include "facerig/offline/rasterizer.h"
 #include "support/test_meshes.h"
+#include "facerig/offline/error.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -96,9 +97,9 @@ TEST_CASE("Rasterize rejects bad views and indices", "[rasterizer]") {
   facerig::RasterView view = FrontView(8);
   view.width = 0;
   CHECK_THROWS_AS(facerig::Rasterize(facerig::test::MeshOf(positions, std::vector<facerig::Triangle>{{0, 1, 2}}), view),
-                  std::invalid_argument);
+                  facerig::InvalidInputError);
   CHECK_THROWS_AS(facerig::Rasterize(facerig::test::MeshOf(positions, std::vector<facerig::Triangle>{{0, 1, 3}}), FrontView(8)),
-                  std::invalid_argument);
+                  facerig::InvalidInputError);
 }
 
 TEST_CASE("A turned view keeps the image upright", "[rasterizer]") {

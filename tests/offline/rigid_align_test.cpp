@@ -11,7 +11,7 @@
 
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/nonrigid_icp.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "support/registration_targets.h"
 #include "support/test_meshes.h"
 

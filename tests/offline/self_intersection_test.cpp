@@ -8,6 +8,7 @@
 
 #include "facerig/offline/deformation_transfer.h"
 #include "support/test_meshes.h"
+#include "facerig/offline/error.h"
 
 namespace {
 
@@ -183,10 +184,10 @@ TEST_CASE("Invalid inputs: bad index or non-finite position", "[self_intersectio
   Soup soup;
   soup.AddTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
   soup.triangles.push_back({0, 1, 7});
-  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup), std::invalid_argument);
+  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup), facerig::InvalidInputError);
   soup.triangles.pop_back();
   soup.positions[1].x = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup), std::invalid_argument);
+  CHECK_THROWS_AS(facerig::FindSelfIntersections(soup), facerig::InvalidInputError);
   CHECK(facerig::FindSelfIntersections(facerig::test::MeshOf({}, {})).intersecting_pairs == 0);
 }
 

@@ -3,7 +3,7 @@
 // side, not of a point inside their lid.
 #include "facerig/offline/topology_mapping.h"
 
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "support/slit_sheet.h"
 
 #include <catch2/catch.hpp>

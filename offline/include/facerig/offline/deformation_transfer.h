@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"

@@ -67,7 +67,7 @@ struct RasterBuffers {
 };
 
 // Rasterizes every triangle (both windings) with a depth test. Deterministic:
-// ties keep the lower triangle id. Throws std::invalid_argument on a bad view
+// ties keep the lower triangle id. Throws InvalidInputError on a bad view
 // or a vertex index out of range.
 RasterBuffers Rasterize(const Mesh& mesh, const RasterView& view);
 

@@ -23,7 +23,7 @@
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
-#include "facerig/offline/registration_error.h"
+#include "facerig/offline/error.h"
 #include "facerig/offline/topology_mapping.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
@@ -38,14 +38,6 @@ enum class BuildMode : std::uint8_t {
 const char* ToString(BuildMode mode);
 // "classic", "identity", "displacement"; nullopt otherwise.
 std::optional<BuildMode> ParseBuildMode(std::string_view text);
-
-// The template and the target could not be matched: the registration's
-// residual is too large, or the fit had to crush the template (not a face, or
-// wrong landmarks). The message gives the residual.
-class RegistrationMismatchError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct BuildRigParams {
   BuildMode mode = BuildMode::kClassic;

@@ -52,7 +52,7 @@ struct SelfIntersectionResult {
 };
 
 // \pre every triangle index < positions.size(); positions finite.
-// \throw std::invalid_argument for an out-of-range triangle index or a non-finite position.
+// \throw InvalidInputError for an out-of-range triangle index or a non-finite position.
 SelfIntersectionResult FindSelfIntersections(const Mesh& mesh, const SelfIntersectionParams& params = {});
 
 // True when the two triangles cross (the pair rule above; shared vertices are
