@@ -250,17 +250,11 @@ void AddTriangleBlock(const Triangle& t, const Eigen::Matrix3d& local, std::span
   }
 }
 
-}  // namespace
-
-void PrecomputeDeformationTransfer(const Mesh& source, std::span<const glm::vec3> target_neutral,
-                                   std::span<const std::vector<glm::vec3>> source_expressions,
-                                   const DeformationTransferParams& params,
-                                   DeformationTransferData& data) {
-  const Clock::time_point start = Clock::now();
-  const std::span<const glm::vec3> source_neutral = source.positions;
-  const std::span<const Triangle> triangles = source.triangles;
-  const std::size_t n = source_neutral.size();
-  ValidateTransferInputs(source_neutral, target_neutral, triangles, source_expressions, params);
+// The parameters and meshes the solves need, copied into a fresh Impl.
+std::unique_ptr<DeformationTransferData::Impl> StartImpl(std::span<const glm::vec3> source_neutral,
+                                                         std::span<const glm::vec3> target_neutral,
+                                                         std::span<const Triangle> triangles,
+                                                         const DeformationTransferParams& params) {
   auto impl = std::make_unique<DeformationTransferData::Impl>();
   impl->mode = params.mode;
   impl->scaled_normal = params.scaled_normal;
@@ -270,106 +264,172 @@ void PrecomputeDeformationTransfer(const Mesh& source, std::span<const glm::vec3
   impl->triangles.assign(triangles.begin(), triangles.end());
   impl->source_neutral.assign(source_neutral.begin(), source_neutral.end());
   impl->target_neutral.assign(target_neutral.begin(), target_neutral.end());
+  return impl;
+}
 
-  std::vector<char> is_anchor = FindAnchors(source_neutral, triangles, source_expressions, params);
-  const bool still_pinning = params.still_fraction > 0.0;
-  if (still_pinning) impl->is_static_anchor = is_anchor;
-
-  const std::size_t component_count = AnchorEveryPart(target_neutral, triangles, still_pinning, is_anchor, *impl);
-  impl->free_index.assign(n, -1);
-  std::vector<std::int32_t> anchor_index(n, -1);
+// Numbers the anchors (impl.anchors, anchor_index) and the free vertices
+// (impl.free_index) in vertex order; returns the number of free vertices.
+std::int32_t IndexVertices(std::span<const char> is_anchor, DeformationTransferData::Impl& impl,
+                           std::vector<std::int32_t>& anchor_index) {
+  const std::size_t n = is_anchor.size();
+  impl.free_index.assign(n, -1);
+  anchor_index.assign(n, -1);
   std::int32_t free_count = 0;
   for (std::uint32_t v = 0; v < n; ++v) {
     if (is_anchor[v]) {
-      anchor_index[v] = static_cast<std::int32_t>(impl->anchors.size());
-      impl->anchors.push_back(v);
+      anchor_index[v] = static_cast<std::int32_t>(impl.anchors.size());
+      impl.anchors.push_back(v);
     } else {
-      impl->free_index[v] = free_count++;
+      impl.free_index[v] = free_count++;
     }
   }
+  return free_count;
+}
 
-  // Per-triangle data and the normal equations (U^T U restricted to the free
-  // vertices, and its coupling to the anchors).
+// The target's mean triangle area and mean squared edge length: the scales of
+// the area weights and of the needle clamping.
+struct TargetScale {
   double mean_area = 0.0;
   double mean_edge2 = 0.0;
+};
+
+TargetScale MeasureTarget(std::span<const glm::vec3> target_neutral, std::span<const Triangle> triangles) {
+  TargetScale scale;
   for (const Triangle& t : triangles) {
     const Mat32 e = Edges(target_neutral, t);
-    mean_area += 0.5 * e.col(0).cross(e.col(1)).norm();
-    mean_edge2 += 0.5 * e.colwise().squaredNorm().sum();
+    scale.mean_area += 0.5 * e.col(0).cross(e.col(1)).norm();
+    scale.mean_edge2 += 0.5 * e.colwise().squaredNorm().sum();
   }
-  mean_area /= static_cast<double>(triangles.size());
-  mean_edge2 /= static_cast<double>(triangles.size());
-  if (!(mean_edge2 > 0.0)) throw TransferInputError("target neutral", "all triangles are points");
+  scale.mean_area /= static_cast<double>(triangles.size());
+  scale.mean_edge2 /= static_cast<double>(triangles.size());
+  if (!(scale.mean_edge2 > 0.0)) throw TransferInputError("target neutral", "all triangles are points");
+  return scale;
+}
 
+// The normal equations U^T U as triplets: restricted to the free vertices,
+// their coupling to the anchors and (with still pinning) the whole #V x #V system.
+struct NormalEquations {
+  std::vector<Eigen::Triplet<double>> free;
+  std::vector<Eigen::Triplet<double>> coupling;
+  std::vector<Eigen::Triplet<double>> full;
+  std::size_t regularized = 0;  // triangles clamped or with a degenerate source
+};
+
+// Fills impl.triangle_data and impl.total_weight, and returns the triangles' blocks.
+NormalEquations AssembleNormalEquations(std::span<const glm::vec3> source_neutral,
+                                        std::span<const glm::vec3> target_neutral,
+                                        std::span<const Triangle> triangles,
+                                        std::span<const std::int32_t> anchor_index, bool still_pinning,
+                                        const DeformationTransferParams& params,
+                                        DeformationTransferData::Impl& impl) {
+  const TargetScale scale = MeasureTarget(target_neutral, triangles);
   Mat23 b;  // edge operator: (e1, e2) = X * B^T over the triangle's 3 vertices
   b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0;
-  std::vector<Eigen::Triplet<double>> free_triplets;
-  std::vector<Eigen::Triplet<double>> coupling_triplets;
-  std::vector<Eigen::Triplet<double>> full_triplets;
-  free_triplets.reserve(triangles.size() * 9);
-  if (still_pinning) full_triplets.reserve(triangles.size() * 9);
-  impl->triangle_data.resize(triangles.size());
-  std::size_t regularized = 0;
+  NormalEquations equations;
+  equations.free.reserve(triangles.size() * 9);
+  if (still_pinning) equations.full.reserve(triangles.size() * 9);
+  impl.triangle_data.resize(triangles.size());
   for (std::size_t j = 0; j < triangles.size(); ++j) {
     const Triangle& t = triangles[j];
-    DeformationTransferData::Impl::TriangleData& d = impl->triangle_data[j];
+    DeformationTransferData::Impl::TriangleData& d = impl.triangle_data[j];
     d.target_edges = Edges(target_neutral, t);
     const Mat32 source_edges = Edges(source_neutral, t);
 
     bool clamped = false;
-    const Eigen::Matrix2d metric = PrepareTriangle(source_edges, mean_edge2, params, d, clamped);
-    if (clamped || d.source_degenerate) ++regularized;
+    const Eigen::Matrix2d metric = PrepareTriangle(source_edges, scale.mean_edge2, params, d, clamped);
+    if (clamped || d.source_degenerate) ++equations.regularized;
     double weight = 1.0;
     if (params.area_weighted) {
       const double area = 0.5 * d.target_edges.col(0).cross(d.target_edges.col(1)).norm();
-      weight = std::max(area, 1e-3 * mean_area) / mean_area;
+      weight = std::max(area, 1e-3 * scale.mean_area) / scale.mean_area;
     }
-    impl->total_weight += weight;
+    impl.total_weight += weight;
     d.rhs_operator = weight * metric * b;
     const Eigen::Matrix3d local = b.transpose() * d.rhs_operator;  // w B^T M B
-    AddTriangleBlock(t, local, impl->free_index, anchor_index, free_triplets, coupling_triplets,
-                     still_pinning ? &full_triplets : nullptr);
+    AddTriangleBlock(t, local, impl.free_index, anchor_index, equations.free, equations.coupling,
+                     still_pinning ? &equations.full : nullptr);
   }
+  return equations;
+}
 
+// The free vertices' system (with the displacement prior on its diagonal) and
+// impl.coupling to the anchors.
+Eigen::SparseMatrix<double> BuildFreeSystem(const NormalEquations& equations, std::int32_t free_count,
+                                            const DeformationTransferParams& params,
+                                            DeformationTransferData::Impl& impl) {
   Eigen::SparseMatrix<double> system(free_count, free_count);
-  system.setFromTriplets(free_triplets.begin(), free_triplets.end());
+  system.setFromTriplets(equations.free.begin(), equations.free.end());
   if (params.displacement_prior > 0.0 && free_count > 0) {
-    impl->prior = params.displacement_prior * system.diagonal().mean();
-    for (std::int32_t f = 0; f < free_count; ++f) system.coeffRef(f, f) += impl->prior;
+    impl.prior = params.displacement_prior * system.diagonal().mean();
+    for (std::int32_t f = 0; f < free_count; ++f) system.coeffRef(f, f) += impl.prior;
   }
-  impl->coupling.resize(free_count, static_cast<Eigen::Index>(impl->anchors.size()));
-  impl->coupling.setFromTriplets(coupling_triplets.begin(), coupling_triplets.end());
-  if (still_pinning) {
-    impl->full_system.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-    impl->full_system.setFromTriplets(full_triplets.begin(), full_triplets.end());
-    if (params.displacement_prior > 0.0) {
-      impl->prior = params.displacement_prior * impl->full_system.diagonal().mean();
-    }
-    if (params.contact_weight > 0.0) {
-      impl->contact_weight = params.contact_weight * impl->full_system.diagonal().mean();
-      impl->close_contacts = params.close_contacts;
-      impl->contact_finder.emplace(impl->source_neutral, impl->triangles, impl->component_of_vertex);
-    }
+  impl.coupling.resize(free_count, static_cast<Eigen::Index>(impl.anchors.size()));
+  impl.coupling.setFromTriplets(equations.coupling.begin(), equations.coupling.end());
+  return system;
+}
+
+// Still pinning: the whole system that each expression restricts to its own
+// free vertices, the prior and contact weights relative to its diagonal, and
+// the contact finder.
+void SetUpStillPinning(const NormalEquations& equations, const DeformationTransferParams& params,
+                       DeformationTransferData::Impl& impl) {
+  const auto n = static_cast<Eigen::Index>(impl.target_neutral.size());
+  impl.full_system.resize(n, n);
+  impl.full_system.setFromTriplets(equations.full.begin(), equations.full.end());
+  if (params.displacement_prior > 0.0) {
+    impl.prior = params.displacement_prior * impl.full_system.diagonal().mean();
   }
+  if (params.contact_weight > 0.0) {
+    impl.contact_weight = params.contact_weight * impl.full_system.diagonal().mean();
+    impl.close_contacts = params.close_contacts;
+    impl.contact_finder.emplace(impl.source_neutral, impl.triangles, impl.component_of_vertex);
+  }
+}
+
+void Factorize(const Eigen::SparseMatrix<double>& system, DeformationTransferData::Impl& impl) {
+  impl.solver.compute(system);
+  if (impl.solver.info() != Eigen::Success) {
+    throw TransferSolverError("deformation transfer: the sparse Cholesky factorization of " +
+                              std::to_string(system.rows()) + " unknowns failed");
+  }
+}
+
+}  // namespace
+
+void PrecomputeDeformationTransfer(const Mesh& source, std::span<const glm::vec3> target_neutral,
+                                   std::span<const std::vector<glm::vec3>> source_expressions,
+                                   const DeformationTransferParams& params,
+                                   DeformationTransferData& data) {
+  const Clock::time_point start = Clock::now();
+  const std::span<const glm::vec3> source_neutral = source.positions;
+  const std::span<const Triangle> triangles = source.triangles;
+  ValidateTransferInputs(source_neutral, target_neutral, triangles, source_expressions, params);
+  auto impl = StartImpl(source_neutral, target_neutral, triangles, params);
+
+  std::vector<char> is_anchor = FindAnchors(source_neutral, triangles, source_expressions, params);
+  const bool still_pinning = params.still_fraction > 0.0;
+  if (still_pinning) impl->is_static_anchor = is_anchor;
+  const std::size_t component_count = AnchorEveryPart(target_neutral, triangles, still_pinning, is_anchor, *impl);
+  std::vector<std::int32_t> anchor_index;
+  const std::int32_t free_count = IndexVertices(is_anchor, *impl, anchor_index);
+
+  const NormalEquations equations = AssembleNormalEquations(source_neutral, target_neutral, triangles,
+                                                            anchor_index, still_pinning, params, *impl);
+  const Eigen::SparseMatrix<double> system = BuildFreeSystem(equations, free_count, params, *impl);
+  if (still_pinning) SetUpStillPinning(equations, params, *impl);
 
   const Clock::time_point factorize_start = Clock::now();
   // With still pinning each expression factorizes its own system.
-  if (free_count > 0 && !still_pinning) {
-    impl->solver.compute(system);
-    if (impl->solver.info() != Eigen::Success) {
-      throw TransferSolverError("deformation transfer: the sparse Cholesky factorization of " +
-                                std::to_string(free_count) + " unknowns failed");
-    }
-  }
+  if (free_count > 0 && !still_pinning) Factorize(system, *impl);
   data.factorize_seconds = SecondsSince(factorize_start);
 
-  data.vertex_count = n;
+  data.vertex_count = source_neutral.size();
   data.triangle_count = triangles.size();
   data.anchor_count = impl->anchors.size();
   data.free_count = static_cast<std::size_t>(free_count);
   data.component_count = component_count;
   data.floating_components = impl->floating_parts.size();
-  data.regularized_triangles = regularized;
+  data.regularized_triangles = equations.regularized;
   data.contacts_active = impl->contact_finder.has_value();
   data.impl = std::move(impl);
   data.precompute_seconds = SecondsSince(start);

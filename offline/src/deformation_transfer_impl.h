@@ -95,7 +95,7 @@ inline float BoundingDiagonal(std::span<const glm::vec3> positions) {
 
 
 }  // namespace deformation_transfer_detail
-using namespace deformation_transfer_detail;  // NOLINT: internal header of three files
+using namespace deformation_transfer_detail;  // NOLINT: internal header of the deformation transfer files
 
 struct DeformationTransferData::Impl {
   static constexpr char kPinnedRigid = 2;  // Scratch::pinned: placed by PinRigidMotions
@@ -184,13 +184,42 @@ struct DeformationTransferData::Impl {
   // One expression: returns the residual; scratch.contacts holds the contacts kept.
   double Solve(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
                Scratch& scratch) const;
+  // The right-hand side rows of the free vertices (free_index >= 0): the
+  // accumulated U^T S (3 #V) plus the displacement prior's pull.
+  void FillFreeRhs(std::span<const std::int32_t> vertex_free_index, Eigen::Index free_count,
+                   const double* accumulated, std::span<const glm::vec3> expression,
+                   Eigen::MatrixXd& rhs) const;
   // The free vertices' positions with this expression's still vertices pinned.
   void SolveStillPinned(std::span<const glm::vec3> expression, const double* accumulated,
                         std::vector<glm::vec3>& out, Scratch& scratch) const;
+  // Stages of SolveStillPinned, in order.
+  // Pins the static anchors and what the expression leaves still; returns the
+  // template's largest squared displacement in it.
+  float PinStillVertices(std::span<const glm::vec3> expression, Scratch& scratch) const;
+  // Pins the gauge of each part with nothing pinned (scratch.floating_components).
+  void PinFloatingParts(Scratch& scratch) const;
+  // Places the pinned vertices (but the rigid ones, already placed) in out and
+  // numbers the others in scratch.free_index; returns their count.
+  std::int32_t IndexFreeVertices(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
+                                 Scratch& scratch) const;
+  // scratch.rhs and scratch.triplets: the free rows of full_system, pinned columns
+  // moved to the right-hand side, plus the prior.
+  void AssembleFreeRows(std::span<const glm::vec3> expression, const double* accumulated,
+                        std::int32_t free_count, std::span<const glm::vec3> out, Scratch& scratch) const;
+  // Finds the expression's contacts and adds their springs to the free rows.
+  void AddContacts(std::span<const glm::vec3> expression, float largest2, std::span<const glm::vec3> out,
+                   Scratch& scratch) const;
+  // Factorizes the assembled free system and writes the free vertices to out.
+  void SolveFreeRows(std::int32_t free_count, std::vector<glm::vec3>& out, Scratch& scratch) const;
   // Pins the unpinned vertices of each part where the template moves them as
   // one rigid body (pinned = kPinnedRigid), placing them rigidly in out.
   void PinRigidMotions(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
                        Scratch& scratch) const;
+  // Stages of PinRigidMotions: each part's unpinned vertices that the template
+  // moves rigidly (scratch.rigid_fits), then each group's placement.
+  void FitRigidParts(std::span<const glm::vec3> expression, Scratch& scratch) const;
+  void PlaceRigidGroups(std::span<const glm::vec3> expression, std::vector<glm::vec3>& out,
+                        Scratch& scratch) const;
   // Translates a part without anchors so that its mean displacement is
   // displacement_scale times the template's.
   void PlaceFloatingPart(std::span<const std::uint32_t> part, std::span<const glm::vec3> expression,

@@ -8,6 +8,21 @@
 
 namespace facerig {
 
+namespace {
+
+// The free rows of a solution (free_index >= 0) into out.
+void WriteSolution(std::span<const std::int32_t> free_index, const Eigen::MatrixXd& solution,
+                   std::vector<glm::vec3>& out) {
+  for (std::size_t v = 0; v < free_index.size(); ++v) {
+    const std::int32_t f = free_index[v];
+    if (f < 0) continue;
+    out[v] = glm::vec3(static_cast<float>(solution(f, 0)), static_cast<float>(solution(f, 1)),
+                       static_cast<float>(solution(f, 2)));
+  }
+}
+
+}  // namespace
+
 double DeformationTransferData::Impl::Solve(std::span<const glm::vec3> expression,
                                            std::vector<glm::vec3>& out, Scratch& scratch) const {
   const std::size_t n = target_neutral.size();
@@ -40,25 +55,10 @@ double DeformationTransferData::Impl::Solve(std::span<const glm::vec3> expressio
     scratch.anchor_positions.row(i) << p.x, p.y, p.z;
   }
   if (free_count > 0) {
-    scratch.rhs.resize(free_count, 3);
-    for (std::size_t v = 0; v < n; ++v) {
-      const std::int32_t f = free_index[v];
-      if (f < 0) continue;
-      scratch.rhs.row(f) << acc[3 * v], acc[3 * v + 1], acc[3 * v + 2];
-      if (prior > 0.0) {
-        const glm::vec3 p = AnchorPosition(static_cast<std::uint32_t>(v), expression);
-        scratch.rhs.row(f) += prior * Eigen::RowVector3d(p.x, p.y, p.z);
-      }
-    }
+    FillFreeRhs(free_index, free_count, acc, expression, scratch.rhs);
     scratch.rhs -= coupling * scratch.anchor_positions;
     scratch.solution = solver.solve(scratch.rhs);
-    for (std::size_t v = 0; v < n; ++v) {
-      const std::int32_t f = free_index[v];
-      if (f < 0) continue;
-      out[v] = glm::vec3(static_cast<float>(scratch.solution(f, 0)),
-                         static_cast<float>(scratch.solution(f, 1)),
-                         static_cast<float>(scratch.solution(f, 2)));
-    }
+    WriteSolution(free_index, scratch.solution, out);
   }
   for (Eigen::Index i = 0; i < anchor_count; ++i) {
     out[anchors[static_cast<std::size_t>(i)]] =
@@ -72,12 +72,43 @@ double DeformationTransferData::Impl::Solve(std::span<const glm::vec3> expressio
   return Residual(out, scratch);
 }
 
+void DeformationTransferData::Impl::FillFreeRhs(std::span<const std::int32_t> vertex_free_index,
+                                                Eigen::Index free_count, const double* accumulated,
+                                                std::span<const glm::vec3> expression,
+                                                Eigen::MatrixXd& rhs) const {
+  rhs.resize(free_count, 3);
+  for (std::size_t v = 0; v < vertex_free_index.size(); ++v) {
+    const std::int32_t f = vertex_free_index[v];
+    if (f < 0) continue;
+    rhs.row(f) << accumulated[3 * v], accumulated[3 * v + 1], accumulated[3 * v + 2];
+    if (prior > 0.0) {
+      const glm::vec3 p = AnchorPosition(static_cast<std::uint32_t>(v), expression);
+      rhs.row(f) += prior * Eigen::RowVector3d(p.x, p.y, p.z);
+    }
+  }
+}
+
 void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> expression,
                                                      const double* accumulated,
                                                      std::vector<glm::vec3>& out,
                                                      Scratch& scratch) const {
+  const float largest2 = PinStillVertices(expression, scratch);
+  if (rigid_tolerance > 0.0) PinRigidMotions(expression, out, scratch);
+  PinFloatingParts(scratch);
+  const std::int32_t free_count = IndexFreeVertices(expression, out, scratch);
+  if (free_count > 0) {
+    AssembleFreeRows(expression, accumulated, free_count, out, scratch);
+    AddContacts(expression, largest2, out, scratch);
+    SolveFreeRows(free_count, out, scratch);
+  }
+  for (std::uint32_t c : scratch.floating_components) {
+    PlaceFloatingPart(component_members[c], expression, out);
+  }
+}
+
+float DeformationTransferData::Impl::PinStillVertices(std::span<const glm::vec3> expression,
+                                                      Scratch& scratch) const {
   const std::size_t n = target_neutral.size();
-  // Pinned: the static anchors and whatever this expression leaves still.
   float largest2 = 0.0f;
   for (std::size_t v = 0; v < n; ++v) {
     const glm::vec3 d = expression[v] - source_neutral[v];
@@ -89,7 +120,10 @@ void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> 
     const glm::vec3 d = expression[v] - source_neutral[v];
     scratch.pinned[v] = is_static_anchor[v] || d.x * d.x + d.y * d.y + d.z * d.z <= still2;
   }
-  if (rigid_tolerance > 0.0) PinRigidMotions(expression, out, scratch);
+  return largest2;
+}
+
+void DeformationTransferData::Impl::PinFloatingParts(Scratch& scratch) const {
   // A part with nothing pinned moves as a whole: pin its gauge, place it after the solve.
   scratch.floating_components.clear();
   for (std::size_t c = 0; c < component_members.size(); ++c) {
@@ -99,6 +133,12 @@ void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> 
       scratch.floating_components.push_back(static_cast<std::uint32_t>(c));
     }
   }
+}
+
+std::int32_t DeformationTransferData::Impl::IndexFreeVertices(std::span<const glm::vec3> expression,
+                                                              std::vector<glm::vec3>& out,
+                                                              Scratch& scratch) const {
+  const std::size_t n = target_neutral.size();
   scratch.free_index.assign(n, -1);
   std::int32_t free_count = 0;
   for (std::size_t v = 0; v < n; ++v) {
@@ -110,159 +150,73 @@ void DeformationTransferData::Impl::SolveStillPinned(std::span<const glm::vec3> 
       scratch.free_index[v] = free_count++;
     }
   }
-  if (free_count > 0) {
-    // The free rows of the whole system: free columns form the matrix, pinned
-    // columns move to the right-hand side.
-    scratch.rhs.resize(free_count, 3);
-    for (std::size_t v = 0; v < n; ++v) {
-      const std::int32_t f = scratch.free_index[v];
-      if (f < 0) continue;
-      scratch.rhs.row(f) << accumulated[3 * v], accumulated[3 * v + 1], accumulated[3 * v + 2];
-      if (prior > 0.0) {
-        const glm::vec3 p = AnchorPosition(static_cast<std::uint32_t>(v), expression);
-        scratch.rhs.row(f) += prior * Eigen::RowVector3d(p.x, p.y, p.z);
-      }
-    }
-    scratch.triplets.clear();
-    for (Eigen::Index column = 0; column < full_system.outerSize(); ++column) {
-      const std::int32_t free_column = scratch.free_index[static_cast<std::size_t>(column)];
-      const glm::vec3 p = out[static_cast<std::size_t>(column)];
-      for (Eigen::SparseMatrix<double>::InnerIterator it(full_system, column); it; ++it) {
-        const std::int32_t free_row = scratch.free_index[static_cast<std::size_t>(it.row())];
-        if (free_row < 0) continue;
-        if (free_column >= 0) {
-          scratch.triplets.emplace_back(free_row, free_column, it.value());
-        } else {
-          scratch.rhs.row(free_row) -= it.value() * Eigen::RowVector3d(p.x, p.y, p.z);
-        }
-      }
-    }
-    if (prior > 0.0) {
-      for (std::int32_t f = 0; f < free_count; ++f) scratch.triplets.emplace_back(f, f, prior);
-    }
-    // Contacts: w |x_moving - x_partner - offset|^2, a pinned end on the right-hand
-    // side; offset 0 when they close.
-    if (contact_finder) {
-      contact_finder->Find(expression, std::sqrt(largest2), scratch.free_index, scratch.contacts,
-                           scratch.contact_scratch);
-    }
-    for (const ExpressionContact& contact : scratch.contacts) {
-      const std::int32_t a = scratch.free_index[contact.moving];  // free: Find's moving ends are
-      const std::int32_t b = scratch.free_index[contact.partner];
-      const glm::vec3 offset =
-          close_contacts ? glm::vec3(0.0f) : static_cast<float>(displacement_scale) * contact.offset;
-      const Eigen::RowVector3d weighted_offset = contact_weight * Eigen::RowVector3d(offset.x, offset.y, offset.z);
-      scratch.triplets.emplace_back(a, a, contact_weight);
-      scratch.rhs.row(a) += weighted_offset;
-      if (b >= 0) {
-        scratch.triplets.emplace_back(b, b, contact_weight);
-        scratch.triplets.emplace_back(a, b, -contact_weight);
-        scratch.triplets.emplace_back(b, a, -contact_weight);
-        scratch.rhs.row(b) -= weighted_offset;
+  return free_count;
+}
+
+void DeformationTransferData::Impl::AssembleFreeRows(std::span<const glm::vec3> expression,
+                                                     const double* accumulated, std::int32_t free_count,
+                                                     std::span<const glm::vec3> out,
+                                                     Scratch& scratch) const {
+  FillFreeRhs(scratch.free_index, free_count, accumulated, expression, scratch.rhs);
+  scratch.triplets.clear();
+  for (Eigen::Index column = 0; column < full_system.outerSize(); ++column) {
+    const std::int32_t free_column = scratch.free_index[static_cast<std::size_t>(column)];
+    const glm::vec3 p = out[static_cast<std::size_t>(column)];
+    for (Eigen::SparseMatrix<double>::InnerIterator it(full_system, column); it; ++it) {
+      const std::int32_t free_row = scratch.free_index[static_cast<std::size_t>(it.row())];
+      if (free_row < 0) continue;
+      if (free_column >= 0) {
+        scratch.triplets.emplace_back(free_row, free_column, it.value());
       } else {
-        const glm::vec3 p = out[contact.partner];  // pinned, placed above
-        scratch.rhs.row(a) += contact_weight * Eigen::RowVector3d(p.x, p.y, p.z);
+        scratch.rhs.row(free_row) -= it.value() * Eigen::RowVector3d(p.x, p.y, p.z);
       }
-    }
-    scratch.system.resize(free_count, free_count);
-    scratch.system.setFromTriplets(scratch.triplets.begin(), scratch.triplets.end());
-    scratch.solver.compute(scratch.system);
-    if (scratch.solver.info() != Eigen::Success) {
-      throw TransferSolverError("deformation transfer: the sparse Cholesky factorization of " +
-                                std::to_string(free_count) + " unknowns failed");
-    }
-    scratch.solution = scratch.solver.solve(scratch.rhs);
-    for (std::size_t v = 0; v < n; ++v) {
-      const std::int32_t f = scratch.free_index[v];
-      if (f < 0) continue;
-      out[v] = glm::vec3(static_cast<float>(scratch.solution(f, 0)),
-                         static_cast<float>(scratch.solution(f, 1)),
-                         static_cast<float>(scratch.solution(f, 2)));
     }
   }
-  for (std::uint32_t c : scratch.floating_components) {
-    PlaceFloatingPart(component_members[c], expression, out);
+  if (prior > 0.0) {
+    for (std::int32_t f = 0; f < free_count; ++f) scratch.triplets.emplace_back(f, f, prior);
   }
 }
 
-void DeformationTransferData::Impl::PinRigidMotions(std::span<const glm::vec3> expression,
-                                                    std::vector<glm::vec3>& out,
-                                                    Scratch& scratch) const {
-  // Sum of |R x + t - x'|^2 and of |x' - x|^2 over vertices (x rest, x' moved).
-  auto fit_error = [&](const SimilarityTransform& fit, std::span<const std::uint32_t> vertices) {
-    double residual2 = 0.0;
-    double motion2 = 0.0;
-    for (std::uint32_t v : vertices) {
-      const Eigen::Vector3d rest = ToEigen(source_neutral[v]);
-      const Eigen::Vector3d moved = ToEigen(expression[v]);
-      residual2 += (fit.rotation * rest + fit.translation - moved).squaredNorm();
-      motion2 += (moved - rest).squaredNorm();
-    }
-    return std::pair{residual2, motion2};
-  };
-  const double tolerance2 = rigid_tolerance * rigid_tolerance;
-  // Each part's moving vertices that the template moves as one rigid body.
-  scratch.rigid_fits.clear();
-  for (const std::vector<std::uint32_t>& part : component_members) {
-    scratch.moving.clear();
-    for (std::uint32_t v : part) {
-      if (!scratch.pinned[v]) scratch.moving.push_back(v);
-    }
-    if (scratch.moving.size() < 4) continue;
-    SimilarityTransform fit;
-    try {
-      fit = FitRigid(source_neutral, expression, scratch.moving);
-    } catch (const InvalidInputError&) {
-      continue;  // the part's free vertices coincide: no rigid motion to keep
-    }
-    const auto [residual2, motion2] = fit_error(fit, scratch.moving);
-    if (fit.rotation.allFinite() && motion2 > 0.0 && residual2 <= tolerance2 * motion2) {
-      scratch.rigid_fits.push_back({fit, scratch.moving, scratch.rigid_fits.size()});
+void DeformationTransferData::Impl::AddContacts(std::span<const glm::vec3> expression, float largest2,
+                                                std::span<const glm::vec3> out,
+                                                Scratch& scratch) const {
+  // Contacts: w |x_moving - x_partner - offset|^2, a pinned end on the right-hand
+  // side; offset 0 when they close.
+  if (contact_finder) {
+    contact_finder->Find(expression, std::sqrt(largest2), scratch.free_index, scratch.contacts,
+                         scratch.contact_scratch);
+  }
+  for (const ExpressionContact& contact : scratch.contacts) {
+    const std::int32_t a = scratch.free_index[contact.moving];  // free: Find's moving ends are
+    const std::int32_t b = scratch.free_index[contact.partner];
+    const glm::vec3 offset =
+        close_contacts ? glm::vec3(0.0f) : static_cast<float>(displacement_scale) * contact.offset;
+    const Eigen::RowVector3d weighted_offset = contact_weight * Eigen::RowVector3d(offset.x, offset.y, offset.z);
+    scratch.triplets.emplace_back(a, a, contact_weight);
+    scratch.rhs.row(a) += weighted_offset;
+    if (b >= 0) {
+      scratch.triplets.emplace_back(b, b, contact_weight);
+      scratch.triplets.emplace_back(a, b, -contact_weight);
+      scratch.triplets.emplace_back(b, a, -contact_weight);
+      scratch.rhs.row(b) -= weighted_offset;
+    } else {
+      const glm::vec3 p = out[contact.partner];  // pinned, placed above
+      scratch.rhs.row(a) += contact_weight * Eigen::RowVector3d(p.x, p.y, p.z);
     }
   }
-  // Parts that move by the same rigid motion (ICT: lower teeth, gums and
-  // tongue with the jaw) move together, so they keep their places relative
-  // to each other on the target.
-  std::vector<Scratch::RigidFit>& fits = scratch.rigid_fits;
-  for (std::size_t i = 0; i < fits.size(); ++i) {
-    for (std::size_t j = 0; j < i; ++j) {
-      if (fits[j].group != j) continue;
-      const auto [residual2, motion2] = fit_error(fits[j].transform, fits[i].vertices);
-      if (residual2 <= tolerance2 * motion2) {
-        fits[i].group = j;
-        break;
-      }
-    }
+}
+
+void DeformationTransferData::Impl::SolveFreeRows(std::int32_t free_count, std::vector<glm::vec3>& out,
+                                                  Scratch& scratch) const {
+  scratch.system.resize(free_count, free_count);
+  scratch.system.setFromTriplets(scratch.triplets.begin(), scratch.triplets.end());
+  scratch.solver.compute(scratch.system);
+  if (scratch.solver.info() != Eigen::Success) {
+    throw TransferSolverError("deformation transfer: the sparse Cholesky factorization of " +
+                              std::to_string(free_count) + " unknowns failed");
   }
-  // Each group: the template's rotation about the group's centroid on the
-  // target, and the template's mean displacement.
-  for (std::size_t g = 0; g < fits.size(); ++g) {
-    if (fits[g].group != g) continue;
-    Eigen::Vector3d target_centroid = Eigen::Vector3d::Zero();
-    Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
-    std::size_t count = 0;
-    for (const Scratch::RigidFit& fit : fits) {
-      if (fit.group != g) continue;
-      for (std::uint32_t v : fit.vertices) {
-        target_centroid += ToEigen(target_neutral[v]);
-        displacement += ToEigen(expression[v]) - ToEigen(source_neutral[v]);
-      }
-      count += fit.vertices.size();
-    }
-    target_centroid /= static_cast<double>(count);
-    const Eigen::Vector3d shift =
-        target_centroid + displacement_scale * displacement / static_cast<double>(count);
-    const Eigen::Matrix3d rotation = fits[g].transform.rotation;
-    for (const Scratch::RigidFit& fit : fits) {
-      if (fit.group != g) continue;
-      for (std::uint32_t v : fit.vertices) {
-        const Eigen::Vector3d p = rotation * (ToEigen(target_neutral[v]) - target_centroid) + shift;
-        out[v] = glm::vec3(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                           static_cast<float>(p.z()));
-        scratch.pinned[v] = kPinnedRigid;
-      }
-    }
-  }
+  scratch.solution = scratch.solver.solve(scratch.rhs);
+  WriteSolution(scratch.free_index, scratch.solution, out);
 }
 
 void DeformationTransferData::Impl::PlaceFloatingPart(std::span<const std::uint32_t> part,
