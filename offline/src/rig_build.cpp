@@ -149,12 +149,7 @@ class StageRunner {
     return value;
   }
 
-  double SecondsOf(std::string_view name) const {
-    for (const BuildStage& stage : result_.stages) {
-      if (stage.name == name) return stage.seconds;
-    }
-    return 0.0;
-  }
+  double SecondsOf(std::string_view name) const { return StageSeconds(result_.stages, name); }
 
  private:
   const BuildRigParams& params_;
@@ -272,6 +267,19 @@ std::optional<BuildMode> ParseBuildMode(std::string_view text) {
     if (text == ToString(mode)) return mode;
   }
   return std::nullopt;
+}
+
+double StageSeconds(std::span<const BuildStage> stages, std::string_view name) {
+  for (const BuildStage& stage : stages) {
+    if (stage.name == name) return stage.seconds;
+  }
+  return 0.0;
+}
+
+double TotalSeconds(std::span<const BuildStage> stages) {
+  double total = 0.0;
+  for (const BuildStage& stage : stages) total += stage.seconds;
+  return total;
 }
 
 RegistrationLandmarks PairLandmarks(const std::vector<std::uint32_t>& template_vertex_of,

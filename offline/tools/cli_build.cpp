@@ -248,21 +248,13 @@ nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& input
                                 {"mean_move", built.margin_mean_correction}};
   report["mapping"] = MappingReport(built.mapping);
   report["stages"] = StagesReport(stages);
-  double total = 0.0;
-  for (const BuildStage& stage : stages) total += stage.seconds;
-  auto seconds_of = [&](std::string_view name) {
-    for (const BuildStage& stage : stages) {
-      if (stage.name == name) return stage.seconds;
-    }
-    return 0.0;
-  };
-  report["seconds"] = {{"load", seconds_of("load")},
-                       {"landmarks", seconds_of("landmarks")},
+  report["seconds"] = {{"load", StageSeconds(stages, "load")},
+                       {"landmarks", StageSeconds(stages, "landmarks")},
                        {"register", built.timings.registration_seconds},
                        {"transfer", built.timings.transfer_seconds},
                        {"map", built.timings.mapping_seconds},
-                       {"write", seconds_of("write")},
-                       {"total", total}};
+                       {"write", StageSeconds(stages, "write")},
+                       {"total", TotalSeconds(stages)}};
   return report;
 }
 
@@ -296,13 +288,12 @@ int RunBuild(const BuildOptions& options) {
       return 0;
     });
 
-    double total = 0.0;
-    for (const BuildStage& stage : stages) total += stage.seconds;
     const ResidualStats& residual = built.registration.residual;
     std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "
                 "%.4f%% p95 %.4f%% of the diagonal; %.2f s\n",
                 options.output.c_str(), rig->vertex_count(), rig->shape_count(), ToString(options.mode),
-                ToString(rig->units()), residual.mean_percent, residual.p95_percent, total);
+                ToString(rig->units()), residual.mean_percent, residual.p95_percent,
+                TotalSeconds(stages));
     if (!options.report.empty()) {
       WriteJsonAtomically(options.report, BuildReport(options, inputs, landmarks, built, *rig, stages));
     }

@@ -63,12 +63,6 @@ std::vector<std::uint32_t> PartRangeIndices(std::span<const RawPart> parts, std:
 
 }  // namespace
 
-Mesh Mesh::WithPositions(std::vector<glm::vec3> posed) const {
-  Mesh mesh = *this;
-  mesh.positions = std::move(posed);
-  return mesh;
-}
-
 bool Mesh::Validate(std::string* problem) const {
   auto fail = [&](std::string text) {
     if (problem) *problem = std::move(text);

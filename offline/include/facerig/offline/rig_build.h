@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -84,6 +85,9 @@ struct BuildStage {
   std::string name;
   double seconds = 0.0;
 };
+// The time of the stage with this name (0 when absent), and of all stages.
+double StageSeconds(std::span<const BuildStage> stages, std::string_view name);
+double TotalSeconds(std::span<const BuildStage> stages);
 
 struct BuildRigResult {
   RawRig rig;         // on the target's topology, frame and units

@@ -46,9 +46,6 @@ struct Mesh {
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t triangle_count() const { return triangles.size(); }
-  // The same topology, parts and materials with other positions (a pose of
-  // this mesh, e.g. one expression); positions.size() must equal vertex_count().
-  Mesh WithPositions(std::vector<glm::vec3> posed) const;
   // True when every index and array size is consistent and every coordinate
   // finite; `problem` (if given) names the first offending element,
   // e.g. "triangle 12: vertex index 900 >= 850".
