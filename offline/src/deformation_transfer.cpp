@@ -382,7 +382,7 @@ void SetUpStillPinning(const NormalEquations& equations, const DeformationTransf
   if (params.contact_weight > 0.0) {
     impl.contact_weight = params.contact_weight * impl.full_system.diagonal().mean();
     impl.close_contacts = params.close_contacts;
-    impl.contact_finder.emplace(impl.source_neutral, impl.triangles, impl.component_of_vertex);
+    impl.contact_finder.emplace(impl.source_neutral, impl.triangles, impl.component_of_vertex, params.openings);
   }
 }
 

@@ -20,7 +20,7 @@
 #include <Eigen/SparseCore>
 #include <glm/common.hpp>
 
-#include "expression_contacts.h"
+#include "openings_contacts.h"
 #include "facerig/offline/stats.h"
 
 namespace facerig {
@@ -129,7 +129,7 @@ struct DeformationTransferData::Impl {
   double rigid_tolerance = 0.0;
   double contact_weight = 0.0;  // absolute
   bool close_contacts = true;
-  std::optional<ExpressionContactFinder> contact_finder;  // with contact_weight > 0 (and still pinning)
+  std::optional<ContactFinder> contact_finder;  // with contact_weight > 0 (and still pinning)
   Eigen::SparseMatrix<double> full_system;
   std::vector<char> is_static_anchor;
   std::vector<std::uint32_t> component_of_vertex;
@@ -175,8 +175,8 @@ struct DeformationTransferData::Impl {
       std::size_t group;  // index of the first fit with the same motion
     };
     std::vector<RigidFit> rigid_fits;
-    std::vector<ExpressionContact> contacts;
-    ExpressionContactFinder::Scratch contact_scratch;
+    std::vector<OpeningContact> contacts;
+    ContactFinder::Scratch contact_scratch;
     std::vector<Eigen::Triplet<double>> triplets;
     Eigen::SparseMatrix<double> system;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;

@@ -186,7 +186,7 @@ void DeformationTransferData::Impl::AddContacts(std::span<const glm::vec3> expre
     contact_finder->Find(expression, std::sqrt(largest2), scratch.free_index, scratch.contacts,
                          scratch.contact_scratch);
   }
-  for (const ExpressionContact& contact : scratch.contacts) {
+  for (const OpeningContact& contact : scratch.contacts) {
     const std::int32_t a = scratch.free_index[contact.moving];  // free: Find's moving ends are
     const std::int32_t b = scratch.free_index[contact.partner];
     const glm::vec3 offset =

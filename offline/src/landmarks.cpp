@@ -15,8 +15,8 @@
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <glm/geometric.hpp>
 
-#include "eye_openings.h"
 #include "facerig/offline/error.h"
+#include "facerig/offline/openings.h"
 #include "facerig/offline/rigid_align.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/error.h"

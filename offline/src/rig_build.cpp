@@ -13,7 +13,6 @@
 
 #include "facerig/offline/displacement_transfer.h"
 #include "facerig/offline/stats.h"
-#include "margin_alignment.h"
 
 namespace facerig {
 namespace {
@@ -53,6 +52,7 @@ std::vector<RawBlendShape> TransferExpressions(const Rig& template_rig, std::spa
   }
   DeformationTransferParams transfer = params.transfer;
   transfer.mode = params.mode == BuildMode::kClassic ? TransferMode::kClassic : TransferMode::kIdentityGradient;
+  transfer.openings = params.openings;
   DeformationTransferResult result;
   RawRig transferred = TransferRig(template_rig, fitted, transfer, &result);
   built.transfer_anchors = result.anchor_count;
@@ -105,20 +105,6 @@ std::vector<Triangle> RegistrationTriangles(std::span<const glm::vec3> positions
     if (has_triangles[p] && area[p] < min_fraction * largest) ++parts_left_out;
   }
   return kept;
-}
-
-// The margins the mapping snaps the target's rims to: those aligned onto
-// the target's rims, with the direction towards their partner in the fit.
-std::vector<TemplateRim> TemplateRims(std::span<const OpeningMargin> margins, std::span<const std::uint32_t> aligned,
-                                      std::span<const glm::vec3> fitted) {
-  std::vector<TemplateRim> rims;
-  for (const OpeningMargin& margin : margins) {
-    if (!std::binary_search(aligned.begin(), aligned.end(), margin.vertex)) continue;
-    const glm::vec3 across = fitted[margin.partner] - fitted[margin.vertex];
-    const float length = glm::length(across);
-    if (length > 0.0f) rims.push_back({margin.vertex, across / length});
-  }
-  return rims;
 }
 
 // The expressions' margins, kept to the descriptor's rims where it lists them.
@@ -176,9 +162,9 @@ MarginStage AlignMargins(const Rig& template_rig, const FaceTemplateInfo& templa
   const auto start = std::chrono::steady_clock::now();
   MarginStage stage;
   if (params.align_margins_to_openings) {
-    stage.margins = DescribedMargins(FindOpeningMargins(template_rig), template_info);
+    stage.margins = DescribedMargins(FindOpeningMargins(template_rig, params.openings), template_info);
     stage.aligned = AlignMarginsToOpenings(result.registration.positions, template_rig.triangles(), stage.margins,
-                                           target.positions, target.triangles);
+                                           target.positions, target.triangles, params.openings);
     result.margin_vertices_aligned = stage.aligned.aligned_vertices;
     result.margin_mean_correction = stage.aligned.mean_correction;
   }
@@ -239,11 +225,13 @@ void MapOntoTarget(const Rig& template_rig, RawRig fitted, const MarginStage& ma
   std::string problem;
   std::optional<Rig> fitted_rig = RigBuilder::Build(fitted, &problem);
   if (!fitted_rig) throw InvalidInputError("the transferred template rig is invalid: " + problem);
-  const std::vector<TemplateRim> rims =
-      TemplateRims(margins.margins, margins.aligned.aligned, result.registration.positions);
+  const std::vector<MarginDirection> rims =
+      MarginDirections(margins.margins, margins.aligned.aligned, result.registration.positions);
+  TopologyMappingParams mapping_params = params.mapping;
+  mapping_params.openings = params.openings;
   const Mesh fitted_template{.positions = result.registration.positions,
                              .triangles = {template_rig.triangles().begin(), template_rig.triangles().end()}};
-  result.mapping = ComputeTopologyMapping(fitted_template, NeutralMesh(target), params.mapping, rims);
+  result.mapping = ComputeTopologyMapping(fitted_template, NeutralMesh(target), mapping_params, rims);
   result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
   result.fitted_rig = std::move(fitted);
 }

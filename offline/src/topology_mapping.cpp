@@ -14,7 +14,7 @@
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/error.h"
 #include "mesh_edges.h"
-#include "topology_mapping_rims.h"
+#include "openings_rims.h"
 
 namespace facerig {
 namespace {
@@ -113,23 +113,23 @@ void CheckParams(const TopologyMappingParams& params) {
   if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
     throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
   }
-  if (!(params.rim_smoothing_radius >= 0.0f) || !std::isfinite(params.rim_smoothing_radius)) {
+  const OpeningParams& openings = params.openings;
+  if (!(openings.rim_smoothing_radius >= 0.0f) || !std::isfinite(openings.rim_smoothing_radius)) {
     throw InvalidInputError("topology mapping: rim_smoothing_radius must be finite and >= 0, not " +
-                            std::to_string(params.rim_smoothing_radius));
+                            std::to_string(openings.rim_smoothing_radius));
   }
-  if (!(params.rim_closing_ratio >= 0.0f && params.rim_closing_ratio < 1.0f) ||
-      !(params.rim_closing_reach > 0.0f) || !std::isfinite(params.rim_closing_reach)) {
+  if (!(openings.rim_closing_ratio >= 0.0f && openings.rim_closing_ratio < 1.0f) ||
+      !(openings.rim_closing_reach > 0.0f) || !std::isfinite(openings.rim_closing_reach)) {
     throw InvalidInputError("topology mapping: rim_closing_ratio must be in [0, 1) and rim_closing_reach finite "
-                            "and > 0, not " + std::to_string(params.rim_closing_ratio) + " and " +
-                            std::to_string(params.rim_closing_reach));
+                            "and > 0, not " + std::to_string(openings.rim_closing_ratio) + " and " +
+                            std::to_string(openings.rim_closing_reach));
   }
 }
 
-void CheckTemplateRims(std::span<const TemplateRim> template_rims, std::size_t template_vertices) {
-  for (std::size_t i = 0; i < template_rims.size(); ++i) {
-    if (template_rims[i].vertex >= template_vertices ||
-        (i > 0 && !(template_rims[i - 1].vertex < template_rims[i].vertex))) {
-      throw InvalidInputError("topology mapping: template rim vertex " + std::to_string(template_rims[i].vertex) +
+void CheckTemplateMargins(std::span<const MarginDirection> margins, std::size_t template_vertices) {
+  for (std::size_t i = 0; i < margins.size(); ++i) {
+    if (margins[i].vertex >= template_vertices || (i > 0 && !(margins[i - 1].vertex < margins[i].vertex))) {
+      throw InvalidInputError("topology mapping: template rim vertex " + std::to_string(margins[i].vertex) +
                               " out of range or out of order (" + std::to_string(template_vertices) +
                               " vertices)");
     }
@@ -244,7 +244,7 @@ struct VertexMapper {
     const ClosestPointHit on_rim =
         target.on_boundary[v] && !rim_edges.empty()
             ? NearestOnRim(target.positions[v], -target.inward[v], fitted_template, template_triangles, rim_edges,
-                           params.rim_min_facing, rim_snap_distance)
+                           params.openings.rim_min_facing, rim_snap_distance)
             : ClosestPointHit{};
     snapped = false;
     if (on_rim.triangle >= 0) {
@@ -284,7 +284,7 @@ void RecordHit(TopologyMapping& mapping, std::size_t v, const ClosestPointHit& h
 
 TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const Mesh& target_mesh,
                                        const TopologyMappingParams& params,
-                                       std::span<const TemplateRim> template_rims) {
+                                       std::span<const MarginDirection> template_margins) {
   const std::span<const glm::vec3> fitted_template = fitted_template_mesh.positions;
   const std::span<const Triangle> template_triangles = fitted_template_mesh.triangles;
   const std::span<const glm::vec3> target_positions = target_mesh.positions;
@@ -306,11 +306,11 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
       BuildPartSurfaces(fitted_template, template_triangles, template_part_of_vertex, votes, params.min_part_vote);
 
   const TargetSearchView target =
-      MakeTargetSearchView(target_positions, target_triangles, params.boundary_inset * diagonal);
-  CheckTemplateRims(template_rims, fitted_template.size());
-  const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_rims);
+      MakeTargetSearchView(target_positions, target_triangles, params.openings.boundary_inset * diagonal);
+  CheckTemplateMargins(template_margins, fitted_template.size());
+  const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_margins);
   const VertexMapper mapper{fitted_template, template_triangles, rim_edges, target, params,
-                            params.rim_snap_distance * diagonal, zero};
+                            params.openings.rim_snap_distance * diagonal, zero};
 
   const std::size_t n = target_positions.size();
   TopologyMapping mapping;
@@ -328,7 +328,7 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
   }
   mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
   if (mapping.rim_vertices > 0) {
-    AddSnappedRims(mapping, target_positions, target.inward, target_triangles, rim_snapped, params, diagonal);
+    AddSnappedRims(mapping, target_positions, target.inward, target_triangles, rim_snapped, params.openings, diagonal);
   }
   return mapping;
 }
@@ -344,10 +344,10 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
         mapping.weight[v] * (b.x * template_values[t[0]] + b.y * template_values[t[1]] + b.z * template_values[t[2]]);
   }
   std::vector<glm::vec3> along_rim, scratch;
-  for (const TopologyMapping::Rim& rim : mapping.rims) {
+  for (const OpeningRim& rim : mapping.rims) {
     if (rim.passes == 0) continue;
     along_rim.clear();
-    for (const TopologyMapping::RimNeighbours& at : rim.vertices) along_rim.push_back(target_values[at.vertex]);
+    for (const RimNeighbours& at : rim.vertices) along_rim.push_back(target_values[at.vertex]);
     SmoothAlongRim(rim, along_rim, scratch);
     for (std::size_t i = 0; i < along_rim.size(); ++i) target_values[rim.vertices[i].vertex] = along_rim[i];
   }

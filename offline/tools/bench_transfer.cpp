@@ -63,7 +63,7 @@ struct ModeReport {
 
 void Measure(ModeReport& report, const facerig::Rig& rig, const Meshes& truth,
              const Meshes& result, std::span<const glm::vec3> target,
-             const std::vector<facerig::EyelidMargins>& eyes, const std::vector<std::size_t>& blinks) {
+             const std::vector<facerig::OpeningMargins>& eyes, const std::vector<std::size_t>& blinks) {
   for (std::size_t s = 0; s < result.size(); ++s) {
     const facerig::ExpressionError e =
         facerig::MeasureExpressionError(target, truth[s], result[s], 0, kFaceLast);
@@ -88,7 +88,7 @@ void Measure(ModeReport& report, const facerig::Rig& rig, const Meshes& truth,
     report.amplitudes.push_back(norm2 > 0.0 ? along / norm2 : 1.0);
   }
   for (std::size_t i = 0; i < eyes.size(); ++i) {
-    const facerig::EyelidGap gap = facerig::MeasureEyelidGap(result[blinks[i]], eyes[i]);
+    const facerig::OpeningGap gap = facerig::MeasureOpeningGap(result[blinks[i]], eyes[i]);
     report.blink_gap = std::max(report.blink_gap, gap.mean_gap);
     report.blink_crossing = std::max(report.blink_crossing, gap.max_crossing);
   }
@@ -143,7 +143,7 @@ bool LoadTemplate(const std::string& ict_dir, facerig::Rig& rig, Meshes& identit
 // Eyelid margins (found on the template) for the blink check, and the
 // template's own blink as the reference.
 struct BlinkCheck {
-  std::vector<facerig::EyelidMargins> eyes;
+  std::vector<facerig::OpeningMargins> eyes;
   std::vector<std::size_t> blinks;  // the eyeBlink_L/R shape of each eye
   double template_gap = 0.0;
   double template_crossing = 0.0;
@@ -151,7 +151,7 @@ struct BlinkCheck {
 
 BlinkCheck FindBlinkCheck(const facerig::Rig& rig, const Meshes& expressions) {
   BlinkCheck check;
-  std::vector<facerig::EyelidMargins>& eyes = check.eyes;
+  std::vector<facerig::OpeningMargins>& eyes = check.eyes;
   std::vector<std::size_t>& blinks = check.blinks;
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     if (auto s = rig.FindShape(name)) {
@@ -160,7 +160,7 @@ BlinkCheck FindBlinkCheck(const facerig::Rig& rig, const Meshes& expressions) {
     }
   }
   for (std::size_t i = 0; i < eyes.size(); ++i) {
-    const facerig::EyelidGap gap = facerig::MeasureEyelidGap(expressions[blinks[i]], eyes[i]);
+    const facerig::OpeningGap gap = facerig::MeasureOpeningGap(expressions[blinks[i]], eyes[i]);
     check.template_gap = std::max(check.template_gap, gap.mean_gap);
     check.template_crossing = std::max(check.template_crossing, gap.max_crossing);
   }

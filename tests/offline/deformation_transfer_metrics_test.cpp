@@ -55,7 +55,7 @@ TEST_CASE("Eyelid gap: the lids meet as curves though the lid slides", "[deforma
   const std::vector<float> slide{0.05f, 0.5f, 0.05f, 0.5f, -0.05f};
   const std::vector<glm::vec3> neutral = OpenEye();
   const std::vector<glm::vec3> blink = UpperMarginAt(0.0f, slide);
-  const facerig::EyelidMargins margins =
+  const facerig::OpeningMargins margins =
       facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, EyeTriangles()), blink, 0, neutral.size());
   CHECK(margins.upper == std::vector<std::uint32_t>{Vertex(kUpperMargin, 0), Vertex(kUpperMargin, 2),
                                                     Vertex(kUpperMargin, 4)});
@@ -63,29 +63,29 @@ TEST_CASE("Eyelid gap: the lids meet as curves though the lid slides", "[deforma
                                                     Vertex(kLowerMargin, 4)});
   // The whole lower margin row, not only the partners.
   CHECK(margins.lower_margin == std::vector<std::uint32_t>{0, 1, 2, 3, 4});
-  CHECK(margins.eye_width == Approx(4.0));
+  CHECK(margins.width == Approx(4.0));
 
   // Paired vertex to vertex the closed eye would be 0.05 / 4 apart; on the curve, 0.
-  const facerig::EyelidGap closed = facerig::MeasureEyelidGap(blink, margins);
+  const facerig::OpeningGap closed = facerig::MeasureOpeningGap(blink, margins);
   CHECK(closed.measured_vertices == 3);
   CHECK(closed.mean_gap == Approx(0.0).margin(1e-7));
   CHECK(closed.max_gap == Approx(0.0).margin(1e-7));
   CHECK(closed.max_crossing == Approx(0.0).margin(1e-7));
 
-  const facerig::EyelidGap ajar = facerig::MeasureEyelidGap(UpperMarginAt(0.2f, slide), margins);
+  const facerig::OpeningGap ajar = facerig::MeasureOpeningGap(UpperMarginAt(0.2f, slide), margins);
   CHECK(ajar.mean_gap == Approx(0.05));
   CHECK(ajar.max_gap == Approx(0.05));
   CHECK(ajar.max_crossing == 0.0);
-  CHECK(facerig::MeasureEyelidGap(neutral, margins).mean_gap == Approx(0.25));
+  CHECK(facerig::MeasureOpeningGap(neutral, margins).mean_gap == Approx(0.25));
 
   // Through the lower lid: as far below as apart, and counted as crossing.
-  const facerig::EyelidGap crossed = facerig::MeasureEyelidGap(UpperMarginAt(-0.1f, slide), margins);
+  const facerig::OpeningGap crossed = facerig::MeasureOpeningGap(UpperMarginAt(-0.1f, slide), margins);
   CHECK(crossed.mean_gap == Approx(0.025));
   CHECK(crossed.max_crossing == Approx(0.025));
 
   // Past the end of the lower margin (the lid corner): not measured.
   const std::vector<float> past_corner{0.05f, 0.5f, 0.05f, 0.5f, 0.5f};
-  const facerig::EyelidGap cornered = facerig::MeasureEyelidGap(UpperMarginAt(0.3f, past_corner), margins);
+  const facerig::OpeningGap cornered = facerig::MeasureOpeningGap(UpperMarginAt(0.3f, past_corner), margins);
   CHECK(cornered.measured_vertices == 2);
   CHECK(cornered.mean_gap == Approx(0.075));
 }

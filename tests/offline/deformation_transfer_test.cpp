@@ -604,12 +604,12 @@ TEST_CASE("eyeBlink closes the lids as far as the template's deltas do (shared d
       facerig::DeformationTransfer(facerig::NeutralMesh(rig), face, Ict().expressions);
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     const std::size_t s = *rig.FindShape(name);
-    const facerig::EyelidMargins margins =
+    const facerig::OpeningMargins margins =
         facerig::FindEyelidMargins(facerig::NeutralMesh(rig), Ict().expressions[s], 0, kLidLast);
     REQUIRE(margins.upper.size() >= 3);
-    const facerig::EyelidGap on_template = facerig::MeasureEyelidGap(Ict().expressions[s], margins);
-    const facerig::EyelidGap on_truth = facerig::MeasureEyelidGap(truth[s], margins);
-    const facerig::EyelidGap transferred = facerig::MeasureEyelidGap(classic.expressions[s], margins);
+    const facerig::OpeningGap on_template = facerig::MeasureOpeningGap(Ict().expressions[s], margins);
+    const facerig::OpeningGap on_truth = facerig::MeasureOpeningGap(truth[s], margins);
+    const facerig::OpeningGap transferred = facerig::MeasureOpeningGap(classic.expressions[s], margins);
     WARN(name << ", " << on_template.measured_vertices << " upper lid vertices on a " << margins.lower_margin.size()
               << "-vertex lower margin, gap / eye width mean, max, crossing: template " << on_template.mean_gap
               << ", " << on_template.max_gap << ", " << on_template.max_crossing << "; template deltas on the face "
@@ -617,7 +617,7 @@ TEST_CASE("eyeBlink closes the lids as far as the template's deltas do (shared d
               << transferred.mean_gap << ", " << transferred.max_gap << ", " << transferred.max_crossing);
     REQUIRE(on_template.measured_vertices >= 3);
     // Open, the lids are far apart: the measure tells open from closed.
-    CHECK(facerig::MeasureEyelidGap(rig.positions(), margins).mean_gap > 10.0 * on_template.mean_gap);
+    CHECK(facerig::MeasureOpeningGap(rig.positions(), margins).mean_gap > 10.0 * on_template.mean_gap);
     // ICT's own blink leaves its margins 0.021 of the eye width apart (0.5-1.5 mm
     // medially, over the upper lid's margin row): issue 6's 1% is out of reach
     // of a faithful transfer, so the transfer is held to the template and the

@@ -195,11 +195,11 @@ TEST_CASE("Landmarks on the built-in stylized head: eyes fitted to its eye openi
   CHECK(fitted.eyes_fitted == 2);
   // The head's own lid margins, from its blinks; the eye points' distances to them over the eye width.
   for (const auto& [blink, first] : {std::pair<const char*, std::size_t>{"eyeBlink_R", 36}, {"eyeBlink_L", 42}}) {
-    const EyelidMargins lids = FindEyelidMargins(facerig::NeutralMesh(head), expressions[*head.FindShape(blink)], 0, head.vertex_count());
+    const OpeningMargins lids = FindEyelidMargins(facerig::NeutralMesh(head), expressions[*head.FindShape(blink)], 0, head.vertex_count());
     auto off_margin = [&](glm::vec3 p, const std::vector<std::uint32_t>& margin) {
       float nearest = std::numeric_limits<float>::max();
       for (std::uint32_t v : margin) nearest = std::min(nearest, glm::length(head.positions()[v] - p));
-      return static_cast<double>(nearest) / lids.eye_width;
+      return static_cast<double>(nearest) / lids.width;
     };
     for (std::size_t k : {first + 1, first + 2}) {
       INFO(blink << " landmark " << k);

@@ -20,15 +20,15 @@ using namespace facerig::test::slit;
 
 // The slit's edges as template rims, each towards the other edge; flipped:
 // the wrong way.
-std::vector<facerig::TemplateRim> SlitRims(bool flipped) {
-  std::vector<facerig::TemplateRim> rims;
+std::vector<facerig::MarginDirection> SlitRims(bool flipped) {
+  std::vector<facerig::MarginDirection> rims;
   const float sign = flipped ? -1.0f : 1.0f;
   for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) rims.push_back({Vertex(x, kSlitRow), {0, sign, 0}});
   for (std::uint32_t x = kSlitFirst + 1; x < kSlitLast; ++x) rims.push_back({Vertex(x, kSlitRow + 1), {0, -sign, 0}});
   return rims;
 }
 
-std::vector<glm::vec3> MappedBlink(const SlitSheet& sheet, std::span<const facerig::TemplateRim> rims,
+std::vector<glm::vec3> MappedBlink(const SlitSheet& sheet, std::span<const facerig::MarginDirection> rims,
                                    std::size_t* rim_vertices) {
   facerig::TopologyMappingParams params;
   const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(sheet, sheet, params, rims);
@@ -53,15 +53,15 @@ TEST_CASE("Topology mapping: rim vertices take their own margin's motion", "[top
   CHECK(upper_rim.y > -0.97f);
 
   // With them, every rim vertex along the margins moves exactly as its margin.
-  const std::vector<facerig::TemplateRim> rims = SlitRims(false);
+  const std::vector<facerig::MarginDirection> rims = SlitRims(false);
   const std::vector<glm::vec3> snapped = MappedBlink(sheet, rims, &rim_vertices);
   CHECK(rim_vertices == rims.size());
-  for (const facerig::TemplateRim& rim : rims) {
+  for (const facerig::MarginDirection& rim : rims) {
     CHECK(glm::length(snapped[rim.vertex] - template_deltas[rim.vertex]) < 1e-5f);
   }
 
   // Rims that open the other way are not the target rims' side: as without.
-  const std::vector<facerig::TemplateRim> flipped = SlitRims(true);
+  const std::vector<facerig::MarginDirection> flipped = SlitRims(true);
   const std::vector<glm::vec3> wrong_way = MappedBlink(sheet, flipped, &rim_vertices);
   CHECK(rim_vertices == 0);
   CHECK(glm::length(wrong_way[Vertex(5, kSlitRow + 1)] - upper_rim) < 1e-6f);
@@ -81,12 +81,12 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
   // Only the right part of the upper margin (x = 5..7) is a template rim, as
   // when the template's margin ends before the target's rim: x = 3, 4 take a
   // point inside the lid (a deep inset here, so that it shows) and lag.
-  std::vector<facerig::TemplateRim> rims;
+  std::vector<facerig::MarginDirection> rims;
   for (std::uint32_t x = 5; x < kSlitLast; ++x) rims.push_back({Vertex(x, kSlitRow + 1), {0, -1, 0}});
   const auto mapped_with = [&](float radius, int expected_passes) {
     facerig::TopologyMappingParams params;
-    params.boundary_inset = 0.03f;
-    params.rim_smoothing_radius = radius;
+    params.openings.boundary_inset = 0.03f;
+    params.openings.rim_smoothing_radius = radius;
     const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(sheet, sheet, params, rims);
     CHECK(mapping.rim_vertices == 3);
     REQUIRE(mapping.rims.size() == 1);
@@ -102,7 +102,7 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
   };
   const std::vector<glm::vec3> stepped = mapped_with(0.0f, 0);
   // The default radius is far below this coarse sheet's vertex spacing: left as it is.
-  CHECK(mapped_with(facerig::TopologyMappingParams{}.rim_smoothing_radius, 0) == stepped);
+  CHECK(mapped_with(facerig::OpeningParams{}.rim_smoothing_radius, 0) == stepped);
   // About one vertex spacing (the sheet's diagonal is 11.7 spacings): 2 passes.
   const std::vector<glm::vec3> smoothed = mapped_with(1.0f / 11.7f, 2);
   WARN("extra step where the rim starts snapping: " << extra_step(stepped) << " unsmoothed, " << extra_step(smoothed)
@@ -121,7 +121,7 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
   }
   for (float bad : {-0.1f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
     facerig::TopologyMappingParams params;
-    params.rim_smoothing_radius = bad;
+    params.openings.rim_smoothing_radius = bad;
     CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet, sheet, params, rims),
                     facerig::InvalidInputError);
   }
@@ -130,7 +130,7 @@ TEST_CASE("Topology mapping: where the template's margin ends early, the rim is 
 TEST_CASE("Topology mapping: a rim whose sides an expression brings together closes, or stops crossing",
           "[topology_mapping]") {
   const SlitSheet sheet = facerig::test::MakeSlitSheet();
-  const std::vector<facerig::TemplateRim> rims = SlitRims(false);
+  const std::vector<facerig::MarginDirection> rims = SlitRims(false);
   const facerig::TopologyMapping mapping =
       facerig::ComputeTopologyMapping(sheet, sheet, {}, rims);
   REQUIRE(mapping.rims.size() == 1);
@@ -180,7 +180,7 @@ TEST_CASE("Topology mapping: a rim whose sides an expression brings together clo
   for (std::uint32_t x = 0; x < kColumns; ++x) CHECK(closed10[Vertex(x, 0)] == open10[Vertex(x, 0)]);
   // Off: nothing closes.
   facerig::TopologyMappingParams off;
-  off.rim_closing_ratio = 0.0f;
+  off.openings.rim_closing_ratio = 0.0f;
   const facerig::TopologyMapping plain =
       facerig::ComputeTopologyMapping(sheet, sheet, off, rims);
   std::vector<glm::vec3> deltas = open10;
@@ -188,13 +188,13 @@ TEST_CASE("Topology mapping: a rim whose sides an expression brings together clo
   CHECK(deltas == open10);
   for (float bad : {-0.1f, 1.0f, std::numeric_limits<float>::quiet_NaN()}) {
     facerig::TopologyMappingParams params;
-    params.rim_closing_ratio = bad;
+    params.openings.rim_closing_ratio = bad;
     CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet, sheet, params, rims),
                     facerig::InvalidInputError);
   }
   for (float bad : {0.0f, -1.0f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
     facerig::TopologyMappingParams params;
-    params.rim_closing_reach = bad;
+    params.openings.rim_closing_reach = bad;
     CHECK_THROWS_AS(facerig::ComputeTopologyMapping(sheet, sheet, params, rims),
                     facerig::InvalidInputError);
   }
@@ -202,10 +202,10 @@ TEST_CASE("Topology mapping: a rim whose sides an expression brings together clo
 
 TEST_CASE("Topology mapping: template rims out of range or out of order are refused", "[topology_mapping]") {
   const SlitSheet sheet = facerig::test::MakeSlitSheet();
-  const std::vector<facerig::TemplateRim> out_of_range = {{kColumns * kRows, {0, 1, 0}}};
+  const std::vector<facerig::MarginDirection> out_of_range = {{kColumns * kRows, {0, 1, 0}}};
   CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet, sheet, {}, out_of_range),
                     Catch::Contains("template rim vertex 77"));
-  const std::vector<facerig::TemplateRim> unordered = {{Vertex(4, 4), {0, -1, 0}}, {Vertex(3, 4), {0, -1, 0}}};
+  const std::vector<facerig::MarginDirection> unordered = {{Vertex(4, 4), {0, -1, 0}}, {Vertex(3, 4), {0, -1, 0}}};
   CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet, sheet, {}, unordered),
                     Catch::Contains("out of order"));
 }

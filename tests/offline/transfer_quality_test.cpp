@@ -226,27 +226,27 @@ TEST_CASE("jawOpen + mouthClose closes the lips as the template does, and eyeBli
   const std::vector<glm::vec3> open = Combine(rig.positions(), {&data.template_expressions[jaw]});
   const std::vector<glm::vec3> closed =
       Combine(rig.positions(), {&data.template_expressions[jaw], &data.template_expressions[close]});
-  const facerig::LipMargins lips = facerig::FindLipMargins(rig.positions(), open, closed, 0, kFaceLast);
+  const facerig::OpeningMargins lips = facerig::FindLipMargins(rig.positions(), open, closed, 0, kFaceLast);
   REQUIRE(lips.upper.size() >= 20);
   // The mouth is about 5 cm wide (ICT's lip corners, landmarks 48 and 54, are 5.07 cm apart).
-  CHECK(lips.mouth_width > 4.0);
-  CHECK(lips.mouth_width < 5.5);
-  const facerig::LipGap on_template = facerig::MeasureLipGap(closed, lips);
+  CHECK(lips.width > 4.0);
+  CHECK(lips.width < 5.5);
+  const facerig::OpeningGap on_template = facerig::MeasureOpeningGap(closed, lips);
   // Open, the pairs are far apart: the measure tells open from closed.
-  CHECK(facerig::MeasureLipGap(open, lips).mean_gap > 10.0 * on_template.mean_gap);
+  CHECK(facerig::MeasureOpeningGap(open, lips).mean_gap > 10.0 * on_template.mean_gap);
 
   const std::vector<glm::vec3> truth_closed = Combine(data.face, {&data.truth[jaw], &data.truth[close]});
-  const facerig::LipGap on_truth = facerig::MeasureLipGap(truth_closed, lips);
+  const facerig::OpeningGap on_truth = facerig::MeasureOpeningGap(truth_closed, lips);
   const Pairs face_neutral = IntersectingPairs(data.face);
   const NewIntersections truth_new = CountNew(truth_closed, IntersectingPairs(truth_closed), face_neutral);
   const NewIntersections template_new = CountNew(closed, IntersectingPairs(closed), IntersectingPairs(rig.positions()));
   for (const Meshes* transferred : {&data.classic, &data.identity}) {
     const char* mode = transferred == &data.classic ? "classic" : "identity";
     const std::vector<glm::vec3> result = Combine(data.face, {&(*transferred)[jaw], &(*transferred)[close]});
-    const facerig::LipGap gap = facerig::MeasureLipGap(result, lips);
+    const facerig::OpeningGap gap = facerig::MeasureOpeningGap(result, lips);
     const NewIntersections result_new = CountNew(result, IntersectingPairs(result), face_neutral);
     WARN(mode << " jawOpen + mouthClose, " << lips.upper.size() << " lip pairs, gap / mouth width ("
-              << lips.mouth_width << " cm): template mean " << on_template.mean_gap << " max "
+              << lips.width << " cm): template mean " << on_template.mean_gap << " max "
               << on_template.max_gap << " crossing " << on_template.max_crossing << "; truth mean "
               << on_truth.mean_gap << " max " << on_truth.max_gap << " crossing " << on_truth.max_crossing
               << "; transferred mean " << gap.mean_gap << " max " << gap.max_gap << " crossing "
@@ -268,13 +268,13 @@ TEST_CASE("jawOpen + mouthClose closes the lips as the template does, and eyeBli
 
     for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
       const std::size_t s = *rig.FindShape(name);
-      const facerig::EyelidMargins lids =
+      const facerig::OpeningMargins lids =
           facerig::FindEyelidMargins(facerig::NeutralMesh(rig), data.template_expressions[s], 0, kLidLast);
-      const facerig::EyelidGap lid_template = facerig::MeasureEyelidGap(data.template_expressions[s], lids);
-      const facerig::EyelidGap lid_truth = facerig::MeasureEyelidGap(data.truth[s], lids);
-      const facerig::EyelidGap lid = facerig::MeasureEyelidGap((*transferred)[s], lids);
+      const facerig::OpeningGap lid_template = facerig::MeasureOpeningGap(data.template_expressions[s], lids);
+      const facerig::OpeningGap lid_truth = facerig::MeasureOpeningGap(data.truth[s], lids);
+      const facerig::OpeningGap lid = facerig::MeasureOpeningGap((*transferred)[s], lids);
       WARN(mode << " " << name << ", " << lid_template.measured_vertices << " upper lid vertices, gap to the "
-                << "lower margin / eye width (" << lids.eye_width << " cm): template mean " << lid_template.mean_gap
+                << "lower margin / eye width (" << lids.width << " cm): template mean " << lid_template.mean_gap
                 << " max " << lid_template.max_gap << " crossing " << lid_template.max_crossing << "; truth mean "
                 << lid_truth.mean_gap << " max " << lid_truth.max_gap << " crossing " << lid_truth.max_crossing
                 << "; transferred mean " << lid.mean_gap << " max " << lid.max_gap << " crossing "
@@ -299,14 +299,14 @@ TEST_CASE("jawOpen + mouthClose closes the lips as the template does, and eyeBli
 // (the blink's margins), heights from it grow by up to `stretch`, fading out
 // at one eye width. The shape of a stylized character's eye, on ICT's topology.
 std::vector<glm::vec3> WidenEyes(std::span<const glm::vec3> neutral,
-                                 std::span<const facerig::EyelidMargins> eyes, float stretch) {
+                                 std::span<const facerig::OpeningMargins> eyes, float stretch) {
   std::vector<glm::vec3> result(neutral.begin(), neutral.end());
-  for (const facerig::EyelidMargins& eye : eyes) {
+  for (const facerig::OpeningMargins& eye : eyes) {
     glm::vec3 centre(0.0f);
     for (std::uint32_t v : eye.upper) centre += neutral[v];
     for (std::uint32_t v : eye.lower) centre += neutral[v];
     centre /= static_cast<float>(eye.upper.size() + eye.lower.size());
-    const auto radius = static_cast<float>(eye.eye_width);
+    const auto radius = static_cast<float>(eye.width);
     for (std::size_t v = 0; v < neutral.size(); ++v) {
       const float t = std::max(0.0f, 1.0f - glm::length(neutral[v] - centre) / radius);
       const float weight = t * t * (3.0f - 2.0f * t);
@@ -321,24 +321,24 @@ TEST_CASE("eyeBlink closes eyes opened wider than the template's: contacts (shar
   const facerig::Rig& rig = facerig::test::IctRig();
   const std::vector<std::vector<glm::vec3>> expressions = facerig::RigExpressionMeshes(rig);
   std::vector<std::vector<glm::vec3>> blinks;
-  std::vector<facerig::EyelidMargins> eyes;
+  std::vector<facerig::OpeningMargins> eyes;
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     blinks.push_back(expressions[*rig.FindShape(name)]);
     eyes.push_back(facerig::FindEyelidMargins(facerig::NeutralMesh(rig), blinks.back(), 0, kLidLast));
   }
   const std::vector<glm::vec3> wide = WidenEyes(rig.positions(), eyes, 0.5f);
   // The widened eye is open wider: its lid gap at rest grows.
-  for (const facerig::EyelidMargins& eye : eyes) {
-    CHECK(facerig::MeasureEyelidGap(wide, eye).mean_gap > 1.2 * facerig::MeasureEyelidGap(rig.positions(), eye).mean_gap);
+  for (const facerig::OpeningMargins& eye : eyes) {
+    CHECK(facerig::MeasureOpeningGap(wide, eye).mean_gap > 1.2 * facerig::MeasureOpeningGap(rig.positions(), eye).mean_gap);
   }
   facerig::DeformationTransferParams params;
   const auto with_contacts = facerig::DeformationTransfer(facerig::NeutralMesh(rig), wide, blinks, params);
   params.contact_weight = 0.0;
   const auto without = facerig::DeformationTransfer(facerig::NeutralMesh(rig), wide, blinks, params);
   for (std::size_t e = 0; e < eyes.size(); ++e) {
-    const facerig::EyelidGap on_template = facerig::MeasureEyelidGap(blinks[e], eyes[e]);
-    const facerig::EyelidGap closed = facerig::MeasureEyelidGap(with_contacts.expressions[e], eyes[e]);
-    const facerig::EyelidGap open = facerig::MeasureEyelidGap(without.expressions[e], eyes[e]);
+    const facerig::OpeningGap on_template = facerig::MeasureOpeningGap(blinks[e], eyes[e]);
+    const facerig::OpeningGap closed = facerig::MeasureOpeningGap(with_contacts.expressions[e], eyes[e]);
+    const facerig::OpeningGap open = facerig::MeasureOpeningGap(without.expressions[e], eyes[e]);
     WARN("eye " << e << ", gap / eye width on eyeBlink: template mean " << on_template.mean_gap << " crossing "
                 << on_template.max_crossing << "; widened eye, with contacts mean " << closed.mean_gap << " crossing "
                 << closed.max_crossing << ", without mean " << open.mean_gap << " crossing " << open.max_crossing);
@@ -370,13 +370,13 @@ TEST_CASE("Lip margins: invalid inputs", "[transfer_quality]") {
   std::vector<glm::vec3> closed = rest;
   closed[0].y = closed[1].y = 0.5f;
   closed[2].y = closed[3].y = 0.49f;
-  const facerig::LipMargins margins = facerig::FindLipMargins(rest, open, closed, 0, 4);
+  const facerig::OpeningMargins margins = facerig::FindLipMargins(rest, open, closed, 0, 4);
   REQUIRE(margins.upper.size() == 2);
   CHECK(margins.upper[0] == 0);
   CHECK(margins.lower[0] == 2);
-  CHECK(margins.mouth_width == 1.0);
-  const facerig::LipGap gap = facerig::MeasureLipGap(closed, margins);
+  CHECK(margins.width == 1.0);
+  const facerig::OpeningGap gap = facerig::MeasureOpeningGap(closed, margins);
   CHECK(gap.mean_gap == Approx(0.01).epsilon(1e-3));
   CHECK(gap.max_crossing == 0.0);
-  CHECK(facerig::MeasureLipGap(open, margins).mean_gap == Approx(2.0));
+  CHECK(facerig::MeasureOpeningGap(open, margins).mean_gap == Approx(2.0));
 }

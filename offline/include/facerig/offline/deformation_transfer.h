@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/openings.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
@@ -136,7 +137,7 @@ struct DeformationTransferParams {
   double rigid_tolerance = 0.05;
   // With still pinning (still_fraction > 0): where the template's expression
   // brings together two vertices of one part that face each other across an
-  // opening (the lids on a blink; expression_contacts.h has the rule), the
+  // opening (the lids on a blink; OpeningParams' contact_* fields are the rule), the
   // transferred expression brings them together (close_contacts, below) or
   // keeps their offset, with this weight relative to the system's mean
   // diagonal. Gradients alone stop a lid short when the target's eye is
@@ -158,6 +159,9 @@ struct DeformationTransferParams {
   // opened 1.5x (0.4 mm keeping the offset). false: keep the template's
   // offset, times displacement_scale.
   bool close_contacts = true;
+  // Which pairs are contacts (contact_* fields; BuildRig sets these from
+  // BuildRigParams::openings).
+  OpeningParams openings;
   // Worker threads for DeformationTransfer (>= 1).
   int threads = 2;
 };
@@ -271,63 +275,6 @@ ExpressionError MeasureExpressionError(std::span<const glm::vec3> rest,
                                        std::size_t region_first, std::size_t region_last,
                                        double moved_fraction = 0.1, double still_fraction = 0.01);
 
-
-// The eyelid margins of one eye, found from the template's blink. upper: the
-// upper-lid vertices (moving more than half the blink's largest motion) that
-// meet a lower-lid vertex (apart in the neutral, within 10% of the upper
-// vertex's motion in the blink); lower: those partners. The lid slides as it
-// closes, so the partners mark where the lower margin is, not what each upper
-// vertex meets: lower_margin is the lower lid's margin as a polyline, the
-// shortest mesh-edge path (neutral lengths, avoiding the upper lid) from the
-// partner of smallest x to that of largest x. Vertices searched:
-// [region_first, region_last) (ICT: 0-17038, face and eye sockets, where the
-// lid margins are).
-struct EyelidMargins {
-  std::vector<std::uint32_t> upper;
-  std::vector<std::uint32_t> lower;         // lower[i] meets upper[i]
-  std::vector<std::uint32_t> lower_margin;  // along the lid, from the partner of smallest x
-  double eye_width = 0.0;                   // x extent of the upper lid (moving > half) in the neutral
-};
-// \throw TransferInputError when the blink closes nothing or no mesh path
-// joins the lower partners.
-EyelidMargins FindEyelidMargins(const Mesh& neutral_mesh, std::span<const glm::vec3> blink,
-                                std::size_t region_first, std::size_t region_last);
-
-// How closed an eye is on a (transferred) blink mesh, over eye width, for the
-// upper margin vertices whose x lies within the lower margin's x extent in that
-// pose (the lid corners, where the lower polyline ends, are left out).
-struct EyelidGap {
-  double mean_gap = 0.0;      // mean distance of an upper vertex to the lower margin polyline
-  double max_gap = 0.0;       // largest such distance
-  double max_crossing = 0.0;  // deepest upper vertex below the lower margin (along y), >= 0
-  std::size_t measured_vertices = 0;
-};
-EyelidGap MeasureEyelidGap(std::span<const glm::vec3> positions, const EyelidMargins& margins);
-
-// The lip margins, found from the template's closed mouth: ICT's mouthClose is
-// made to be added to jawOpen (alone it pushes the lips through each other), so
-// open = neutral + jawOpen, closed = neutral + jawOpen + mouthClose. Pairs of a
-// vertex that mouthClose moves (more than 0.3 of its largest motion in the
-// region) and the vertex it meets: apart in the open pose (by more than 0.3 of
-// that motion), within 10% of their open distance in the closed pose. Each
-// pair once, upper = the higher of the two in the open pose. Vertices searched:
-// [region_first, region_last) (ICT: the face, 0-9408).
-struct LipMargins {
-  std::vector<std::uint32_t> upper;
-  std::vector<std::uint32_t> lower;  // lower[i] meets upper[i]
-  double mouth_width = 0.0;          // x extent of the paired vertices in the neutral
-};
-// \throw TransferInputError on a vertex count mismatch or when the lips meet nowhere.
-LipMargins FindLipMargins(std::span<const glm::vec3> neutral, std::span<const glm::vec3> open,
-                          std::span<const glm::vec3> closed, std::size_t region_first,
-                          std::size_t region_last);
-
-// How closed the mouth is on a (transferred) mesh, over mouth width.
-struct LipGap {
-  double mean_gap = 0.0;      // mean distance of the paired margin vertices
-  double max_gap = 0.0;       // largest such distance
-  double max_crossing = 0.0;  // deepest lower-above-upper (y) of a pair, >= 0
-};
-LipGap MeasureLipGap(std::span<const glm::vec3> positions, const LipMargins& margins);
+// How closed an opening is (eyelid and lip margins, their gap): openings.h.
 
 }  // namespace facerig

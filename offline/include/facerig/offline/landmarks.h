@@ -71,7 +71,7 @@ struct LandmarkParams {
   // defaults").
   bool correct_eye_corners = false;
   // Where an eye is a hole in the mesh near the detected eye, put all six of
-  // its points on the hole's boundary, the lid margins (eye_openings.h);
+  // its points on the hole's boundary, the lid margins (openings.h);
   // replaces correct_eye_corners for that eye. Why: on stylized heads dlib's
   // eyes come out too wide and their lower lids too high.
   bool fit_eyes_to_openings = true;

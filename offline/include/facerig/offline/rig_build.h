@@ -24,6 +24,7 @@
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
+#include "facerig/offline/openings.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/topology_mapping.h"
 #include "facerig/runtime/rig.h"
@@ -45,8 +46,11 @@ struct BuildRigParams {
   // region_vertex_count 0: the template descriptor's region. `progress` is
   // replaced by the one below.
   NonrigidIcpParams registration;
-  DeformationTransferParams transfer;  // `mode` is set from `mode` above
-  TopologyMappingParams mapping;
+  // `mode` is set from `mode` above, `openings` from `openings` below.
+  DeformationTransferParams transfer;
+  TopologyMappingParams mapping;  // `openings` is set from `openings` below
+  // The eyelids and lips: contacts, margin alignment, the target's rims.
+  OpeningParams openings;
   // A fit whose mean residual exceeds this (% of the target's diagonal) is a
   // mismatch: RegistrationMismatchError. Good fits measure ~0.01 %.
   double max_residual_mean_percent = 1.0;
@@ -61,7 +65,7 @@ struct BuildRigParams {
   double registration_min_part_area = 0.1;
   // Before the transfer, move the fitted template's lid margins (vertices
   // that meet across an opening in one of its expressions) onto the target's
-  // rims where the target's openings are holes (margin_alignment.h): the
+  // rims where the target's openings are holes (openings.h): the
   // registration fits surfaces, not rims, and a margin left a millimetre off
   // made the stylized head's blink stop short.
   bool align_margins_to_openings = true;

@@ -21,6 +21,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/openings.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
@@ -39,45 +40,10 @@ struct TopologyMappingParams {
   // Nearest triangle with face normal . vertex normal >= this (cos 75
   // degrees); when none lies within zero_weight_distance, the plain nearest.
   float min_normal_dot = 0.26f;
-  // Vertices on the target's boundary (the rims of mouth and eye openings)
-  // look for their template point this far (fraction of the fitted template's
-  // diagonal; 0.003 is 1.4 mm on ICT-FaceKit) inside their own lip or lid.
-  float boundary_inset = 0.003f;
-  // Target boundary vertices within this fraction of the fitted template's
-  // diagonal of a rim edge of the template (both ends in template_rims, see
-  // ComputeTopologyMapping) that opens the same way (cos >= rim_min_facing)
-  // take their point on that edge instead, with no inset: the upper rim of
-  // an eye or a mouth moves as the template's upper margin.
-  float rim_snap_distance = 0.002f;
-  float rim_min_facing = 0.5f;
-  // Along a target boundary loop with snapped vertices, the mapped values are
-  // smoothed over about this distance (fraction of the fitted template's
-  // diagonal; a Gaussian's sigma, by passes of (previous + 2 self + next) / 4,
-  // neighbours facing the same way only, so an eye's corners stay apart).
-  // Why: where the template's margin ends before the target's rim does, the
-  // rim vertices past it take an inset point, which moves less, and a closed
-  // lid's edge steps between neighbours (README, "Measurements behind the
-  // defaults"). A coarse rim (vertices further apart than the radius) is left
-  // as it is. 0: off.
-  float rim_smoothing_radius = 0.002f;
-  // Where an expression brings a rim's two sides to within this fraction of
-  // their rest distance (the fitted template's lids meeting on a blink), the
-  // target's rim closes: each side moves half the remaining gap towards the
-  // other (or back, where they cross; fully from half this fraction down),
-  // and the lid around follows, fading to nothing rim_closing_reach times the
-  // rest distance away. Why: the template's lid, fitted to a surface, is
-  // shaped unlike the target's, so its closed rim can leave a slit that shows
-  // the eye, or cross the lower rim (README, "Measurements behind the
-  // defaults"). 0: off.
-  float rim_closing_ratio = 0.3f;
-  float rim_closing_reach = 0.5f;
-};
-
-// A fitted template vertex on the margin of an opening (an eyelid's, a lip's)
-// and the unit direction from it across the opening, in the target's frame.
-struct TemplateRim {
-  std::uint32_t vertex;
-  glm::vec3 into_opening;
+  // The rims of the target's openings: the inset of boundary vertices, their
+  // snapping onto the template's margins, smoothing along them and closing
+  // (boundary_inset, rim_*; BuildRig sets these from BuildRigParams::openings).
+  OpeningParams openings;
 };
 
 struct TopologyMapping {
@@ -92,42 +58,21 @@ struct TopologyMapping {
   std::size_t facing_fallbacks = 0;  // no facing triangle near: plain nearest used
   std::size_t rim_vertices = 0;      // target boundary vertices mapped onto a template rim edge
   // The target's rims with snapped vertices (its eye openings, found by the
-  // template's margins): per rim, its vertices with their neighbours along it
-  // (indices into Rim::vertices; itself where a neighbour faces another way)
-  // and the number of smoothing
-  // passes for its vertex spacing (TopologyMappingParams::rim_smoothing_radius,
-  // applied by MapVertexValues); per vertex, the direction into the opening
-  // and the rest distance to the opposite side (0: none), and the target
-  // vertices that follow a closing (rim_closing_ratio, applied by CloseRims).
-  struct RimNeighbours {
-    std::uint32_t vertex;    // target vertex
-    std::uint32_t previous;  // index into Rim::vertices
-    std::uint32_t next;
-  };
-  struct RimBand {
-    std::uint32_t vertex;
-    std::uint32_t rim_index;  // into Rim::vertices: the rim vertex it follows
-    float weight;
-  };
-  struct Rim {
-    std::vector<RimNeighbours> vertices;
-    std::vector<glm::vec3> into_opening;
-    std::vector<float> rest_gap;
-    std::vector<RimBand> band;
-    int passes = 0;
-  };
-  std::vector<Rim> rims;
+  // template's margins), smoothed by MapVertexValues and closed by CloseRims
+  // (OpeningParams::rim_smoothing_radius, rim_closing_ratio).
+  std::vector<OpeningRim> rims;
   float rim_closing_ratio = 0.0f;
   double mean_distance = 0.0;        // over full-weight vertices, target units
 };
 
 // fitted_template: the template registered onto the target (target frame
 // and units);
-// template_rims: the template's margins, by increasing vertex, or empty.
+// template_margins: the fitted template's margins with their directions
+// across the opening (MarginDirections), by increasing vertex, or empty.
 // \throw InvalidInputError on empty meshes, indices out of range, NaN.
 TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template, const Mesh& target,
                                        const TopologyMappingParams& params = {},
-                                       std::span<const TemplateRim> template_rims = {});
+                                       std::span<const MarginDirection> template_margins = {});
 
 // Per-vertex template values (deltas: #template vertices) -> per target vertex
 // (weight * barycentric interpolation, then smoothed along the rims).
@@ -136,7 +81,7 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
                      std::span<const glm::vec3> template_values, std::vector<glm::vec3>& target_values);
 
 // Closes the target's rims where the mapped deltas (#target vertices) bring
-// their two sides together (TopologyMappingParams::rim_closing_ratio).
+// their two sides together (OpeningParams::rim_closing_ratio).
 // target_positions: the target's rest positions.
 void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target_positions,
                std::vector<glm::vec3>& deltas);

@@ -1,11 +1,10 @@
-#include "topology_mapping_rims.h"
+#include "openings_rims.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
-#include "eye_openings.h"
 #include "mesh_edges.h"
 
 namespace facerig {
@@ -15,7 +14,7 @@ namespace {
 // (its edges between consecutive loop vertices that both face against i), at
 // positions + deltas (deltas may be null: at rest); 0 when the rim has none.
 // *to_opposite: from vertex i to that point.
-float NearestOppositeSide(const TopologyMapping::Rim& rim, std::size_t i, std::span<const glm::vec3> positions,
+float NearestOppositeSide(const OpeningRim& rim, std::size_t i, std::span<const glm::vec3> positions,
                           const std::vector<glm::vec3>* deltas, glm::vec3* to_opposite = nullptr) {
   const auto at = [&](std::uint32_t v) { return deltas ? positions[v] + (*deltas)[v] : positions[v]; };
   const std::size_t size = rim.vertices.size();
@@ -43,7 +42,7 @@ float NearestOppositeSide(const TopologyMapping::Rim& rim, std::size_t i, std::s
 // The target vertices that follow rim's closing: each to its nearest rim
 // vertex along mesh edges (rest lengths), within reach times that vertex's
 // rest gap, weighted from 1 there to 0 at the limit (smoothstep).
-void RimBandOf(TopologyMapping::Rim& rim, float reach, std::span<const glm::vec3> positions,
+void RimBandOf(OpeningRim& rim, float reach, std::span<const glm::vec3> positions,
                const std::vector<std::uint32_t>& neighbour_begin, const std::vector<std::uint32_t>& neighbours) {
   std::vector<std::uint32_t> sources, rim_index;
   std::vector<float> limits;
@@ -62,9 +61,9 @@ void RimBandOf(TopologyMapping::Rim& rim, float reach, std::span<const glm::vec3
 // A target boundary loop with snapped vertices as a rim: smoothing passes for
 // `radius`, same-side neighbours, the opening's direction, rest gaps and,
 // when closing is on, the band of vertices that follow it.
-TopologyMapping::Rim RimOfLoop(const std::vector<std::uint32_t>& loop, std::span<const glm::vec3> target_positions,
+OpeningRim RimOfLoop(const std::vector<std::uint32_t>& loop, std::span<const glm::vec3> target_positions,
                                std::span<const glm::vec3> inward,
-                               const TopologyMappingParams& params, float radius,
+                               const OpeningParams& params, float radius,
                                const std::vector<std::uint32_t>& neighbour_begin,
                                const std::vector<std::uint32_t>& neighbours) {
   const std::size_t size = loop.size();
@@ -74,7 +73,7 @@ TopologyMapping::Rim RimOfLoop(const std::vector<std::uint32_t>& loop, std::span
   }
   // k passes of the (1, 2, 1) / 4 filter: a Gaussian of variance k / 2 vertex spacings squared.
   const float spacing = length / static_cast<float>(size);
-  TopologyMapping::Rim rim;
+  OpeningRim rim;
   const float ratio = spacing > 0.0f ? radius / spacing : 0.0f;
   rim.passes = static_cast<int>(std::lround(std::min(64.0f, 2.0f * ratio * ratio)));
   for (std::size_t i = 0; i < size; ++i) {
@@ -98,12 +97,12 @@ TopologyMapping::Rim RimOfLoop(const std::vector<std::uint32_t>& loop, std::span
 }  // namespace
 
 std::vector<TemplateRimEdge> TemplateRimEdges(std::span<const Triangle> triangles,
-                                              std::span<const TemplateRim> rims) {
+                                              std::span<const MarginDirection> rims) {
   std::vector<TemplateRimEdge> edges;
   if (rims.empty()) return edges;
-  const auto rim_of = [&](std::uint32_t v) -> const TemplateRim* {
+  const auto rim_of = [&](std::uint32_t v) -> const MarginDirection* {
     const auto it = std::lower_bound(rims.begin(), rims.end(), v,
-                                     [](const TemplateRim& r, std::uint32_t x) { return r.vertex < x; });
+                                     [](const MarginDirection& r, std::uint32_t x) { return r.vertex < x; });
     return it != rims.end() && it->vertex == v ? &*it : nullptr;
   };
   std::vector<std::uint64_t> seen;
@@ -111,8 +110,8 @@ std::vector<TemplateRimEdge> TemplateRimEdges(std::span<const Triangle> triangle
     for (std::uint8_t e = 0; e < 3; ++e) {
       const auto next = static_cast<std::uint8_t>((e + 1) % 3);
       const std::uint32_t a = triangles[t][e], b = triangles[t][next];
-      const TemplateRim* rim_a = rim_of(a);
-      const TemplateRim* rim_b = rim_of(b);
+      const MarginDirection* rim_a = rim_of(a);
+      const MarginDirection* rim_b = rim_of(b);
       // Both ends opening the same way (not across a lid corner).
       if (!rim_a || !rim_b || glm::dot(rim_a->into_opening, rim_b->into_opening) < 0.5f) continue;
       const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
@@ -151,11 +150,11 @@ ClosestPointHit NearestOnRim(glm::vec3 p, glm::vec3 into_opening, std::span<cons
   return best;
 }
 
-void SmoothAlongRim(const TopologyMapping::Rim& rim, std::vector<glm::vec3>& values, std::vector<glm::vec3>& scratch) {
+void SmoothAlongRim(const OpeningRim& rim, std::vector<glm::vec3>& values, std::vector<glm::vec3>& scratch) {
   scratch.resize(values.size());
   for (int pass = 0; pass < rim.passes; ++pass) {
     for (std::size_t i = 0; i < values.size(); ++i) {
-      const TopologyMapping::RimNeighbours& at = rim.vertices[i];
+      const RimNeighbours& at = rim.vertices[i];
       scratch[i] = 0.25f * (values[at.previous] + 2.0f * values[i] + values[at.next]);
     }
     values.swap(scratch);
@@ -164,7 +163,7 @@ void SmoothAlongRim(const TopologyMapping::Rim& rim, std::vector<glm::vec3>& val
 
 void AddSnappedRims(TopologyMapping& mapping, std::span<const glm::vec3> target_positions,
                     std::span<const glm::vec3> inward, std::span<const Triangle> target_triangles, std::span<const std::uint8_t> rim_snapped,
-                    const TopologyMappingParams& params, float diagonal) {
+                    const OpeningParams& params, float diagonal) {
   const std::size_t n = target_positions.size();
   mapping.rim_closing_ratio = params.rim_closing_ratio;
   std::vector<std::uint32_t> neighbour_begin, neighbours;
@@ -181,7 +180,7 @@ void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target
   const float ratio_limit = mapping.rim_closing_ratio;
   if (!(ratio_limit > 0.0f)) return;
   std::vector<glm::vec3> correction, scratch;
-  for (const TopologyMapping::Rim& rim : mapping.rims) {
+  for (const OpeningRim& rim : mapping.rims) {
     if (rim.band.empty()) continue;
     correction.assign(rim.vertices.size(), glm::vec3(0.0f));
     bool closing = false;
@@ -201,7 +200,7 @@ void CloseRims(const TopologyMapping& mapping, std::span<const glm::vec3> target
     if (!closing) continue;
     // Smoothed along the rim as the deltas are: the gap left varies vertex to vertex.
     SmoothAlongRim(rim, correction, scratch);
-    for (const TopologyMapping::RimBand& follower : rim.band) {
+    for (const RimBand& follower : rim.band) {
       deltas[follower.vertex] += follower.weight * correction[follower.rim_index];
     }
   }

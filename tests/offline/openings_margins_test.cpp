@@ -1,8 +1,8 @@
 // The fitted template's lid margins onto the target's rims
-// (offline/src/margin_alignment.h), on sheets with a slit: the template's
+// (openings.h), on sheets with a slit: the template's
 // slit closes in its one expression; the target's slit is the same hole with
 // its rims moved.
-#include "margin_alignment.h"
+#include "facerig/offline/openings.h"
 
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
@@ -61,8 +61,8 @@ TEST_CASE("Margin alignment: margins go onto the target's rims, the sheet follow
   std::vector<glm::vec3> fitted(rig.positions().begin(), rig.positions().end());
   // The target's slit is narrower: its lower rim 0.2 higher, its upper 0.1 lower.
   const facerig::RawRig target = MakeSheet({0, 1, 2, 3.2f, 3.9f, 5, 6}, true);
-  facerig::MarginAlignmentParams params;
-  params.reach = 1.5f;  // openings (here 1): the rows next to the slit's, not the ones beyond
+  facerig::OpeningParams params;
+  params.margin_reach = 1.5f;  // openings (here 1): the rows next to the slit's, not the ones beyond
   const facerig::MarginAlignmentResult result = facerig::AlignMarginsToOpenings(
       fitted, rig.triangles(), margins, target.positions, target.triangles, params);
   CHECK(result.aligned_vertices == margins.size());

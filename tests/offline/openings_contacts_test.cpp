@@ -1,8 +1,8 @@
-// Contacts across an opening (offline/src/expression_contacts.h) on a sheet
+// Contacts across an opening (offline/src/openings_contacts.h) on a sheet
 // with a slit: the slit's upper edge closing onto its lower edge is a
 // contact; the same motion on a sheet without the slit is skin compressing,
 // not a contact.
-#include "expression_contacts.h"
+#include "openings_contacts.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -53,14 +53,14 @@ std::vector<std::int32_t> AllFree(std::size_t vertex_count) {
 TEST_CASE("Expression contacts: a slit closing is a contact", "[expression_contacts]") {
   const Sheet sheet = MakeSheet(true);
   const std::vector<glm::vec3> expression = CloseSlit(sheet);
-  const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
+  const facerig::ContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
   const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
-  std::vector<facerig::ExpressionContact> contacts;
-  facerig::ExpressionContactFinder::Scratch scratch;
+  std::vector<facerig::OpeningContact> contacts;
+  facerig::ContactFinder::Scratch scratch;
   finder.Find(expression, 0.98f, free, contacts, scratch);
   // Each vertex of the upper edge meets the one below it, 0.02 above it.
   REQUIRE(contacts.size() == kSlitLast - kSlitFirst - 1);
-  for (const facerig::ExpressionContact& contact : contacts) {
+  for (const facerig::OpeningContact& contact : contacts) {
     const std::uint32_t x = contact.moving % kColumns;
     CHECK(contact.moving == Vertex(x, kSlitRow + 1));
     CHECK(contact.partner == Vertex(x, kSlitRow));
@@ -78,10 +78,10 @@ TEST_CASE("Expression contacts: a slit closing is a contact", "[expression_conta
 TEST_CASE("Expression contacts: skin pressed together without an opening is none", "[expression_contacts]") {
   const Sheet sheet = MakeSheet(false);
   const std::vector<glm::vec3> expression = CloseSlit(sheet);
-  const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
+  const facerig::ContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
   const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
-  std::vector<facerig::ExpressionContact> contacts;
-  facerig::ExpressionContactFinder::Scratch scratch;
+  std::vector<facerig::OpeningContact> contacts;
+  facerig::ContactFinder::Scratch scratch;
   finder.Find(expression, 0.98f, free, contacts, scratch);
   CHECK(contacts.empty());
 }
@@ -102,10 +102,10 @@ TEST_CASE("Expression contacts: a surface between the pair blocks the contact", 
   facerig::ConnectedComponents(sheet.neutral.size(), sheet.triangles, sheet.component);
   REQUIRE(sheet.component[first_flap] == sheet.component[0]);
   std::vector<glm::vec3> expression = CloseSlit(sheet);
-  const facerig::ExpressionContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
+  const facerig::ContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
   const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
-  std::vector<facerig::ExpressionContact> contacts;
-  facerig::ExpressionContactFinder::Scratch scratch;
+  std::vector<facerig::OpeningContact> contacts;
+  facerig::ContactFinder::Scratch scratch;
   finder.Find(expression, 0.98f, free, contacts, scratch);
   CHECK(contacts.empty());
 }

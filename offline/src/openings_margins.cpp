@@ -1,4 +1,4 @@
-#include "margin_alignment.h"
+#include "facerig/offline/openings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,9 +12,9 @@
 #include <Eigen/SparseCore>
 #include <glm/geometric.hpp>
 
-#include "expression_contacts.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "mesh_edges.h"
+#include "openings_contacts.h"
 
 namespace facerig {
 namespace {
@@ -59,16 +59,16 @@ float Median(std::vector<float> values) {
 
 }  // namespace
 
-std::vector<OpeningMargin> FindOpeningMargins(const Rig& template_rig) {
+std::vector<OpeningMargin> FindOpeningMargins(const Rig& template_rig, const OpeningParams& params) {
   const std::span<const glm::vec3> neutral = template_rig.positions();
   const std::size_t n = neutral.size();
   std::vector<std::uint32_t> component;
   ConnectedComponents(n, template_rig.triangles(), component);
-  const ExpressionContactFinder finder(neutral, template_rig.triangles(), component);
-  ExpressionContactFinder::Scratch scratch;
+  const ContactFinder finder(neutral, template_rig.triangles(), component, params);
+  ContactFinder::Scratch scratch;
   const std::vector<std::int32_t> every_vertex(n, 0);  // each a moving end (free_index >= 0)
   std::vector<glm::vec3> expression;
-  std::vector<ExpressionContact> contacts;
+  std::vector<OpeningContact> contacts;
   std::vector<std::uint32_t> partner_of(n, kNone);
   for (std::size_t s = 0; s < template_rig.shape_count(); ++s) {
     const BlendShapeView shape = template_rig.shape(s);
@@ -80,7 +80,7 @@ std::vector<OpeningMargin> FindOpeningMargins(const Rig& template_rig) {
     }
     if (!(largest > 0.0f)) continue;
     finder.Find(expression, largest, every_vertex, contacts, scratch);
-    for (const ExpressionContact& contact : contacts) {
+    for (const OpeningContact& contact : contacts) {
       if (partner_of[contact.moving] == kNone) partner_of[contact.moving] = contact.partner;
       if (partner_of[contact.partner] == kNone) partner_of[contact.partner] = contact.moving;
     }
@@ -98,7 +98,7 @@ namespace {
 std::vector<std::optional<glm::vec3>> NearestRimPoints(std::span<const glm::vec3> fitted,
                                                        std::span<const OpeningMargin> margins,
                                                        std::span<const RimEdge> rims,
-                                                       const MarginAlignmentParams& params) {
+                                                       const OpeningParams& params) {
   std::vector<std::optional<glm::vec3>> rim_point(fitted.size());
   for (const OpeningMargin& margin : margins) {
     const glm::vec3 p = fitted[margin.vertex];
@@ -106,9 +106,9 @@ std::vector<std::optional<glm::vec3>> NearestRimPoints(std::span<const glm::vec3
     const float opening = glm::length(across);
     if (!(opening > 0.0f)) continue;
     const glm::vec3 direction = across / opening;
-    float best = params.max_distance * opening;
+    float best = params.margin_max_distance * opening;
     for (const RimEdge& rim : rims) {
-      if (glm::dot(direction, rim.into_opening) < params.min_facing) continue;
+      if (glm::dot(direction, rim.into_opening) < params.margin_min_facing) continue;
       const glm::vec3 x = ClosestOnSegment(p, rim.a, rim.b);
       const float distance = glm::length(x - p);
       if (distance < best) {
@@ -127,11 +127,10 @@ struct Match {
 };
 
 // Kept where the partner found a rim point too, across an opening of
-// about the same size and direction: the stylized head's lips are a slit
-// 0.5 mm wide, not the opening that ICT's lips roll across.
+// about the same size and direction (OpeningParams::margin_min_opening_ratio).
 std::vector<Match> MatchMargins(std::span<const glm::vec3> fitted, std::span<const OpeningMargin> margins,
                                 const std::vector<std::optional<glm::vec3>>& rim_point,
-                                const MarginAlignmentParams& params) {
+                                const OpeningParams& params) {
   std::vector<Match> matches;
   for (const OpeningMargin& margin : margins) {
     if (!rim_point[margin.vertex] || !rim_point[margin.partner]) continue;
@@ -139,8 +138,8 @@ std::vector<Match> MatchMargins(std::span<const glm::vec3> fitted, std::span<con
     const glm::vec3 rim_across = *rim_point[margin.partner] - *rim_point[margin.vertex];
     const float opening = glm::length(across);
     const float rim_opening = glm::length(rim_across);
-    if (rim_opening < params.min_opening_ratio * opening || rim_opening > opening / params.min_opening_ratio) continue;
-    if (glm::dot(across, rim_across) < params.min_facing * opening * rim_opening) continue;
+    if (rim_opening < params.margin_min_opening_ratio * opening || rim_opening > opening / params.margin_min_opening_ratio) continue;
+    if (glm::dot(across, rim_across) < params.margin_min_facing * opening * rim_opening) continue;
     matches.push_back({margin.vertex, *rim_point[margin.vertex] - fitted[margin.vertex], opening});
   }
   return matches;
@@ -230,7 +229,7 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
                                              std::span<const OpeningMargin> margins,
                                              std::span<const glm::vec3> target_positions,
                                              std::span<const Triangle> target_triangles,
-                                             const MarginAlignmentParams& params) {
+                                             const OpeningParams& params) {
   MarginAlignmentResult result;
   const std::vector<RimEdge> rims = RimEdges(target_positions, target_triangles);
   if (rims.empty() || margins.empty()) return result;
@@ -243,9 +242,9 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
     sizes.push_back(glm::length(m.correction));
     openings.push_back(m.opening);
   }
-  const float limit = params.max_correction_over_median * Median(sizes);
+  const float limit = params.margin_max_correction_over_median * Median(sizes);
   std::erase_if(matches, [&](const Match& m) { return glm::length(m.correction) > limit; });
-  const float reach = params.reach * Median(openings);
+  const float reach = params.margin_reach * Median(openings);
 
   CorrectionBand band = BandAround(fitted, template_triangles, matches, reach);
   SolveHarmonicBand(band);
@@ -256,6 +255,19 @@ MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::s
   }
   SummariseMatches(matches, result);
   return result;
+}
+
+std::vector<MarginDirection> MarginDirections(std::span<const OpeningMargin> margins,
+                                              std::span<const std::uint32_t> aligned,
+                                              std::span<const glm::vec3> fitted) {
+  std::vector<MarginDirection> directions;
+  for (const OpeningMargin& margin : margins) {
+    if (!std::binary_search(aligned.begin(), aligned.end(), margin.vertex)) continue;
+    const glm::vec3 across = fitted[margin.partner] - fitted[margin.vertex];
+    const float length = glm::length(across);
+    if (length > 0.0f) directions.push_back({margin.vertex, across / length});
+  }
+  return directions;
 }
 
 }  // namespace facerig

@@ -1,23 +1,17 @@
-// Contacts that a template's expression makes across an opening of its mesh:
-// the upper lid meeting the lower lid on a blink, the lips meeting on
-// mouthClose. Deformation transfer keeps them (deformation_transfer.cpp):
-// per-triangle gradients only say how each lid bends, not where the other
-// lid is, so on a target whose eye is shaped differently the lids stopped
-// short (a template fitted to a stylized head closed to 37% of its opening).
+// Contacts that a template's expression makes across an opening of its mesh
+// (OpeningContact, openings.h): the upper lid meeting the lower lid on a
+// blink, the lips meeting on mouthClose. Deformation transfer keeps them
+// (deformation_transfer.cpp): per-triangle gradients only say how each lid
+// bends, not where the other lid is, so on a target whose eye is shaped
+// differently the lids stopped short (a template fitted to a stylized head
+// closed to 37% of its opening). FindOpeningMargins takes their ends as the
+// template's margins.
 //
-// A contact is a vertex u that the expression moves by more than 0.3 of its
-// largest motion, and the vertex v of the same part it comes nearest, within
-// 0.1 of u's motion, such that at rest
-//  - v lies ahead of u: 0.5 to 1.5 times u's motion away, within about 45
-//    degrees of its direction, and
-//  - they face each other across an opening: the straight line between them
-//    meets no other triangle of their part, while the shortest path along
-//    mesh edges is more than 1.75 times as long.
-// The last rule keeps a lid closing over the eye and drops what is not a
-// contact: ICT's mouthClose, made to be added to jawOpen, alone moves the
-// lower lip 4 cm up in front of the upper lip to the nose (324 pairs, the
-// upper lip in between); skin folding onto itself is joined by the surface in
-// between.
+// The rule (OpeningParams, "Contacts") keeps a lid closing over the eye and
+// drops what is not a contact: ICT's mouthClose, made to be added to
+// jawOpen, alone moves the lower lip 4 cm up in front of the upper lip to the
+// nose (324 pairs, the upper lip in between); skin folding onto itself is
+// joined by the surface in between.
 #pragma once
 
 #include <cstdint>
@@ -28,17 +22,12 @@
 #include <glm/vec3.hpp>
 #include <glm/ext/vector_int3.hpp>
 
+#include "facerig/offline/openings.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
 
-struct ExpressionContact {
-  std::uint32_t moving;
-  std::uint32_t partner;
-  glm::vec3 offset;  // moving - partner in the template's expression
-};
-
-class ExpressionContactFinder {
+class ContactFinder {
  public:
   // Per-thread working memory of Find.
   struct Scratch {
@@ -52,16 +41,17 @@ class ExpressionContactFinder {
   };
 
   // neutral: the template's rest positions (#V); component_of_vertex: each
-  // vertex's connected part (#V). Spans must outlive the finder.
-  ExpressionContactFinder(std::span<const glm::vec3> neutral, std::span<const Triangle> triangles,
-                          std::span<const std::uint32_t> component_of_vertex);
+  // vertex's connected part (#V). Spans must outlive the finder; params'
+  // contact_* fields give the rule.
+  ContactFinder(std::span<const glm::vec3> neutral, std::span<const Triangle> triangles,
+                std::span<const std::uint32_t> component_of_vertex, const OpeningParams& params = {});
 
   // The contacts of one expression (#V positions), whose largest vertex
   // motion is largest_motion, into contacts (cleared first). free_index
   // (#V): the solve's unknown of each vertex, -1 where it is placed otherwise
   // (pinned); only vertices with free_index[u] >= 0 are taken as moving ends.
   void Find(std::span<const glm::vec3> expression, float largest_motion,
-            std::span<const std::int32_t> free_index, std::vector<ExpressionContact>& contacts,
+            std::span<const std::int32_t> free_index, std::vector<OpeningContact>& contacts,
             Scratch& scratch) const;
 
  private:
@@ -76,6 +66,7 @@ class ExpressionContactFinder {
   // The grid cell of a rest position, clamped to the grid, per axis.
   glm::ivec3 GridCell(glm::vec3 p) const;
 
+  OpeningParams params_;
   std::span<const glm::vec3> neutral_;
   std::span<const Triangle> triangles_;
   std::span<const std::uint32_t> component_of_vertex_;

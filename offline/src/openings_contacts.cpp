@@ -1,4 +1,4 @@
-#include "expression_contacts.h"
+#include "openings_contacts.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,26 +14,11 @@ namespace facerig {
 
 namespace {
 
-// A contact's partner is within this fraction of the moving vertex's motion in the expression.
-constexpr float kContactReach = 0.1f;
-// Only vertices moving more than this fraction of the largest motion make contacts.
-constexpr float kMovingFraction = 0.3f;
-// At rest the partner is this far ahead, in units of the motion ...
-constexpr float kNearestAhead = 0.5f;
-constexpr float kFarthestAhead = 1.5f;
-// ... within about 45 degrees of the motion's direction.
-constexpr float kAheadCosine = 0.7f;
 // A line of sight between a pair at rest is clear when no triangle of their
 // part crosses it and no corner comes within this fraction of its length of
 // its middle part (the ends are left out: the triangles around them graze it).
 constexpr float kSightClearance = 0.1f;
 constexpr float kSightMargin = 0.15f;
-// Across an opening: the surface path is longer than this many times the
-// distance. 2 left out the lid corners, where upper and lower lid are joined
-// (ICT's blink: 14 contacts per eye, 17 at 1.75; the worst eye of 8 random
-// faces then closed to 0.0075 of its width instead of 0.017); 1.25 let in
-// mouthClose's lips, which it pushes through each other.
-constexpr float kOpeningDetour = 1.75f;
 // Candidates tried per moving vertex, nearest first (each costs a path search).
 constexpr std::size_t kCandidatesTried = 4;
 
@@ -54,10 +39,10 @@ std::uint64_t CellKey(glm::vec3 p, float cell, int dx, int dy, int dz) {
 
 }  // namespace
 
-ExpressionContactFinder::ExpressionContactFinder(std::span<const glm::vec3> neutral,
-                                                 std::span<const Triangle> triangles,
-                                                 std::span<const std::uint32_t> component_of_vertex)
-    : neutral_(neutral), triangles_(triangles), component_of_vertex_(component_of_vertex) {
+ContactFinder::ContactFinder(std::span<const glm::vec3> neutral, std::span<const Triangle> triangles,
+                             std::span<const std::uint32_t> component_of_vertex, const OpeningParams& params)
+    : params_(params),
+      neutral_(neutral), triangles_(triangles), component_of_vertex_(component_of_vertex) {
   triangle_low_.reserve(triangles.size());
   triangle_high_.reserve(triangles.size());
   for (const Triangle& t : triangles) {
@@ -102,15 +87,15 @@ ExpressionContactFinder::ExpressionContactFinder(std::span<const glm::vec3> neut
   VertexNeighbours(neutral.size(), triangles, neighbour_begin_, neighbours_);
 }
 
-void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float largest_motion,
+void ContactFinder::Find(std::span<const glm::vec3> expression, float largest_motion,
                                    std::span<const std::int32_t> free_index,
-                                   std::vector<ExpressionContact>& contacts, Scratch& scratch) const {
+                                   std::vector<OpeningContact>& contacts, Scratch& scratch) const {
   contacts.clear();
   if (!(largest_motion > 0.0f)) return;
   const std::size_t n = expression.size();
-  const float moving_threshold = kMovingFraction * largest_motion;
+  const float moving_threshold = params_.contact_moving_fraction * largest_motion;
   // A partner is within one cell of its moving vertex, so the 27 cells around it hold every candidate.
-  const float cell = kContactReach * largest_motion;
+  const float cell = params_.contact_reach * largest_motion;
   glm::vec3 lo(std::numeric_limits<float>::max());
   glm::vec3 hi(-std::numeric_limits<float>::max());
   for (std::size_t u = 0; u < n; ++u) {
@@ -148,10 +133,10 @@ void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float 
           if (v == u || component_of_vertex_[v] != component_of_vertex_[u]) continue;
           const glm::vec3 ahead = neutral_[v] - neutral_[u];
           const float apart = glm::length(ahead);
-          if (apart <= kNearestAhead * moved || apart > kFarthestAhead * moved) continue;
-          if (glm::dot(ahead, motion) < kAheadCosine * apart * moved) continue;
+          if (apart <= params_.contact_nearest_ahead * moved || apart > params_.contact_farthest_ahead * moved) continue;
+          if (glm::dot(ahead, motion) < params_.contact_ahead_cosine * apart * moved) continue;
           const float distance = glm::length(expression[v] - expression[u]);
-          if (distance < kContactReach * moved) scratch.candidates.emplace_back(distance, v);
+          if (distance < params_.contact_reach * moved) scratch.candidates.emplace_back(distance, v);
         }
       }
     }
@@ -160,7 +145,7 @@ void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float 
     for (std::size_t k = 0; k < tried; ++k) {
       const std::uint32_t v = scratch.candidates[k].second;
       const float apart = glm::length(neutral_[v] - neutral_[u]);
-      if (!SightBlocked(u, v, scratch) && PathLongerThan(u, v, kOpeningDetour * apart, scratch)) {
+      if (!SightBlocked(u, v, scratch) && PathLongerThan(u, v, params_.contact_opening_detour * apart, scratch)) {
         contacts.push_back({u, v, expression[u] - expression[v]});
         break;
       }
@@ -168,12 +153,12 @@ void ExpressionContactFinder::Find(std::span<const glm::vec3> expression, float 
   }
 }
 
-glm::ivec3 ExpressionContactFinder::GridCell(glm::vec3 p) const {
+glm::ivec3 ContactFinder::GridCell(glm::vec3 p) const {
   const glm::ivec3 cell(glm::floor((p - grid_origin_) / grid_cell_));
   return glm::clamp(cell, glm::ivec3(0), glm::ivec3(grid_size_ - 1));
 }
 
-bool ExpressionContactFinder::SightBlocked(std::uint32_t u, std::uint32_t v, Scratch& scratch) const {
+bool ContactFinder::SightBlocked(std::uint32_t u, std::uint32_t v, Scratch& scratch) const {
   const glm::vec3 start = neutral_[u];
   const glm::vec3 across = neutral_[v] - start;
   const float length2 = glm::dot(across, across);
@@ -203,7 +188,7 @@ bool ExpressionContactFinder::SightBlocked(std::uint32_t u, std::uint32_t v, Scr
   return false;
 }
 
-bool ExpressionContactFinder::TriangleNearSight(std::uint32_t j, std::uint32_t u, std::uint32_t v,
+bool ContactFinder::TriangleNearSight(std::uint32_t j, std::uint32_t u, std::uint32_t v,
                                                 float clearance) const {
   const glm::vec3 start = neutral_[u];
   const glm::vec3 across = neutral_[v] - start;
@@ -240,7 +225,7 @@ bool ExpressionContactFinder::TriangleNearSight(std::uint32_t j, std::uint32_t u
   return s >= kSightMargin && s <= 1.0f - kSightMargin;
 }
 
-bool ExpressionContactFinder::PathLongerThan(std::uint32_t u, std::uint32_t v, float limit,
+bool ContactFinder::PathLongerThan(std::uint32_t u, std::uint32_t v, float limit,
                                              Scratch& scratch) const {
   // A* along edges at rest, guided by the straight distance to v (never more
   // than the path): it stops at v, or once every path left is over the limit.

@@ -1,4 +1,4 @@
-#include "eye_openings.h"
+#include "facerig/offline/openings.h"
 
 #include <algorithm>
 #include <array>
