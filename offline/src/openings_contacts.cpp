@@ -133,7 +133,9 @@ void ContactFinder::Find(std::span<const glm::vec3> expression, float largest_mo
           if (v == u || component_of_vertex_[v] != component_of_vertex_[u]) continue;
           const glm::vec3 ahead = neutral_[v] - neutral_[u];
           const float apart = glm::length(ahead);
-          if (apart <= params_.contact_nearest_ahead * moved || apart > params_.contact_farthest_ahead * moved) continue;
+          if (apart <= params_.contact_nearest_ahead * moved || apart > params_.contact_farthest_ahead * moved) {
+            continue;
+          }
           if (glm::dot(ahead, motion) < params_.contact_ahead_cosine * apart * moved) continue;
           const float distance = glm::length(expression[v] - expression[u]);
           if (distance < params_.contact_reach * moved) scratch.candidates.emplace_back(distance, v);

@@ -138,7 +138,8 @@ std::vector<Match> MatchMargins(std::span<const glm::vec3> fitted, std::span<con
     const glm::vec3 rim_across = *rim_point[margin.partner] - *rim_point[margin.vertex];
     const float opening = glm::length(across);
     const float rim_opening = glm::length(rim_across);
-    if (rim_opening < params.margin_min_opening_ratio * opening || rim_opening > opening / params.margin_min_opening_ratio) continue;
+    const float ratio = params.margin_min_opening_ratio;
+    if (rim_opening < ratio * opening || rim_opening > opening / ratio) continue;
     if (glm::dot(across, rim_across) < params.margin_min_facing * opening * rim_opening) continue;
     matches.push_back({margin.vertex, *rim_point[margin.vertex] - fitted[margin.vertex], opening});
   }

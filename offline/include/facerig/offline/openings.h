@@ -32,6 +32,8 @@
 
 namespace facerig {
 
+enum class OpeningKind : std::uint8_t { kEye = 0, kMouth };
+
 // The thresholds of every openings step. Distances are fractions of the size
 // named in each comment (dimensionless), cosines are in [-1, 1].
 struct OpeningParams {
@@ -113,8 +115,6 @@ struct OpeningParams {
   float rim_closing_ratio = 0.3f;
   float rim_closing_reach = 0.5f;
 };
-
-enum class OpeningKind : std::uint8_t { kEye = 0, kMouth };
 
 // A vertex on the margin of an opening, and the vertex across the opening
 // that it meets in one of the template's expressions.
