@@ -227,14 +227,14 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
     // Measured: pairs 0.586 -> 0.119-0.127 cm (the lids slide past each
     // other as ICT's do), upper lid to lower lid 0.007-0.011 (1-2% of the
     // opening). Without closing the head's own rims
-    // (TopologyMappingParams::rim_closing_ratio): 0.031-0.040, a slit in the
+    // (OpeningParams::rim_closing_ratio): 0.031-0.040, a slit in the
     // middle; keeping the template's contact offsets: 0.056-0.066; before the
     // margins were aligned onto the rims: 0.137; before the transfer kept the
     // lids' contact: 0.26 (pairs).
     CHECK(closed_gap < 0.25 * open_gap);
     CHECK(lid_gap < 0.04 * open_gap);
     // The closed upper lid's edge is smooth: 0.0043-0.0048 cm, against
-    // 0.022-0.024 without TopologyMappingParams::rim_smoothing_radius (a step
+    // 0.022-0.024 without OpeningParams::rim_smoothing_radius (a step
     // of up to 2.7 mm where the template's margin ended before the head's rim).
     CHECK(roughness < 0.01);
     CHECK(other_after > 0.9 * other_open);
