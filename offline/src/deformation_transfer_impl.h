@@ -40,7 +40,7 @@ inline Mat32 Edges(std::span<const glm::vec3> positions, const Triangle& t) {
   return e;
 }
 
-// Local frame [e1 e2 n] of paper 000 eq. 1; with scaled_normal the normal is
+// Local frame [e1 e2 n] of Pawaskar et al.'s eq. 1; with scaled_normal the normal is
 // Sumner & Popovic's 4th vertex offset (e1 x e2) / sqrt(|e1 x e2|).
 inline Eigen::Matrix3d Frame(const Mat32& edges, bool scaled_normal) {
   Eigen::Matrix3d frame;

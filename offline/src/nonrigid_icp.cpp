@@ -6,22 +6,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
-#if defined(FACERIG_HAVE_CHOLMOD)
-#include <Eigen/CholmodSupport>
-#endif
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/rig_builder.h"
+#include "icp_sparse_solver.h"
+#include "parallel_for.h"
 #include "nonrigid_icp_impl.h"
 
 namespace facerig {
@@ -34,62 +31,7 @@ using nonrigid_icp_detail::IcpRegion;
 using nonrigid_icp_detail::LocalLandmark;
 using Clock = std::chrono::steady_clock;
 
-// Supernodal CHOLMOD when the build has it and the caller wants it (much
-// faster on the 4n x 4n system), else Eigen's simplicial LDL^T; the choice is
-// at run time so a benchmark can run both. Both keep the symbolic analysis
-// across factorizations.
-class IcpSparseSolver {
- public:
-  using Matrix = Eigen::SparseMatrix<double>;
-
-  explicit IcpSparseSolver(bool prefer_cholmod) {
-#if defined(FACERIG_HAVE_CHOLMOD)
-    if (prefer_cholmod) {
-      cholmod_.emplace();
-      // Nested dissection (METIS) needs fewer flops than AMD on this
-      // mesh-shaped pattern; trying every ordering costs more than it saves.
-      cholmod_->cholmod().nmethods = 1;
-      cholmod_->cholmod().method[0].ordering = CHOLMOD_METIS;
-      return;
-    }
-#else
-    (void)prefer_cholmod;
-#endif
-    simplicial_.emplace();
-  }
-  void AnalyzePattern(const Matrix& matrix) {
-#if defined(FACERIG_HAVE_CHOLMOD)
-    if (cholmod_) return cholmod_->analyzePattern(matrix);
-#endif
-    simplicial_->analyzePattern(matrix);
-  }
-  void Factorize(const Matrix& matrix) {
-#if defined(FACERIG_HAVE_CHOLMOD)
-    if (cholmod_) return cholmod_->factorize(matrix);
-#endif
-    simplicial_->factorize(matrix);
-  }
-  Eigen::MatrixXd Solve(const Eigen::MatrixXd& rhs) const {
-#if defined(FACERIG_HAVE_CHOLMOD)
-    if (cholmod_) return cholmod_->solve(rhs);
-#endif
-    return simplicial_->solve(rhs);
-  }
-  bool Ok() const {
-#if defined(FACERIG_HAVE_CHOLMOD)
-    if (cholmod_) return cholmod_->info() == Eigen::Success;
-#endif
-    return simplicial_->info() == Eigen::Success;
-  }
-
- private:
-#if defined(FACERIG_HAVE_CHOLMOD)
-  std::optional<Eigen::CholmodSupernodalLLT<Matrix, Eigen::Lower>> cholmod_;
-#endif
-  std::optional<Eigen::SimplicialLDLT<Matrix, Eigen::Lower>> simplicial_;
-};
-
-using Edge = std::pair<std::uint32_t, std::uint32_t>;
+using Edge = IcpSparseSolver::Edge;
 
 // Unique undirected edges of the region (the stiffness term's node-arc incidence).
 std::vector<Edge> UniqueEdges(std::span<const Triangle> triangles) {
@@ -165,7 +107,7 @@ OptimalStepIcp::OptimalStepIcp(const IcpRegion& region, const IcpProblem& proble
       gamma2_(params.gamma * params.gamma),
       diag_blocks_(n_),
       matrix_(static_cast<Eigen::Index>(4 * n_), static_cast<Eigen::Index>(4 * n_)),
-      solver_(params.use_cholmod),
+      solver_(params.use_cholmod, n_, edges_),
       x_(Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(4 * n_), 3)),
       rhs_(static_cast<Eigen::Index>(4 * n_), 3),
       deformed_(problem.rest),
@@ -233,13 +175,15 @@ void OptimalStepIcp::FindCorrespondences(NonrigidIcpTimings& timings) {
   const auto t0 = Clock::now();
   ComputeVertexNormals(deformed_, region_.triangles, normals_);
   const auto far_limit = static_cast<float>(params_.max_reject_distance * problem_.target_diagonal_work);
-  distances_.clear();
-  for (std::size_t i = 0; i < n_; ++i) {
+  ParallelFor(n_, 256, [&](std::size_t i) {
     hits_[i] = FindTarget(deformed_[i], far_limit);
     const bool ok = hits_[i].triangle >= 0 && !(params_.reject_boundary && hits_[i].on_boundary) &&
                     glm::dot(normals_[i], hits_[i].normal) >= cos_limit_;
     accepted_[i] = ok ? 1 : 0;
-    if (ok) distances_.push_back(hits_[i].distance);
+  });
+  distances_.clear();
+  for (std::size_t i = 0; i < n_; ++i) {
+    if (accepted_[i]) distances_.push_back(hits_[i].distance);
   }
   const double median = Percentile(distances_, 0.5);
   const double limit = std::max(params_.distance_median_factor * median,

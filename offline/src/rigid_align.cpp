@@ -14,6 +14,7 @@
 #include "facerig/offline/error.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/rig_builder.h"
+#include "parallel_for.h"
 
 namespace facerig {
 namespace {
@@ -126,13 +127,13 @@ struct IcpMatches {
 void FindMatches(const SimilarityTransform& transform, std::span<const glm::vec3> source_positions,
                  std::span<const glm::vec3> source_normals, std::span<const std::uint32_t> samples,
                  const ClosestPointQuery& target, IcpMatches& matches) {
-  matches.centre = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < samples.size(); ++i) {
+  ParallelFor(samples.size(), 256, [&](std::size_t i) {
     matches.points[i] = transform.Apply(source_positions[samples[i]]);
     matches.normals[i] = transform.ApplyToDirection(source_normals[samples[i]]);
     matches.hits[i] = target.Find(matches.points[i]);
-    matches.centre += ToEigen(matches.points[i]);
-  }
+  });
+  matches.centre = Eigen::Vector3d::Zero();
+  for (const glm::vec3& point : matches.points) matches.centre += ToEigen(point);
   matches.centre /= static_cast<double>(samples.size());
 }
 

@@ -128,7 +128,7 @@ TEST_CASE("Landmarks on random re-meshed ICT faces (shared data)", "[landmarks][
     }
     REQUIRE(result.landmarks.points.size() == 68);
     const double interocular = static_cast<double>(glm::length(target.true_landmarks[36] - target.true_landmarks[45]));
-    // The eye-corner PCA correction (paper 004 3.3) and the eyes fitted to
+    // The eye-corner PCA correction (the automatic-correspondence paper, 3.3) and the eyes fitted to
     // the openings (the default), measured against the plain detection.
     const LandmarkResult plain = plain_detector.Detect(target.mesh());
     const LandmarkResult pca = pca_detector.Detect(target.mesh());

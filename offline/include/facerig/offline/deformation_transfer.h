@@ -1,4 +1,4 @@
-// Deformation transfer (Sumner & Popovic 2004, as in paper 000 Algorithm 1):
+// Deformation transfer (Sumner & Popovic 2004, as in Pawaskar et al.'s Algorithm 1):
 // a template's expressions S_1..S_k, given as whole meshes in per-vertex
 // correspondence with its neutral S_0, are transferred onto a target neutral
 // T_0 of the same topology (or a template fitted to the target).
@@ -66,7 +66,7 @@ const char* ToString(TransferMode mode);
 struct DeformationTransferParams {
   TransferMode mode = TransferMode::kClassic;
   // Vertices whose position in every expression is fixed to target rest +
-  // displacement_scale * template displacement (paper 000's `-cv`). Empty:
+  // displacement_scale * template displacement (Pawaskar et al.'s `-cv`). Empty:
   // the template's static set, the vertices that no expression passed to the
   // precomputation moves by more than static_threshold times the source
   // neutral's bounding-box diagonal. Vertices used by no triangle are always anchors.
@@ -86,9 +86,9 @@ struct DeformationTransferParams {
   // 1 for a same-size target; e.g. the bounding-box ratio target/template otherwise.
   float displacement_scale = 1.0f;
   // Weight each triangle's gradient residual by its area on the target (the
-  // integral of the gradient error) instead of 1 per triangle (paper 000).
+  // integral of the gradient error) instead of 1 per triangle (Pawaskar et al.).
   bool area_weighted = true;
-  // Source frames [e1 e2 n]: false, the unit normal of paper 000 eq. 1;
+  // Source frames [e1 e2 n]: false, the unit normal of Pawaskar et al.'s eq. 1;
   // true, Sumner & Popovic's 4th vertex (normal scaled by 1/sqrt(|e1 x e2|),
   // so out-of-plane stretch follows in-plane stretch). The unit normal
   // measured better on ICT identities (median 0.047 vs 0.049, p90 0.075 vs 0.074).

@@ -34,8 +34,8 @@ namespace facerig {
 
 enum class BuildMode : std::uint8_t {
   kClassic = 0,         // deformation transfer S0 -> Si onto T0
-  kIdentityGradient,    // deformation transfer S0 -> T0 onto Si (paper 000 V.B)
-  kDisplacement,        // displacement matrices with bounding-box normalisation (paper 002)
+  kIdentityGradient,    // deformation transfer S0 -> T0 onto Si (Pawaskar et al. V.B)
+  kDisplacement,        // displacement matrices with bounding-box normalisation (Mattos et al.)
 };
 const char* ToString(BuildMode mode);
 // "classic", "identity", "displacement"; nullopt otherwise.
