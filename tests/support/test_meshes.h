@@ -3,11 +3,13 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
+#include "facerig/runtime/speech/phoneme.h"
 #include "facerig/runtime/speech/viseme.h"
 
 namespace facerig::test {
@@ -24,6 +26,17 @@ Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);
 // A viseme key from times in seconds.
 inline VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
   return {Seconds(start), Seconds(end), viseme, strength};
+}
+// A phoneme from times in seconds (espeak-ng's phoneme names).
+inline Phoneme MakePhoneme(double start, double duration, std::string_view symbol,
+                           std::string_view language = "en-us", bool word_start = false) {
+  Phoneme phoneme;
+  phoneme.start = Seconds(start);
+  phoneme.duration = Seconds(duration);
+  phoneme.symbol.assign(symbol);
+  phoneme.language.assign(language);
+  phoneme.word_start = word_start;
+  return phoneme;
 }
 
 // A grid rig (n x n) with one shape per name, named so, for the name-matching tests.
