@@ -311,10 +311,11 @@ nlohmann::json MeasureScan(facerig::LandmarkDetector& detector, const facerig::t
 
 int RunRegisterBenchmark(int argc, char** argv) {
   RegisterOptions settings;
-  CLI::App app("landmarks + registration of the ICT template onto re-meshed random ICT faces",
-               "facerig-bench register");
-  AddRegisterOptions(app, settings);
-  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
+  if (const std::optional<int> exit_code =
+          ParseBenchOptions(argc, argv, "landmarks + registration of the ICT template onto re-meshed random ICT faces",
+                            "facerig-bench register", AddRegisterOptions, settings)) {
+    return *exit_code;
+  }
 
   nlohmann::json report;
   try {

@@ -394,10 +394,11 @@ nlohmann::json RunHeaderJson(const TransferOptions& options, const SolverFacts& 
 
 int RunTransferBenchmark(int argc, char** argv) {
   TransferOptions options;
-  CLI::App app("deformation transfer / displacement matrices of the ICT rig onto random identities",
-               "facerig-bench transfer");
-  AddTransferOptions(app, options);
-  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
+  if (const std::optional<int> exit_code =
+          ParseBenchOptions(argc, argv, "deformation transfer / displacement matrices of the ICT rig onto random identities",
+                            "facerig-bench transfer", AddTransferOptions, options)) {
+    return *exit_code;
+  }
   const facerig::DeformationTransferParams& params = options.params;
 
   facerig::Rig rig;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,13 @@ namespace facerig::test {
 // when `with_normal_deltas`.
 // A mesh of positions and triangles only (the tests' small hand-made meshes).
 Mesh MeshOf(std::span<const glm::vec3> positions, std::span<const Triangle> triangles);
+
+// A closed UV sphere: rings + 1 rows (pole rows included) of `segments`
+// vertices, vertex (r, s) at point(theta, phi) with theta = pi r / rings and
+// phi = 2 pi s / segments (a unit sphere: sin(theta) cos(phi), cos(theta),
+// sin(theta) sin(phi)). Replaces positions and triangles.
+void MakeUvSphere(int rings, int segments, const std::function<glm::vec3(double theta, double phi)>& point,
+                  std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles);
 
 RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas = false);
 Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);

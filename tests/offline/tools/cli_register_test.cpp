@@ -50,23 +50,14 @@ bool NothingWritten(const fs::path& path) {
 void WriteSphere(const fs::path& path) {
   std::vector<glm::vec3> positions;
   std::vector<Triangle> triangles;
-  const int rings = 24, segments = 32;
-  for (int r = 0; r <= rings; ++r) {
-    const double theta = 3.14159265358979323846 * r / rings;
-    for (int s = 0; s < segments; ++s) {
-      const double phi = 2.0 * 3.14159265358979323846 * s / segments;
-      positions.push_back({static_cast<float>(10.0 * std::sin(theta) * std::cos(phi)),
-                           static_cast<float>(10.0 * std::cos(theta)),
-                           static_cast<float>(10.0 * std::sin(theta) * std::sin(phi))});
-    }
-  }
-  auto index = [&](int r, int s) { return static_cast<std::uint32_t>(r * segments + (s % segments)); };
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      triangles.push_back({index(r, s), index(r + 1, s), index(r + 1, s + 1)});
-      triangles.push_back({index(r, s), index(r + 1, s + 1), index(r, s + 1)});
-    }
-  }
+  test::MakeUvSphere(
+      24, 32,
+      [](double theta, double phi) {
+        return glm::vec3(static_cast<float>(10.0 * std::sin(theta) * std::cos(phi)),
+                         static_cast<float>(10.0 * std::cos(theta)),
+                         static_cast<float>(10.0 * std::sin(theta) * std::sin(phi)));
+      },
+      positions, triangles);
   WriteObj(path, positions, {}, {}, triangles, {});
 }
 
@@ -98,6 +89,16 @@ double FaceErrorCm(const std::vector<glm::vec3>& fitted, const test::Registratio
     sum += static_cast<double>(glm::length(fitted[v] - target.true_ict_positions[v]));
   }
   return sum / face / target.units_per_cm;
+}
+
+// The fitted OBJ has the template's vertices, its face region within
+// `max_error_cm` of the target's true positions.
+void CheckFittedFace(const fs::path& fitted, const test::RegistrationTarget& target, double max_error_cm) {
+  const Mesh obj = ReadObj(fitted);
+  REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
+  const double error_cm = FaceErrorCm(obj.positions, target);
+  INFO("face region error " << error_cm << " cm");
+  CHECK(error_cm < max_error_cm);
 }
 
 nlohmann::json ReadJson(const fs::path& path) {
@@ -240,11 +241,7 @@ TEST_CASE("facerig register with a landmark file and --template-info: the templa
   REQUIRE(result.exit_code == 0);
   CHECK(Contains(result.error_output, "non-rigid ICP"));  // the progress bar
 
-  const Mesh obj = ReadObj(fitted);
-  REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
-  const double error_cm = FaceErrorCm(obj.positions, target);
-  INFO("face region error " << error_cm << " cm");
-  CHECK(error_cm < 0.25);
+  CheckFittedFace(fitted, target, 0.25);
 
   const nlohmann::json json = ReadJson(report);
   CHECK(json["landmarks"] == landmarks.string());
@@ -269,11 +266,7 @@ TEST_CASE("facerig register without landmarks detects them on the target (shared
   REQUIRE(result.exit_code == 0);
   CHECK(Contains(result.error_output, "detecting landmarks on the target"));
 
-  const Mesh obj = ReadObj(fitted);
-  REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
-  const double error_cm = FaceErrorCm(obj.positions, target);
-  INFO("face region error " << error_cm << " cm");
-  CHECK(error_cm < 0.3);
+  CheckFittedFace(fitted, target, 0.3);
   const nlohmann::json json = ReadJson(report);
   CHECK(json["landmarks"] == "detected");
   CHECK(json["seconds"]["landmarks"].get<double>() > 0.0);
