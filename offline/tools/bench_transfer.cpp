@@ -394,11 +394,9 @@ nlohmann::json RunHeaderJson(const TransferOptions& options, const SolverFacts& 
 
 int RunTransferBenchmark(int argc, char** argv) {
   TransferOptions options;
-  if (const std::optional<int> exit_code =
-          ParseBenchOptions(argc, argv, "deformation transfer / displacement matrices of the ICT rig onto random identities",
-                            "facerig-bench transfer", AddTransferOptions, options)) {
-    return *exit_code;
-  }
+  const char* const description = "deformation transfer / displacement matrices of the ICT rig onto random identities";
+  const auto exit_code = ParseBenchOptions(argc, argv, description, "facerig-bench transfer", AddTransferOptions, options);
+  if (exit_code) return *exit_code;
   const facerig::DeformationTransferParams& params = options.params;
 
   facerig::Rig rig;

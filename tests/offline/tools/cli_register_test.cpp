@@ -101,6 +101,16 @@ void CheckFittedFace(const fs::path& fitted, const test::RegistrationTarget& tar
   CHECK(error_cm < max_error_cm);
 }
 
+// The command failed (exit code 1), saying each of `messages`, and wrote
+// none of `outputs`.
+void CheckFailed(const test::CommandOutcome& outcome, std::initializer_list<const char*> messages,
+                 std::initializer_list<fs::path> outputs) {
+  INFO(outcome.error_output);
+  CHECK(outcome.exit_code == 1);
+  for (const char* message : messages) CHECK(Contains(outcome.error_output, message));
+  for (const fs::path& output : outputs) CHECK(NothingWritten(output));
+}
+
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in);
@@ -132,49 +142,32 @@ TEST_CASE("facerig landmarks / register: bad input fails with a clear message an
 
   SECTION("missing file") {
     const test::CommandOutcome result = Landmarks({(folder / "missing.obj").string(), "-o", out.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "missing.obj"));
-    CHECK(NothingWritten(out));
+    CheckFailed(result, {"missing.obj"}, {out});
     const test::CommandOutcome fit = Register({"--template", DefaultHead().string(), "--target",
                                                (folder / "missing.obj").string(), "-o", fitted.string()});
-    CHECK(fit.exit_code == 1);
-    CHECK(Contains(fit.error_output, "missing.obj"));
-    CHECK(NothingWritten(fitted));
+    CheckFailed(fit, {"missing.obj"}, {fitted});
   }
   SECTION("NaN coordinates") {
     const fs::path mesh = folder / "nan.obj";
     std::ofstream(mesh) << "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n";
     const test::CommandOutcome result = Landmarks({mesh.string(), "-o", out.string(), "--debug-png", png.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "nan.obj"));
-    CHECK(Contains(result.error_output, "non-finite"));
-    CHECK(NothingWritten(out));
-    CHECK(NothingWritten(png));
+    CheckFailed(result, {"nan.obj", "non-finite"}, {out, png});
   }
   SECTION("empty mesh") {
     const fs::path mesh = folder / "empty.obj";
     std::ofstream(mesh) << "# vertices but no faces\nv 0 0 0\nv 1 0 0\n";
     const test::CommandOutcome result = Landmarks({mesh.string(), "-o", out.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "empty.obj"));
-    CHECK(Contains(result.error_output, "no faces"));
-    CHECK(NothingWritten(out));
+    CheckFailed(result, {"empty.obj", "no faces"}, {out});
   }
   SECTION("a mesh with no face suggests a landmark file") {
     const fs::path sphere = folder / "sphere.obj";
     WriteSphere(sphere);
     const test::CommandOutcome result = Landmarks({sphere.string(), "-o", out.string(), "--debug-png", png.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "no face"));
-    CHECK(Contains(result.error_output, "--landmarks"));
-    CHECK(NothingWritten(out));
-    CHECK(NothingWritten(png));
+    CheckFailed(result, {"no face", "--landmarks"}, {out, png});
     // register detects landmarks on the target first: the same advice, no OBJ.
     const test::CommandOutcome fit =
         Register({"--template", DefaultHead().string(), "--target", sphere.string(), "-o", fitted.string()});
-    CHECK(fit.exit_code == 1);
-    CHECK(Contains(fit.error_output, "--landmarks"));
-    CHECK(NothingWritten(fitted));
+    CheckFailed(fit, {"--landmarks"}, {fitted});
   }
   SECTION("a malformed landmark file") {
     const fs::path sphere = folder / "sphere.obj";
@@ -183,9 +176,7 @@ TEST_CASE("facerig landmarks / register: bad input fails with a clear message an
     std::ofstream(landmarks) << R"({"points": [[0, 1, 2], [1, 2]]})";
     const test::CommandOutcome fit = Register({"--template", DefaultHead().string(), "--target", sphere.string(),
                                                "--landmarks", landmarks.string(), "-o", fitted.string()});
-    CHECK(fit.exit_code == 1);
-    CHECK(Contains(fit.error_output, "bad_landmarks.json"));
-    CHECK(NothingWritten(fitted));
+    CheckFailed(fit, {"bad_landmarks.json"}, {fitted});
   }
 }
 
