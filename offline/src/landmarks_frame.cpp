@@ -229,17 +229,7 @@ RasterView FaceView(glm::vec3 forward, glm::vec3 up, glm::vec3 centre, float fac
   forward = glm::normalize(forward);
   up = glm::normalize(up - glm::dot(up, forward) * forward);
   const glm::vec3 right = glm::cross(up, forward);
-  RasterView view;
-  for (int c = 0; c < 3; ++c) {
-    view.rotation[c][0] = right[c];
-    view.rotation[c][1] = up[c];
-    view.rotation[c][2] = forward[c];
-  }
-  view.centre = centre;
-  view.half_extent = face_size;
-  view.width = size;
-  view.height = size;
-  return view;
+  return RasterView::FromAxes(right, up, forward, centre, face_size, size, size);
 }
 
 glm::vec3 ViewAxis(const RasterView& view, int row) {

@@ -16,13 +16,18 @@ namespace facerig {
 
 RasterView RasterView::Orbit(glm::vec3 centre, float half_extent, int width, int height, float yaw,
                              float pitch) {
-  RasterView view;
   // Camera axes in world coordinates: the camera sits on +z turned by yaw
   // about +y, then tilted by pitch (positive: camera above, looking down).
   const glm::vec3 forward{std::sin(yaw) * std::cos(pitch), std::sin(pitch),
                           std::cos(yaw) * std::cos(pitch)};  // towards the camera
   const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), forward));
   const glm::vec3 up = glm::cross(forward, right);
+  return FromAxes(right, up, forward, centre, half_extent, width, height);
+}
+
+RasterView RasterView::FromAxes(glm::vec3 right, glm::vec3 up, glm::vec3 forward, glm::vec3 centre,
+                                float half_extent, int width, int height) {
+  RasterView view;
   // glm is column-major: set the rows to the camera axes.
   for (int c = 0; c < 3; ++c) {
     view.rotation[c][0] = right[c];

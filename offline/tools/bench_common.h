@@ -1,12 +1,26 @@
-// Small helpers the facerig-bench benchmarks share: the failure message, the
-// middle of a sample and process CPU time.
+// Small helpers the facerig-bench benchmarks share: the command line, the
+// failure message, the middle of a sample and process CPU time.
 #pragma once
 
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <exception>
+#include <optional>
 #include <vector>
+
+#include "cli_options.h"
+
+// Parses a benchmark's arguments (argv[0] is the benchmark's name) into
+// `options` with `add_options`. Returns the exit code when the run stops
+// there (--help, a bad value), else nullopt.
+template <typename Options>
+std::optional<int> ParseBenchOptions(int argc, char** argv, const char* description, const char* name,
+                                     void (*add_options)(CLI::App&, Options&), Options& options) {
+  CLI::App app(description, name);
+  add_options(app, options);
+  return facerig::cli::ParseCommandLine(app, argc - 1, argv + 1);
+}
 
 // Prints why a benchmark failed; returns the exit code for main (1).
 inline int ReportBenchFailure(const std::exception& error) {

@@ -146,31 +146,39 @@ void PrintFaceTableHeader() {
               "fit cpu");
 }
 
+// What both reports say of one landmarks + registration run (the keys sort
+// on output, so their order here does not matter).
+nlohmann::json RegistrationJson(const LandmarkError& lm, const facerig::LandmarkResult& detected,
+                                const facerig::NonrigidIcpResult& fit, double correspondence_mean_cm) {
+  return {{"landmark_seconds", detected.seconds},
+          {"landmark_error_iod_no_jaw", lm.no_jaw},
+          {"landmark_error_iod_with_jaw", lm.with_jaw},
+          {"registration_seconds", fit.timings.total_seconds},
+          {"residual_mean_percent", fit.residual.mean_percent},
+          {"residual_p95_percent", fit.residual.p95_percent},
+          {"correspondence_mean_cm", correspondence_mean_cm}};
+}
+
 nlohmann::json FaceJson(const facerig::test::RegistrationTargetOptions& options,
                         const facerig::test::RegistrationTarget& target, const facerig::LandmarkResult& detected,
                         const facerig::NonrigidIcpResult& fit, const FaceResult& r) {
-  return {{"seed", options.seed},
-          {"target_vertices", target.positions.size()},
-          {"units_per_cm", target.units_per_cm},
-          {"rotation_degrees", target.rotation_degrees},
-          {"landmark_error_iod_no_jaw", r.lm.no_jaw},
-          {"landmark_error_iod_with_jaw", r.lm.with_jaw},
-          {"landmark_seconds", detected.seconds},
-          {"landmark_cpu_seconds", r.lm_cpu},
-          {"landmark_views_tried", detected.views_tried},
-          {"residual_mean_percent", fit.residual.mean_percent},
-          {"residual_p95_percent", fit.residual.p95_percent},
-          {"residual_max_percent", fit.residual.max_percent},
-          {"correspondence_mean_cm", r.corr},
-          {"correspondence_mean_cm_true_landmarks", r.corr_truth},
-          {"registration_seconds", fit.timings.total_seconds},
-          {"registration_cpu_seconds", r.cpu},
-          {"seconds",
-           {{"rigid", fit.timings.rigid_seconds},
-            {"setup", fit.timings.setup_seconds},
-            {"correspondences", fit.timings.correspondence_seconds},
-            {"factorize", fit.timings.factorize_seconds},
-            {"solve", fit.timings.solve_seconds}}}};
+  nlohmann::json json = RegistrationJson(r.lm, detected, fit, r.corr);
+  json.update({{"seed", options.seed},
+               {"target_vertices", target.positions.size()},
+               {"units_per_cm", target.units_per_cm},
+               {"rotation_degrees", target.rotation_degrees},
+               {"landmark_cpu_seconds", r.lm_cpu},
+               {"landmark_views_tried", detected.views_tried},
+               {"residual_max_percent", fit.residual.max_percent},
+               {"correspondence_mean_cm_true_landmarks", r.corr_truth},
+               {"registration_cpu_seconds", r.cpu},
+               {"seconds",
+                {{"rigid", fit.timings.rigid_seconds},
+                 {"setup", fit.timings.setup_seconds},
+                 {"correspondences", fit.timings.correspondence_seconds},
+                 {"factorize", fit.timings.factorize_seconds},
+                 {"solve", fit.timings.solve_seconds}}}});
+  return json;
 }
 
 // The measured part for one random face: landmarks, registration from them
@@ -294,28 +302,22 @@ nlohmann::json MeasureScan(facerig::LandmarkDetector& detector, const facerig::t
               fit.timings.setup_seconds, fit.timings.correspondence_seconds, fit.timings.factorize_seconds,
               fit.timings.solve_seconds, fit.residual.mean_percent, fit.residual.p95_percent, corr, rss_before,
               rss_after);
-  return {{"vertices", target.positions.size()},
-          {"triangles", target.triangles.size()},
-          {"mesh_megabytes", mesh_megabytes},
-          {"landmark_seconds", detected.seconds},
-          {"landmark_error_iod_no_jaw", lm.no_jaw},
-          {"landmark_error_iod_with_jaw", lm.with_jaw},
-          {"registration_seconds", fit.timings.total_seconds},
-          {"residual_mean_percent", fit.residual.mean_percent},
-          {"residual_p95_percent", fit.residual.p95_percent},
-          {"correspondence_mean_cm", corr},
-          {"peak_rss_megabytes_before", rss_before},
-          {"peak_rss_megabytes_after", rss_after}};
+  nlohmann::json json = RegistrationJson(lm, detected, fit, corr);
+  json.update({{"vertices", target.positions.size()},
+               {"triangles", target.triangles.size()},
+               {"mesh_megabytes", mesh_megabytes},
+               {"peak_rss_megabytes_before", rss_before},
+               {"peak_rss_megabytes_after", rss_after}});
+  return json;
 }
 
 }  // namespace
 
 int RunRegisterBenchmark(int argc, char** argv) {
   RegisterOptions settings;
-  CLI::App app("landmarks + registration of the ICT template onto re-meshed random ICT faces",
-               "facerig-bench register");
-  AddRegisterOptions(app, settings);
-  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
+  const char* const description = "landmarks + registration of the ICT template onto re-meshed random ICT faces";
+  const auto exit_code = ParseBenchOptions(argc, argv, description, "facerig-bench register", AddRegisterOptions, settings);
+  if (exit_code) return *exit_code;
 
   nlohmann::json report;
   try {

@@ -394,10 +394,9 @@ nlohmann::json RunHeaderJson(const TransferOptions& options, const SolverFacts& 
 
 int RunTransferBenchmark(int argc, char** argv) {
   TransferOptions options;
-  CLI::App app("deformation transfer / displacement matrices of the ICT rig onto random identities",
-               "facerig-bench transfer");
-  AddTransferOptions(app, options);
-  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
+  const char* const description = "deformation transfer / displacement matrices of the ICT rig onto random identities";
+  const auto exit_code = ParseBenchOptions(argc, argv, description, "facerig-bench transfer", AddTransferOptions, options);
+  if (exit_code) return *exit_code;
   const facerig::DeformationTransferParams& params = options.params;
 
   facerig::Rig rig;

@@ -1,11 +1,13 @@
-// Helpers shared by the `facerig` subcommands (tools/cli_*.cpp): mesh loading
-// for targets, atomic JSON reports, a progress bar on stderr, timing.
+// Helpers shared by the `facerig` subcommands (tools/cli_*.cpp): adding a
+// subcommand, mesh loading for targets, atomic JSON reports, a progress bar
+// on stderr, timing.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
 #include <exception>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -14,6 +16,25 @@
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig::cli {
+
+// A subcommand and the options its flags fill in.
+template <typename Options>
+struct Subcommand {
+  CLI::App* app;
+  std::shared_ptr<Options> options;
+};
+
+// Adds the subcommand `name` with its --help footer; once the whole command
+// line has parsed, `body` becomes run(options). The caller adds the flags.
+template <typename Options>
+Subcommand<Options> AddSubcommand(CLI::App& facerig, CommandBody& body, const char* name, const char* description,
+                                  const char* footer, int (*run)(const Options&)) {
+  CLI::App* app = facerig.add_subcommand(name, description);
+  app->footer(footer);
+  auto options = std::make_shared<Options>();
+  app->callback([&body, options, run] { body = [options, run] { return run(*options); }; });
+  return {app, options};
+}
 
 // A mesh to work on, as raw data: .obj (positions, UVs, parts, normals kept)
 // or any rig format LoadRig reads (.frig, .glb, .gltf, a template folder).

@@ -243,26 +243,23 @@ int RunMorph(const MorphOptions& options) {
 }  // namespace
 
 void AddAverageCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* average = facerig.add_subcommand("average", "the mean face of corresponded faces");
-  average->footer(
+  const auto [average, options] = AddSubcommand(facerig, body, "average", "the mean face of corresponded faces",
       "Faces: rigs or OBJs of one topology and units. Each face is first rigidly aligned onto the first\n"
-      "(unless --no-align). The output has the first face's topology, UVs and parts and no shapes.");
-  auto options = std::make_shared<AverageOptions>();
+      "(unless --no-align). The output has the first face's topology, UVs and parts and no shapes.",
+      RunAverage);
   average->add_option("faces", options->face_paths, "two or more faces")->required()->expected(2, CLI::detail::expected_max_vector_size);
   average->add_option("-o", options->output, "output (.obj, .glb, .gltf or .frig)")->required();
   average->add_flag("!--no-align", options->align, "do not align the faces rigidly first");
   average->add_option("--json", options->report_path, "write a JSON report");
-  average->callback([&body, options] { body = [options] { return RunAverage(*options); }; });
 }
 
 void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* caricature = facerig.add_subcommand("caricature", "scale a rig's difference from the average face");
-  caricature->footer(
+  const auto [caricature, options] = AddSubcommand(facerig, body, "caricature", "scale a rig's difference from the average face",
       "neutral + F x (neutral - average), F in [-1, 3] (-1 the average, 0 the rig itself). The\n"
       "expressions follow by deformation transfer from the rig's own shapes, or keep their deltas\n"
       "(--keep-deltas). The average is rigidly aligned onto the rig first (unless --no-align); it needs\n"
-      "the rig's vertex count.");
-  auto options = std::make_shared<CaricatureOptions>();
+      "the rig's vertex count.",
+      RunCaricature);
   caricature->add_option("--rig", options->rig_path, "the rig")->required();
   caricature->add_option("--average", options->average_path, "the average face (.obj or a rig)")->required();
   caricature->add_option("--factor", options->factor, "F in [-1, 3]")->required();
@@ -270,21 +267,18 @@ void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
   caricature->add_flag("--keep-deltas", options->keep_deltas, "keep the expressions' deltas");
   caricature->add_flag("!--no-align", options->align, "do not align the average rigidly first");
   caricature->add_option("--json", options->report_path, "write a JSON report");
-  caricature->callback([&body, options] { body = [options] { return RunCaricature(*options); }; });
 }
 
 void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* morph = facerig.add_subcommand("morph", "add the identityMorph shape between two rigs");
-  morph->footer(
+  const auto [morph, options] = AddSubcommand(facerig, body, "morph", "add the identityMorph shape between two rigs",
       "The template's neutral, the target's shapes (e.g. from a transfer onto the target) and one more\n"
       "shape, identityMorph: at 0 the template's face, at 1 the target's, the expressions working at any\n"
-      "weight. Both rigs need the same topology.");
-  auto options = std::make_shared<MorphOptions>();
+      "weight. Both rigs need the same topology.",
+      RunMorph);
   morph->add_option("--template", options->template_path, "the template rig")->required();
   morph->add_option("--target", options->target_path, "the target rig, on the template's topology")->required();
   morph->add_option("-o", options->output, "output rig (.glb, .gltf or .frig)")->required();
   morph->add_option("--json", options->report_path, "write a JSON report");
-  morph->callback([&body, options] { body = [options] { return RunMorph(*options); }; });
 }
 
 }  // namespace facerig::cli

@@ -157,25 +157,22 @@ int RunRegister(const RegisterOptions& options) {
 }  // namespace
 
 void AddLandmarksCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* landmarks = facerig.add_subcommand("landmarks", "detect the 68 face landmarks on a mesh");
-  landmarks->footer(
+  const auto [landmarks, options] = AddSubcommand(facerig, body, "landmarks", "detect the 68 face landmarks on a mesh",
       "Detects dlib's 68 face landmarks on a mesh (OBJ, or a rig: .frig/.glb/template folder) and\n"
-      "writes them as 3D points in the mesh's coordinates.");
-  auto options = std::make_shared<LandmarksOptions>();
+      "writes them as 3D points in the mesh's coordinates.",
+      RunLandmarks);
   landmarks->add_option("mesh", options->mesh_path, "the mesh (OBJ or a rig)")->required();
   landmarks->add_option("-o", options->output, "landmarks JSON to write")->required();
   landmarks->add_option("--debug-png", options->debug_png, "draw the detection into this PNG");
   landmarks->add_option("--json", options->report_path, "write a JSON report");
   landmarks->add_option("--shape-predictor", options->params.shape_predictor, "dlib 68-point shape predictor file");
-  landmarks->callback([&body, options] { body = [options] { return RunLandmarks(*options); }; });
 }
 
 void AddRegisterCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* reg = facerig.add_subcommand("register", "fit the template's neutral onto a target surface");
-  reg->footer(
+  const auto [reg, options] = AddSubcommand(facerig, body, "register", "fit the template's neutral onto a target surface",
       "Fits the template's neutral onto the target surface (similarity alignment + optimal-step\n"
-      "non-rigid ICP). The OBJ keeps the template's vertex order, in the target's coordinates.");
-  auto options = std::make_shared<RegisterOptions>();
+      "non-rigid ICP). The OBJ keeps the template's vertex order, in the target's coordinates.",
+      RunRegister);
   reg->add_option("--template", options->template_path, "template: a rig or a folder of OBJs")->required();
   reg->add_option("--template-info", options->template_info_path, "the template's descriptor JSON (default: beside the rig, shipped, or derived)")
       ->check(CLI::ExistingFile);
@@ -184,7 +181,6 @@ void AddRegisterCommand(CLI::App& facerig, CommandBody& body) {
   reg->add_option("--landmarks", options->landmarks_path, "the target's landmarks (default: detected)");
   reg->add_option("--json", options->report_path, "write a JSON report");
   reg->add_option("--shape-predictor", options->landmark_params.shape_predictor, "dlib 68-point shape predictor file");
-  reg->callback([&body, options] { body = [options] { return RunRegister(*options); }; });
 }
 
 }  // namespace facerig::cli

@@ -116,13 +116,18 @@ bool AudioClock::Configure(const AudioClockParams& params) {
   return true;
 }
 
-void AudioClock::Start(double wall_seconds, std::int64_t origin_samples) {
+double AudioClock::Restart(double wall_seconds, Mode mode, AudioClockStatus status) {
   if (!std::isfinite(wall_seconds)) wall_seconds = value_wall_;
-  mode_ = Mode::kDevice;
-  status_ = AudioClockStatus::kWaitingForDevice;
+  mode_ = mode;
+  status_ = status;
   base_ = value_;
-  estimate_ = value_;
   value_wall_ = wall_seconds;
+  return wall_seconds;
+}
+
+void AudioClock::Start(double wall_seconds, std::int64_t origin_samples) {
+  wall_seconds = Restart(wall_seconds, Mode::kDevice, AudioClockStatus::kWaitingForDevice);
+  estimate_ = value_;
   last_report_time_ = base_;
   synced_ = false;
   has_offset_ = false;
@@ -147,12 +152,7 @@ void AudioClock::Start(double wall_seconds, std::int64_t origin_samples) {
 }
 
 void AudioClock::StartSilent(double wall_seconds) {
-  if (!std::isfinite(wall_seconds)) wall_seconds = value_wall_;
-  mode_ = Mode::kSilent;
-  status_ = AudioClockStatus::kSilent;
-  base_ = value_;
-  silent_start_wall_ = wall_seconds;
-  value_wall_ = wall_seconds;
+  silent_start_wall_ = Restart(wall_seconds, Mode::kSilent, AudioClockStatus::kSilent);
 }
 
 void AudioClock::Stop(double wall_seconds) {

@@ -16,12 +16,14 @@
 #include "facerig/offline/io/template_folder.h"
 #include "media_writer.h"
 #include "player_options.h"
+#include "support/command_runner.h"
 
 namespace {
 
 using facerig::player::HeadlessResult;
 using facerig::player::Image;
 using facerig::player::PlayerOptions;
+using facerig::test::RunShell;
 
 constexpr int kWidth = 160, kHeight = 120;
 constexpr double kFps = 15.0;
@@ -130,15 +132,6 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   CHECK(Rms(speech, widest_time - 0.04, widest_time + 0.04) > voiced_threshold);
 }
 
-// Runs a command, returns its exit code and its output (stdout + stderr).
-int Run(const std::string& command, std::string* output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  char buffer[512];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) *output += buffer;
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 }  // namespace
 
@@ -154,7 +147,7 @@ TEST_CASE("Player: headless Hello world on the default head", "[demo]") {
 
 TEST_CASE("Player: without a display and without --headless, suggests --headless", "[demo]") {
   std::string output;
-  const int code = Run("env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER '" FACERIG_PLAYER_EXE "' --say hi", &output);
+  const int code = RunShell("env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER '" FACERIG_PLAYER_EXE "' --say hi", &output);
   INFO(output);
   CHECK(code == 1);
   CHECK(output.find("no display") != std::string::npos);
@@ -165,12 +158,12 @@ TEST_CASE("Player: a bad rig path or voice is a clear error", "[demo]") {
   const std::string exe = "'" FACERIG_PLAYER_EXE "'";
   const std::string frames = std::string(FACERIG_TEST_OUTPUT_DIR) + "/player_errors";
   std::string output;
-  CHECK(Run(exe + " --headless --frames " + frames + " --rig /nonexistent/head.frig", &output) == 1);
+  CHECK(RunShell(exe + " --headless --frames " + frames + " --rig /nonexistent/head.frig", &output) == 1);
   CHECK(output.find("/nonexistent/head.frig") != std::string::npos);
 
   output.clear();
   const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/io/data/reference_v1.frig";
-  CHECK(Run(exe + " --headless --frames " + frames + " --rig " + rig + " --voice no-such-voice --say hi", &output) == 1);
+  CHECK(RunShell(exe + " --headless --frames " + frames + " --rig " + rig + " --voice no-such-voice --say hi", &output) == 1);
   INFO(output);
   CHECK(output.find("no-such-voice") != std::string::npos);
   CHECK(output.find("en-us") != std::string::npos);  // the list of voices
@@ -209,7 +202,7 @@ TEST_CASE("Player: the window path draws under Xvfb with a dummy audio device", 
   // then reports their process-lifetime blocks from an "<unknown module>" that
   // no suppression can name (it failed a CI run). The player's own
   // code stays leak-checked by the headless tests.
-  const int code = Run("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" "
+  const int code = RunShell("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" "
                        "SDL_AUDIODRIVER=dummy xvfb-run -a -s '-screen 0 1024x768x24' '" FACERIG_PLAYER_EXE
                        "' --rig " + rig + " --size 320x240 --quit-after 1.5 --screenshot " + screenshot +
                        " --say hello",

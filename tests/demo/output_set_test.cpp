@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "media_writer.h"
+#include "support/command_runner.h"
 
 extern char** environ;
 
@@ -84,12 +85,7 @@ std::vector<std::string> PlayerArguments(const fs::path& out, double duration) {
 int RunPlayer(const fs::path& out, const std::string& environment, std::string* output) {
   std::string command = environment;
   for (const std::string& argument : PlayerArguments(out, 1.0)) command += " '" + argument + "'";
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  char buffer[512];
-  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) *output += buffer;
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return facerig::test::RunShell(command, output);
 }
 
 // Starts a long player run, waits until its temporary frames folder holds a

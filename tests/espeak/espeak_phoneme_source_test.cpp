@@ -74,6 +74,19 @@ double Rms(const std::vector<std::int16_t>& audio, std::size_t begin, std::size_
   return std::sqrt(sum / double(end - begin));
 }
 
+// The line's first phoneme named `symbol`, or null.
+const Phoneme* FindPhoneme(const SpeechLine& line, std::string_view symbol) {
+  const auto found = std::find_if(line.phonemes.begin(), line.phonemes.end(),
+                                  [&](const Phoneme& ph) { return ph.symbol.view() == symbol; });
+  return found != line.phonemes.end() ? &*found : nullptr;
+}
+
+// The first key of `viseme`, or null.
+const VisemeKey* FindKey(const std::vector<VisemeKey>& keys, Viseme viseme) {
+  const auto found = std::find_if(keys.begin(), keys.end(), [&](const VisemeKey& k) { return k.viseme == viseme; });
+  return found != keys.end() ? &*found : nullptr;
+}
+
 std::size_t CountWords(const std::string& text) {
   std::istringstream in(text);
   std::size_t words = 0;
@@ -377,12 +390,10 @@ TEST_CASE("espeak: timing corrections are visible on a real line", "[espeak]") {
   SECTION("a pit: lip closure starts before the p release event") {
     const SpeechLine line = source.Synthesize("a pit", "en-us");
     const auto keys = PhonemesToVisemeKeys(line.phonemes, params);
-    const auto p = std::find_if(line.phonemes.begin(), line.phonemes.end(),
-                                [](const Phoneme& ph) { return ph.symbol.view() == "p"; });
-    REQUIRE(p != line.phonemes.end());
-    const auto pp = std::find_if(keys.begin(), keys.end(),
-                                 [](const VisemeKey& k) { return k.viseme == Viseme::kPP; });
-    REQUIRE(pp != keys.end());
+    const Phoneme* p = FindPhoneme(line, "p");
+    REQUIRE(p != nullptr);
+    const VisemeKey* pp = FindKey(keys, Viseme::kPP);
+    REQUIRE(pp != nullptr);
     CHECK(pp->start.count() == Approx(p->start.count() - params.stop_closure).margin(1e-9));
     CHECK(pp->start.count() < p->start.count() - 0.03);
     // The event marks the release: the 45 ms before it are (nearly) silent.
@@ -390,12 +401,10 @@ TEST_CASE("espeak: timing corrections are visible on a real line", "[espeak]") {
     CHECK(Rms(line.audio, at(p->start.count() - 0.035), at(p->start.count() - 0.005)) <
           0.1 * Rms(line.audio, 0, line.audio.size()));
     // The t closure, too.
-    const auto t = std::find_if(line.phonemes.begin(), line.phonemes.end(),
-                                [](const Phoneme& ph) { return ph.symbol.view() == "t"; });
-    REQUIRE(t != line.phonemes.end());
-    const auto dd = std::find_if(keys.begin(), keys.end(),
-                                 [](const VisemeKey& k) { return k.viseme == Viseme::kDD; });
-    REQUIRE(dd != keys.end());
+    const Phoneme* t = FindPhoneme(line, "t");
+    REQUIRE(t != nullptr);
+    const VisemeKey* dd = FindKey(keys, Viseme::kDD);
+    REQUIRE(dd != nullptr);
     CHECK(dd->start.count() < t->start.count() - 0.03);
   }
   SECTION("a lot: the vowel after l starts earlier") {

@@ -86,18 +86,19 @@ struct IctData {
   Meshes identities;
 };
 
+IctData ReadIctData() {
+  IctData data;
+  data.expressions = facerig::RigExpressionMeshes(facerig::test::IctRig());
+  for (int k = 0; k < 20; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "identity%03d.obj", k);
+    data.identities.push_back(facerig::ReadObj(facerig::test::IctDir() / name).positions);
+  }
+  return data;
+}
+
 const IctData& Ict() {
-  static std::once_flag once;
-  static IctData data;
-  std::call_once(once, [] {
-    const facerig::Rig& rig = facerig::test::IctRig();
-    data.expressions = facerig::RigExpressionMeshes(rig);
-    for (int k = 0; k < 20; ++k) {
-      char name[32];
-      std::snprintf(name, sizeof(name), "identity%03d.obj", k);
-      data.identities.push_back(facerig::ReadObj(facerig::test::IctDir() / name).positions);
-    }
-  });
+  static const IctData data = ReadIctData();  // initialised once, thread-safe
   return data;
 }
 

@@ -27,23 +27,13 @@ LandmarkDetector& Detector() {
 }
 
 void MakeBlob(std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles) {
-  const int rings = 30, segments = 40;
-  for (int r = 0; r <= rings; ++r) {
-    const double theta = 3.14159265358979323846 * r / rings;
-    for (int s = 0; s < segments; ++s) {
-      const double phi = 2.0 * 3.14159265358979323846 * s / segments;
-      positions.push_back({static_cast<float>(std::sin(theta) * std::cos(phi)),
-                           static_cast<float>(1.2 * std::cos(theta)),
-                           static_cast<float>(0.8 * std::sin(theta) * std::sin(phi))});
-    }
-  }
-  auto index = [&](int r, int s) { return static_cast<std::uint32_t>(r * segments + (s % segments)); };
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      triangles.push_back({index(r, s), index(r + 1, s), index(r + 1, s + 1)});
-      triangles.push_back({index(r, s), index(r + 1, s + 1), index(r, s + 1)});
-    }
-  }
+  test::MakeUvSphere(
+      30, 40,
+      [](double theta, double phi) {
+        return glm::vec3(static_cast<float>(std::sin(theta) * std::cos(phi)), static_cast<float>(1.2 * std::cos(theta)),
+                         static_cast<float>(0.8 * std::sin(theta) * std::sin(phi)));
+      },
+      positions, triangles);
 }
 
 TEST_CASE("Landmark JSON round trip and malformed files", "[landmarks]") {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <vector>
 
@@ -36,6 +37,31 @@ void MakeSheet(int n, float bend, std::vector<glm::vec3>& positions, std::vector
       triangles.push_back({a, d, c});
     }
   }
+}
+
+// Landmarks at `vertices` of a MakeSheet source, each placed on the target
+// sheet's bend (`target_bend`) above the same (x, y).
+RegistrationLandmarks SheetLandmarks(const std::vector<glm::vec3>& source,
+                                     std::initializer_list<std::uint32_t> vertices, float target_bend) {
+  RegistrationLandmarks landmarks;
+  for (std::uint32_t v : vertices) {
+    landmarks.template_vertices.push_back(v);
+    glm::vec3 p = source[v];
+    p.z = target_bend * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
+    landmarks.target_points.push_back(p);
+  }
+  return landmarks;
+}
+
+// The largest height difference between `positions` and the sheet bent by
+// `bend`, away from the sheet's border (|x|, |y| < 0.9).
+double WorstHeightError(const std::vector<glm::vec3>& positions, double bend) {
+  double worst = 0.0;
+  for (const glm::vec3& p : positions) {
+    const double z = bend * (0.5 * p.x * p.x - 0.3 * p.y * p.y + 0.2 * p.x * p.y);
+    if (std::abs(p.x) < 0.9f && std::abs(p.y) < 0.9f) worst = std::max(worst, std::abs(z - p.z));
+  }
+  return worst;
 }
 
 struct FitReport {
@@ -75,24 +101,13 @@ TEST_CASE("Non-rigid ICP fits a bent sheet onto another bend", "[nonrigid_icp]")
   target_triangles.push_back({5, 5, 6});
   target_triangles.push_back({7, 8, 7});
   target.push_back({0.0f, 0.0f, 0.0f});
-  RegistrationLandmarks landmarks;
-  for (std::uint32_t v : {0u, 29u, 870u, 899u, 435u}) {
-    landmarks.template_vertices.push_back(v);
-    glm::vec3 p = source[v];
-    p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
-    landmarks.target_points.push_back(p);
-  }
+  const RegistrationLandmarks landmarks = SheetLandmarks(source, {0u, 29u, 870u, 899u, 435u}, 0.6f);
   const NonrigidIcpResult fit = NonrigidIcp(facerig::test::MeshOf(source, source_triangles), facerig::test::MeshOf(target, target_triangles), landmarks);
   REQUIRE(fit.positions.size() == source.size());
   CHECK(fit.residual.mean_percent < 0.1);
   CHECK(fit.residual.p95_percent < 0.3);
   // Heights follow the target's bend.
-  double worst = 0.0;
-  for (const glm::vec3& p : fit.positions) {
-    const double z = 0.6 * (0.5 * p.x * p.x - 0.3 * p.y * p.y + 0.2 * p.x * p.y);
-    if (std::abs(p.x) < 0.9f && std::abs(p.y) < 0.9f) worst = std::max(worst, std::abs(z - p.z));
-  }
-  CHECK(worst < 0.01);
+  CHECK(WorstHeightError(fit.positions, 0.6) < 0.01);
   CHECK(fit.iterations_per_stage.size() == 6);
   int correspondences = 0;
   for (const SurfaceCorrespondence& c : fit.correspondence) correspondences += c.triangle >= 0 ? 1 : 0;
@@ -104,13 +119,7 @@ TEST_CASE("Non-rigid ICP: CHOLMOD and Eigen's simplicial solver give the same fi
   std::vector<Triangle> source_triangles, target_triangles;
   MakeSheet(20, 0.2f, source, source_triangles);
   MakeSheet(27, 0.6f, target, target_triangles);
-  RegistrationLandmarks landmarks;
-  for (std::uint32_t v : {0u, 19u, 380u, 399u, 210u}) {
-    landmarks.template_vertices.push_back(v);
-    glm::vec3 p = source[v];
-    p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
-    landmarks.target_points.push_back(p);
-  }
+  const RegistrationLandmarks landmarks = SheetLandmarks(source, {0u, 19u, 380u, 399u, 210u}, 0.6f);
   NonrigidIcpParams params;
   params.use_cholmod = true;
   const NonrigidIcpResult preferred =
@@ -174,13 +183,7 @@ TEST_CASE("Non-rigid ICP on a non-manifold target with stray points", "[nonrigid
   MakeSheet(41, 0.6f, target, target_triangles);
   const std::size_t clean_vertices = target.size();
   CHECK(AddNonManifoldDefects(target, target_triangles, 40, 0.002f) > 40);
-  RegistrationLandmarks landmarks;
-  for (std::uint32_t v : {0u, 29u, 870u, 899u, 435u}) {
-    landmarks.template_vertices.push_back(v);
-    glm::vec3 p = source[v];
-    p.z = 0.6f * (0.5f * p.x * p.x - 0.3f * p.y * p.y + 0.2f * p.x * p.y);
-    landmarks.target_points.push_back(p);
-  }
+  const RegistrationLandmarks landmarks = SheetLandmarks(source, {0u, 29u, 870u, 899u, 435u}, 0.6f);
   const NonrigidIcpResult fit = NonrigidIcp(facerig::test::MeshOf(source, source_triangles), facerig::test::MeshOf(target, target_triangles), landmarks);
   REQUIRE(fit.positions.size() == source.size());
   // The far stray point does not count in the target's size...
@@ -192,12 +195,7 @@ TEST_CASE("Non-rigid ICP on a non-manifold target with stray points", "[nonrigid
   CHECK(fit.residual.target_diagonal == Approx(glm::length(hi - lo)).epsilon(1e-3));
   // ...and the fit is as good as on the clean sheet.
   CHECK(fit.residual.mean_percent < 0.1);
-  double worst = 0.0;
-  for (const glm::vec3& p : fit.positions) {
-    const double z = 0.6 * (0.5 * p.x * p.x - 0.3 * p.y * p.y + 0.2 * p.x * p.y);
-    if (std::abs(p.x) < 0.9f && std::abs(p.y) < 0.9f) worst = std::max(worst, std::abs(z - p.z));
-  }
-  CHECK(worst < 0.01);
+  CHECK(WorstHeightError(fit.positions, 0.6) < 0.01);
 }
 
 TEST_CASE("Non-rigid ICP rejects invalid input", "[nonrigid_icp]") {

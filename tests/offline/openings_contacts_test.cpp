@@ -48,16 +48,32 @@ std::vector<std::int32_t> AllFree(std::size_t vertex_count) {
   return free_index;
 }
 
+// One sheet's closed slit searched for contacts, with the finder and its
+// scratch kept across searches.
+struct ClosedSlitSearch {
+  explicit ClosedSlitSearch(const Sheet& sheet)
+      : expression(CloseSlit(sheet)),
+        finder(sheet.neutral, sheet.triangles, sheet.component),
+        all_free(AllFree(sheet.neutral.size())) {}
+
+  const std::vector<facerig::OpeningContact>& Find(const std::vector<std::int32_t>& free_index) {
+    finder.Find(expression, 0.98f, free_index, contacts, scratch);
+    return contacts;
+  }
+
+  std::vector<glm::vec3> expression;
+  facerig::ContactFinder finder;
+  std::vector<std::int32_t> all_free;
+  std::vector<facerig::OpeningContact> contacts;
+  facerig::ContactFinder::Scratch scratch;
+};
+
 }  // namespace
 
 TEST_CASE("Expression contacts: a slit closing is a contact", "[expression_contacts]") {
   const Sheet sheet = MakeSheet(true);
-  const std::vector<glm::vec3> expression = CloseSlit(sheet);
-  const facerig::ContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
-  const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
-  std::vector<facerig::OpeningContact> contacts;
-  facerig::ContactFinder::Scratch scratch;
-  finder.Find(expression, 0.98f, free, contacts, scratch);
+  ClosedSlitSearch search(sheet);
+  const std::vector<facerig::OpeningContact>& contacts = search.Find(search.all_free);
   // Each vertex of the upper edge meets the one below it, 0.02 above it.
   REQUIRE(contacts.size() == kSlitLast - kSlitFirst - 1);
   for (const facerig::OpeningContact& contact : contacts) {
@@ -68,22 +84,15 @@ TEST_CASE("Expression contacts: a slit closing is a contact", "[expression_conta
   }
   // Pinned vertices (free_index -1) are not taken as moving ends: no contact.
   const std::vector<std::int32_t> none(sheet.neutral.size(), -1);
-  finder.Find(expression, 0.98f, none, contacts, scratch);
-  CHECK(contacts.empty());
+  CHECK(search.Find(none).empty());
   // The same scratch gives the same answer again (its path marks are reset).
-  finder.Find(expression, 0.98f, free, contacts, scratch);
-  CHECK(contacts.size() == kSlitLast - kSlitFirst - 1);
+  CHECK(search.Find(search.all_free).size() == kSlitLast - kSlitFirst - 1);
 }
 
 TEST_CASE("Expression contacts: skin pressed together without an opening is none", "[expression_contacts]") {
   const Sheet sheet = MakeSheet(false);
-  const std::vector<glm::vec3> expression = CloseSlit(sheet);
-  const facerig::ContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
-  const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
-  std::vector<facerig::OpeningContact> contacts;
-  facerig::ContactFinder::Scratch scratch;
-  finder.Find(expression, 0.98f, free, contacts, scratch);
-  CHECK(contacts.empty());
+  ClosedSlitSearch search(sheet);
+  CHECK(search.Find(search.all_free).empty());
 }
 
 TEST_CASE("Expression contacts: a surface between the pair blocks the contact", "[expression_contacts]") {
@@ -101,11 +110,6 @@ TEST_CASE("Expression contacts: a surface between the pair blocks the contact", 
   sheet.triangles.push_back({first_flap, Vertex(kSlitFirst, kSlitRow), Vertex(kSlitFirst, kSlitRow + 1)});
   facerig::ConnectedComponents(sheet.neutral.size(), sheet.triangles, sheet.component);
   REQUIRE(sheet.component[first_flap] == sheet.component[0]);
-  std::vector<glm::vec3> expression = CloseSlit(sheet);
-  const facerig::ContactFinder finder(sheet.neutral, sheet.triangles, sheet.component);
-  const std::vector<std::int32_t> free = AllFree(sheet.neutral.size());
-  std::vector<facerig::OpeningContact> contacts;
-  facerig::ContactFinder::Scratch scratch;
-  finder.Find(expression, 0.98f, free, contacts, scratch);
-  CHECK(contacts.empty());
+  ClosedSlitSearch search(sheet);
+  CHECK(search.Find(search.all_free).empty());
 }

@@ -35,27 +35,14 @@ double RotationErrorDegrees(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) 
 // A closed, bumpy sphere-like surface (a UV sphere with a nose): not symmetric
 // enough for ICP to slide.
 void MakeBumpySphere(std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles) {
-  const int rings = 40, segments = 60;
-  positions.clear();
-  triangles.clear();
-  for (int r = 0; r <= rings; ++r) {
-    const double theta = 3.14159265358979323846 * r / rings;
-    for (int s = 0; s < segments; ++s) {
-      const double phi = 2.0 * 3.14159265358979323846 * s / segments;
-      glm::vec3 d(static_cast<float>(std::sin(theta) * std::cos(phi)), static_cast<float>(std::cos(theta)),
-                  static_cast<float>(std::sin(theta) * std::sin(phi)));
-      const float bump = 1.0f + 0.25f * std::exp(-12.0f * glm::dot(d - glm::vec3(0, 0, 1), d - glm::vec3(0, 0, 1))) +
-                         0.08f * d.x * d.y + 0.1f * d.y * d.y * d.y;
-      positions.push_back(glm::vec3(1.0f, 1.3f, 0.9f) * d * bump);
-    }
-  }
-  auto index = [&](int r, int s) { return static_cast<std::uint32_t>(r * segments + (s % segments)); };
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      triangles.push_back({index(r, s), index(r + 1, s), index(r + 1, s + 1)});
-      triangles.push_back({index(r, s), index(r + 1, s + 1), index(r, s + 1)});
-    }
-  }
+  const auto bumpy = [](double theta, double phi) {
+    glm::vec3 d(static_cast<float>(std::sin(theta) * std::cos(phi)), static_cast<float>(std::cos(theta)),
+                static_cast<float>(std::sin(theta) * std::sin(phi)));
+    const float bump = 1.0f + 0.25f * std::exp(-12.0f * glm::dot(d - glm::vec3(0, 0, 1), d - glm::vec3(0, 0, 1))) +
+                       0.08f * d.x * d.y + 0.1f * d.y * d.y * d.y;
+    return glm::vec3(1.0f, 1.3f, 0.9f) * d * bump;
+  };
+  test::MakeUvSphere(40, 60, bumpy, positions, triangles);
 }
 
 TEST_CASE("Umeyama recovers an exact similarity, including a scale of 100", "[rigid_align]") {

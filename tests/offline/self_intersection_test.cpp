@@ -28,6 +28,14 @@ struct Soup : facerig::Mesh {
     positions.insert(positions.end(), {a, b, c});
     triangles.push_back({base, base + 1, base + 2});
   }
+  // Quad A in z = 0, diagonal y = x; quad B in y = 0.3, diagonal z = 2x. They cut
+  // along y = 0.3, z = 0, x in [-0.5, 0.5]: A's diagonal splits that at x = 0.3,
+  // B's at x = 0, so B's x < 0 half meets only A's upper triangle. Vertices
+  // 0-3 are A's, 4-7 B's.
+  void AddCrossingQuads() {
+    AddQuad({-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
+    AddQuad({-0.5f, 0.3f, -1}, {0.5f, 0.3f, -1}, {0.5f, 0.3f, 1}, {-0.5f, 0.3f, 1});
+  }
 };
 
 std::size_t Count(const Soup& soup) {
@@ -48,11 +56,7 @@ int IntegerOrientSign(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c
 
 TEST_CASE("Two quads crossing each other: the three triangle pairs that cross", "[self_intersection]") {
   Soup soup;
-  // Quad A in z = 0, diagonal y = x; quad B in y = 0.3, diagonal z = 2x. They cut
-  // along y = 0.3, z = 0, x in [-0.5, 0.5]: A's diagonal splits that at x = 0.3,
-  // B's at x = 0, so B's x < 0 half meets only A's upper triangle.
-  soup.AddQuad({-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
-  soup.AddQuad({-0.5f, 0.3f, -1}, {0.5f, 0.3f, -1}, {0.5f, 0.3f, 1}, {-0.5f, 0.3f, 1});
+  soup.AddCrossingQuads();
   facerig::SelfIntersectionParams params;
   params.max_pairs = 10;
   const facerig::SelfIntersectionResult result =
@@ -166,8 +170,7 @@ TEST_CASE("Degenerate triangles have no plane and never count", "[self_intersect
 
 TEST_CASE("Region: only triangles with every vertex in the range", "[self_intersection]") {
   Soup soup;
-  soup.AddQuad({-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
-  soup.AddQuad({-0.5f, 0.3f, -1}, {0.5f, 0.3f, -1}, {0.5f, 0.3f, 1}, {-0.5f, 0.3f, 1});
+  soup.AddCrossingQuads();
   facerig::SelfIntersectionParams params;
   params.region_first = 0;
   params.region_last = 4;

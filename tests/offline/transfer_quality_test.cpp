@@ -44,26 +44,27 @@ struct Transfers {
   Meshes identity;
 };
 
+Transfers MakeTransfers() {
+  Transfers data;
+  const facerig::Rig& rig = facerig::test::IctRig();
+  data.template_expressions = facerig::RigExpressionMeshes(rig);
+  data.face = facerig::test::RandomIctFace(kSeed);
+  for (const auto& expression : data.template_expressions) {
+    data.truth.push_back(data.face);
+    for (std::size_t v = 0; v < data.face.size(); ++v) data.truth.back()[v] += expression[v] - rig.positions()[v];
+  }
+  facerig::DeformationTransferParams params;
+  facerig::DeformationTransferResult result;
+  facerig::TransferRig(rig, data.face, params, &result);
+  data.classic = std::move(result.expressions);
+  params.mode = facerig::TransferMode::kIdentityGradient;
+  facerig::TransferRig(rig, data.face, params, &result);
+  data.identity = std::move(result.expressions);
+  return data;
+}
+
 const Transfers& IctTransfers() {
-  static std::once_flag once;
-  static Transfers data;
-  std::call_once(once, [] {
-    const facerig::Rig& rig = facerig::test::IctRig();
-    data.template_expressions = facerig::RigExpressionMeshes(rig);
-    data.face = facerig::test::RandomIctFace(kSeed);
-    for (const auto& expression : data.template_expressions) {
-      data.truth.push_back(data.face);
-      for (std::size_t v = 0; v < data.face.size(); ++v)
-        data.truth.back()[v] += expression[v] - rig.positions()[v];
-    }
-    facerig::DeformationTransferParams params;
-    facerig::DeformationTransferResult result;
-    facerig::TransferRig(rig, data.face, params, &result);
-    data.classic = std::move(result.expressions);
-    params.mode = facerig::TransferMode::kIdentityGradient;
-    facerig::TransferRig(rig, data.face, params, &result);
-    data.identity = std::move(result.expressions);
-  });
+  static const Transfers data = MakeTransfers();  // initialised once, thread-safe
   return data;
 }
 

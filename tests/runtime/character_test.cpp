@@ -14,6 +14,7 @@ using facerig::CharacterRig;
 using facerig::Phoneme;
 using facerig::Seconds;
 using facerig::Viseme;
+using facerig::test::MakePhoneme;
 
 namespace {
 
@@ -28,15 +29,6 @@ facerig::Rig MakeArkitGridRig() {
       "eyeLookOut_L",   "eyeLookUp_L",    "eyeLookDown_L",   "eyeLookIn_R",      "eyeLookOut_R",
       "eyeLookUp_R",    "eyeLookDown_R"};
   return facerig::test::MakeNamedGridRig(names, 12);
-}
-
-Phoneme MakePhoneme(double start, double duration, const char* symbol) {
-  Phoneme phoneme;
-  phoneme.start = Seconds(start);
-  phoneme.duration = Seconds(duration);
-  phoneme.symbol.assign(symbol);
-  phoneme.language.assign("en-us");
-  return phoneme;
 }
 
 // "a pa ba ma": open vowels around short bilabials (espeak-ng en-us names).

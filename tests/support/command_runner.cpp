@@ -1,11 +1,15 @@
 #include "support/command_runner.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
+
+#include <catch2/catch.hpp>
 
 #include "support/test_meshes.h"
 
@@ -18,22 +22,38 @@ CommandOutcome RunCommand(const std::function<int(int, char**)>& command, const 
   for (std::string& s : storage) argv.push_back(s.data());
   argv.push_back(nullptr);
 
-  // stderr into a file for the duration of the call.
-  const std::filesystem::path capture = OutputPath("command_stderr_" + std::to_string(getpid()) + ".txt");
-  std::fflush(stderr);
-  const int saved = dup(fileno(stderr));
-  std::FILE* file = std::fopen(capture.c_str(), "w");
-  dup2(fileno(file), fileno(stderr));
   CommandOutcome outcome;
-  outcome.exit_code = command(static_cast<int>(storage.size()), argv.data());
-  std::fflush(stderr);
-  dup2(saved, fileno(stderr));
+  outcome.error_output = CaptureOutput(stderr, "command_stderr", [&] {
+    outcome.exit_code = command(static_cast<int>(storage.size()), argv.data());
+  });
+  return outcome;
+}
+
+std::string CaptureOutput(std::FILE* stream, const std::string& name, const std::function<void()>& body) {
+  const std::filesystem::path capture = OutputPath(name + "_" + std::to_string(getpid()) + ".txt");
+  std::cout.flush();
+  std::fflush(stream);
+  const int saved = dup(fileno(stream));
+  std::FILE* file = std::fopen(capture.c_str(), "w");
+  dup2(fileno(file), fileno(stream));
+  body();
+  std::cout.flush();
+  std::fflush(stream);
+  dup2(saved, fileno(stream));
   close(saved);
   std::fclose(file);
   std::ostringstream text;
   text << std::ifstream(capture).rdbuf();
-  outcome.error_output = text.str();
-  return outcome;
+  return text.str();
+}
+
+int RunShell(const std::string& command, std::string* output) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  char buffer[512];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) *output += buffer;
+  const int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace facerig::test

@@ -1,7 +1,9 @@
 // Runs a `facerig` subcommand in-process (tools/cli_*.h) with its stderr
-// captured, so tests can check exit codes and messages.
+// captured, so tests can check exit codes and messages; runs a program
+// through the shell with its output captured.
 #pragma once
 
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -15,5 +17,13 @@ struct CommandOutcome {
 
 // Calls command(argc, argv) with argv = {"facerig", arguments...}.
 CommandOutcome RunCommand(const std::function<int(int, char**)>& command, const std::vector<std::string>& arguments);
+
+// Calls body() with `stream` (stdout or stderr) sent to a file named after
+// `name`; returns what body printed there.
+std::string CaptureOutput(std::FILE* stream, const std::string& name, const std::function<void()>& body);
+
+// Runs `command` through the shell, appends its stdout and stderr to *output;
+// returns its exit code (-1 when it did not exit normally).
+int RunShell(const std::string& command, std::string* output);
 
 }  // namespace facerig::test

@@ -18,6 +18,26 @@ Mesh MeshOf(std::span<const glm::vec3> positions, std::span<const Triangle> tria
   return Mesh{.positions = {positions.begin(), positions.end()}, .triangles = {triangles.begin(), triangles.end()}};
 }
 
+void MakeUvSphere(int rings, int segments, const std::function<glm::vec3(double theta, double phi)>& point,
+                  std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles) {
+  positions.clear();
+  triangles.clear();
+  for (int r = 0; r <= rings; ++r) {
+    const double theta = 3.14159265358979323846 * r / rings;
+    for (int s = 0; s < segments; ++s) {
+      const double phi = 2.0 * 3.14159265358979323846 * s / segments;
+      positions.push_back(point(theta, phi));
+    }
+  }
+  auto index = [&](int r, int s) { return static_cast<std::uint32_t>(r * segments + (s % segments)); };
+  for (int r = 0; r < rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      triangles.push_back({index(r, s), index(r + 1, s), index(r + 1, s + 1)});
+      triangles.push_back({index(r, s), index(r + 1, s + 1), index(r, s + 1)});
+    }
+  }
+}
+
 RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas) {
   RawRig raw;
   for (int y = 0; y < n; ++y) {

@@ -2,12 +2,15 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
+#include "facerig/runtime/speech/phoneme.h"
 #include "facerig/runtime/speech/viseme.h"
 
 namespace facerig::test {
@@ -19,11 +22,29 @@ namespace facerig::test {
 // A mesh of positions and triangles only (the tests' small hand-made meshes).
 Mesh MeshOf(std::span<const glm::vec3> positions, std::span<const Triangle> triangles);
 
+// A closed UV sphere: rings + 1 rows (pole rows included) of `segments`
+// vertices, vertex (r, s) at point(theta, phi) with theta = pi r / rings and
+// phi = 2 pi s / segments (a unit sphere: sin(theta) cos(phi), cos(theta),
+// sin(theta) sin(phi)). Replaces positions and triangles.
+void MakeUvSphere(int rings, int segments, const std::function<glm::vec3(double theta, double phi)>& point,
+                  std::vector<glm::vec3>& positions, std::vector<Triangle>& triangles);
+
 RawRig MakeGridRawRig(int n, int shape_count, bool with_normal_deltas = false);
 Rig MakeGridRig(int n, int shape_count, bool with_normal_deltas = false);
 // A viseme key from times in seconds.
 inline VisemeKey Key(double start, double end, Viseme viseme, float strength = 1.0f) {
   return {Seconds(start), Seconds(end), viseme, strength};
+}
+// A phoneme from times in seconds (espeak-ng's phoneme names).
+inline Phoneme MakePhoneme(double start, double duration, std::string_view symbol,
+                           std::string_view language = "en-us", bool word_start = false) {
+  Phoneme phoneme;
+  phoneme.start = Seconds(start);
+  phoneme.duration = Seconds(duration);
+  phoneme.symbol.assign(symbol);
+  phoneme.language.assign(language);
+  phoneme.word_start = word_start;
+  return phoneme;
 }
 
 // A grid rig (n x n) with one shape per name, named so, for the name-matching tests.

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "facerig/runtime/enum_names.h"
 #include "facerig/runtime/shape_names.h"
 
 namespace facerig {
@@ -105,17 +106,9 @@ struct EmotionRigBuilder {
   }
 };
 
-std::string_view ToString(Emotion emotion) {
-  const auto index = static_cast<std::size_t>(emotion);
-  return index < kNames.size() ? kNames[index] : std::string_view("?");
-}
+std::string_view ToString(Emotion emotion) { return EnumName(kNames, emotion); }
 
-std::optional<Emotion> ParseEmotion(std::string_view name) {
-  for (std::size_t i = 0; i < kNames.size(); ++i) {
-    if (kNames[i] == name) return static_cast<Emotion>(i);
-  }
-  return std::nullopt;
-}
+std::optional<Emotion> ParseEmotion(std::string_view name) { return EnumNamed<Emotion>(kNames, name); }
 
 bool OpensLips(std::string_view arkit_name) {
   const std::string key = OpenerKey(arkit_name);

@@ -29,21 +29,11 @@ struct Outcome {
 
 // RunFacerig with stdout captured too (CLI11 prints help and the version there).
 Outcome RunWithStdout(const std::vector<std::string>& arguments) {
-  const std::filesystem::path capture = test::OutputPath("cli_options_stdout_" + std::to_string(getpid()) + ".txt");
-  std::cout.flush();
-  std::fflush(stdout);
-  const int saved = dup(fileno(stdout));
-  std::FILE* file = std::fopen(capture.c_str(), "w");
-  dup2(fileno(file), fileno(stdout));
-  const test::CommandOutcome outcome = test::RunCommand(cli::RunFacerig, arguments);
-  std::cout.flush();
-  std::fflush(stdout);
-  dup2(saved, fileno(stdout));
-  close(saved);
-  std::fclose(file);
-  std::ostringstream text;
-  text << std::ifstream(capture).rdbuf();
-  return {outcome.exit_code, text.str(), outcome.error_output};
+  test::CommandOutcome outcome;
+  const std::string output = test::CaptureOutput(stdout, "cli_options_stdout", [&] {
+    outcome = test::RunCommand(cli::RunFacerig, arguments);
+  });
+  return {outcome.exit_code, output, outcome.error_output};
 }
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }

@@ -50,23 +50,14 @@ bool NothingWritten(const fs::path& path) {
 void WriteSphere(const fs::path& path) {
   std::vector<glm::vec3> positions;
   std::vector<Triangle> triangles;
-  const int rings = 24, segments = 32;
-  for (int r = 0; r <= rings; ++r) {
-    const double theta = 3.14159265358979323846 * r / rings;
-    for (int s = 0; s < segments; ++s) {
-      const double phi = 2.0 * 3.14159265358979323846 * s / segments;
-      positions.push_back({static_cast<float>(10.0 * std::sin(theta) * std::cos(phi)),
-                           static_cast<float>(10.0 * std::cos(theta)),
-                           static_cast<float>(10.0 * std::sin(theta) * std::sin(phi))});
-    }
-  }
-  auto index = [&](int r, int s) { return static_cast<std::uint32_t>(r * segments + (s % segments)); };
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      triangles.push_back({index(r, s), index(r + 1, s), index(r + 1, s + 1)});
-      triangles.push_back({index(r, s), index(r + 1, s + 1), index(r, s + 1)});
-    }
-  }
+  test::MakeUvSphere(
+      24, 32,
+      [](double theta, double phi) {
+        return glm::vec3(static_cast<float>(10.0 * std::sin(theta) * std::cos(phi)),
+                         static_cast<float>(10.0 * std::cos(theta)),
+                         static_cast<float>(10.0 * std::sin(theta) * std::sin(phi)));
+      },
+      positions, triangles);
   WriteObj(path, positions, {}, {}, triangles, {});
 }
 
@@ -100,6 +91,26 @@ double FaceErrorCm(const std::vector<glm::vec3>& fitted, const test::Registratio
   return sum / face / target.units_per_cm;
 }
 
+// The fitted OBJ has the template's vertices, its face region within
+// `max_error_cm` of the target's true positions.
+void CheckFittedFace(const fs::path& fitted, const test::RegistrationTarget& target, double max_error_cm) {
+  const Mesh obj = ReadObj(fitted);
+  REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
+  const double error_cm = FaceErrorCm(obj.positions, target);
+  INFO("face region error " << error_cm << " cm");
+  CHECK(error_cm < max_error_cm);
+}
+
+// The command failed (exit code 1), saying each of `messages`, and wrote
+// none of `outputs`.
+void CheckFailed(const test::CommandOutcome& outcome, std::initializer_list<const char*> messages,
+                 std::initializer_list<fs::path> outputs) {
+  INFO(outcome.error_output);
+  CHECK(outcome.exit_code == 1);
+  for (const char* message : messages) CHECK(Contains(outcome.error_output, message));
+  for (const fs::path& output : outputs) CHECK(NothingWritten(output));
+}
+
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream in(path);
   return nlohmann::json::parse(in);
@@ -131,49 +142,32 @@ TEST_CASE("facerig landmarks / register: bad input fails with a clear message an
 
   SECTION("missing file") {
     const test::CommandOutcome result = Landmarks({(folder / "missing.obj").string(), "-o", out.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "missing.obj"));
-    CHECK(NothingWritten(out));
+    CheckFailed(result, {"missing.obj"}, {out});
     const test::CommandOutcome fit = Register({"--template", DefaultHead().string(), "--target",
                                                (folder / "missing.obj").string(), "-o", fitted.string()});
-    CHECK(fit.exit_code == 1);
-    CHECK(Contains(fit.error_output, "missing.obj"));
-    CHECK(NothingWritten(fitted));
+    CheckFailed(fit, {"missing.obj"}, {fitted});
   }
   SECTION("NaN coordinates") {
     const fs::path mesh = folder / "nan.obj";
     std::ofstream(mesh) << "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n";
     const test::CommandOutcome result = Landmarks({mesh.string(), "-o", out.string(), "--debug-png", png.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "nan.obj"));
-    CHECK(Contains(result.error_output, "non-finite"));
-    CHECK(NothingWritten(out));
-    CHECK(NothingWritten(png));
+    CheckFailed(result, {"nan.obj", "non-finite"}, {out, png});
   }
   SECTION("empty mesh") {
     const fs::path mesh = folder / "empty.obj";
     std::ofstream(mesh) << "# vertices but no faces\nv 0 0 0\nv 1 0 0\n";
     const test::CommandOutcome result = Landmarks({mesh.string(), "-o", out.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "empty.obj"));
-    CHECK(Contains(result.error_output, "no faces"));
-    CHECK(NothingWritten(out));
+    CheckFailed(result, {"empty.obj", "no faces"}, {out});
   }
   SECTION("a mesh with no face suggests a landmark file") {
     const fs::path sphere = folder / "sphere.obj";
     WriteSphere(sphere);
     const test::CommandOutcome result = Landmarks({sphere.string(), "-o", out.string(), "--debug-png", png.string()});
-    CHECK(result.exit_code == 1);
-    CHECK(Contains(result.error_output, "no face"));
-    CHECK(Contains(result.error_output, "--landmarks"));
-    CHECK(NothingWritten(out));
-    CHECK(NothingWritten(png));
+    CheckFailed(result, {"no face", "--landmarks"}, {out, png});
     // register detects landmarks on the target first: the same advice, no OBJ.
     const test::CommandOutcome fit =
         Register({"--template", DefaultHead().string(), "--target", sphere.string(), "-o", fitted.string()});
-    CHECK(fit.exit_code == 1);
-    CHECK(Contains(fit.error_output, "--landmarks"));
-    CHECK(NothingWritten(fitted));
+    CheckFailed(fit, {"--landmarks"}, {fitted});
   }
   SECTION("a malformed landmark file") {
     const fs::path sphere = folder / "sphere.obj";
@@ -182,9 +176,7 @@ TEST_CASE("facerig landmarks / register: bad input fails with a clear message an
     std::ofstream(landmarks) << R"({"points": [[0, 1, 2], [1, 2]]})";
     const test::CommandOutcome fit = Register({"--template", DefaultHead().string(), "--target", sphere.string(),
                                                "--landmarks", landmarks.string(), "-o", fitted.string()});
-    CHECK(fit.exit_code == 1);
-    CHECK(Contains(fit.error_output, "bad_landmarks.json"));
-    CHECK(NothingWritten(fitted));
+    CheckFailed(fit, {"bad_landmarks.json"}, {fitted});
   }
 }
 
@@ -240,11 +232,7 @@ TEST_CASE("facerig register with a landmark file and --template-info: the templa
   REQUIRE(result.exit_code == 0);
   CHECK(Contains(result.error_output, "non-rigid ICP"));  // the progress bar
 
-  const Mesh obj = ReadObj(fitted);
-  REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
-  const double error_cm = FaceErrorCm(obj.positions, target);
-  INFO("face region error " << error_cm << " cm");
-  CHECK(error_cm < 0.25);
+  CheckFittedFace(fitted, target, 0.25);
 
   const nlohmann::json json = ReadJson(report);
   CHECK(json["landmarks"] == landmarks.string());
@@ -269,11 +257,7 @@ TEST_CASE("facerig register without landmarks detects them on the target (shared
   REQUIRE(result.exit_code == 0);
   CHECK(Contains(result.error_output, "detecting landmarks on the target"));
 
-  const Mesh obj = ReadObj(fitted);
-  REQUIRE(obj.positions.size() == test::IctRig().vertex_count());
-  const double error_cm = FaceErrorCm(obj.positions, target);
-  INFO("face region error " << error_cm << " cm");
-  CHECK(error_cm < 0.3);
+  CheckFittedFace(fitted, target, 0.3);
   const nlohmann::json json = ReadJson(report);
   CHECK(json["landmarks"] == "detected");
   CHECK(json["seconds"]["landmarks"].get<double>() > 0.0);

@@ -479,18 +479,16 @@ TEST_CASE("BlinkJob rejects invalid inputs and leaves everything untouched", "[b
   expect(bad, BlinkError::kNonFiniteTime);
   bad.time = 9.0;
   expect(bad, BlinkError::kTimeWentBackwards);
-  bad = job;
-  bad.out_left = nullptr;
-  expect(bad, BlinkError::kNoOutput);
-  bad = job;
-  bad.out_right = nullptr;
-  expect(bad, BlinkError::kNoOutput);
-  bad = job;
-  bad.params = nullptr;
-  expect(bad, BlinkError::kNoParams);
-  bad = job;
-  bad.state = nullptr;
-  CHECK(bad.Run() == BlinkError::kNoState);
+  // The valid job with one pointer cleared.
+  const auto without = [&](auto BlinkJob::*pointer) {
+    BlinkJob edited = job;
+    edited.*pointer = nullptr;
+    return edited;
+  };
+  expect(without(&BlinkJob::out_left), BlinkError::kNoOutput);
+  expect(without(&BlinkJob::out_right), BlinkError::kNoOutput);
+  expect(without(&BlinkJob::params), BlinkError::kNoParams);
+  CHECK(without(&BlinkJob::state).Run() == BlinkError::kNoState);
 
   BlinkParams broken;
   bad = job;

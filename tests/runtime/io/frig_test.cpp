@@ -348,21 +348,25 @@ TEST_CASE("Malformed .frig files are refused with the right error", "[frig]") {
     CHECK(error.kind() == IoErrorKind::kIndexOutOfRange);
     CHECK(error.offset() == static_cast<std::int64_t>(triangles.offset + 4));
   }
-  SECTION("out-of-range shape vertex index, with a valid checksum") {
-    Put32(bytes, Section(bytes, "SIDX").offset, 1000);
-    FixCrc(bytes);
-    CHECK(ParseError(bytes).kind() == IoErrorKind::kIndexOutOfRange);
-  }
-  SECTION("shape entry range outside SIDX, with a valid checksum") {
-    const SectionInfo shapes = Section(bytes, "SHAP");
-    Put32(bytes, shapes.offset + 16 * 2 + 12, 1000);  // entry_count of the last shape
-    FixCrc(bytes);
-    CHECK(ParseError(bytes).kind() == IoErrorKind::kIndexOutOfRange);
-  }
-  SECTION("name outside STRS, with a valid checksum") {
-    Put32(bytes, Section(bytes, "PART").offset, 4000);
-    FixCrc(bytes);
-    CHECK(ParseError(bytes).kind() == IoErrorKind::kIndexOutOfRange);
+  SECTION("out-of-range shape vertex index, shape entry range or name, with a valid checksum") {
+    struct Edit {
+      const char* what;
+      std::uint64_t at;
+      std::uint32_t value;
+    };
+    const Edit edits[] = {
+        {"shape vertex index", Section(bytes, "SIDX").offset, 1000},
+        {"shape entry range outside SIDX: entry_count of the last shape", Section(bytes, "SHAP").offset + 16 * 2 + 12,
+         1000},
+        {"name outside STRS", Section(bytes, "PART").offset, 4000},
+    };
+    for (const Edit& edit : edits) {
+      INFO(edit.what);
+      Bytes edited = bytes;
+      Put32(edited, edit.at, edit.value);
+      FixCrc(edited);
+      CHECK(ParseError(edited).kind() == IoErrorKind::kIndexOutOfRange);
+    }
   }
   SECTION("NaN position, with a valid checksum") {
     const SectionInfo positions = Section(bytes, "POSI");

@@ -21,13 +21,7 @@ SpeechLine SampleLine() {
   line.language.assign("en-us");
   auto add = [&](double start, double duration, std::string_view symbol, bool word,
                  std::string_view language = "en-us") {
-    Phoneme p;
-    p.start = facerig::Seconds(start);
-    p.duration = facerig::Seconds(duration);
-    p.symbol.assign(symbol);
-    p.language.assign(language);
-    p.word_start = word;
-    line.phonemes.push_back(p);
+    line.phonemes.push_back(facerig::test::MakePhoneme(start, duration, symbol, language, word));
   };
   add(0.0, 0.061, "a#", true);
   add(0.110430839, 0.0326530612, "p", true);

@@ -9,19 +9,14 @@
 #include <catch2/catch.hpp>
 
 #include "support/allocation_counter.h"
+#include "support/test_meshes.h"
 
 namespace facerig {
 namespace {
 
 Phoneme Ph(double start, double duration, std::string_view symbol,
            std::string_view language = "en-us", bool word_start = false) {
-  Phoneme p;
-  p.start = facerig::Seconds(start);
-  p.duration = facerig::Seconds(duration);
-  p.symbol.assign(symbol);
-  p.language.assign(language);
-  p.word_start = word_start;
-  return p;
+  return test::MakePhoneme(start, duration, symbol, language, word_start);
 }
 
 // A track with back-to-back durations, like espeak-ng gives.

@@ -41,6 +41,11 @@ struct RasterView {
   // moves towards +x), orthographic, framing +-half_extent vertically.
   static RasterView Orbit(glm::vec3 centre, float half_extent, int width, int height,
                           float yaw = 0.0f, float pitch = 0.0f);
+  // A camera with the given orthonormal axes in world coordinates (`forward`
+  // points towards the camera), looking at `centre`, orthographic, framing
+  // +-half_extent vertically.
+  static RasterView FromAxes(glm::vec3 right, glm::vec3 up, glm::vec3 forward, glm::vec3 centre, float half_extent,
+                             int width, int height);
 };
 
 // Pixel (x right, y down, continuous) and camera depth of a world point.

@@ -132,6 +132,9 @@ class AudioClock {
   bool TryReadReport(AudioDeviceReport* report) const;
   double PeriodSeconds(const AudioDeviceReport& report) const;
   double DeviceNow(double wall_seconds);
+  // What Start and StartSilent share: the clock carries on from its value at
+  // `wall_seconds` (the last wall time when not finite), which it returns.
+  double Restart(double wall_seconds, Mode mode, AudioClockStatus status);
 
   static_assert(std::atomic<std::int64_t>::is_always_lock_free);
   static_assert(std::atomic<double>::is_always_lock_free);
