@@ -250,16 +250,18 @@ class SeamSplitter {
   // Copies are appended in order after every rig vertex, so the shape's
   // indices stay strictly increasing.
   void AddCopies(RawBlendShape* shape) const {
-    const std::size_t original_entries = shape->vertex_indices.size();
-    const auto begin = shape->vertex_indices.begin();
-    const auto end = begin + static_cast<std::ptrdiff_t>(original_entries);
+    const std::vector<std::uint32_t> originals = shape->vertex_indices;  // appending invalidates iterators
     for (std::size_t k = 0; k < copies_.size(); ++k) {
-      const auto it = std::lower_bound(begin, end, copies_[k]);
-      if (it == end || *it != copies_[k]) continue;
-      const auto entry = static_cast<std::size_t>(it - begin);
+      const auto it = std::lower_bound(originals.begin(), originals.end(), copies_[k]);
+      if (it == originals.end() || *it != copies_[k]) continue;
+      const auto entry = static_cast<std::size_t>(it - originals.begin());
       shape->vertex_indices.push_back(static_cast<std::uint32_t>(rig_.vertex_count() + k));
-      shape->position_deltas.push_back(shape->position_deltas[entry]);
-      if (!shape->normal_deltas.empty()) shape->normal_deltas.push_back(shape->normal_deltas[entry]);
+      const glm::vec3 position_delta = shape->position_deltas[entry];  // a copy: push_back may reallocate
+      shape->position_deltas.push_back(position_delta);
+      if (!shape->normal_deltas.empty()) {
+        const glm::vec3 normal_delta = shape->normal_deltas[entry];
+        shape->normal_deltas.push_back(normal_delta);
+      }
     }
   }
 
