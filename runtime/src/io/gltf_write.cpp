@@ -302,6 +302,18 @@ std::optional<std::string> SurfaceMismatch(const Rig& rig, const Mesh& surface) 
   return std::nullopt;
 }
 
+// Whether some corner's UV is not its vertex's UV in the rig.
+bool HasSeams(const Rig& rig, const Mesh& surface) {
+  if (surface.corner_uvs.empty()) return false;
+  if (rig.uvs().empty()) return true;
+  for (std::size_t t = 0; t < surface.triangle_count(); ++t) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (surface.corner_uvs[t * 3 + c] != rig.uvs()[surface.triangles[t][c]]) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
@@ -320,6 +332,7 @@ void WriteGltf(const std::filesystem::path& path, const Rig& rig, const Mesh& su
   if (const std::optional<std::string> problem = SurfaceMismatch(rig, surface)) {
     throw IoError(IoErrorKind::kWriteFailed, path.string(), *problem);
   }
+  if (surface.triangle_materials.empty() && !HasSeams(rig, surface)) return WriteGltf(path, rig);
   SurfaceMaterials materials;
   if (!surface.triangle_materials.empty()) materials.materials = surface.materials;
   std::string problem;

@@ -55,8 +55,10 @@ void WriteGltf(const std::filesystem::path& path, const Rig& rig);
 // UVs (a seam), copies of it are appended after the rig's vertices, each with
 // the vertex's normal and morph target deltas, so vertex v < vertex_count()
 // is still the rig's vertex v. One primitive per run of triangles of one part
-// and one material. Without corner UVs and materials this is WriteGltf(path,
-// rig). Throws IoError(kWriteFailed) when `surface` does not fit the rig.
+// and one material. Without materials, and without corner UVs other than the
+// rig's own, this is WriteGltf(path, rig). Material images are written as
+// uris as they are (relative to the written file's folder).
+// Throws IoError(kWriteFailed) when `surface` does not fit the rig.
 void WriteGltf(const std::filesystem::path& path, const Rig& rig, const Mesh& surface);
 
 }  // namespace facerig
