@@ -87,6 +87,7 @@ class GltfReader {
   Mesh NeutralMeshOf(int mesh_index, const RawRig& raw, const std::vector<std::size_t>& part_primitives) const;
   std::string ImageUri(int texture_index) const;
   Material ReadMaterial(const tinygltf::Material& material) const;
+  int MaterialOf(const tinygltf::Primitive& primitive) const;
   int ChosenMesh() const;
   void ReadShapes(const tinygltf::Mesh& mesh, const std::vector<VertexBlock>& blocks, RawRig* raw) const;
   void ReadFrame(const tinygltf::Mesh& mesh, RawRig* raw) const;
@@ -500,6 +501,12 @@ Material GltfReader::ReadMaterial(const tinygltf::Material& material) const {
   return read;
 }
 
+// The primitive's material; -1 for none, and for one that does not exist (the
+// rig reader never required it to).
+int GltfReader::MaterialOf(const tinygltf::Primitive& primitive) const {
+  return primitive.material < static_cast<int>(model_.materials.size()) ? primitive.material : -1;
+}
+
 // The neutral read into `raw` as a Mesh, with part names from the mesh's (or
 // its node's) name where extras.facerig.parts has none, and the materials.
 Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
@@ -518,12 +525,7 @@ Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
                                  : part_primitives.size() == 1 ? base
                                                                : base + ".primitive" + std::to_string(p);
     mesh.part_names[i] = StringOr(part_names, p, fallback);
-    const int material = gltf_mesh.primitives[p].material;
-    if (material >= static_cast<int>(model_.materials.size())) {
-      Fail(IoErrorKind::kIndexOutOfRange, "primitive " + std::to_string(p) + ": material " +
-                                              std::to_string(material) + " does not exist");
-    }
-    (material >= 0 ? any_material : any_without) = true;
+    (MaterialOf(gltf_mesh.primitives[p]) >= 0 ? any_material : any_without) = true;
   }
   for (const tinygltf::Material& material : model_.materials) mesh.materials.push_back(ReadMaterial(material));
   if (!any_material) return mesh;
@@ -532,7 +534,7 @@ Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
   if (any_without) mesh.materials.push_back(Material{.name = "default"});
   mesh.triangle_materials.resize(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const int material = gltf_mesh.primitives[part_primitives[mesh.triangle_parts[t]]].material;
+    const int material = MaterialOf(gltf_mesh.primitives[part_primitives[mesh.triangle_parts[t]]]);
     mesh.triangle_materials[t] = material >= 0 ? static_cast<std::uint32_t>(material) : default_material;
   }
   return mesh;

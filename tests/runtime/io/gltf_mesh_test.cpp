@@ -153,7 +153,8 @@ TEST_CASE("gltf mesh: a foreign file's parts are named from its mesh, and its un
           "material",
           "[gltf]") {
   // Two primitives on one vertex set: the first with material 1 (an external
-  // texture), the second without one.
+  // texture), the second with one that does not exist (as without one: the
+  // rig reader never refused it).
   const Rig rig = test::MakeGridRig(3, 0);
   const fs::path source = test::OutputPath("gltf_mesh_foreign_source.gltf");
   WriteGltf(source, rig);
@@ -161,6 +162,7 @@ TEST_CASE("gltf mesh: a foreign file's parts are named from its mesh, and its un
   document["meshes"][0]["name"] = "Head";
   document["meshes"][0].erase("extras");
   document["meshes"][0]["primitives"][0]["material"] = 1;
+  document["meshes"][0]["primitives"][1]["material"] = 9;
   document["images"] = {{{"uri", "textures/head.png"}}};
   document["textures"] = {{{"source", 0}}};
   document["materials"] = {{{"name", "unused"}},

@@ -39,7 +39,7 @@ Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& pat
 // material of the document (name, baseColorFactor, alphaMode, alphaCutoff,
 // doubleSided, and the uri of an external base-colour or normal image; images
 // are neither opened nor decoded), plus a "default" one for primitives without
-// a material when others have one. Morph targets are not read.
+// a (valid) material when others have one. Morph targets are not read.
 // Throws IoError as ReadGltf.
 Mesh ReadGltfMesh(const std::filesystem::path& path);
 Mesh ParseGltfMesh(std::span<const std::byte> bytes, const std::filesystem::path& path);
