@@ -317,6 +317,13 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
   return result;
 }
 
+BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, BuildTarget target,
+                        const RegistrationLandmarks& landmarks, const BuildRigParams& params) {
+  BuildRigResult result = BuildRig(template_rig, template_info, std::move(target.rig), landmarks, params);
+  result.target_mesh = std::move(target.mesh);
+  return result;
+}
+
 BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
                                       NonrigidIcpResult registered, const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();

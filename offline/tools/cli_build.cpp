@@ -20,7 +20,9 @@
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
+#include "facerig/offline/io/build_target.h"
 #include "facerig/offline/io/gltf_with_morph_targets.h"
+#include "facerig/runtime/io/gltf.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/io/rig_file.h"
@@ -74,8 +76,11 @@ bool IsGltf(const std::filesystem::path& path) {
 }
 
 // A glTF target's own document, with the shapes added, so that a skinned
-// character keeps its skin, nodes and materials; else a fresh file.
-void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::path& output, const Rig& rig) {
+// character keeps its skin, nodes and materials; else a fresh file (glTF with
+// the target mesh's UVs and materials).
+void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::path& output, const Rig& rig,
+                  const Mesh& target_mesh) {
+  if (IsGltf(output) && !IsGltf(target)) return WriteGltf(output, rig, target_mesh);
   if (!IsGltf(target) || !IsGltf(output)) return SaveRig(output, rig);
   const MorphTargetsWritten written = WriteGltfWithMorphTargets(target, output, rig);
   if (written.replaced_targets > 0) {
@@ -135,7 +140,7 @@ void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
 struct BuildInputs {
   Rig template_rig;
   FaceTemplateInfo template_info;
-  RawRig target;
+  BuildTarget target;
   std::size_t target_vertices = 0;
 };
 
@@ -147,8 +152,8 @@ BuildInputs LoadBuildInputs(const BuildOptions& options) {
   BuildInputs inputs;
   inputs.template_rig = LoadRigOrTemplateFolder(options.template_path);
   inputs.template_info = ResolveFaceTemplateInfo(inputs.template_rig, options.template_path, options.template_info);
-  inputs.target = LoadMeshForEditing(options.target_path, options.units);
-  inputs.target_vertices = inputs.target.positions.size();
+  inputs.target = LoadBuildTarget(options.target_path, options.units);
+  inputs.target_vertices = inputs.target.rig.positions.size();
   return inputs;
 }
 
@@ -174,7 +179,7 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, BuildInputs& inpu
     target_landmarks = ReadLandmarksJson(options.landmarks);
   } else {
     std::fputs("detecting landmarks on the target...\n", stderr);
-    LandmarkResult detected = get_detector().Detect(NeutralMesh(inputs.target));
+    LandmarkResult detected = get_detector().Detect(NeutralMesh(inputs.target.rig));
     target_landmarks = std::move(detected.landmarks);
     found.target_eyes_fitted = detected.eyes_fitted;
   }
@@ -186,7 +191,7 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, BuildInputs& inpu
 }
 
 void WriteBuildOutputs(const BuildOptions& options, const Rig& rig, const BuildRigResult& built) {
-  SaveBuiltRig(options.target_path, options.output, rig);
+  SaveBuiltRig(options.target_path, options.output, rig, built.target_mesh);
   if (!options.frig.empty()) SaveRig(options.frig, rig);
   if (!options.obj_dir.empty()) WriteObjFolder(options.obj_dir, rig);
   if (!options.template_topology.empty()) {

@@ -128,17 +128,8 @@ Mesh NeutralMesh(const RawRig& rig) {
   return mesh;
 }
 
-RawRig ToRawRig(const Mesh& mesh) {
-  VertexAttributes attributes = PerVertexAttributes(mesh);  // first corner in the file's order
-  RawRig raw;
-  raw.positions = mesh.positions;
-  raw.uvs = std::move(attributes.uvs);
-  raw.normals = std::move(attributes.normals);
-  if (mesh.triangle_parts.empty()) {
-    raw.triangles = mesh.triangles;
-    return raw;
-  }
-  // Parts in order of first appearance, each part's triangles in file order.
+Mesh GroupedByPart(const Mesh& mesh) {
+  if (mesh.triangle_parts.empty()) return mesh;
   std::vector<std::uint32_t> part_order;
   std::vector<std::vector<std::uint32_t>> part_triangles(mesh.part_names.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -146,11 +137,40 @@ RawRig ToRawRig(const Mesh& mesh) {
     if (part_triangles[part].empty()) part_order.push_back(part);
     part_triangles[part].push_back(static_cast<std::uint32_t>(t));
   }
-  raw.triangles.reserve(mesh.triangles.size());
+  Mesh grouped{.positions = mesh.positions, .part_names = mesh.part_names, .materials = mesh.materials};
+  grouped.triangles.reserve(mesh.triangles.size());
   for (std::uint32_t part : part_order) {
-    raw.parts.push_back({mesh.part_names[part], static_cast<std::uint32_t>(raw.triangles.size()),
-                         static_cast<std::uint32_t>(part_triangles[part].size())});
-    for (std::uint32_t t : part_triangles[part]) raw.triangles.push_back(mesh.triangles[t]);
+    for (std::uint32_t t : part_triangles[part]) {
+      grouped.triangles.push_back(mesh.triangles[t]);
+      grouped.triangle_parts.push_back(part);
+      if (!mesh.triangle_materials.empty()) grouped.triangle_materials.push_back(mesh.triangle_materials[t]);
+      for (std::size_t c = 0; c < 3; ++c) {
+        if (!mesh.corner_uvs.empty()) grouped.corner_uvs.push_back(mesh.corner_uvs[t * 3 + c]);
+        if (!mesh.corner_normals.empty()) grouped.corner_normals.push_back(mesh.corner_normals[t * 3 + c]);
+      }
+    }
+  }
+  return grouped;
+}
+
+RawRig ToRawRig(const Mesh& mesh) {
+  const Mesh grouped = GroupedByPart(mesh);
+  // First corner in the file's order: grouping keeps each vertex's first corner
+  // only when its triangles stay in order, so take the attributes before it.
+  VertexAttributes attributes = PerVertexAttributes(mesh);
+  RawRig raw;
+  raw.positions = mesh.positions;
+  raw.uvs = std::move(attributes.uvs);
+  raw.normals = std::move(attributes.normals);
+  raw.triangles = grouped.triangles;
+  if (grouped.triangle_parts.empty()) return raw;
+  // Each part is one range of the grouped triangles.
+  for (std::size_t t = 0; t < grouped.triangles.size(); ++t) {
+    const std::uint32_t part = grouped.triangle_parts[t];
+    if (t == 0 || part != grouped.triangle_parts[t - 1]) {
+      raw.parts.push_back({mesh.part_names[part], static_cast<std::uint32_t>(t), 0});
+    }
+    ++raw.parts.back().triangle_count;
   }
   return raw;
 }

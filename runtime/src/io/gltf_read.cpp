@@ -55,7 +55,9 @@ class GltfReader {
   GltfReader(std::string path, tinygltf::Model model, std::uint64_t file_size)
       : path_(std::move(path)), model_(std::move(model)), file_size_(file_size) {}
 
-  Rig Read();
+  // The rig, and the neutral as a Mesh into *mesh when not null.
+  Rig Read(Mesh* mesh);
+  Mesh ReadMesh();
 
  private:
   [[noreturn]] void Fail(IoErrorKind kind, const std::string& message) const {
@@ -78,7 +80,15 @@ class GltfReader {
   RawBlendShape ReadShape(const std::vector<VertexBlock>& blocks, std::size_t target, std::string name,
                           bool with_normals) const;
   void ReadVertices(const std::vector<VertexBlock>& blocks, RawRig* raw) const;
-  void ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw) const;
+  void ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw,
+                 std::vector<std::size_t>* part_primitives) const;
+  void ReadNeutral(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw,
+                   std::vector<std::size_t>* part_primitives) const;
+  Mesh NeutralMeshOf(int mesh_index, const RawRig& raw, const std::vector<std::size_t>& part_primitives) const;
+  std::string ImageUri(int texture_index) const;
+  Material ReadMaterial(const tinygltf::Material& material) const;
+  int MaterialOf(const tinygltf::Primitive& primitive) const;
+  int ChosenMesh() const;
   void ReadShapes(const tinygltf::Mesh& mesh, const std::vector<VertexBlock>& blocks, RawRig* raw) const;
   void ReadFrame(const tinygltf::Mesh& mesh, RawRig* raw) const;
 
@@ -386,8 +396,10 @@ void GltfReader::ReadVertices(const std::vector<VertexBlock>& blocks, RawRig* ra
   if (raw->positions.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no vertices");
 }
 
-// Parts: one per primitive, named from extras.facerig.parts when present.
-void GltfReader::ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw) const {
+// Parts: one per primitive, named from extras.facerig.parts when present;
+// which primitive each part is into part_primitives.
+void GltfReader::ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw,
+                           std::vector<std::size_t>* part_primitives) const {
   const tinygltf::Value& part_names = Member(Member(mesh.extras, "facerig"), "parts");
   for (std::size_t p : vertices.triangle_primitives) {
     const tinygltf::Primitive& primitive = mesh.primitives[p];
@@ -404,6 +416,7 @@ void GltfReader::ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& verti
       raw->triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
     }
     raw->parts.push_back(std::move(part));
+    part_primitives->push_back(p);
   }
   if (raw->triangles.empty()) Fail(IoErrorKind::kEmpty, "the mesh has no triangles");
 }
@@ -450,15 +463,102 @@ void GltfReader::ReadFrame(const tinygltf::Mesh& mesh, RawRig* raw) const {
   }
 }
 
-Rig GltfReader::Read() {
+int GltfReader::ChosenMesh() const {
   const int mesh_index = ChooseMesh(model_);
   if (mesh_index < 0) Fail(IoErrorKind::kEmpty, "the file has no mesh");
+  return mesh_index;
+}
+
+void GltfReader::ReadNeutral(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw,
+                             std::vector<std::size_t>* part_primitives) const {
+  ReadVertices(vertices.blocks, raw);
+  ReadParts(mesh, vertices, raw, part_primitives);
+}
+
+// The uri of the external image a texture shows; empty for an image in a
+// bufferView or a data URI (no file to name), or a dangling index.
+std::string GltfReader::ImageUri(int texture_index) const {
+  if (texture_index < 0 || texture_index >= static_cast<int>(model_.textures.size())) return {};
+  const int source = model_.textures[static_cast<std::size_t>(texture_index)].source;
+  if (source < 0 || source >= static_cast<int>(model_.images.size())) return {};
+  const std::string& uri = model_.images[static_cast<std::size_t>(source)].uri;
+  return uri.starts_with("data:") ? std::string() : uri;
+}
+
+Material GltfReader::ReadMaterial(const tinygltf::Material& material) const {
+  Material read;
+  read.name = material.name;
+  const std::vector<double>& colour = material.pbrMetallicRoughness.baseColorFactor;
+  if (colour.size() == 4 && std::all_of(colour.begin(), colour.end(), [](double c) { return std::isfinite(c); })) {
+    for (int c = 0; c < 4; ++c) read.base_colour[c] = static_cast<float>(colour[static_cast<std::size_t>(c)]);
+  }
+  read.base_colour_image = ImageUri(material.pbrMetallicRoughness.baseColorTexture.index);
+  read.normal_image = ImageUri(material.normalTexture.index);
+  if (material.alphaMode == "MASK") read.alpha_mode = AlphaMode::kMask;
+  if (material.alphaMode == "BLEND") read.alpha_mode = AlphaMode::kBlend;
+  if (std::isfinite(material.alphaCutoff)) read.alpha_cutoff = static_cast<float>(material.alphaCutoff);
+  read.double_sided = material.doubleSided;
+  return read;
+}
+
+// The primitive's material; -1 for none, and for one that does not exist (the
+// rig reader never required it to).
+int GltfReader::MaterialOf(const tinygltf::Primitive& primitive) const {
+  return primitive.material < static_cast<int>(model_.materials.size()) ? primitive.material : -1;
+}
+
+// The neutral read into `raw` as a Mesh, with part names from the mesh's (or
+// its node's) name where extras.facerig.parts has none, and the materials.
+Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
+                               const std::vector<std::size_t>& part_primitives) const {
+  const tinygltf::Mesh& gltf_mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
+  std::string base = gltf_mesh.name;
+  for (std::size_t n = 0; base.empty() && n < model_.nodes.size(); ++n) {
+    if (model_.nodes[n].mesh == mesh_index) base = model_.nodes[n].name;
+  }
+  const tinygltf::Value& part_names = Member(Member(gltf_mesh.extras, "facerig"), "parts");
+  Mesh mesh = NeutralMesh(raw);
+  bool any_material = false, any_without = false;
+  for (std::size_t i = 0; i < part_primitives.size(); ++i) {
+    const std::size_t p = part_primitives[i];
+    const std::string fallback = base.empty()              ? "primitive" + std::to_string(p)
+                                 : part_primitives.size() == 1 ? base
+                                                               : base + ".primitive" + std::to_string(p);
+    mesh.part_names[i] = StringOr(part_names, p, fallback);
+    (MaterialOf(gltf_mesh.primitives[p]) >= 0 ? any_material : any_without) = true;
+  }
+  for (const tinygltf::Material& material : model_.materials) mesh.materials.push_back(ReadMaterial(material));
+  if (!any_material) return mesh;
+  // glTF's default material (opaque white, single-sided) for primitives without one.
+  const auto default_material = static_cast<std::uint32_t>(mesh.materials.size());
+  if (any_without) mesh.materials.push_back(Material{.name = "default"});
+  mesh.triangle_materials.resize(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int material = MaterialOf(gltf_mesh.primitives[part_primitives[mesh.triangle_parts[t]]]);
+    mesh.triangle_materials[t] = material >= 0 ? static_cast<std::uint32_t>(material) : default_material;
+  }
+  return mesh;
+}
+
+Mesh GltfReader::ReadMesh() {
+  const int mesh_index = ChosenMesh();
+  const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
+  const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
+  RawRig raw;
+  std::vector<std::size_t> part_primitives;
+  ReadNeutral(mesh, vertices, &raw, &part_primitives);
+  return NeutralMeshOf(mesh_index, raw, part_primitives);
+}
+
+Rig GltfReader::Read(Mesh* neutral) {
+  const int mesh_index = ChosenMesh();
   const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
   const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
 
   RawRig raw;
-  ReadVertices(vertices.blocks, &raw);
-  ReadParts(mesh, vertices, &raw);
+  std::vector<std::size_t> part_primitives;
+  ReadNeutral(mesh, vertices, &raw, &part_primitives);
+  if (neutral) *neutral = NeutralMeshOf(mesh_index, raw, part_primitives);
   ReadShapes(mesh, vertices.blocks, &raw);
   ReadFrame(mesh, &raw);
 
@@ -468,24 +568,36 @@ Rig GltfReader::Read() {
   return std::move(*rig);
 }
 
-}  // namespace
-
-Rig ReadGltf(const std::filesystem::path& path) {
+GltfReader ReaderOfFile(const std::filesystem::path& path) {
   const Format format = FormatFromExtension(path);
   std::uint64_t file_size = 0;
   tinygltf::Model model = ParseModel(path, format, &file_size);
   gltf_internal::RefuseCompression(model, path.string());
-  GltfReader reader(path.string(), std::move(model), file_size);
-  return reader.Read();
+  return GltfReader(path.string(), std::move(model), file_size);
 }
 
-Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& path) {
+GltfReader ReaderOfBytes(std::span<const std::byte> bytes, const std::filesystem::path& path) {
   const Format format = FormatFromExtension(path);
   tinygltf::Model model = gltf_internal::ParseModelBytes(
       {reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()}, path, format);
   gltf_internal::RefuseCompression(model, path.string());
-  GltfReader reader(path.string(), std::move(model), bytes.size());
-  return reader.Read();
+  return GltfReader(path.string(), std::move(model), bytes.size());
+}
+
+}  // namespace
+
+Rig ReadGltf(const std::filesystem::path& path) { return ReaderOfFile(path).Read(nullptr); }
+
+Rig ReadGltf(const std::filesystem::path& path, Mesh* mesh) { return ReaderOfFile(path).Read(mesh); }
+
+Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& path) {
+  return ReaderOfBytes(bytes, path).Read(nullptr);
+}
+
+Mesh ReadGltfMesh(const std::filesystem::path& path) { return ReaderOfFile(path).ReadMesh(); }
+
+Mesh ParseGltfMesh(std::span<const std::byte> bytes, const std::filesystem::path& path) {
+  return ReaderOfBytes(bytes, path).ReadMesh();
 }
 
 }  // namespace facerig

@@ -21,25 +21,26 @@ std::string LowerExtension(const std::filesystem::path& path) {
 
 }  // namespace
 
+Rig RigFromObjMesh(const Mesh& mesh, const std::filesystem::path& path, const ObjLoadOptions& obj_options) {
+  RawRig raw = ToRawRig(mesh);
+  raw.units = obj_options.units;
+  raw.up_axis = obj_options.up_axis;
+  // A file that leaves some vertex without a normal gets all normals
+  // recomputed: mixing given and computed normals would show seams.
+  if (std::any_of(raw.normals.begin(), raw.normals.end(), [](const glm::vec3& n) { return n == glm::vec3(0.0f); })) {
+    raw.normals.clear();
+  }
+  std::string problem;
+  std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+  if (!rig) throw IoError(IoErrorKind::kInvalidRig, path.string(), problem);
+  return std::move(*rig);
+}
+
 Rig LoadRig(const std::filesystem::path& path, const ObjLoadOptions& obj_options) {
   const std::string ext = LowerExtension(path);
   if (ext == ".frig") return ReadFrig(path);
   if (ext == ".glb" || ext == ".gltf") return ReadGltf(path);
-  if (ext == ".obj") {
-    RawRig raw = ToRawRig(ReadObj(path));
-    raw.units = obj_options.units;
-    raw.up_axis = obj_options.up_axis;
-    // A file that leaves some vertex without a normal gets all normals
-    // recomputed: mixing given and computed normals would show seams.
-    if (std::any_of(raw.normals.begin(), raw.normals.end(),
-                    [](const glm::vec3& n) { return n == glm::vec3(0.0f); })) {
-      raw.normals.clear();
-    }
-    std::string problem;
-    std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
-    if (!rig) throw IoError(IoErrorKind::kInvalidRig, path.string(), problem);
-    return std::move(*rig);
-  }
+  if (ext == ".obj") return RigFromObjMesh(ReadObj(path), path, obj_options);
   throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
                 "unknown extension '" + ext + "' (expected .obj, .glb, .gltf or .frig)");
 }

@@ -3,17 +3,20 @@
 // and clear errors with nothing written on bad input.
 #include "cli_app.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/nonrigid_icp.h"
+#include "facerig/runtime/io/gltf.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "support/command_runner.h"
@@ -48,6 +51,40 @@ test::CommandOutcome Build(const std::vector<std::string>& arguments) {
 }
 
 fs::path DefaultHead() { return FACERIG_DEFAULT_HEAD; }
+
+// The rig's neutral as OBJ text with a UV per corner (a front projection) and
+// two materials: "skin", and "lips" for the triangles below the nose, whose
+// UVs are shifted by 0.5 so that the border between them is a UV seam. The
+// materials interleave in the file (usemtl at each change).
+std::string TexturedObj(const Rig& rig) {
+  glm::vec3 lo = rig.positions()[0], hi = lo;
+  for (const glm::vec3& p : rig.positions()) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  std::string text;
+  for (const glm::vec3& p : rig.positions()) {
+    text += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+  }
+  std::string faces, current;
+  std::size_t corner = 0;
+  for (const Triangle& t : rig.triangles()) {
+    const float centre_y = (rig.positions()[t[0]].y + rig.positions()[t[1]].y + rig.positions()[t[2]].y) / 3.0f;
+    const bool lips = centre_y < lo.y + 0.3f * (hi.y - lo.y);
+    const std::string material = lips ? "lips" : "skin";
+    if (material != current) faces += "usemtl " + material + "\n";
+    current = material;
+    faces += "f";
+    for (std::uint32_t v : t) {
+      const glm::vec3 p = rig.positions()[v];
+      const float u = (p.x - lo.x) / (hi.x - lo.x) * 0.5f + (lips ? 0.5f : 0.0f);
+      text += "vt " + std::to_string(u) + " " + std::to_string((p.y - lo.y) / (hi.y - lo.y)) + "\n";
+      faces += " " + std::to_string(v + 1) + "/" + std::to_string(++corner);
+    }
+    faces += "\n";
+  }
+  return text + faces;
+}
 
 }  // namespace
 
@@ -208,6 +245,63 @@ TEST_CASE("facerig build: --no-contacts and --no-eye-fit turn off contacts and e
   CHECK(off["transfer_contacts"]["active"] == false);
   CHECK(off["transfer_contacts"]["pairs"] == 0);
   CHECK(LoadRig(folder / "off.frig").shape_count() == LoadRig(folder / "defaults.frig").shape_count());
+}
+
+TEST_CASE("facerig build: an OBJ target's UVs and materials reach the GLB", "[cli]") {
+  // The built-in head onto itself as a textured OBJ (about 6 s).
+  const fs::path folder = test::FreshOutputFolder("cli_build_textured");
+  const Rig head = LoadRig(DefaultHead());
+  {
+    std::ofstream obj(folder / "head.obj", std::ios::binary);
+    obj << TexturedObj(head);
+  }
+  const test::CommandOutcome outcome = Build({"--template", DefaultHead().string(), "--target",
+                                              (folder / "head.obj").string(), "-o", (folder / "head.glb").string(),
+                                              "--frig", (folder / "head.frig").string()});
+  INFO(outcome.error_output);
+  REQUIRE(outcome.exit_code == 0);
+  test::RequireValidatorAccepts(folder / "head.glb");
+
+  const test::GltfFile file = test::ReadGltfFile(folder / "head.glb");
+  REQUIRE(file.document["materials"].size() == 2);
+  std::vector<std::string> material_names{file.document["materials"][0]["name"], file.document["materials"][1]["name"]};
+  std::sort(material_names.begin(), material_names.end());
+  CHECK(material_names == std::vector<std::string>{"lips", "skin"});
+  for (const nlohmann::json& primitive : file.document["meshes"][0]["primitives"]) {
+    CHECK(primitive["attributes"].contains("TEXCOORD_0"));
+    CHECK(primitive.contains("material"));
+  }
+
+  // The OBJ's corners, grouped by part as the rig's triangles are: the same
+  // UVs and materials, on copies of the seam vertices after the target's own.
+  const Mesh expected = GroupedByPart(ReadObj(folder / "head.obj"));
+  const Mesh written = ReadGltfMesh(folder / "head.glb");
+  REQUIRE(written.triangle_count() == expected.triangle_count());
+  CHECK(written.vertex_count() > expected.vertex_count());
+  CHECK(written.triangle_materials == expected.triangle_materials);
+  REQUIRE(written.corner_uvs.size() == expected.corner_uvs.size());
+  std::size_t uv_mismatches = 0;
+  for (std::size_t i = 0; i < expected.corner_uvs.size(); ++i) {
+    if (glm::length(written.corner_uvs[i] - expected.corner_uvs[i]) > 1e-6f) ++uv_mismatches;
+  }
+  CHECK(uv_mismatches == 0);
+  for (std::size_t t = 0; t < expected.triangle_count(); ++t) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      REQUIRE(written.positions[written.triangles[t][c]] == written.positions[expected.triangles[t][c]]);
+    }
+  }
+  // The shapes are the .frig's (on the target's vertices), and move the seam copies with their vertex.
+  const Rig glb = LoadRig(folder / "head.glb");
+  const Rig frig = LoadRig(folder / "head.frig");
+  REQUIRE(glb.shape_count() == frig.shape_count());
+  const BlendShapeView jaw = glb.shape(0);
+  std::vector<glm::vec3> dense(glb.vertex_count(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i < jaw.vertex_indices.size(); ++i) dense[jaw.vertex_indices[i]] = jaw.position_deltas[i];
+  for (std::size_t t = 0; t < expected.triangle_count(); ++t) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      REQUIRE(dense[glb.triangles()[t][c]] == dense[frig.triangles()[t][c]]);
+    }
+  }
 }
 
 TEST_CASE("facerig build: bad command lines and bad input fail clearly and write nothing", "[cli]") {

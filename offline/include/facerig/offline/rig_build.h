@@ -27,6 +27,7 @@
 #include "facerig/offline/openings.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/topology_mapping.h"
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 
@@ -93,8 +94,20 @@ struct BuildStage {
 double StageSeconds(std::span<const BuildStage> stages, std::string_view name);
 double TotalSeconds(std::span<const BuildStage> stages);
 
+// A build's target as loaded (LoadBuildTarget, offline/io/build_target.h):
+// the rig data the stages work on, and its mesh as the file has it (corner
+// UVs and normals, parts, materials) on the rig's vertices, triangle t being
+// the rig's triangle t, for the writers.
+struct BuildTarget {
+  RawRig rig;
+  Mesh mesh;
+};
+
 struct BuildRigResult {
   RawRig rig;         // on the target's topology, frame and units
+  // BuildRig of a BuildTarget: its mesh, the surface of `rig` (same vertices
+  // and triangles) with the file's UVs, parts and materials; else empty.
+  Mesh target_mesh;
   RawRig fitted_rig;  // the template's topology in the target's frame and units
   // The same in the template's frame and units (the similarity undone): fits
   // of several faces are comparable (AverageFace, Caricature, IdentityMorphRig).
@@ -127,6 +140,10 @@ struct BuildRigResult {
 // \throw InvalidInputError, SolverError, TransferInputError, TransferSolverError,
 //        RegistrationMismatchError.
 BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+                        const RegistrationLandmarks& landmarks, const BuildRigParams& params = {});
+
+// The same for a target as loaded: result.target_mesh is target.mesh.
+BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, BuildTarget target,
                         const RegistrationLandmarks& landmarks, const BuildRigParams& params = {});
 
 // The same from an existing registration of the template onto target (e.g.

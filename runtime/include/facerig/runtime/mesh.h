@@ -67,9 +67,15 @@ VertexAttributes PerVertexAttributes(const Mesh& mesh);
 Mesh NeutralMesh(const Rig& rig);
 Mesh NeutralMesh(const RawRig& rig);
 
+// The same mesh with its triangles (and their corners, parts and materials)
+// grouped by part as ToRawRig orders them: parts in order of first
+// appearance, triangles in order within each. Its triangle t is then triangle
+// t of ToRawRig(mesh), so its corner and material data line up with a rig
+// built from it.
+Mesh GroupedByPart(const Mesh& mesh);
+
 // The rig layout of a mesh (no shapes): per-vertex attributes as above, and
-// triangles grouped by part (parts in order of first appearance, triangles
-// in order within each) so that each part is one range.
+// triangles grouped by part (GroupedByPart) so that each part is one range.
 RawRig ToRawRig(const Mesh& mesh);
 
 }  // namespace facerig

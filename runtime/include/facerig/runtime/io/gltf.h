@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <span>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -29,8 +30,35 @@ Rig ReadGltf(const std::filesystem::path& path);
 // `path`, which names the file in errors and whose folder holds any external
 // buffers).
 Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& path);
+
+// The neutral geometry of the mesh ReadGltf reads, as a Mesh: its vertices and
+// triangles in ReadGltf's order; per-corner UVs (TEXCOORD_0, with the rig's
+// bottom-left origin) and normals when every primitive has them; one part per
+// triangle-list primitive, named from extras.facerig.parts, else from the
+// mesh's (or its node's) name (ReadGltf keeps "primitive<i>" there); every
+// material of the document (name, baseColorFactor, alphaMode, alphaCutoff,
+// doubleSided, and the uri of an external base-colour or normal image; images
+// are neither opened nor decoded), plus a "default" one for primitives without
+// a (valid) material when others have one. Morph targets are not read.
+// Throws IoError as ReadGltf.
+Mesh ReadGltfMesh(const std::filesystem::path& path);
+Mesh ParseGltfMesh(std::span<const std::byte> bytes, const std::filesystem::path& path);
+// ReadGltf and ReadGltfMesh from one parse; `mesh` may be null.
+Rig ReadGltf(const std::filesystem::path& path, Mesh* mesh);
+
 // Format from the extension (.glb or .gltf). Atomic (temporary file + rename).
 // Shape and part names must be valid UTF-8 (IoError kWriteFailed otherwise).
 void WriteGltf(const std::filesystem::path& path, const Rig& rig);
+// Same, with the corner UVs and the materials of `surface`, a mesh on the
+// rig's vertices whose triangle t is the rig's triangle t (GroupedByPart of
+// the mesh the rig was built from). Where a vertex has corners with different
+// UVs (a seam), copies of it are appended after the rig's vertices, each with
+// the vertex's normal and morph target deltas, so vertex v < vertex_count()
+// is still the rig's vertex v. One primitive per run of triangles of one part
+// and one material. Without materials, and without corner UVs other than the
+// rig's own, this is WriteGltf(path, rig). Material images are written as
+// uris as they are (relative to the written file's folder).
+// Throws IoError(kWriteFailed) when `surface` does not fit the rig.
+void WriteGltf(const std::filesystem::path& path, const Rig& rig, const Mesh& surface);
 
 }  // namespace facerig

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -17,6 +18,9 @@ struct ObjLoadOptions {
 
 // .obj (neutral only, no shapes), .glb, .gltf or .frig. Throws IoError.
 Rig LoadRig(const std::filesystem::path& path, const ObjLoadOptions& obj_options = {});
+// The rig LoadRig makes of an OBJ's mesh (ToRawRig; all normals recomputed
+// when some vertex has none). Throws IoError(kInvalidRig) naming `path`.
+Rig RigFromObjMesh(const Mesh& mesh, const std::filesystem::path& path, const ObjLoadOptions& obj_options = {});
 // .obj (neutral only), .glb, .gltf or .frig. Throws IoError.
 void SaveRig(const std::filesystem::path& path, const Rig& rig);
 

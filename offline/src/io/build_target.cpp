@@ -1,0 +1,37 @@
+#include "facerig/offline/io/build_target.h"
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "facerig/offline/io/template_folder.h"
+#include "facerig/runtime/io/gltf.h"
+#include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+
+BuildTarget LoadBuildTarget(const std::filesystem::path& path, Units units) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool file = !std::filesystem::is_directory(path);
+  BuildTarget target;
+  if (file && extension == ".obj") {
+    const Mesh mesh = ReadObj(path);
+    target.rig = RigBuilder::ToRaw(RigFromObjMesh(mesh, path, ObjLoadOptions{units, UpAxis::kY}));
+    target.mesh = GroupedByPart(mesh);
+  } else if (file && (extension == ".glb" || extension == ".gltf")) {
+    target.rig = RigBuilder::ToRaw(ReadGltf(path, &target.mesh));
+  } else {
+    TemplateImportOptions options;
+    options.units = units;
+    target.rig = RigBuilder::ToRaw(LoadRigOrTemplateFolder(path, options));
+    target.mesh = NeutralMesh(target.rig);
+  }
+  if (units != Units::kUnknown) target.rig.units = units;
+  return target;
+}
+
+}  // namespace facerig
