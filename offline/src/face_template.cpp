@@ -26,8 +26,9 @@ std::uint64_t Fnv1a(std::uint64_t hash, std::int64_t value) {
 
 // A value for an error message: short however large the value is.
 std::string Shown(const json& value) {
-  if (value.is_array()) return "an array of " + std::to_string(value.size()) + " elements";
-  if (value.is_object()) return "an object of " + std::to_string(value.size()) + " keys";
+  const std::string count = std::to_string(value.size());
+  if (value.is_array()) return "an array of " + count + (value.size() == 1 ? " element" : " elements");
+  if (value.is_object()) return "an object of " + count + (value.size() == 1 ? " key" : " keys");
   return QuoteInput(value.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
