@@ -280,6 +280,30 @@ nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& input
   return report;
 }
 
+// Writes the outputs under temporary names (the "write" stage, then the report)
+// and puts them in place as one set; on any error or SIGINT / SIGTERM the
+// temporaries go and the previous set stays.
+void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
+                   const BuildRigResult& built, const Rig& rig, std::vector<BuildStage>& stages) {
+  const StopSignalScope stop_signals;
+  OutputSet set;  // removes the temporaries unless committed
+  try {
+    const BuildOutputPaths paths = AddBuildOutputs(options, set);
+    const auto start = std::chrono::steady_clock::now();
+    WriteBuildOutputs(options, paths, rig, built);
+    stages.push_back({"write", SecondsSince(start)});
+    if (!paths.report.empty()) {
+      WriteJsonAtomically(paths.report, BuildReport(options, inputs, landmarks, built, rig, stages));
+      CheckAfterWrite("report", paths.report);
+    }
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
+  }
+  set.Commit();
+}
+
 int RunBuild(const BuildOptions& options) {
   try {
     std::vector<BuildStage> stages;
@@ -305,24 +329,7 @@ int RunBuild(const BuildOptions& options) {
     std::string problem;
     const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
     if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
-    const StopSignalScope stop_signals;  // SIGINT / SIGTERM: the temporaries go, the previous set stays
-    OutputSet set;                        // removes the temporaries on any error
-    try {
-      const BuildOutputPaths paths = AddBuildOutputs(options, set);
-      timed("write", [&] {
-        WriteBuildOutputs(options, paths, *rig, built);
-        return 0;
-      });
-      if (!paths.report.empty()) {
-        WriteJsonAtomically(paths.report, BuildReport(options, inputs, landmarks, built, *rig, stages));
-        CheckAfterWrite("report", paths.report);
-      }
-    } catch (const Interrupted&) {
-      throw;
-    } catch (const std::exception& error) {
-      throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
-    }
-    set.Commit();
+    WriteBuildSet(options, inputs, landmarks, built, *rig, stages);
 
     const ResidualStats& residual = built.registration.residual;
     std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "

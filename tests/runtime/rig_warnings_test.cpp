@@ -32,7 +32,7 @@ TEST_CASE("Rig warnings: a rig without mouth and blink shapes can neither speak 
         std::vector<std::string>{"cannot_speak", "cannot_blink"});
 }
 
-TEST_CASE("Rig warnings: one mouth, jaw or viseme shape is speech; one blink shape is a blink", "[rig_warnings]") {
+TEST_CASE("Rig warnings: one mouth, jaw or viseme shape is speech, one blink shape is a blink", "[rig_warnings]") {
   CHECK(Codes(SpeechAndBlinkWarnings(test::MakeNamedGridRig({"jawOpen"}))) ==
         std::vector<std::string>{"cannot_blink"});
   // Per-viseme targets count when the rig has most of them (viseme_mapping.h).
@@ -43,3 +43,5 @@ TEST_CASE("Rig warnings: one mouth, jaw or viseme shape is speech; one blink sha
         std::vector<std::string>{"cannot_speak"});
   CHECK(SpeechAndBlinkWarnings(test::MakeNamedGridRig({"jawOpen", "eyeBlink_L", "eyeBlink_R"})).empty());
 }
+
+}  // namespace facerig

@@ -122,14 +122,14 @@ TEST_CASE("facerig build: a failed write, a failed rename or SIGTERM at any poin
     CHECK(outcome.exit_code == point.exit_code);
     CHECK(outcome.error_output.find(point.message) != std::string::npos);
     CHECK(outcome.error_output.find("the previous outputs are unchanged") != std::string::npos);
-    CHECK(outcome.error_output.find(kTemporaryPrefix) == std::string::npos ||
-          point.failure == "rename");  // errors name the final paths
+    // Errors name the final paths (a failed rename names the temporary it could not move).
+    CHECK((outcome.error_output.find(kTemporaryPrefix) == std::string::npos || point.failure == "rename"));
     CheckPreviousSetIntact(out);
     CHECK(Temporaries(out).empty());
   }
 }
 
-TEST_CASE("facerig build: killed between writes, the previous set stays; the next run cleans up and replaces it",
+TEST_CASE("facerig build: killed between writes, the previous set stays, the next run cleans up and replaces it",
           "[cli][output-set]") {
   const fs::path out = MakePreviousSet("killed");
   for (const std::string failure : {"kill-after-rig", "kill-after-obj-dir"}) {
