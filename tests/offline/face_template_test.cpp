@@ -245,7 +245,7 @@ TEST_CASE("face template: hostile descriptors are refused with short errors nami
 
   // Nesting is refused before parsing; the size cap before reading.
   REQUIRE_THROWS_WITH(ParseFaceTemplateInfo("{\"extras\": " + std::string(20000, '[') + "}", rig, "deep.json"),
-                      "deep.json (byte 75): JSON nested deeper than 64 levels");
+                      "deep.json (byte 74): JSON nested deeper than 64 levels");
   const fs::path large = folder / "large.template.json";
   std::ofstream(large).put(' ');
   fs::resize_file(large, kMaxTemplateDescriptorBytes + 1);

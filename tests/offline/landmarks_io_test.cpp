@@ -45,7 +45,7 @@ TEST_CASE("Landmark files: a FIFO, a device and a folder are refused without blo
 TEST_CASE("Landmark files: deep, oversized and malformed JSON give short errors naming the field",
           "[landmarks][hostile]") {
   CHECK(ErrorOf("{\"points\": " + std::string(20000, '[') + "}") ==
-        "marks.json (byte 75): JSON nested deeper than 64 levels");
+        "marks.json (byte 74): JSON nested deeper than 64 levels");
   CHECK(ErrorOf(std::string(kMaxLandmarkFileBytes + 1, ' ')) ==
         "marks.json: " + std::to_string(kMaxLandmarkFileBytes + 1) + " bytes (at most 16777216)");
   // A megabyte-long bad token is quoted short, not echoed.
