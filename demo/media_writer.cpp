@@ -3,7 +3,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -11,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "facerig/runtime/io/input_file.h"
 #include "output_set.h"
 
 namespace facerig::player {
@@ -81,9 +81,14 @@ void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> s
 }
 
 std::vector<std::int16_t> ReadWav(const std::filesystem::path& path, int* sample_rate) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read WAV " + path.string());
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), {});
+  std::vector<unsigned char> bytes;
+  try {
+    const std::vector<std::byte> file = ReadInputFile(path);  // a regular file only: a FIFO does not block
+    const auto* data = reinterpret_cast<const unsigned char*>(file.data());
+    bytes.assign(data, data + file.size());
+  } catch (const std::runtime_error& error) {
+    throw std::runtime_error("cannot read WAV " + path.string() + ": " + error.what());
+  }
   if (bytes.size() < 44 || std::memcmp(bytes.data(), "RIFF", 4) != 0 ||
       std::memcmp(bytes.data() + 8, "WAVE", 4) != 0) {
     throw std::runtime_error("not a WAV file: " + path.string());
