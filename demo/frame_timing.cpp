@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
+#include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "media_writer.h"
 
 namespace facerig::player {
 
@@ -129,10 +131,8 @@ void WriteTimingJson(const std::filesystem::path& path, const TimingSummary& sum
   for (const FrameSample& sample : samples) per_frame.push_back(sample.ms);
   out["per_frame_ms"] = per_frame;
   out["per_frame_columns"] = {"update", "blend", "normals", "upload", "draw"};
-  std::ofstream file(path);
-  if (!file) throw std::runtime_error("cannot write timing JSON " + path.string());
-  file << out.dump(2) << '\n';
-  if (!file) throw std::runtime_error("cannot write timing JSON " + path.string());
+  const std::string text = out.dump(2) + '\n';
+  WriteWholeFile(path, text, "timing JSON");
 }
 
 }  // namespace facerig::player

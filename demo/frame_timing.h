@@ -60,7 +60,9 @@ class FrameTimer {
 
 // "frames 120  total p50 1.23 ms p95 ... worst 3.4 ms (frame 17)" and one line per stage.
 std::string FormatSummary(const TimingSummary& summary, const std::string& title);
-// JSON with the summary per stage and the raw per-frame samples. Throws std::runtime_error.
+// JSON with the summary per stage and the raw per-frame samples. A write error
+// (a full disk: a short write, a failed flush or close) removes the file and
+// throws std::runtime_error "cannot write timing JSON PATH: reason".
 void WriteTimingJson(const std::filesystem::path& path, const TimingSummary& summary,
                      const std::vector<FrameSample>& samples, const std::string& rig_name,
                      std::size_t vertex_count, std::size_t shape_count);

@@ -1,16 +1,11 @@
 #include "headless_player.h"
 
-#include <signal.h>
-
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
-#include <nlohmann/json.hpp>
 
 #include "egl_context.h"
 #include "face_animator.h"
@@ -22,25 +17,10 @@
 namespace facerig::player {
 namespace {
 
-// The signal that asked the run to stop (0: none); set by the handler, read between steps.
-volatile std::sig_atomic_t g_stop_signal = 0;
-
-void ThrowIfStopped() {
-  if (g_stop_signal != 0) throw Interrupted(g_stop_signal);
-}
-
 // Where each output is written before OutputSet::Commit() (empty: not written).
 struct TemporaryOutputs {
   std::filesystem::path frames, wav, mp4, mp4_wav, timing_json;
 };
-
-// WriteTimingJson does not see a failed close (a full disk): read the file back.
-void CheckCompleteJson(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in || !nlohmann::json::accept(in)) {
-    throw std::runtime_error("cannot write timing JSON " + path.string() + ": incomplete after writing");
-  }
-}
 
 std::string FramePath(int index) {
   char name[32];
@@ -133,7 +113,13 @@ void RenderFrames(const PlayerOptions& options, const std::filesystem::path& fra
 TemporaryOutputs AddOutputs(const PlayerOptions& options, const SpeechLine& speech, OutputSet& set,
                             std::ostream& log) {
   TemporaryOutputs outputs;
-  outputs.frames = set.Add(options.frames_dir, OutputSet::Kind::kFolder);
+  // The frames folder is replaced as a whole: only one holding nothing but frames.
+  const ReplaceableFolder frames_folder{
+      [](const std::filesystem::path& name) {
+        return name.string().rfind("frame_", 0) == 0 && name.extension() == ".png";
+      },
+      "frame_NNNNN.png files", "--frames"};
+  outputs.frames = set.Add(options.frames_dir, OutputSet::Kind::kFolder, frames_folder);
   if (!options.wav.empty()) outputs.wav = set.Add(options.wav, OutputSet::Kind::kFile);
   if (!options.mp4.empty()) {
     if (options.wav.empty() && !speech.audio.empty()) {  // the speech goes into a WAV next to the MP4
@@ -164,7 +150,6 @@ void WriteSpeechVideoAndTiming(const PlayerOptions& options, const Rig& rig, con
   if (!outputs.timing_json.empty()) {
     WriteTimingJson(outputs.timing_json, result.timing, result.samples, RigPath(options).filename().string(),
                     rig.vertex_count(), rig.shape_count());
-    CheckCompleteJson(outputs.timing_json);
   }
 }
 
@@ -188,19 +173,6 @@ void RenderAndWrite(const Rig& rig, const PlayerOptions& options, const Temporar
 }
 
 }  // namespace
-
-Interrupted::Interrupted(int signal)
-    : std::runtime_error(std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM")),
-      signal_(signal) {}
-
-void InstallStopSignalHandlers() {
-  struct sigaction action {};
-  action.sa_handler = [](int signal) { g_stop_signal = signal; };
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
 
 HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::ostream& log) {
   HeadlessResult result;

@@ -11,6 +11,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/speech/phoneme.h"
 #include "frame_timing.h"
@@ -32,19 +33,11 @@ struct HeadlessResult {
   std::vector<FrameSample> samples;
 };
 
-// A headless run stopped by SIGINT or SIGTERM (see InstallStopSignalHandlers).
-class Interrupted : public std::runtime_error {
- public:
-  explicit Interrupted(int signal);
-  int signal() const { return signal_; }
-
- private:
-  int signal_;
-};
-
-// SIGINT and SIGTERM then only set a flag, which RunHeadless checks after each
-// frame and between its writes: it removes its temporaries and throws Interrupted.
-void InstallStopSignalHandlers();
+// A headless run stopped by SIGINT or SIGTERM: after InstallStopSignalHandlers()
+// (output_set.h), RunHeadless checks after each frame and between its writes,
+// removes its temporaries and throws Interrupted.
+using facerig::InstallStopSignalHandlers;
+using facerig::Interrupted;
 
 // Synthesizes options.say (espeak-ng; SpeechError on a bad voice), renders
 // the frames into options.frames_dir, writes options.wav / .mp4 / .timing_json.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/rig_warnings.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/speech/phoneme_source.h"
 #include "headless_player.h"
@@ -48,6 +49,9 @@ int main(int argc, char** argv) {
   const std::string rig_name = rig_path.filename().string();
   std::cout << "rig " << rig_path.string() << ": " << rig->vertex_count() << " vertices, " << rig->shape_count()
             << " shapes, " << rig->parts().size() << " parts\n";
+  for (const facerig::RigWarning& warning : facerig::SpeechAndBlinkWarnings(*rig)) {
+    std::cerr << "facerig-player: warning: " << warning.message << '\n';
+  }
 
   try {
     if (!options.headless) return RunWindow(*rig, rig_name, options);

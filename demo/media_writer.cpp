@@ -3,7 +3,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -11,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "facerig/runtime/io/input_file.h"
 #include "output_set.h"
 
 namespace facerig::player {
@@ -29,9 +29,18 @@ void PutText(std::vector<char>& out, const char* text) {
   out.insert(out.end(), text, text + std::strlen(text));
 }
 
-// Writes all of `bytes` to a new file at `path`; a short write or a failed
-// flush or close (a full disk) removes the file and throws "cannot write
-// `what` PATH: reason". The "wav" failure injection stops half-way with ENOSPC.
+std::uint32_t GetU32(const unsigned char* p) {
+  return p[0] | (p[1] << 8) | (p[2] << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
+}
+
+// The failure injection (FailureInjected) that makes writing `what` run out of space.
+bool WriteFailureInjected(const char* what) {
+  return (std::strcmp(what, "WAV") == 0 && FailureInjected("wav")) ||
+         (std::strcmp(what, "timing JSON") == 0 && FailureInjected("timing"));
+}
+
+}  // namespace
+
 void WriteWholeFile(const std::filesystem::path& path, std::span<const char> bytes, const char* what) {
   const auto fail = [&](int error) {
     std::error_code ignored;
@@ -40,7 +49,7 @@ void WriteWholeFile(const std::filesystem::path& path, std::span<const char> byt
   };
   std::FILE* file = std::fopen(path.c_str(), "wb");
   if (file == nullptr) fail(errno);
-  const bool injected = FailureInjected("wav") && std::strcmp(what, "WAV") == 0;
+  const bool injected = WriteFailureInjected(what);
   const std::size_t size = injected ? bytes.size() / 2 : bytes.size();
   bool ok = std::fwrite(bytes.data(), 1, size, file) == size && std::fflush(file) == 0;
   int error = ok ? 0 : errno;
@@ -48,12 +57,6 @@ void WriteWholeFile(const std::filesystem::path& path, std::span<const char> byt
   if (std::fclose(file) != 0 && ok) ok = false, error = errno;
   if (!ok) fail(error);
 }
-
-std::uint32_t GetU32(const unsigned char* p) {
-  return p[0] | (p[1] << 8) | (p[2] << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
-}
-
-}  // namespace
 
 void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> samples,
               int sample_rate) {
@@ -78,9 +81,14 @@ void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> s
 }
 
 std::vector<std::int16_t> ReadWav(const std::filesystem::path& path, int* sample_rate) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read WAV " + path.string());
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), {});
+  std::vector<unsigned char> bytes;
+  try {
+    const std::vector<std::byte> file = ReadInputFile(path);  // a regular file only: a FIFO does not block
+    const auto* data = reinterpret_cast<const unsigned char*>(file.data());
+    bytes.assign(data, data + file.size());
+  } catch (const std::runtime_error& error) {
+    throw std::runtime_error("cannot read WAV " + path.string() + ": " + error.what());
+  }
   if (bytes.size() < 44 || std::memcmp(bytes.data(), "RIFF", 4) != 0 ||
       std::memcmp(bytes.data() + 8, "WAVE", 4) != 0) {
     throw std::runtime_error("not a WAV file: " + path.string());

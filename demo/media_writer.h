@@ -15,6 +15,12 @@ struct Image {
   std::vector<std::uint8_t> rgba;  // width * height * 4
 };
 
+// Writes all of `bytes` to a new file at `path`; a short write or a failed flush
+// or close (a full disk) removes the file and throws std::runtime_error "cannot
+// write `what` PATH: reason". The failure injections "wav" (for what = "WAV") and
+// "timing" (for "timing JSON") stop half-way with ENOSPC (output_set.h).
+void WriteWholeFile(const std::filesystem::path& path, std::span<const char> bytes, const char* what);
+
 // Writes exactly `samples` as a 16-bit PCM mono WAV. On any write error (a full disk: a
 // short write, a failed flush or close) removes the file and throws std::runtime_error
 // "cannot write WAV PATH: reason".

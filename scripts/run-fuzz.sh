@@ -2,15 +2,17 @@
 # Builds the libFuzzer targets (fuzz/) with clang into build-fuzz and runs each
 # for SECONDS (default 60), starting from fuzz/seeds/<target>/; the corpus
 # grows in build-fuzz/corpus/<target>/. Exits non-zero on the first finding
-# (crash, sanitizer report, leak, timeout, or an exception other than IoError);
+# (crash, sanitizer report, leak, timeout, or an exception other than IoError,
+# or InvalidInputError for template descriptors);
 # the input that caused it is left in build-fuzz/findings/.
-#   scripts/run-fuzz.sh [SECONDS] [TARGET...]   (targets: gltf frig obj phoneme_track)
+#   scripts/run-fuzz.sh [SECONDS] [TARGET...]
+#   (targets: gltf frig obj phoneme_track template landmarks)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gltf frig obj phoneme_track)
+[ ${#targets[@]} -gt 0 ] || targets=(gltf frig obj phoneme_track template landmarks)
 build=${FACERIG_FUZZ_BUILD_DIR:-build-fuzz}
 
 if ! command -v clang++ >/dev/null; then

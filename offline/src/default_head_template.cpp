@@ -1,10 +1,8 @@
 // The built-in head's template descriptor (face_template.h), written beside
 // the generated head so that a build with it as the template reads it there.
-#include <fstream>
-
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/face_template.h"
-#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/atomic_file.h"
 
 namespace facerig {
 
@@ -23,9 +21,7 @@ FaceTemplateInfo DefaultHeadTemplateInfo(const Rig& head) {
 
 std::filesystem::path WriteDefaultHeadTemplateInfo(const Rig& head, const std::filesystem::path& directory) {
   const std::filesystem::path path = directory / "default_head.template.json";
-  std::ofstream file(path, std::ios::binary);
-  file << FaceTemplateInfoToJson(DefaultHeadTemplateInfo(head));
-  if (!file.flush()) throw IoError(IoErrorKind::kWriteFailed, path.string(), "cannot write the template descriptor");
+  WriteFileAtomically(path, FaceTemplateInfoToJson(DefaultHeadTemplateInfo(head)));  // checks every write and the close
   return path;
 }
 

@@ -1,31 +1,49 @@
 // Reading, validating and writing a template descriptor (face_template.h).
 #include "facerig/offline/face_template.h"
 
-#include <fstream>
-#include <sstream>
+#include <cmath>
+#include <cstdio>
 
 #include <nlohmann/json.hpp>
 
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/error.h"
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/input_file.h"
 
 namespace facerig {
 namespace {
 
 using nlohmann::json;
 
-// Errors name the file, the field and the offending value.
+std::uint64_t Fnv1a(std::uint64_t hash, std::int64_t value) {
+  for (int byte = 0; byte < 8; ++byte) {
+    hash ^= static_cast<std::uint64_t>(value >> (8 * byte)) & 0xffu;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+// A value for an error message: short however large the value is.
+std::string Shown(const json& value) {
+  const std::string count = std::to_string(value.size());
+  if (value.is_array()) return "an array of " + count + (value.size() == 1 ? " element" : " elements");
+  if (value.is_object()) return "an object of " + count + (value.size() == 1 ? " key" : " keys");
+  return QuoteInput(value.dump(-1, ' ', false, json::error_handler_t::replace));
+}
+
+// Errors name the file, the field and the offending value, in a line or two.
 class DescriptorReader {
  public:
   DescriptorReader(const Rig& rig, std::string file) : rig_(rig), file_(std::move(file)) {}
 
   [[noreturn]] void Fail(const std::string& field, const std::string& problem) const {
-    throw InvalidInputError(file_ + ": field '" + field + "': " + problem);
+    throw InvalidInputError(file_ + ": field '" + QuoteInput(field) +
+                            "': " + QuoteInput(problem, 2 * kMaxQuotedInputBytes));
   }
 
   std::uint32_t Vertex(const json& value, const std::string& field) const {
-    if (!value.is_number_integer()) Fail(field, "expected a vertex index, got " + value.dump());
+    if (!value.is_number_integer()) Fail(field, "expected a vertex index, got " + Shown(value));
     const auto index = value.get<std::int64_t>();
     if (index < 0 || static_cast<std::uint64_t>(index) >= rig_.vertex_count()) {
       Fail(field, "vertex " + std::to_string(index) + " is out of range (the rig has " +
@@ -36,7 +54,7 @@ class DescriptorReader {
 
   // {"first": a, "last": b} or {"rig_part": "M_Face"}.
   VertexRange Range(const json& value, const std::string& field) const {
-    if (!value.is_object()) Fail(field, "expected {\"first\", \"last\"} or {\"rig_part\"}, got " + value.dump());
+    if (!value.is_object()) Fail(field, "expected {\"first\", \"last\"} or {\"rig_part\"}, got " + Shown(value));
     if (value.contains("rig_part")) return RigPart(value["rig_part"], field + ".rig_part");
     if (!value.contains("first") || !value.contains("last")) Fail(field, "needs 'first' and 'last'");
     const VertexRange range{Vertex(value["first"], field + ".first"), Vertex(value["last"], field + ".last")};
@@ -47,7 +65,7 @@ class DescriptorReader {
   }
 
   std::vector<std::uint32_t> Vertices(const json& value, const std::string& field) const {
-    if (!value.is_array()) Fail(field, "expected an array of vertex indices or \"derive\", got " + value.dump());
+    if (!value.is_array()) Fail(field, "expected an array of vertex indices or \"derive\", got " + Shown(value));
     std::vector<std::uint32_t> vertices;
     for (std::size_t i = 0; i < value.size(); ++i) {
       vertices.push_back(Vertex(value[i], field + "[" + std::to_string(i) + "]"));
@@ -56,7 +74,7 @@ class DescriptorReader {
   }
 
   std::string String(const json& value, const std::string& field) const {
-    if (!value.is_string()) Fail(field, "expected a string, got " + value.dump());
+    if (!value.is_string()) Fail(field, "expected a string, got " + Shown(value));
     return value.get<std::string>();
   }
 
@@ -76,14 +94,14 @@ class DescriptorReader {
 };
 
 void ReadFingerprint(const json& value, const Rig& rig, const DescriptorReader& reader, FaceTemplateInfo& info) {
-  if (!value.is_object()) reader.Fail("fingerprint", "expected an object, got " + value.dump());
+  if (!value.is_object()) reader.Fail("fingerprint", "expected an object, got " + Shown(value));
   TemplateFingerprint print;
   try {
     print.vertex_count = value.at("vertex_count").get<std::size_t>();
     print.triangle_count = value.at("triangle_count").get<std::size_t>();
     print.neutral_checksum = value.at("neutral_checksum").get<std::string>();
   } catch (const json::exception& error) {
-    reader.Fail("fingerprint", error.what());
+    reader.Fail("fingerprint", QuoteInput(error.what()));
   }
   if (print != FingerprintOf(rig)) {
     const TemplateFingerprint actual = FingerprintOf(rig);
@@ -98,7 +116,7 @@ void ReadFingerprint(const json& value, const Rig& rig, const DescriptorReader& 
 void ReadParts(const json& doc, const DescriptorReader& reader, FaceTemplateInfo& info) {
   if (!doc.contains("parts")) return;
   const json& parts = doc["parts"];
-  if (!parts.is_array()) reader.Fail("parts", "expected an array, got " + parts.dump());
+  if (!parts.is_array()) reader.Fail("parts", "expected an array, got " + Shown(parts));
   for (std::size_t i = 0; i < parts.size(); ++i) {
     const std::string field = "parts[" + std::to_string(i) + "]";
     if (!parts[i].is_object() || !parts[i].contains("name")) reader.Fail(field, "needs a 'name'");
@@ -123,7 +141,7 @@ void ReadLandmarksAndRims(const json& doc, const DescriptorReader& reader, FaceT
   if (!doc.contains("rims")) return;
   const json& rims = doc["rims"];
   if (rims == "derive") return;
-  if (!rims.is_object()) reader.Fail("rims", "expected an object or \"derive\", got " + rims.dump());
+  if (!rims.is_object()) reader.Fail("rims", "expected an object or \"derive\", got " + Shown(rims));
   info.eyelid_rim = ReadRim(rims, "eyelids", reader);
   info.lip_rim = ReadRim(rims, "lips", reader);
 }
@@ -131,7 +149,7 @@ void ReadLandmarksAndRims(const json& doc, const DescriptorReader& reader, FaceT
 void ReadGroups(const json& doc, const DescriptorReader& reader, FaceTemplateInfo& info) {
   if (doc.contains("rigid_parts")) {
     const json& rigid = doc["rigid_parts"];
-    if (!rigid.is_array()) reader.Fail("rigid_parts", "expected an array of part names, got " + rigid.dump());
+    if (!rigid.is_array()) reader.Fail("rigid_parts", "expected an array of part names, got " + Shown(rigid));
     for (std::size_t i = 0; i < rigid.size(); ++i) {
       const std::string field = "rigid_parts[" + std::to_string(i) + "]";
       const std::string name = reader.String(rigid[i], field);
@@ -141,7 +159,7 @@ void ReadGroups(const json& doc, const DescriptorReader& reader, FaceTemplateInf
   }
   if (doc.contains("vertex_groups")) {
     const json& groups = doc["vertex_groups"];
-    if (!groups.is_object()) reader.Fail("vertex_groups", "expected an object, got " + groups.dump());
+    if (!groups.is_object()) reader.Fail("vertex_groups", "expected an object, got " + Shown(groups));
     for (const auto& [name, range] : groups.items()) {
       info.vertex_groups[name] = reader.Range(range, "vertex_groups." + name);
     }
@@ -154,11 +172,17 @@ nlohmann::ordered_json RangeJson(VertexRange range) { return {{"first", range.fi
 
 FaceTemplateInfo ParseFaceTemplateInfo(const std::string& json_text, const Rig& rig, const std::string& file_name) {
   const DescriptorReader reader(rig, file_name);
+  if (json_text.size() > kMaxTemplateDescriptorBytes) {
+    throw IoError(IoErrorKind::kAbsurdCount, file_name,
+                  std::to_string(json_text.size()) + " bytes (at most " +
+                      std::to_string(kMaxTemplateDescriptorBytes) + ")");
+  }
+  CheckJsonNesting(json_text, file_name);
   json doc;
   try {
     doc = json::parse(json_text);
   } catch (const json::parse_error& error) {
-    throw InvalidInputError(file_name + ": not JSON: " + error.what());
+    throw InvalidInputError(file_name + ": not JSON: " + QuoteInput(error.what()));
   }
   if (!doc.is_object()) reader.Fail("(top level)", "expected an object");
   FaceTemplateInfo info;
@@ -176,11 +200,17 @@ FaceTemplateInfo ParseFaceTemplateInfo(const std::string& json_text, const Rig& 
 }
 
 FaceTemplateInfo LoadFaceTemplateInfo(const std::filesystem::path& path, const Rig& rig) {
-  std::ifstream file(path);
-  if (!file) throw IoError(IoErrorKind::kOpenFailed, path.string(), "cannot open the template descriptor");
-  std::stringstream text;
-  text << file.rdbuf();
-  return ParseFaceTemplateInfo(text.str(), rig, path.string());
+  return ParseFaceTemplateInfo(ReadInputText(path, kMaxTemplateDescriptorBytes), rig, path.string());
+}
+
+TemplateFingerprint FingerprintOf(const Rig& rig) {
+  std::uint64_t hash = 14695981039346656037ull;
+  for (const glm::vec3& p : rig.positions()) {
+    for (int c = 0; c < 3; ++c) hash = Fnv1a(hash, std::llround(static_cast<double>(p[c]) * 1e4));
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return {rig.vertex_count(), rig.triangles().size(), hex};
 }
 
 std::string FaceTemplateInfoToJson(const FaceTemplateInfo& info) {

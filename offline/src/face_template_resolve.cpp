@@ -11,20 +11,14 @@
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/io/template_folder.h"
+#include "facerig/runtime/error.h"
+#include "facerig/runtime/io/input_file.h"
 #include "facerig/runtime/io/rig_file.h"
 
 namespace facerig {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::uint64_t Fnv1a(std::uint64_t hash, std::int64_t value) {
-  for (int byte = 0; byte < 8; ++byte) {
-    hash ^= static_cast<std::uint64_t>(value >> (8 * byte)) & 0xffu;
-    hash *= 1099511628211ull;
-  }
-  return hash;
-}
 
 // Parts as contiguous vertex ranges: the rig's part groups when it has
 // several, else its connected components when each is contiguous, else one.
@@ -76,12 +70,12 @@ std::optional<FaceTemplateInfo> ShippedMatch(const Rig& rig, const std::vector<f
     for (const fs::directory_entry& entry : fs::directory_iterator(dir, error)) {
       const std::string name = entry.path().filename().string();
       if (!name.ends_with(".template.json")) continue;
-      std::FILE* file = std::fopen(entry.path().c_str(), "rb");
-      if (!file) continue;
       std::string text;
-      char buffer[4096];
-      for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, file)) > 0;) text.append(buffer, n);
-      std::fclose(file);
+      try {
+        text = ReadInputText(entry.path(), kMaxTemplateDescriptorBytes);
+      } catch (const IoError&) {
+        continue;  // unreadable, not a regular file or too large: not a descriptor to match
+      }
       // Cheap pre-filter; the full parse checks the whole fingerprint.
       if (text.find(checksum) == std::string::npos) continue;
       return ParseFaceTemplateInfo(text, rig, entry.path().string());
@@ -91,16 +85,6 @@ std::optional<FaceTemplateInfo> ShippedMatch(const Rig& rig, const std::vector<f
 }
 
 }  // namespace
-
-TemplateFingerprint FingerprintOf(const Rig& rig) {
-  std::uint64_t hash = 14695981039346656037ull;
-  for (const glm::vec3& p : rig.positions()) {
-    for (int c = 0; c < 3; ++c) hash = Fnv1a(hash, std::llround(static_cast<double>(p[c]) * 1e4));
-  }
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
-  return {rig.vertex_count(), rig.triangles().size(), hex};
-}
 
 FaceTemplateInfo DeriveFaceTemplateInfo(const Rig& rig, LandmarkDetector* detector) {
   FaceTemplateInfo info;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -223,6 +224,13 @@ std::vector<glm::vec2> LandmarkDetector::Impl::PredictLandmarkPixels(const RgbIm
 
 LandmarkDetector::LandmarkDetector(const LandmarkParams& params) : impl_(std::make_unique<Impl>()) {
   impl_->params = params;
+  std::error_code type_error;
+  if (std::filesystem::exists(params.shape_predictor, type_error) &&
+      !std::filesystem::is_regular_file(params.shape_predictor, type_error)) {
+    // Opening a FIFO would block: only a regular file is read.
+    throw IoError(IoErrorKind::kOpenFailed, params.shape_predictor.string(),
+                  "is not a regular file, so not dlib's 68-point shape predictor");
+  }
   std::ifstream probe(params.shape_predictor, std::ios::binary);
   if (!probe) {
     throw IoError(IoErrorKind::kOpenFailed, params.shape_predictor.string(),

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <system_error>
 
@@ -11,6 +10,7 @@
 
 #include "facerig/offline/landmarks.h"
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/input_file.h"
 
 namespace facerig {
 
@@ -67,63 +67,85 @@ void WriteLandmarksJson(const std::filesystem::path& path, const FaceLandmarks& 
   }
 }
 
-FaceLandmarks ReadLandmarksJson(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(IoErrorKind::kOpenFailed, path.string(), "cannot open the landmark file");
-  std::stringstream text;
-  text << in.rdbuf();
+namespace {
+
+[[noreturn]] void FailLandmarks(IoErrorKind kind, const std::string& name, const std::string& problem) {
+  throw IoError(kind, name, problem);
+}
+
+std::vector<glm::vec3> LandmarkPoints(const nlohmann::json& json, const std::string& name) {
+  if (!json.is_object() || !json.contains("points") || !json["points"].is_array()) {
+    FailLandmarks(IoErrorKind::kParse, name, "expected an object with a \"points\" array");
+  }
+  std::vector<glm::vec3> points;
+  for (const auto& p : json["points"]) {
+    if (!p.is_array() || p.size() != 3) {
+      FailLandmarks(IoErrorKind::kParse, name,
+                    "points[" + std::to_string(points.size()) + "]: each point must be [x, y, z]");
+    }
+    const glm::vec3 point(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+    if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z)) {
+      FailLandmarks(IoErrorKind::kNonFinite, name,
+                    "points[" + std::to_string(points.size()) + "]: a landmark point is not finite");
+    }
+    points.push_back(point);
+  }
+  if (points.empty()) FailLandmarks(IoErrorKind::kEmpty, name, "the landmark file has no points");
+  return points;
+}
+
+void ReadConfidenceAndIndices(const nlohmann::json& json, const std::string& name, FaceLandmarks& landmarks) {
+  const std::size_t n = landmarks.points.size();
+  if (json.contains("confidence")) {
+    landmarks.confidence = json["confidence"].get<std::vector<float>>();
+    for (float c : landmarks.confidence) {
+      if (!(c >= 0.0f && c <= 1.0f)) FailLandmarks(IoErrorKind::kParse, name, "confidence: must be in [0, 1]");
+    }
+  } else {
+    landmarks.confidence.assign(n, 1.0f);
+  }
+  if (json.contains("indices")) {
+    landmarks.indices = json["indices"].get<std::vector<std::uint32_t>>();
+  } else {
+    for (std::uint32_t i = 0; i < n; ++i) landmarks.indices.push_back(i);
+  }
+  if (landmarks.confidence.size() != n || landmarks.indices.size() != n) {
+    FailLandmarks(IoErrorKind::kParse, name, "\"points\", \"confidence\" and \"indices\" must have the same length");
+  }
+  for (std::uint32_t i : landmarks.indices) {
+    if (i >= kDlibLandmarkCount) {
+      FailLandmarks(IoErrorKind::kIndexOutOfRange, name,
+                    "indices: landmark index " + std::to_string(i) + " is outside dlib's 0..67");
+    }
+  }
+}
+
+}  // namespace
+
+FaceLandmarks ParseLandmarksJson(std::string_view text, const std::string& name) {
+  if (text.size() > kMaxLandmarkFileBytes) {
+    FailLandmarks(IoErrorKind::kAbsurdCount, name,
+                  std::to_string(text.size()) + " bytes (at most " + std::to_string(kMaxLandmarkFileBytes) + ")");
+  }
+  CheckJsonNesting(text, name);
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(text.str());
+    json = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
-    throw IoError(IoErrorKind::kParse, path.string(), std::string("not JSON: ") + e.what());
+    FailLandmarks(IoErrorKind::kParse, name, "not JSON: " + QuoteInput(e.what()));
   }
   FaceLandmarks landmarks;
   try {
-    if (!json.is_object() || !json.contains("points") || !json["points"].is_array()) {
-      throw IoError(IoErrorKind::kParse, path.string(), "expected an object with a \"points\" array");
-    }
-    for (const auto& p : json["points"]) {
-      if (!p.is_array() || p.size() != 3) {
-        throw IoError(IoErrorKind::kParse, path.string(), "each point must be [x, y, z]");
-      }
-      const glm::vec3 point(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
-      if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z)) {
-        throw IoError(IoErrorKind::kNonFinite, path.string(), "a landmark point is not finite");
-      }
-      landmarks.points.push_back(point);
-    }
-    const std::size_t n = landmarks.points.size();
-    if (n == 0) throw IoError(IoErrorKind::kEmpty, path.string(), "the landmark file has no points");
-    if (json.contains("confidence")) {
-      landmarks.confidence = json["confidence"].get<std::vector<float>>();
-      for (float c : landmarks.confidence) {
-        if (!(c >= 0.0f && c <= 1.0f)) {
-          throw IoError(IoErrorKind::kParse, path.string(), "confidences must be in [0, 1]");
-        }
-      }
-    } else {
-      landmarks.confidence.assign(n, 1.0f);
-    }
-    if (json.contains("indices")) {
-      landmarks.indices = json["indices"].get<std::vector<std::uint32_t>>();
-    } else {
-      for (std::uint32_t i = 0; i < n; ++i) landmarks.indices.push_back(i);
-    }
-    if (landmarks.confidence.size() != n || landmarks.indices.size() != n) {
-      throw IoError(IoErrorKind::kParse, path.string(),
-                    "\"points\", \"confidence\" and \"indices\" must have the same length");
-    }
-    for (std::uint32_t i : landmarks.indices) {
-      if (i >= kDlibLandmarkCount) {
-        throw IoError(IoErrorKind::kIndexOutOfRange, path.string(),
-                      "landmark index " + std::to_string(i) + " is outside dlib's 0..67");
-      }
-    }
+    landmarks.points = LandmarkPoints(json, name);
+    ReadConfidenceAndIndices(json, name, landmarks);
   } catch (const nlohmann::json::exception& e) {
-    throw IoError(IoErrorKind::kParse, path.string(), std::string("malformed landmark file: ") + e.what());
+    FailLandmarks(IoErrorKind::kParse, name, "malformed landmark file: " + QuoteInput(e.what()));
   }
   return landmarks;
+}
+
+FaceLandmarks ReadLandmarksJson(const std::filesystem::path& path) {
+  return ParseLandmarksJson(ReadInputText(path, kMaxLandmarkFileBytes), path.string());
 }
 
 }  // namespace facerig

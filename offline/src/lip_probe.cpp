@@ -8,6 +8,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/input_file.h"
 #include "facerig/offline/error.h"
 
 namespace facerig {
@@ -44,7 +45,9 @@ float LipProbe::Aperture(std::span<const float> weights) const {
 std::optional<std::array<std::uint32_t, 2>> IctInnerLipVertices(const std::filesystem::path& ict_folder) {
   const std::filesystem::path json_path = ict_folder / "vertex_indices.json";
   if (!std::filesystem::exists(json_path)) return std::nullopt;
-  const nlohmann::json json = nlohmann::json::parse(ReadFileText(json_path, 64u << 20), nullptr, false);
+  const std::string text = ReadFileText(json_path, 64u << 20);
+  CheckJsonNesting(text, json_path.string());
+  const nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
   if (json.is_discarded() || !json.is_object() || !json.contains("idx_to_landmark_verts")) {
     throw IoError(IoErrorKind::kParse, json_path.string(), "no idx_to_landmark_verts list");
   }

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -25,6 +26,7 @@
 #include "facerig/runtime/behaviour/blink.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/input_file.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 
@@ -40,7 +42,8 @@ constexpr double kEnvelopeHop = 0.005;  // lag resolution
 
 std::vector<std::string> ReadLines(const fs::path& path) {
   std::vector<std::string> lines;
-  std::ifstream in(path);
+  if (!fs::exists(path)) return lines;  // as before: a missing corpus file is an empty one
+  std::istringstream in(facerig::ReadInputText(path, std::uint64_t{16} << 20));
   for (std::string line; std::getline(in, line);) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (!line.empty()) lines.push_back(line);

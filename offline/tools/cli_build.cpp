@@ -25,7 +25,9 @@
 #include "facerig/runtime/io/gltf.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/offline/io/template_folder.h"
+#include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/rig_warnings.h"
 
 namespace facerig::cli {
 namespace {
@@ -100,40 +102,21 @@ std::string ShapeFileName(std::string_view name) {
   return file + ".obj";
 }
 
-// neutral.obj and one OBJ per shape on the target's topology, written into a
-// sibling folder first and moved into `folder` only when all are written.
+// neutral.obj and one OBJ per shape on the target's topology, into `folder`
+// (the output set's temporary folder for --obj-dir).
 void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
-  namespace fs = std::filesystem;
-  const fs::path staging = fs::path(folder).concat(".partial");
-  std::error_code error;
-  fs::remove_all(staging, error);
-  if (!fs::create_directories(staging, error) && error) {
-    throw IoError(IoErrorKind::kWriteFailed, staging.string(), "cannot create the folder: " + error.message());
-  }
-  try {
-    std::vector<std::string> files{"neutral.obj"};
-    WriteObj(staging / files[0], rig);
-    std::vector<glm::vec3> positions, normals(rig.vertex_count());
-    for (std::size_t s = 0; s < rig.shape_count(); ++s) {
-      positions.assign(rig.positions().begin(), rig.positions().end());
-      const BlendShapeView shape = rig.shape(s);
-      for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
-        positions[shape.vertex_indices[i]] += shape.position_deltas[i];
-      }
-      ComputeVertexNormals(positions, rig.triangles(), normals);
-      files.push_back(ShapeFileName(shape.name));
-      WriteObj(staging / files.back(), positions, normals, rig.uvs(), rig.triangles(), rig.parts());
+  WriteObj(folder / "neutral.obj", rig);
+  CheckAfterWrite("obj-neutral", folder / "neutral.obj");
+  std::vector<glm::vec3> positions, normals(rig.vertex_count());
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+    positions.assign(rig.positions().begin(), rig.positions().end());
+    const BlendShapeView shape = rig.shape(s);
+    for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+      positions[shape.vertex_indices[i]] += shape.position_deltas[i];
     }
-    fs::create_directories(folder, error);
-    if (error) throw IoError(IoErrorKind::kWriteFailed, folder.string(), "cannot create the folder: " + error.message());
-    for (const std::string& file : files) {
-      fs::rename(staging / file, folder / file, error);
-      if (error) throw IoError(IoErrorKind::kWriteFailed, (folder / file).string(), "cannot move into place");
-    }
-    fs::remove_all(staging, error);
-  } catch (...) {
-    fs::remove_all(staging, error);
-    throw;
+    ComputeVertexNormals(positions, rig.triangles(), normals);
+    WriteObj(folder / ShapeFileName(shape.name), positions, normals, rig.uvs(), rig.triangles(), rig.parts());
+    ThrowIfStopped();
   }
 }
 
@@ -190,15 +173,49 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, BuildInputs& inpu
   return found;
 }
 
-void WriteBuildOutputs(const BuildOptions& options, const Rig& rig, const BuildRigResult& built) {
-  SaveBuiltRig(options.target_path, options.output, rig, built.target_mesh);
-  if (!options.frig.empty()) SaveRig(options.frig, rig);
-  if (!options.obj_dir.empty()) WriteObjFolder(options.obj_dir, rig);
-  if (!options.template_topology.empty()) {
+// Where each output goes until OutputSet::Commit() (empty: not asked for).
+struct BuildOutputPaths {
+  std::filesystem::path rig, frig, obj_dir, template_topology, report;
+};
+
+// The outputs as one set (output_set.h): --obj-dir is replaced, not merged,
+// and only when it holds nothing but .obj files.
+BuildOutputPaths AddBuildOutputs(const BuildOptions& options, OutputSet& set) {
+  const auto add_file = [&set](const std::string& path) {
+    return path.empty() ? std::filesystem::path() : set.Add(path, OutputSet::Kind::kFile);
+  };
+  BuildOutputPaths paths;
+  paths.rig = add_file(options.output);
+  paths.frig = add_file(options.frig);
+  if (!options.obj_dir.empty()) {
+    const ReplaceableFolder obj_folder{
+        [](const std::filesystem::path& name) { return name.extension() == ".obj"; }, ".obj files", "--obj-dir"};
+    paths.obj_dir = set.Add(options.obj_dir, OutputSet::Kind::kFolder, obj_folder);
+  }
+  paths.template_topology = add_file(options.template_topology);
+  paths.report = add_file(options.report);
+  return paths;
+}
+
+// Writes every output but the report under its temporary name.
+void WriteBuildOutputs(const BuildOptions& options, const BuildOutputPaths& paths, const Rig& rig,
+                       const BuildRigResult& built) {
+  SaveBuiltRig(options.target_path, paths.rig, rig, built.target_mesh);
+  CheckAfterWrite("rig", paths.rig);
+  if (!paths.frig.empty()) {
+    SaveRig(paths.frig, rig);
+    CheckAfterWrite("frig", paths.frig);
+  }
+  if (!paths.obj_dir.empty()) {
+    WriteObjFolder(paths.obj_dir, rig);
+    CheckAfterWrite("obj-dir", paths.obj_dir);
+  }
+  if (!paths.template_topology.empty()) {
     std::string problem;
     const std::optional<Rig> fitted = RigBuilder::Build(built.template_frame_rig, &problem);
     if (!fitted) throw InvalidInputError("the template-topology rig is invalid: " + problem);
-    SaveRig(options.template_topology, *fitted);
+    SaveRig(paths.template_topology, *fitted);
+    CheckAfterWrite("template-topology", paths.template_topology);
   }
 }
 
@@ -253,6 +270,11 @@ nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& input
                                 {"mean_move", built.margin_mean_correction}};
   report["mapping"] = MappingReport(built.mapping);
   report["stages"] = StagesReport(stages);
+  // A rig that cannot speak or blink (its template had no such shapes) says so here.
+  report["warnings"] = nlohmann::json::array();
+  for (const RigWarning& warning : SpeechAndBlinkWarnings(rig)) {
+    report["warnings"].push_back({{"code", warning.code}, {"message", warning.message}});
+  }
   report["seconds"] = {{"load", StageSeconds(stages, "load")},
                        {"landmarks", StageSeconds(stages, "landmarks")},
                        {"register", built.timings.registration_seconds},
@@ -261,6 +283,30 @@ nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& input
                        {"write", StageSeconds(stages, "write")},
                        {"total", TotalSeconds(stages)}};
   return report;
+}
+
+// Writes the outputs under temporary names (the "write" stage, then the report)
+// and puts them in place as one set; on any error or SIGINT / SIGTERM the
+// temporaries go and the previous set stays.
+void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
+                   const BuildRigResult& built, const Rig& rig, std::vector<BuildStage>& stages) {
+  const StopSignalScope stop_signals;
+  OutputSet set;  // removes the temporaries unless committed
+  try {
+    const BuildOutputPaths paths = AddBuildOutputs(options, set);
+    const auto start = std::chrono::steady_clock::now();
+    WriteBuildOutputs(options, paths, rig, built);
+    stages.push_back({"write", SecondsSince(start)});
+    if (!paths.report.empty()) {
+      WriteJsonAtomically(paths.report, BuildReport(options, inputs, landmarks, built, rig, stages));
+      CheckAfterWrite("report", paths.report);
+    }
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
+  }
+  set.Commit();
 }
 
 int RunBuild(const BuildOptions& options) {
@@ -288,10 +334,7 @@ int RunBuild(const BuildOptions& options) {
     std::string problem;
     const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
     if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
-    timed("write", [&] {
-      WriteBuildOutputs(options, *rig, built);
-      return 0;
-    });
+    WriteBuildSet(options, inputs, landmarks, built, *rig, stages);
 
     const ResidualStats& residual = built.registration.residual;
     std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "
@@ -299,10 +342,10 @@ int RunBuild(const BuildOptions& options) {
                 options.output.c_str(), rig->vertex_count(), rig->shape_count(), ToString(options.mode),
                 ToString(rig->units()), residual.mean_percent, residual.p95_percent,
                 TotalSeconds(stages));
-    if (!options.report.empty()) {
-      WriteJsonAtomically(options.report, BuildReport(options, inputs, landmarks, built, *rig, stages));
-    }
     return 0;
+  } catch (const Interrupted& stopped) {
+    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped.what());
+    return 128 + stopped.signal();
   } catch (const std::exception& error) {
     return Fail(error);
   }

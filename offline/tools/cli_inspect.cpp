@@ -15,8 +15,12 @@
 
 #include "cli_common.h"
 #include "facerig/offline/default_head.h"
+#include "facerig/offline/face_template.h"
 #include "facerig/offline/io/template_folder.h"
+#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/rig_warnings.h"
 
 namespace facerig::cli {
 namespace {
@@ -24,6 +28,7 @@ namespace {
 struct RigFileOptions {
   std::vector<std::string> paths;  // inspect: FILE|DIR; convert: IN OUT
   TemplateImportOptions folder;
+  std::string report;  // inspect --json
 };
 
 struct DefaultHeadOptions {
@@ -95,12 +100,31 @@ void Inspect(const Rig& rig) {
               dense * static_cast<double>(entry_bytes - 4) / 1e6);
 }
 
+// inspect --json: the counts, the shape names and the rig's warnings.
+nlohmann::json InspectReport(const std::string& path, const Rig& rig, const std::vector<RigWarning>& warnings) {
+  nlohmann::json shapes = nlohmann::json::array();
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) shapes.push_back(std::string(rig.shape_name(s)));
+  nlohmann::json listed = nlohmann::json::array();
+  for (const RigWarning& warning : warnings) listed.push_back({{"code", warning.code}, {"message", warning.message}});
+  return {{"rig", path},
+          {"vertices", rig.vertex_count()},
+          {"triangles", rig.triangle_count()},
+          {"units", ToString(rig.units())},
+          {"parts", rig.parts().size()},
+          {"shapes", shapes},
+          {"warnings", listed}};
+}
+
 int RunInspect(const RigFileOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     const Rig rig = Load(options.paths[0], options.folder);
     std::printf("%s (loaded in %.3f s)\n", options.paths[0].c_str(), SecondsSince(start));
     Inspect(rig);
+    const std::vector<RigWarning> warnings = SpeechAndBlinkWarnings(rig);
+    std::fflush(stdout);
+    for (const RigWarning& warning : warnings) std::fprintf(stderr, "facerig: warning: %s\n", warning.message.c_str());
+    if (!options.report.empty()) WriteJsonAtomically(options.report, InspectReport(options.paths[0], rig, warnings));
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -120,32 +144,65 @@ int RunConvert(const RigFileOptions& options) {
   }
 }
 
-// Writes default_head.{glb,frig} (the build runs it into build/data) and previews.
+// The head's files (and previews) under their temporary names in `set`;
+// returns what to print once they are in place.
+std::string WriteDefaultHeadFiles(const Rig& rig, const DefaultHeadOptions& options, OutputSet& set) {
+  namespace fs = std::filesystem;
+  std::string written;
+  char line[1024];
+  for (const char* name : {"default_head.glb", "default_head.frig"}) {
+    const fs::path path = fs::path(options.out_dir) / name;
+    const fs::path temporary = set.Add(path, OutputSet::Kind::kFile);
+    SaveRig(temporary, rig);
+    CheckAfterWrite(fs::path(name).extension().string().substr(1), temporary);
+    std::snprintf(line, sizeof line, "wrote %s (%zu vertices, %zu triangles, %zu shapes, %ju bytes)\n", path.c_str(),
+                  rig.vertex_count(), rig.triangle_count(), rig.shape_count(),
+                  static_cast<std::uintmax_t>(fs::file_size(temporary)));
+    written += line;
+  }
+  const fs::path info = fs::path(options.out_dir) / "default_head.template.json";
+  const fs::path info_temporary = set.Add(info, OutputSet::Kind::kFile);
+  WriteFileAtomically(info_temporary, FaceTemplateInfoToJson(DefaultHeadTemplateInfo(rig)));
+  CheckAfterWrite("template-info", info_temporary);
+  written += "wrote " + info.string() + "\n";
+  if (!options.preview_dir.empty()) {
+    const ReplaceableFolder previews{[](const fs::path& name) { return name.extension() == ".png"; }, "PNG files",
+                                     "--preview"};
+    const fs::path preview_temporary = set.Add(options.preview_dir, OutputSet::Kind::kFolder, previews);
+    for (const fs::path& path : WriteDefaultHeadPreviews(rig, preview_temporary, options.preview_size)) {
+      written += "wrote " + (fs::path(options.preview_dir) / path.filename()).string() + "\n";
+    }
+    CheckAfterWrite("previews", preview_temporary);
+  }
+  return written;
+}
+
+// Writes default_head.{glb,frig} and its descriptor (the build runs it into
+// build/data) and previews, as one set (output_set.h).
 int RunDefaultHead(const DefaultHeadOptions& options) {
   try {
-    const std::string& out_dir = options.out_dir;
-    const std::string& preview_dir = options.preview_dir;
-    const int preview_size = options.preview_size;
     DefaultHeadFeatures features;
     const Rig rig = BuildDefaultHead(&features);
     std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
                 features.control_vertex_count, features.control_triangle_count,
                 features.skin_vertex_count);
-    std::filesystem::create_directories(out_dir);
-    for (const char* name : {"default_head.glb", "default_head.frig"}) {
-      const std::filesystem::path path = std::filesystem::path(out_dir) / name;
-      SaveRig(path, rig);
-      std::printf("wrote %s (%zu vertices, %zu triangles, %zu shapes, %ju bytes)\n", path.c_str(),
-                  rig.vertex_count(), rig.triangle_count(), rig.shape_count(),
-                  static_cast<std::uintmax_t>(std::filesystem::file_size(path)));
+    std::filesystem::create_directories(options.out_dir);
+    const StopSignalScope stop_signals;  // SIGINT / SIGTERM: the temporaries go, the previous set stays
+    OutputSet set;                        // removes the temporaries on any error
+    std::string written;
+    try {
+      written = WriteDefaultHeadFiles(rig, options, set);
+    } catch (const Interrupted&) {
+      throw;
+    } catch (const std::exception& error) {
+      throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
     }
-    std::printf("wrote %s\n", WriteDefaultHeadTemplateInfo(rig, out_dir).c_str());
-    if (!preview_dir.empty()) {
-      for (const auto& path : WriteDefaultHeadPreviews(rig, preview_dir, preview_size)) {
-        std::printf("wrote %s\n", path.c_str());
-      }
-    }
+    set.Commit();
+    std::fputs(written.c_str(), stdout);
     return 0;
+  } catch (const Interrupted& stopped) {
+    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped.what());
+    return 128 + stopped.signal();
   } catch (const std::exception& error) {
     return Fail(error);
   }
@@ -157,6 +214,7 @@ void AddInspectCommand(CLI::App& facerig, CommandBody& body) {
   CLI::App* inspect = facerig.add_subcommand("inspect", "print a rig's vertices, parts, shapes and sparsity");
   auto options = std::make_shared<RigFileOptions>();
   inspect->add_option("rig", options->paths, "FILE|DIR: the rig")->required()->expected(1);
+  inspect->add_option("--json", options->report, "also write a JSON report (counts, shape names, warnings)");
   AddFolderOptions(*inspect, options->folder);
   inspect->callback([&body, options] { body = [options] { return RunInspect(*options); }; });
 }

@@ -4,6 +4,7 @@
 #include "facerig/offline/face_template.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "facerig/offline/error.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "support/hostile_files.h"
 #include "support/test_meshes.h"
 
 namespace Catch {
@@ -225,6 +227,48 @@ TEST_CASE("face template: derived on the built-in head, landmarks by the detecto
   const auto z = [&](std::size_t landmark) { return head.positions()[info.landmark_vertices[landmark]].z; };
   CHECK(z(30) > z(36));
   CHECK(z(30) > z(45));
+}
+
+TEST_CASE("face template: hostile descriptors are refused with short errors naming the file and field",
+          "[face_template][hostile]") {
+  namespace fs = std::filesystem;
+  const Rig rig = TwoQuads();
+  const fs::path folder = test::FreshOutputFolder("face_template_hostile");
+  const fs::path fifo = folder / "pipe.template.json";
+  test::MakeFifo(fifo);
+  CHECK(test::ErrorWithoutHanging(fifo, [&] { LoadFaceTemplateInfo(fifo, rig); }) ==
+        fifo.string() + ": is a FIFO (named pipe), not a regular file");
+  const fs::path device = folder / "zero.template.json";
+  fs::create_symlink("/dev/zero", device);
+  CHECK(test::ErrorWithoutHanging(device, [&] { LoadFaceTemplateInfo(device, rig); }) ==
+        device.string() + ": is a character device, not a regular file");
+
+  // Nesting is refused before parsing; the size cap before reading.
+  REQUIRE_THROWS_WITH(ParseFaceTemplateInfo("{\"extras\": " + std::string(20000, '[') + "}", rig, "deep.json"),
+                      "deep.json (byte 74): JSON nested deeper than 64 levels");
+  const fs::path large = folder / "large.template.json";
+  std::ofstream(large).put(' ');
+  fs::resize_file(large, kMaxTemplateDescriptorBytes + 1);
+  REQUIRE_THROWS_WITH(LoadFaceTemplateInfo(large, rig), Catch::Contains("larger than the limit of 16777216"));
+
+  // A huge value, key or bad token is quoted short.
+  const std::string huge(1 << 20, 'x');
+  for (const std::string& text :
+       {QuadsDescriptor("name", "[\"" + huge + "\"]"), QuadsDescriptor("vertex_groups", "{\"" + huge + "\": 3}"),
+        QuadsDescriptor("rigid_parts", "[\"" + huge + "\"]"), QuadsDescriptor("region", "\"" + huge + "\""),
+        "{\"region\": " + huge + "}"}) {
+    try {
+      ParseFaceTemplateInfo(text, rig, "huge.json");
+      FAIL("accepted");
+    } catch (const InvalidInputError& error) {
+      const std::string message = error.what();
+      CAPTURE(message.substr(0, 300));
+      CHECK(message.rfind("huge.json: ", 0) == 0);
+      CHECK(message.size() < 700);
+    }
+  }
+  REQUIRE_THROWS_WITH(ParseFaceTemplateInfo(QuadsDescriptor("name", "[1, 2, 3]"), rig, "q.json"),
+                      "q.json: field 'name': expected a string, got an array of 3 elements");
 }
 
 }  // namespace facerig

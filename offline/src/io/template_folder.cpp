@@ -8,6 +8,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/io/input_file.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
@@ -30,6 +31,7 @@ std::string FindNeutral(const fs::path& folder, const TemplateImportOptions& opt
 // holds identity meshes, which are not expressions.
 std::vector<std::string> ShapeNamesFromJson(const fs::path& json_path) {
   const std::string text = ReadFileText(json_path, 64u << 20);
+  CheckJsonNesting(text, json_path.string());
   nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
   if (json.is_discarded() || !json.is_object()) {
     throw IoError(IoErrorKind::kParse, json_path.string(), "not a JSON object");

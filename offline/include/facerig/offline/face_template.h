@@ -75,11 +75,17 @@ struct FaceTemplate {
   FaceTemplateInfo info;
 };
 
+// The largest descriptor file read (shipped ones are a few kB).
+inline constexpr std::uint64_t kMaxTemplateDescriptorBytes = std::uint64_t{16} << 20;
+
 // Parses and validates a descriptor against `rig`: every index in range,
 // every field of the right type; a fingerprint, if present, must match.
-// \throw InvalidInputError naming the file, field and value.
+// \throw InvalidInputError naming the file, field and value (quoted short);
+//        IoError for text over kMaxTemplateDescriptorBytes or JSON nested
+//        deeper than kMaxJsonNesting (input_file.h).
 FaceTemplateInfo ParseFaceTemplateInfo(const std::string& json_text, const Rig& rig, const std::string& file_name);
-// \throw IoError when the file cannot be read; InvalidInputError as above.
+// Reads through ReadInputText (input_file.h): a regular file of at most
+// kMaxTemplateDescriptorBytes. \throw IoError when it cannot; InvalidInputError as above.
 FaceTemplateInfo LoadFaceTemplateInfo(const std::filesystem::path& path, const Rig& rig);
 // The descriptor as JSON (source fields left out).
 std::string FaceTemplateInfoToJson(const FaceTemplateInfo& info);

@@ -18,6 +18,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -116,11 +117,18 @@ class LandmarkDetector {
 // The render with the landmarks drawn (jaw points in a different colour).
 RgbImage DrawLandmarks(const LandmarkResult& result);
 
+// The largest landmark file read (68 points take about 4 kB).
+inline constexpr std::uint64_t kMaxLandmarkFileBytes = std::uint64_t{16} << 20;
+
 // JSON: {"points": [[x, y, z], ...], "confidence": [...], "indices": [...]}
 // ("indices" optional: 0..n-1 when absent, i.e. dlib order). Writing is atomic.
-// \throw IoError on unreadable or malformed files, non-finite values,
-//        mismatched lengths or indices outside 0..67.
+// Reading goes through ReadInputText (input_file.h: a regular file of at most
+// kMaxLandmarkFileBytes, JSON nested at most kMaxJsonNesting deep).
+// \throw IoError naming the file (and the field) on unreadable or malformed
+//        files, non-finite values, mismatched lengths or indices outside 0..67.
 void WriteLandmarksJson(const std::filesystem::path& path, const FaceLandmarks& landmarks);
 FaceLandmarks ReadLandmarksJson(const std::filesystem::path& path);
+// The same from text; `name` names it in errors.
+FaceLandmarks ParseLandmarksJson(std::string_view text, const std::string& name);
 
 }  // namespace facerig

@@ -1,4 +1,4 @@
-#include "output_set.h"
+#include "facerig/runtime/io/output_set.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -12,7 +12,7 @@
 #include <cstring>
 #include <system_error>
 
-namespace facerig::player {
+namespace facerig {
 namespace {
 
 namespace fs = std::filesystem;
@@ -45,22 +45,25 @@ bool IsStale(const std::string& name) {
   return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
 }
 
-// The frames folder is replaced as a whole: refuse to replace one that holds anything else.
-void CheckReplaceableFolder(const fs::path& folder) {
+// A folder output is replaced as a whole: refuse to replace one that holds anything else.
+void CheckReplaceableFolder(const fs::path& folder, const ReplaceableFolder& replaceable) {
   std::error_code error;
   if (!fs::exists(folder, error)) return;
   if (!fs::is_directory(folder, error)) throw std::runtime_error(folder.string() + " exists and is not a folder");
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    const std::string name = entry.path().filename().string();
-    const bool frame = name.rfind("frame_", 0) == 0 && entry.path().extension() == ".png" &&
-                       entry.is_regular_file(error);
-    if (!frame) {
-      throw std::runtime_error(folder.string() + " holds " + name +
-                               ", not only frame_NNNNN.png files; not replacing it (remove it or choose "
-                               "another --frames folder)");
+    const fs::path name = entry.path().filename();
+    const bool ours = replaceable.holds && replaceable.holds(name) && entry.is_regular_file(error);
+    if (!ours) {
+      const std::string option = replaceable.option.empty() ? "" : replaceable.option + " ";
+      throw std::runtime_error(folder.string() + " holds " + name.string() + ", not only " +
+                               (replaceable.holds ? replaceable.description : "files of this run") +
+                               "; not replacing it (remove it or choose another " + option + "folder)");
     }
   }
 }
+
+// The flag the signal handler sets (0: no stop asked), read between a run's writes.
+volatile std::sig_atomic_t g_stop_signal = 0;
 
 // Atomically swaps two existing paths (Linux renameat2); false if the file system cannot.
 bool Exchange(const fs::path& a, const fs::path& b, std::error_code& error) {
@@ -73,13 +76,56 @@ bool Exchange(const fs::path& a, const fs::path& b, std::error_code& error) {
 }  // namespace
 
 bool FailureInjected(std::string_view what) {
-  const char* value = std::getenv("FACERIG_PLAYER_INJECT_FAILURE");
-  for (std::string_view list = value != nullptr ? value : ""; !list.empty();) {
-    const std::size_t comma = std::min(list.find(','), list.size());
-    if (list.substr(0, comma) == what) return true;
-    list.remove_prefix(std::min(comma + 1, list.size()));
+  for (const char* variable : {"FACERIG_INJECT_FAILURE", "FACERIG_PLAYER_INJECT_FAILURE"}) {
+    const char* value = std::getenv(variable);
+    for (std::string_view list = value != nullptr ? value : ""; !list.empty();) {
+      const std::size_t comma = std::min(list.find(','), list.size());
+      if (list.substr(0, comma) == what) return true;
+      list.remove_prefix(std::min(comma + 1, list.size()));
+    }
   }
   return false;
+}
+
+Interrupted::Interrupted(int signal)
+    : std::runtime_error(std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM")),
+      signal_(signal) {}
+
+void InstallStopSignalHandlers() {
+  g_stop_signal = 0;
+  struct sigaction action {};
+  action.sa_handler = [](int signal) { g_stop_signal = signal; };
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+void ThrowIfStopped() {
+  if (g_stop_signal != 0) throw Interrupted(g_stop_signal);
+}
+
+StopSignalScope::StopSignalScope() {
+  sigaction(SIGINT, nullptr, &previous_interrupt_);
+  sigaction(SIGTERM, nullptr, &previous_terminate_);
+  InstallStopSignalHandlers();
+}
+
+StopSignalScope::~StopSignalScope() {
+  sigaction(SIGINT, &previous_interrupt_, nullptr);
+  sigaction(SIGTERM, &previous_terminate_, nullptr);
+}
+
+void CheckAfterWrite(std::string_view step, const fs::path& written) {
+  const std::string name(step);
+  if (FailureInjected("fail-" + name)) {
+    std::error_code ignored;
+    fs::remove_all(written, ignored);  // as a writer does when the disk is full
+    throw std::runtime_error("cannot write " + written.string() + ": " + std::strerror(ENOSPC));
+  }
+  if (FailureInjected("term-after-" + name)) ::raise(SIGTERM);
+  if (FailureInjected("kill-after-" + name)) ::raise(SIGKILL);
+  ThrowIfStopped();
 }
 
 OutputSet::~OutputSet() {
@@ -97,7 +143,7 @@ void OutputSet::RemoveStaleTemporaries(const fs::path& folder) {
   }
 }
 
-fs::path OutputSet::Add(const fs::path& final_path, Kind kind) {
+fs::path OutputSet::Add(const fs::path& final_path, Kind kind, const ReplaceableFolder& replaceable) {
   Entry entry{OutputPath(final_path), {}, final_path, kind};
   for (const Entry& other : entries_) {
     if (other.final_path == entry.final_path) throw std::runtime_error(final_path.string() + " is given twice");
@@ -111,7 +157,7 @@ fs::path OutputSet::Add(const fs::path& final_path, Kind kind) {
   if (kind == Kind::kFolder) {
     fs::create_directories(folder, error);
     if (error) throw std::runtime_error("cannot create " + folder.string() + ": " + error.message());
-    CheckReplaceableFolder(entry.final_path);
+    CheckReplaceableFolder(entry.final_path, replaceable);
   } else if (fs::is_directory(entry.final_path, error)) {
     throw std::runtime_error(final_path.string() + " is a folder");
   }
@@ -217,4 +263,4 @@ std::string OutputSet::WithFinalPaths(std::string message) const {
   return message;
 }
 
-}  // namespace facerig::player
+}  // namespace facerig
