@@ -1,9 +1,8 @@
 #include "deformation_transfer_impl.h"
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
-#include <thread>
+
+#include "parallel_for.h"
 
 namespace facerig {
 
@@ -26,32 +25,15 @@ DeformationTransferResult DeformationTransfer(const Mesh& source, std::span<cons
   result.expressions.resize(count);
   result.residuals.assign(count, 0.0);
   result.contact_counts.assign(count, 0);
-  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(params.threads),
-                                                    std::max<std::size_t>(count, 1));
   const DeformationTransferData::Impl& impl = *data.impl;
-  std::vector<std::exception_ptr> failures(threads);
-  // Each expression goes to the next free thread (their costs differ: the
-  // jaw's solve is the largest); each is solved on its own, so the results
-  // do not depend on the split.
-  std::atomic<std::size_t> next{0};
-  auto run = [&](std::size_t t) {
-    try {
-      DeformationTransferData::Impl::Scratch scratch;
-      for (std::size_t k = next++; k < count; k = next++) {
-        result.residuals[k] = impl.Solve(source_expressions[k], result.expressions[k], scratch);
-        result.contact_counts[k] = scratch.contacts.size();
-      }
-    } catch (...) {
-      failures[t] = std::current_exception();  // rethrown on the calling thread
-    }
+  // One expression at a time to the next free thread (their costs differ:
+  // the jaw's solve is the largest).
+  using Scratch = DeformationTransferData::Impl::Scratch;
+  const auto solve = [&](Scratch& scratch, std::size_t k) {
+    result.residuals[k] = impl.Solve(source_expressions[k], result.expressions[k], scratch);
+    result.contact_counts[k] = scratch.contacts.size();
   };
-  std::vector<std::thread> workers;
-  for (std::size_t t = 1; t < threads; ++t) workers.emplace_back(run, t);
-  run(0);
-  for (std::thread& worker : workers) worker.join();
-  for (const std::exception_ptr& failure : failures) {
-    if (failure) std::rethrow_exception(failure);
-  }
+  ParallelForWithState<Scratch>(count, 1, static_cast<std::size_t>(params.threads), solve);
   result.solve_seconds = SecondsSince(start);
   return result;
 }
@@ -93,7 +75,8 @@ RawRig TransferRig(const Rig& template_rig, std::span<const glm::vec3> target_ne
                    const DeformationTransferParams& params, DeformationTransferResult* result) {
   CheckPositions(target_neutral, template_rig.vertex_count(), "target neutral");
   const std::vector<std::vector<glm::vec3>> expressions = RigExpressionMeshes(template_rig);
-  DeformationTransferResult transfer = DeformationTransfer(NeutralMesh(template_rig), target_neutral, expressions, params);
+  DeformationTransferResult transfer =
+      DeformationTransfer(NeutralMesh(template_rig), target_neutral, expressions, params);
   RawRig raw = RigBuilder::ToRaw(template_rig);
   raw.positions.assign(target_neutral.begin(), target_neutral.end());
   raw.normals.clear();

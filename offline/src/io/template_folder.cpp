@@ -1,7 +1,7 @@
 #include "facerig/offline/io/template_folder.h"
 
 #include <algorithm>
-#include <thread>
+#include <exception>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
@@ -12,6 +12,7 @@
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "../parallel_for.h"
 
 namespace facerig {
 namespace {
@@ -68,21 +69,13 @@ std::vector<std::string> ShapeNames(const fs::path& folder, const std::string& n
 std::vector<Mesh> ReadExpressionMeshes(const fs::path& folder, const std::vector<std::string>& names) {
   std::vector<Mesh> meshes(names.size());
   std::vector<std::exception_ptr> errors(names.size());
-  const unsigned workers = std::max(1u, std::min<unsigned>(std::thread::hardware_concurrency(),
-                                                           static_cast<unsigned>(names.size())));
-  std::vector<std::thread> threads;
-  for (unsigned w = 0; w < workers; ++w) {
-    threads.emplace_back([&, w] {
-      for (std::size_t i = w; i < names.size(); i += workers) {
-        try {
-          meshes[i] = ReadObj(folder / (names[i] + ".obj"));
-        } catch (...) {
-          errors[i] = std::current_exception();
-        }
-      }
-    });
-  }
-  for (std::thread& thread : threads) thread.join();
+  ParallelFor(names.size(), 1, [&](std::size_t i) {
+    try {
+      meshes[i] = ReadObj(folder / (names[i] + ".obj"));
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  });
   for (const std::exception_ptr& error : errors) {
     if (error) std::rethrow_exception(error);
   }

@@ -15,40 +15,22 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/io/gltf_internal.h"
+#include "gltf_accessors.h"
 #include "gltf_components.h"
 
 namespace facerig {
 namespace {
 
+using gltf_internal::GltfAccessors;
+using gltf_internal::VecData;
+
 using gltf_internal::ChooseMesh;
-using gltf_internal::ComponentSize;
-using gltf_internal::ComponentsOf;
 using gltf_internal::Format;
 using gltf_internal::FormatFromExtension;
 using gltf_internal::GroupMeshVertices;
-using gltf_internal::IsIndexType;
-using gltf_internal::LoadAsFloat;
-using gltf_internal::LoadIndex;
 using gltf_internal::MeshVertices;
 using gltf_internal::ParseModel;
-using gltf_internal::TypeName;
 using gltf_internal::VertexBlock;
-
-// One vec2/vec3 accessor as read. Dense: `values` has count elements. An
-// accessor without a bufferView is zero except its sparse entries; when asked,
-// those are kept as they are (`sparse_only`) instead of being expanded.
-template <typename Vec>
-struct VecData {
-  std::vector<Vec> values;
-  bool sparse_only = false;
-  std::vector<std::uint32_t> sparse_indices;  // sparse_only: strictly increasing
-};
-
-// Where a run of elements lies: a validated pointer and the stride between them.
-struct Elements {
-  const unsigned char* data = nullptr;
-  std::size_t stride = 0;
-};
 
 class GltfReader {
  public:
@@ -64,19 +46,6 @@ class GltfReader {
     throw IoError(kind, path_, message);
   }
 
-  const tinygltf::Accessor& GetAccessor(int index, const std::string& what) const;
-  Elements ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
-                        std::uint64_t element_size, bool allow_stride, const std::string& what) const;
-  const tinygltf::Accessor& GetVectorAccessor(int accessor_index, int components,
-                                              std::optional<std::size_t> expected_count,
-                                              const std::string& what) const;
-  template <typename Vec>
-  VecData<Vec> ReadVectors(int accessor_index, std::optional<std::size_t> expected_count, bool keep_sparse,
-                           const std::string& what) const;
-  std::vector<std::uint32_t> ReadIndices(const tinygltf::Primitive& primitive, const VertexBlock& block,
-                                         const std::string& what) const;
-  std::vector<std::uint32_t> ReadSparseIndices(const tinygltf::Accessor& accessor,
-                                               const std::string& what) const;
   RawBlendShape ReadShape(const std::vector<VertexBlock>& blocks, std::size_t target, std::string name,
                           bool with_normals) const;
   void ReadVertices(const std::vector<VertexBlock>& blocks, RawRig* raw) const;
@@ -92,215 +61,13 @@ class GltfReader {
   void ReadShapes(const tinygltf::Mesh& mesh, const std::vector<VertexBlock>& blocks, RawRig* raw) const;
   void ReadFrame(const tinygltf::Mesh& mesh, RawRig* raw) const;
 
+  // A view of this reader's model and file (built per use: the reader may move).
+  GltfAccessors Accessors() const { return GltfAccessors(path_, model_, file_size_); }
+
   std::string path_;
   tinygltf::Model model_;
   std::uint64_t file_size_;
 };
-
-const tinygltf::Accessor& GltfReader::GetAccessor(int index, const std::string& what) const {
-  if (index < 0 || index >= static_cast<int>(model_.accessors.size())) {
-    Fail(IoErrorKind::kIndexOutOfRange, what + ": accessor " + std::to_string(index) + " does not exist (" +
-                                            std::to_string(model_.accessors.size()) + " accessors)");
-  }
-  return model_.accessors[index];
-}
-
-Elements GltfReader::ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
-                                  std::uint64_t element_size, bool allow_stride,
-                                  const std::string& what) const {
-  if (view_index < 0 || view_index >= static_cast<int>(model_.bufferViews.size())) {
-    Fail(IoErrorKind::kIndexOutOfRange,
-         what + ": bufferView " + std::to_string(view_index) + " does not exist");
-  }
-  const tinygltf::BufferView& view = model_.bufferViews[view_index];
-  if (view.buffer < 0 || view.buffer >= static_cast<int>(model_.buffers.size())) {
-    Fail(IoErrorKind::kIndexOutOfRange, what + ": bufferView " + std::to_string(view_index) +
-                                            " names buffer " + std::to_string(view.buffer) +
-                                            ", which does not exist");
-  }
-  const std::vector<unsigned char>& buffer = model_.buffers[view.buffer].data;
-  if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset) {
-    Fail(IoErrorKind::kIndexOutOfRange,
-         what + ": bufferView " + std::to_string(view_index) + " (bytes " + std::to_string(view.byteOffset) +
-             " + " + std::to_string(view.byteLength) + ") lies outside its buffer of " +
-             std::to_string(buffer.size()) + " bytes");
-  }
-  // Checked before anything is allocated from `count`: a count whose elements
-  // could not fit in the whole buffer is absurd, not merely out of range.
-  if (count > buffer.size() / element_size) {
-    Fail(IoErrorKind::kAbsurdCount, what + ": " + std::to_string(count) + " elements of " +
-                                        std::to_string(element_size) + " bytes cannot fit in a buffer of " +
-                                        std::to_string(buffer.size()) + " bytes");
-  }
-  std::uint64_t stride = element_size;
-  if (allow_stride && view.byteStride != 0) {
-    if (view.byteStride < element_size || view.byteStride > 252) {
-      Fail(IoErrorKind::kParse, what + ": byteStride " + std::to_string(view.byteStride) +
-                                    " is invalid for elements of " + std::to_string(element_size) + " bytes");
-    }
-    stride = view.byteStride;
-  }
-  if (count > 0 && (byte_offset > view.byteLength ||
-                    (count - 1) * stride + element_size > view.byteLength - byte_offset)) {
-    Fail(IoErrorKind::kIndexOutOfRange, what + ": " + std::to_string(count) + " elements at offset " +
-                                            std::to_string(byte_offset) + " run past the end of bufferView " +
-                                            std::to_string(view_index) + " (" +
-                                            std::to_string(view.byteLength) + " bytes)");
-  }
-  return {buffer.data() + view.byteOffset + byte_offset, static_cast<std::size_t>(stride)};
-}
-
-std::vector<std::uint32_t> GltfReader::ReadSparseIndices(const tinygltf::Accessor& accessor,
-                                                         const std::string& what) const {
-  const auto& sparse = accessor.sparse;
-  if (sparse.count < 0) Fail(IoErrorKind::kParse, what + ": negative sparse count");
-  if (static_cast<std::uint64_t>(sparse.count) > accessor.count) {
-    Fail(IoErrorKind::kAbsurdCount, what + ": sparse count " + std::to_string(sparse.count) +
-                                        " exceeds the accessor's count " + std::to_string(accessor.count));
-  }
-  if (!IsIndexType(sparse.indices.componentType)) {
-    Fail(IoErrorKind::kParse, what + ": sparse indices must be UNSIGNED_BYTE, _SHORT or _INT");
-  }
-  if (sparse.indices.byteOffset < 0)
-    Fail(IoErrorKind::kIndexOutOfRange, what + ": negative sparse byteOffset");
-  const std::size_t index_size = ComponentSize(sparse.indices.componentType);
-  const Elements elements =
-      ViewElements(sparse.indices.bufferView, static_cast<std::uint64_t>(sparse.indices.byteOffset),
-                   static_cast<std::uint64_t>(sparse.count), index_size, false, what + " sparse indices");
-  std::vector<std::uint32_t> indices(static_cast<std::size_t>(sparse.count));
-  for (std::size_t i = 0; i < indices.size(); ++i) {
-    indices[i] = LoadIndex(elements.data + i * elements.stride, sparse.indices.componentType);
-    if (indices[i] >= accessor.count) {
-      Fail(IoErrorKind::kIndexOutOfRange, what + ": sparse index " + std::to_string(indices[i]) +
-                                              " >= count " + std::to_string(accessor.count));
-    }
-    if (i > 0 && indices[i] <= indices[i - 1]) {
-      Fail(IoErrorKind::kParse, what + ": sparse indices are not strictly increasing");
-    }
-  }
-  return indices;
-}
-
-// A float (or small normalized integer) accessor of `components` components
-// and, when given, `expected_count` elements.
-const tinygltf::Accessor& GltfReader::GetVectorAccessor(int accessor_index, int components,
-                                                        std::optional<std::size_t> expected_count,
-                                                        const std::string& what) const {
-  const tinygltf::Accessor& accessor = GetAccessor(accessor_index, what);
-  if (ComponentsOf(accessor.type) != components) {
-    Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " is " +
-                                  TypeName(accessor.type) + ", expected VEC" + std::to_string(components));
-  }
-  const int component_type = accessor.componentType;
-  const std::size_t component_size = ComponentSize(component_type);
-  if (component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && (component_size == 0 || component_size > 2)) {
-    Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) +
-                                  " has an unsupported component type " + std::to_string(component_type));
-  }
-  if (expected_count && accessor.count != *expected_count) {
-    Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " has " +
-                                  std::to_string(accessor.count) + " elements, expected " +
-                                  std::to_string(*expected_count));
-  }
-  // Elements without data (no bufferView) cost memory but no file bytes, so a
-  // tiny file must not be able to ask for billions of them.
-  if (accessor.bufferView < 0 && accessor.count > file_size_) {
-    Fail(IoErrorKind::kAbsurdCount, what + ": accessor " + std::to_string(accessor_index) + " declares " +
-                                        std::to_string(accessor.count) +
-                                        " elements without data in a file of " + std::to_string(file_size_) +
-                                        " bytes");
-  }
-  return accessor;
-}
-
-template <typename Vec>
-VecData<Vec> GltfReader::ReadVectors(int accessor_index, std::optional<std::size_t> expected_count,
-                                     bool keep_sparse, const std::string& what) const {
-  constexpr int kComponents = static_cast<int>(Vec::length());
-  const tinygltf::Accessor& accessor = GetVectorAccessor(accessor_index, kComponents, expected_count, what);
-  const int component_type = accessor.componentType;
-  const std::size_t component_size = ComponentSize(component_type);
-  const std::size_t element_size = component_size * kComponents;
-  auto load = [&](const unsigned char* p, std::size_t element) {
-    Vec v;
-    for (int c = 0; c < kComponents; ++c) {
-      v[c] =
-          LoadAsFloat(p + static_cast<std::size_t>(c) * component_size, component_type, accessor.normalized);
-      if (!std::isfinite(v[c])) {
-        Fail(IoErrorKind::kNonFinite, what + ": element " + std::to_string(element) + " of accessor " +
-                                          std::to_string(accessor_index) + " is not finite");
-      }
-    }
-    return v;
-  };
-
-  VecData<Vec> result;
-  if (accessor.bufferView >= 0) {
-    const Elements elements =
-        ViewElements(accessor.bufferView, accessor.byteOffset, accessor.count, element_size, true, what);
-    result.values.resize(accessor.count);
-    for (std::size_t i = 0; i < accessor.count; ++i)
-      result.values[i] = load(elements.data + i * elements.stride, i);
-  }
-  if (!accessor.sparse.isSparse) {
-    if (accessor.bufferView < 0) result.values.assign(accessor.count, Vec(0.0f));
-    return result;
-  }
-  const std::vector<std::uint32_t> indices = ReadSparseIndices(accessor, what);
-  if (accessor.sparse.values.byteOffset < 0) {
-    Fail(IoErrorKind::kIndexOutOfRange, what + ": negative sparse byteOffset");
-  }
-  const Elements values = ViewElements(accessor.sparse.values.bufferView,
-                                       static_cast<std::uint64_t>(accessor.sparse.values.byteOffset),
-                                       indices.size(), element_size, false, what + " sparse values");
-  if (accessor.bufferView < 0 && keep_sparse) {
-    result.sparse_only = true;
-    result.values.resize(indices.size());
-    for (std::size_t i = 0; i < indices.size(); ++i)
-      result.values[i] = load(values.data + i * values.stride, indices[i]);
-    result.sparse_indices = indices;
-    return result;
-  }
-  if (accessor.bufferView < 0) result.values.assign(accessor.count, Vec(0.0f));
-  for (std::size_t i = 0; i < indices.size(); ++i) {
-    result.values[indices[i]] = load(values.data + i * values.stride, indices[i]);
-  }
-  return result;
-}
-
-std::vector<std::uint32_t> GltfReader::ReadIndices(const tinygltf::Primitive& primitive,
-                                                   const VertexBlock& block, const std::string& what) const {
-  std::vector<std::uint32_t> indices;
-  if (primitive.indices < 0) {
-    // Not indexed: consecutive vertices form the triangles.
-    indices.resize(block.vertex_count);
-    for (std::uint32_t i = 0; i < block.vertex_count; ++i) indices[i] = block.first_vertex + i;
-  } else {
-    const tinygltf::Accessor& accessor = GetAccessor(primitive.indices, what);
-    if (accessor.type != TINYGLTF_TYPE_SCALAR || !IsIndexType(accessor.componentType)) {
-      Fail(IoErrorKind::kParse, what + ": indices must be SCALAR UNSIGNED_BYTE, _SHORT or _INT");
-    }
-    if (accessor.bufferView < 0) Fail(IoErrorKind::kParse, what + ": the indices accessor has no bufferView");
-    if (accessor.sparse.isSparse) Fail(IoErrorKind::kParse, what + ": sparse indices are not supported");
-    const Elements elements = ViewElements(accessor.bufferView, accessor.byteOffset, accessor.count,
-                                           ComponentSize(accessor.componentType), false, what + " indices");
-    indices.resize(accessor.count);
-    for (std::size_t i = 0; i < accessor.count; ++i) {
-      const std::uint32_t index = LoadIndex(elements.data + i * elements.stride, accessor.componentType);
-      if (index >= block.vertex_count) {
-        Fail(IoErrorKind::kIndexOutOfRange, what + ": index " + std::to_string(i) + " is " +
-                                                std::to_string(index) + ", but POSITION has " +
-                                                std::to_string(block.vertex_count) + " vertices");
-      }
-      indices[i] = block.first_vertex + index;
-    }
-  }
-  if (indices.size() % 3 != 0) {
-    Fail(IoErrorKind::kParse,
-         what + ": " + std::to_string(indices.size()) + " indices is not a whole number of triangles");
-  }
-  return indices;
-}
 
 RawBlendShape GltfReader::ReadShape(const std::vector<VertexBlock>& blocks, std::size_t target,
                                     std::string name, bool with_normals) const {
@@ -314,10 +81,10 @@ RawBlendShape GltfReader::ReadShape(const std::vector<VertexBlock>& blocks, std:
       Fail(IoErrorKind::kParse, what + " has no POSITION deltas");
     }
     VecData<glm::vec3> positions =
-        ReadVectors<glm::vec3>(position_it->second, block.vertex_count, true, what);
+        Accessors().ReadVectors<glm::vec3>(position_it->second, block.vertex_count, true, what);
     VecData<glm::vec3> normals;
     if (with_normals)
-      normals = ReadVectors<glm::vec3>(attributes.at("NORMAL"), block.vertex_count, true, what);
+      normals = Accessors().ReadVectors<glm::vec3>(attributes.at("NORMAL"), block.vertex_count, true, what);
 
     // Which vertices the shape moves: the entries a sparse-only accessor lists
     // (kept even when zero, so sparse files round-trip exactly), and the
@@ -377,18 +144,19 @@ void GltfReader::ReadVertices(const std::vector<VertexBlock>& blocks, RawRig* ra
     all_normals = all_normals && block.primitive->attributes.count("NORMAL") > 0;
     all_uvs = all_uvs && block.primitive->attributes.count("TEXCOORD_0") > 0;
   }
+  const GltfAccessors accessors = Accessors();
   for (const VertexBlock& block : blocks) {
     const std::string what = "accessor " + std::to_string(block.position_accessor) + " (POSITION)";
-    VecData<glm::vec3> positions = ReadVectors<glm::vec3>(block.position_accessor, std::nullopt, false, what);
+    VecData<glm::vec3> positions = accessors.ReadVectors<glm::vec3>(block.position_accessor, std::nullopt, false, what);
     raw->positions.insert(raw->positions.end(), positions.values.begin(), positions.values.end());
     if (all_normals) {
-      VecData<glm::vec3> normals = ReadVectors<glm::vec3>(block.primitive->attributes.at("NORMAL"),
-                                                          block.vertex_count, false, "NORMAL");
+      VecData<glm::vec3> normals = accessors.ReadVectors<glm::vec3>(block.primitive->attributes.at("NORMAL"),
+                                                                    block.vertex_count, false, "NORMAL");
       raw->normals.insert(raw->normals.end(), normals.values.begin(), normals.values.end());
     }
     if (all_uvs) {
-      VecData<glm::vec2> uvs = ReadVectors<glm::vec2>(block.primitive->attributes.at("TEXCOORD_0"),
-                                                      block.vertex_count, false, "TEXCOORD_0");
+      VecData<glm::vec2> uvs = accessors.ReadVectors<glm::vec2>(block.primitive->attributes.at("TEXCOORD_0"),
+                                                                block.vertex_count, false, "TEXCOORD_0");
       for (glm::vec2& uv : uvs.values) uv.y = 1.0f - uv.y;
       raw->uvs.insert(raw->uvs.end(), uvs.values.begin(), uvs.values.end());
     }
@@ -406,7 +174,7 @@ void GltfReader::ReadParts(const tinygltf::Mesh& mesh, const MeshVertices& verti
     const VertexBlock& block =
         vertices.blocks[vertices.block_of_accessor.at(primitive.attributes.at("POSITION"))];
     const std::string what = "primitive " + std::to_string(p);
-    const std::vector<std::uint32_t> indices = ReadIndices(primitive, block, what);
+    const std::vector<std::uint32_t> indices = Accessors().ReadIndices(primitive, block, what);
     if (indices.empty()) continue;  // a part needs at least one triangle
     RawPart part;
     part.name = StringOr(part_names, p, "primitive" + std::to_string(p));
