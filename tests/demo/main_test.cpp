@@ -10,17 +10,13 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/runtime/io/rig_file.h"
+#include "support/command_runner.h"
 #include "support/test_meshes.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-std::size_t Count(const std::string& text, const std::string& part) {
-  std::size_t count = 0;
-  for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
-  return count;
-}
+using facerig::test::CountOccurrences;
 
 // Runs the headless player with `environment` and `arguments`; returns the exit code and the output.
 int RunPlayer(const std::string& environment, const std::string& arguments, std::string* output) {
@@ -45,8 +41,9 @@ TEST_CASE("Player: a rig that cannot speak or blink is warned about once", "[dem
                              &output);
   INFO(output);
   CHECK(code == 0);
-  CHECK(Count(output, "facerig-player: warning: the rig cannot speak: it has no mouth, jaw or viseme shapes") == 1);
-  CHECK(Count(output, "facerig-player: warning: the rig cannot blink: it has no blink shapes") == 1);
+  CHECK(CountOccurrences(output,
+                         "facerig-player: warning: the rig cannot speak: it has no mouth, jaw or viseme shapes") == 1);
+  CHECK(CountOccurrences(output, "facerig-player: warning: the rig cannot blink: it has no blink shapes") == 1);
 
   std::string head_output;
   CHECK(RunPlayer("", "--duration 0.2 --frames '" + (folder / "head_frames").string() + "'", &head_output) == 0);

@@ -26,4 +26,7 @@ std::string CaptureOutput(std::FILE* stream, const std::string& name, const std:
 // returns its exit code (-1 when it did not exit normally).
 int RunShell(const std::string& command, std::string* output);
 
+// How many times `part` occurs in `text` (overlaps counted): a warning printed once is 1.
+std::size_t CountOccurrences(const std::string& text, const std::string& part);
+
 }  // namespace facerig::test

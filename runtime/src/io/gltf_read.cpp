@@ -53,6 +53,15 @@ class GltfReader {
                  std::vector<std::size_t>* part_primitives) const;
   void ReadNeutral(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw,
                    std::vector<std::size_t>* part_primitives) const;
+  // The chosen mesh read up to its neutral: what both Read and ReadMesh need.
+  struct Neutral {
+    int mesh_index = -1;
+    const tinygltf::Mesh* mesh = nullptr;
+    MeshVertices vertices;
+    RawRig raw;
+    std::vector<std::size_t> part_primitives;
+  };
+  Neutral ReadChosenNeutral() const;
   Mesh NeutralMeshOf(int mesh_index, const RawRig& raw, const std::vector<std::size_t>& part_primitives) const;
   std::string ImageUri(int texture_index) const;
   Material ReadMaterial(const tinygltf::Material& material) const;
@@ -308,27 +317,27 @@ Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
   return mesh;
 }
 
+// The chosen mesh's vertices and triangles (no shapes yet).
+GltfReader::Neutral GltfReader::ReadChosenNeutral() const {
+  Neutral neutral;
+  neutral.mesh_index = ChosenMesh();
+  neutral.mesh = &model_.meshes[static_cast<std::size_t>(neutral.mesh_index)];
+  neutral.vertices = GroupMeshVertices(model_, *neutral.mesh, path_, file_size_);
+  ReadNeutral(*neutral.mesh, neutral.vertices, &neutral.raw, &neutral.part_primitives);
+  return neutral;
+}
+
 Mesh GltfReader::ReadMesh() {
-  const int mesh_index = ChosenMesh();
-  const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
-  const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
-  RawRig raw;
-  std::vector<std::size_t> part_primitives;
-  ReadNeutral(mesh, vertices, &raw, &part_primitives);
-  return NeutralMeshOf(mesh_index, raw, part_primitives);
+  const Neutral neutral = ReadChosenNeutral();
+  return NeutralMeshOf(neutral.mesh_index, neutral.raw, neutral.part_primitives);
 }
 
 Rig GltfReader::Read(Mesh* neutral) {
-  const int mesh_index = ChosenMesh();
-  const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(mesh_index)];
-  const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
-
-  RawRig raw;
-  std::vector<std::size_t> part_primitives;
-  ReadNeutral(mesh, vertices, &raw, &part_primitives);
-  if (neutral) *neutral = NeutralMeshOf(mesh_index, raw, part_primitives);
-  ReadShapes(mesh, vertices.blocks, &raw);
-  ReadFrame(mesh, &raw);
+  Neutral chosen = ReadChosenNeutral();
+  if (neutral) *neutral = NeutralMeshOf(chosen.mesh_index, chosen.raw, chosen.part_primitives);
+  RawRig& raw = chosen.raw;
+  ReadShapes(*chosen.mesh, chosen.vertices.blocks, &raw);
+  ReadFrame(*chosen.mesh, &raw);
 
   std::string problem;
   std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);

@@ -17,12 +17,7 @@ namespace facerig {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::size_t Count(const std::string& text, const std::string& part) {
-  std::size_t count = 0;
-  for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
-  return count;
-}
+using facerig::test::CountOccurrences;
 
 }  // namespace
 
@@ -33,9 +28,9 @@ TEST_CASE("facerig inspect: warns once about a rig that cannot speak or blink, a
       cli::RunFacerig, {"inspect", (folder / "still.frig").string(), "--json", (folder / "still.json").string()});
   INFO(still.error_output);
   REQUIRE(still.exit_code == 0);
-  CHECK(Count(still.error_output, "facerig: warning: the rig cannot speak: it has no mouth, jaw or viseme shapes") ==
-        1);
-  CHECK(Count(still.error_output, "facerig: warning: the rig cannot blink: it has no blink shapes") == 1);
+  CHECK(CountOccurrences(still.error_output,
+                         "facerig: warning: the rig cannot speak: it has no mouth, jaw or viseme shapes") == 1);
+  CHECK(CountOccurrences(still.error_output, "facerig: warning: the rig cannot blink: it has no blink shapes") == 1);
   const nlohmann::json report = nlohmann::json::parse(std::ifstream(folder / "still.json"));
   REQUIRE(report["warnings"].size() == 2);
   CHECK(report["warnings"][0]["code"] == "cannot_speak");
