@@ -181,7 +181,7 @@ FaceTemplateInfo ParseFaceTemplateInfo(const std::string& json_text, const Rig& 
   json doc;
   try {
     doc = json::parse(json_text);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {  // parse_error, and out_of_range for 1e999
     throw InvalidInputError(file_name + ": not JSON: " + QuoteInput(error.what()));
   }
   if (!doc.is_object()) reader.Fail("(top level)", "expected an object");

@@ -61,6 +61,25 @@ std::vector<std::uint32_t> PartRangeIndices(std::span<const RawPart> parts, std:
   return triangle_parts;
 }
 
+// The parts' materials per triangle, when the rig has any; parts without one
+// get glTF's default material.
+void AddPartMaterials(std::span<const RawPart> parts, std::span<const Material> materials,
+                      std::span<const EncodedImage> images, Mesh* mesh) {
+  if (materials.empty()) return;
+  mesh->materials.assign(materials.begin(), materials.end());
+  mesh->images.assign(images.begin(), images.end());
+  const auto fallback = static_cast<std::uint32_t>(materials.size());
+  bool used_fallback = false;
+  mesh->triangle_materials.assign(mesh->triangles.size(), fallback);
+  for (const RawPart& part : parts) {
+    used_fallback |= part.material < 0;
+    const std::uint32_t material = part.material < 0 ? fallback : static_cast<std::uint32_t>(part.material);
+    const std::size_t end = std::min<std::size_t>(part.first_triangle + part.triangle_count, mesh->triangles.size());
+    for (std::size_t t = part.first_triangle; t < end; ++t) mesh->triangle_materials[t] = material;
+  }
+  if (used_fallback) mesh->materials.push_back(Material{.name = "default"});
+}
+
 }  // namespace
 
 bool Mesh::Validate(std::string* problem) const {
@@ -94,7 +113,7 @@ bool Mesh::Validate(std::string* problem) const {
       return fail("triangle " + std::to_string(t) + ": material index out of range");
     }
   }
-  return true;
+  return ValidateMaterials(materials, images, problem);
 }
 
 VertexAttributes PerVertexAttributes(const Mesh& mesh) {
@@ -113,8 +132,11 @@ Mesh NeutralMesh(const Rig& rig) {
   mesh.corner_uvs = SpreadToCorners(rig.uvs(), rig.triangles());
   mesh.corner_normals = SpreadToCorners(rig.normals(), rig.triangles());
   std::vector<RawPart> parts;
-  for (const Part& part : rig.parts()) parts.push_back({part.name, part.first_triangle, part.triangle_count});
+  for (const Part& part : rig.parts()) {
+    parts.push_back({part.name, part.first_triangle, part.triangle_count, part.material});
+  }
   mesh.triangle_parts = PartRangeIndices(parts, mesh.triangles.size(), mesh.part_names);
+  AddPartMaterials(parts, rig.materials(), rig.images(), &mesh);
   return mesh;
 }
 
@@ -125,28 +147,59 @@ Mesh NeutralMesh(const RawRig& rig) {
   mesh.corner_uvs = SpreadToCorners<glm::vec2>(rig.uvs, rig.triangles);
   mesh.corner_normals = SpreadToCorners<glm::vec3>(rig.normals, rig.triangles);
   mesh.triangle_parts = PartRangeIndices(rig.parts, mesh.triangles.size(), mesh.part_names);
+  AddPartMaterials(rig.parts, rig.materials, rig.images, &mesh);
   return mesh;
 }
 
-Mesh GroupedByPart(const Mesh& mesh) {
-  if (mesh.triangle_parts.empty()) return mesh;
+namespace {
+
+// The mesh's triangles in groups of one part and one material: parts in order
+// of first appearance, a part's materials likewise, triangles in order within.
+std::vector<std::vector<std::uint32_t>> PartMaterialGroups(const Mesh& mesh) {
+  const auto material_of = [&](std::size_t t) {
+    return mesh.triangle_materials.empty() ? 0u : mesh.triangle_materials[t];
+  };
+  std::vector<std::vector<std::uint32_t>> groups;
+  std::vector<std::vector<std::pair<std::uint32_t, std::size_t>>> part_groups(mesh.part_names.size());
   std::vector<std::uint32_t> part_order;
-  std::vector<std::vector<std::uint32_t>> part_triangles(mesh.part_names.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const std::uint32_t part = mesh.triangle_parts[t];
-    if (part_triangles[part].empty()) part_order.push_back(part);
-    part_triangles[part].push_back(static_cast<std::uint32_t>(t));
+    auto& of_part = part_groups[mesh.triangle_parts[t]];
+    if (of_part.empty()) part_order.push_back(mesh.triangle_parts[t]);
+    auto it = std::find_if(of_part.begin(), of_part.end(), [&](const auto& g) { return g.first == material_of(t); });
+    if (it == of_part.end()) {
+      of_part.emplace_back(material_of(t), groups.size());
+      groups.emplace_back();
+      it = of_part.end() - 1;
+    }
+    groups[it->second].push_back(static_cast<std::uint32_t>(t));
   }
-  Mesh grouped{.positions = mesh.positions, .part_names = mesh.part_names, .materials = mesh.materials};
-  grouped.triangles.reserve(mesh.triangles.size());
+  std::vector<std::vector<std::uint32_t>> ordered;
   for (std::uint32_t part : part_order) {
-    for (std::uint32_t t : part_triangles[part]) {
-      grouped.triangles.push_back(mesh.triangles[t]);
-      grouped.triangle_parts.push_back(part);
-      if (!mesh.triangle_materials.empty()) grouped.triangle_materials.push_back(mesh.triangle_materials[t]);
+    for (const auto& [material, group] : part_groups[part]) ordered.push_back(std::move(groups[group]));
+  }
+  return ordered;
+}
+
+}  // namespace
+
+Mesh GroupedByPart(const Mesh& mesh) {
+  if (mesh.triangle_parts.empty() && mesh.triangle_materials.empty()) return mesh;
+  Mesh whole = mesh;
+  if (whole.triangle_parts.empty()) {  // one part, split by material below
+    whole.part_names = {"mesh"};
+    whole.triangle_parts.assign(whole.triangles.size(), 0);
+  }
+  Mesh grouped{.positions = whole.positions, .part_names = whole.part_names, .materials = whole.materials,
+               .images = whole.images};
+  grouped.triangles.reserve(whole.triangles.size());
+  for (const std::vector<std::uint32_t>& group : PartMaterialGroups(whole)) {
+    for (std::uint32_t t : group) {
+      grouped.triangles.push_back(whole.triangles[t]);
+      grouped.triangle_parts.push_back(whole.triangle_parts[t]);
+      if (!whole.triangle_materials.empty()) grouped.triangle_materials.push_back(whole.triangle_materials[t]);
       for (std::size_t c = 0; c < 3; ++c) {
-        if (!mesh.corner_uvs.empty()) grouped.corner_uvs.push_back(mesh.corner_uvs[t * 3 + c]);
-        if (!mesh.corner_normals.empty()) grouped.corner_normals.push_back(mesh.corner_normals[t * 3 + c]);
+        if (!whole.corner_uvs.empty()) grouped.corner_uvs.push_back(whole.corner_uvs[t * 3 + c]);
+        if (!whole.corner_normals.empty()) grouped.corner_normals.push_back(whole.corner_normals[t * 3 + c]);
       }
     }
   }
@@ -163,12 +216,17 @@ RawRig ToRawRig(const Mesh& mesh) {
   raw.uvs = std::move(attributes.uvs);
   raw.normals = std::move(attributes.normals);
   raw.triangles = grouped.triangles;
+  raw.materials = grouped.materials;
+  raw.images = grouped.images;
   if (grouped.triangle_parts.empty()) return raw;
-  // Each part is one range of the grouped triangles.
+  // Each (part, material) is one range of the grouped triangles.
+  const auto material_of = [&](std::size_t t) {
+    return grouped.triangle_materials.empty() ? -1 : static_cast<std::int32_t>(grouped.triangle_materials[t]);
+  };
   for (std::size_t t = 0; t < grouped.triangles.size(); ++t) {
     const std::uint32_t part = grouped.triangle_parts[t];
-    if (t == 0 || part != grouped.triangle_parts[t - 1]) {
-      raw.parts.push_back({mesh.part_names[part], static_cast<std::uint32_t>(t), 0});
+    if (t == 0 || part != grouped.triangle_parts[t - 1] || material_of(t) != material_of(t - 1)) {
+      raw.parts.push_back({grouped.part_names[part], static_cast<std::uint32_t>(t), 0, material_of(t)});
     }
     ++raw.parts.back().triangle_count;
   }

@@ -102,6 +102,10 @@ bool RawRig::Validate(std::string* problem) const {
   std::size_t next_triangle = 0;
   for (const RawPart& part : parts) {
     if (part.name.empty()) return Fail(problem, "a part has an empty name");
+    if (part.material < -1 || part.material >= static_cast<std::int64_t>(materials.size())) {
+      return Fail(problem, "part '" + part.name + "' names material " + std::to_string(part.material) +
+                               " of " + std::to_string(materials.size()));
+    }
     if (part.first_triangle != next_triangle || part.triangle_count == 0) {
       return Fail(problem, "part '" + part.name + "' does not continue at triangle " +
                                std::to_string(next_triangle) + " (parts must tile the triangles)");
@@ -112,6 +116,7 @@ bool RawRig::Validate(std::string* problem) const {
     return Fail(problem, "parts cover " + std::to_string(next_triangle) + " of " +
                              std::to_string(triangles.size()) + " triangles");
   }
+  if (!ValidateMaterials(materials, images, problem)) return false;
   const bool expect_normals = HasNormalDeltas(shapes);
   std::unordered_set<std::string> names;
   for (const RawBlendShape& shape : shapes) {
@@ -199,7 +204,7 @@ std::optional<Rig> RigBuilder::Build(RawRig raw, std::string* problem) {
     raw.parts.push_back({"mesh", 0, static_cast<std::uint32_t>(rig.triangles_.size())});
   }
   for (const RawPart& raw_part : raw.parts) {
-    Part part{raw_part.name, raw_part.first_triangle, raw_part.triangle_count, 0, 0};
+    Part part{raw_part.name, raw_part.first_triangle, raw_part.triangle_count, 0, 0, raw_part.material};
     std::uint32_t lo_v = UINT32_MAX, hi_v = 0;
     for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
       for (std::uint32_t v : rig.triangles_[t]) {
@@ -212,6 +217,8 @@ std::optional<Rig> RigBuilder::Build(RawRig raw, std::string* problem) {
     rig.parts_.push_back(std::move(part));
   }
 
+  rig.materials_ = std::move(raw.materials);
+  rig.images_ = std::move(raw.images);
   rig.has_normal_deltas_ = HasNormalDeltas(raw.shapes);
   std::size_t total = 0;
   for (const RawBlendShape& shape : raw.shapes) total += shape.vertex_indices.size();
@@ -244,8 +251,10 @@ RawRig RigBuilder::ToRaw(const Rig& rig) {
   raw.triangles.assign(rig.triangles().begin(), rig.triangles().end());
   raw.uvs.assign(rig.uvs().begin(), rig.uvs().end());
   for (const Part& part : rig.parts()) {
-    raw.parts.push_back({part.name, part.first_triangle, part.triangle_count});
+    raw.parts.push_back({part.name, part.first_triangle, part.triangle_count, part.material});
   }
+  raw.materials.assign(rig.materials().begin(), rig.materials().end());
+  raw.images.assign(rig.images().begin(), rig.images().end());
   raw.units = rig.units();
   raw.up_axis = rig.up_axis();
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {

@@ -191,6 +191,9 @@ TEST_CASE("face template: a bad descriptor is rejected naming the file, field an
   REQUIRE_THROWS_WITH(ParseFaceTemplateInfo("{\"region\": ", rig, "broken.json"),
                       Catch::Contains("broken.json") && Catch::Contains("not JSON"));
   REQUIRE_THROWS_WITH(ParseFaceTemplateInfo("{}", rig, "empty.json"), Catch::Contains("'region'"));
+  // nlohmann throws out_of_range, not parse_error, for a number beyond double (found by fuzzing).
+  REQUIRE_THROWS_WITH(ParseFaceTemplateInfo("{\"region\": 7e425}", rig, "huge.json"),
+                      Catch::Contains("huge.json") && Catch::Contains("not JSON"));
 }
 
 TEST_CASE("face template: the built-in head's descriptor is written beside it and shipped", "[face_template]") {

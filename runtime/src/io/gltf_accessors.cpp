@@ -18,6 +18,13 @@ const tinygltf::Accessor& GltfAccessors::GetAccessor(int index, const std::strin
   return model_.accessors[index];
 }
 
+std::span<const std::byte> GltfAccessors::ViewBytes(int view_index, const std::string& what) const {
+  const std::uint64_t length =
+      view_index >= 0 && view_index < static_cast<int>(model_.bufferViews.size()) ? model_.bufferViews[view_index].byteLength : 0;
+  const Elements bytes = ViewElements(view_index, 0, length, 1, false, what);
+  return {reinterpret_cast<const std::byte*>(bytes.data), length};
+}
+
 Elements GltfAccessors::ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,
                                   std::uint64_t element_size, bool allow_stride,
                                   const std::string& what) const {

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,8 @@ class GltfAccessors {
                            const std::string& what) const;
   std::vector<std::uint32_t> ReadIndices(const tinygltf::Primitive& primitive, const VertexBlock& block,
                                          const std::string& what) const;
+  // The bytes of a whole bufferView (an embedded image).
+  std::span<const std::byte> ViewBytes(int view_index, const std::string& what) const;
 
  private:
   [[noreturn]] void Fail(IoErrorKind kind, const std::string& message) const {

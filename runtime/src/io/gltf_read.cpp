@@ -15,6 +15,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/io/gltf_internal.h"
+#include "facerig/runtime/io/image_file.h"
 #include "gltf_accessors.h"
 #include "gltf_components.h"
 
@@ -63,8 +64,9 @@ class GltfReader {
   };
   Neutral ReadChosenNeutral() const;
   Mesh NeutralMeshOf(int mesh_index, const RawRig& raw, const std::vector<std::size_t>& part_primitives) const;
-  std::string ImageUri(int texture_index) const;
-  Material ReadMaterial(const tinygltf::Material& material) const;
+  std::vector<std::int32_t> ReadImages(Mesh* mesh) const;
+  std::int32_t ImageOfTexture(int texture_index, const std::vector<std::int32_t>& kept) const;
+  Material ReadMaterial(const tinygltf::Material& material, const std::vector<std::int32_t>& kept) const;
   int MaterialOf(const tinygltf::Primitive& primitive) const;
   int ChosenMesh() const;
   void ReadShapes(const tinygltf::Mesh& mesh, const std::vector<VertexBlock>& blocks, RawRig* raw) const;
@@ -252,25 +254,60 @@ void GltfReader::ReadNeutral(const tinygltf::Mesh& mesh, const MeshVertices& ver
   ReadParts(mesh, vertices, raw, part_primitives);
 }
 
-// The uri of the external image a texture shows; empty for an image in a
-// bufferView or a data URI (no file to name), or a dangling index.
-std::string GltfReader::ImageUri(int texture_index) const {
-  if (texture_index < 0 || texture_index >= static_cast<int>(model_.textures.size())) return {};
-  const int source = model_.textures[static_cast<std::size_t>(texture_index)].source;
-  if (source < 0 || source >= static_cast<int>(model_.images.size())) return {};
-  const std::string& uri = model_.images[static_cast<std::size_t>(source)].uri;
-  return uri.starts_with("data:") ? std::string() : uri;
+// A file name for image i: its uri's file name, else its name, else "image<i>",
+// with the extension of its format.
+std::string ImageFileName(const tinygltf::Image& image, std::size_t i, ImageFormat format) {
+  std::string stem = image.uri.starts_with("data:") ? std::string() : image.uri;
+  stem = stem.substr(stem.find_last_of("/\\") == std::string::npos ? 0 : stem.find_last_of("/\\") + 1);
+  if (stem.empty()) stem = image.name;
+  stem = stem.substr(0, stem.find_last_of('.'));
+  std::erase_if(stem, [](char c) { return c == '/' || c == '\\' || c == '\0'; });
+  if (stem.empty() || stem.size() > 100) stem = "image" + std::to_string(i);
+  return stem + FileExtension(format);
 }
 
-Material GltfReader::ReadMaterial(const tinygltf::Material& material) const {
+// The images that have bytes (embedded in a bufferView, a data URI, or an
+// external file that exists), checked by their header. kept[i] is the index
+// of image i in mesh->images, -1 when it has no bytes.
+std::vector<std::int32_t> GltfReader::ReadImages(Mesh* mesh) const {
+  std::vector<std::int32_t> kept;
+  for (std::size_t i = 0; i < model_.images.size(); ++i) {
+    const tinygltf::Image& image = model_.images[i];
+    const std::string what = "images[" + std::to_string(i) + "]";
+    std::span<const std::byte> bytes;
+    if (image.bufferView >= 0) {
+      bytes = Accessors().ViewBytes(image.bufferView, what);
+    } else {
+      bytes = {reinterpret_cast<const std::byte*>(image.image.data()), image.image.size()};
+    }
+    if (bytes.empty()) {
+      kept.push_back(-1);  // a missing external file: the material keeps its colour
+      continue;
+    }
+    const ImageHeader header = ProbeImage(bytes, path_ + ": " + what);
+    kept.push_back(static_cast<std::int32_t>(mesh->images.size()));
+    mesh->images.push_back(MakeEncodedImage(bytes, ImageFileName(image, i, header.format), path_ + ": " + what));
+  }
+  return kept;
+}
+
+std::int32_t GltfReader::ImageOfTexture(int texture_index, const std::vector<std::int32_t>& kept) const {
+  if (texture_index < 0 || texture_index >= static_cast<int>(model_.textures.size())) return -1;
+  const int source = model_.textures[static_cast<std::size_t>(texture_index)].source;
+  return source >= 0 && source < static_cast<int>(kept.size()) ? kept[static_cast<std::size_t>(source)] : -1;
+}
+
+Material GltfReader::ReadMaterial(const tinygltf::Material& material, const std::vector<std::int32_t>& kept) const {
   Material read;
   read.name = material.name;
   const std::vector<double>& colour = material.pbrMetallicRoughness.baseColorFactor;
   if (colour.size() == 4 && std::all_of(colour.begin(), colour.end(), [](double c) { return std::isfinite(c); })) {
     for (int c = 0; c < 4; ++c) read.base_colour[c] = static_cast<float>(colour[static_cast<std::size_t>(c)]);
   }
-  read.base_colour_image = ImageUri(material.pbrMetallicRoughness.baseColorTexture.index);
-  read.normal_image = ImageUri(material.normalTexture.index);
+  read.base_colour_image = ImageOfTexture(material.pbrMetallicRoughness.baseColorTexture.index, kept);
+  read.normal_image = ImageOfTexture(material.normalTexture.index, kept);
+  const double roughness = material.pbrMetallicRoughness.roughnessFactor;
+  if (std::isfinite(roughness)) read.roughness = static_cast<float>(std::clamp(roughness, 0.0, 1.0));
   if (material.alphaMode == "MASK") read.alpha_mode = AlphaMode::kMask;
   if (material.alphaMode == "BLEND") read.alpha_mode = AlphaMode::kBlend;
   if (std::isfinite(material.alphaCutoff)) read.alpha_cutoff = static_cast<float>(material.alphaCutoff);
@@ -304,8 +341,9 @@ Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
     mesh.part_names[i] = StringOr(part_names, p, fallback);
     (MaterialOf(gltf_mesh.primitives[p]) >= 0 ? any_material : any_without) = true;
   }
-  for (const tinygltf::Material& material : model_.materials) mesh.materials.push_back(ReadMaterial(material));
   if (!any_material) return mesh;
+  const std::vector<std::int32_t> kept = ReadImages(&mesh);
+  for (const tinygltf::Material& material : model_.materials) mesh.materials.push_back(ReadMaterial(material, kept));
   // glTF's default material (opaque white, single-sided) for primitives without one.
   const auto default_material = static_cast<std::uint32_t>(mesh.materials.size());
   if (any_without) mesh.materials.push_back(Material{.name = "default"});
@@ -334,8 +372,20 @@ Mesh GltfReader::ReadMesh() {
 
 Rig GltfReader::Read(Mesh* neutral) {
   Neutral chosen = ReadChosenNeutral();
-  if (neutral) *neutral = NeutralMeshOf(chosen.mesh_index, chosen.raw, chosen.part_primitives);
+  Mesh mesh = NeutralMeshOf(chosen.mesh_index, chosen.raw, chosen.part_primitives);
   RawRig& raw = chosen.raw;
+  // The rig's parts are the mesh's (one per primitive), with their materials.
+  for (std::size_t p = 0; p < raw.parts.size(); ++p) {
+    raw.parts[p].name = mesh.part_names[p];
+    if (!mesh.triangle_materials.empty()) {
+      raw.parts[p].material = static_cast<std::int32_t>(mesh.triangle_materials[raw.parts[p].first_triangle]);
+    }
+  }
+  if (!mesh.triangle_materials.empty()) {
+    raw.materials = mesh.materials;
+    raw.images = mesh.images;
+  }
+  if (neutral) *neutral = std::move(mesh);
   ReadShapes(*chosen.mesh, chosen.vertices.blocks, &raw);
   ReadFrame(*chosen.mesh, &raw);
 
@@ -348,7 +398,7 @@ Rig GltfReader::Read(Mesh* neutral) {
 GltfReader ReaderOfFile(const std::filesystem::path& path) {
   const Format format = FormatFromExtension(path);
   std::uint64_t file_size = 0;
-  tinygltf::Model model = ParseModel(path, format, &file_size);
+  tinygltf::Model model = ParseModel(path, format, &file_size, gltf_internal::Images::kKeepEncoded);
   gltf_internal::RefuseCompression(model, path.string());
   return GltfReader(path.string(), std::move(model), file_size);
 }
@@ -356,7 +406,8 @@ GltfReader ReaderOfFile(const std::filesystem::path& path) {
 GltfReader ReaderOfBytes(std::span<const std::byte> bytes, const std::filesystem::path& path) {
   const Format format = FormatFromExtension(path);
   tinygltf::Model model = gltf_internal::ParseModelBytes(
-      {reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()}, path, format);
+      {reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()}, path, format,
+      gltf_internal::Images::kKeepEncoded);
   gltf_internal::RefuseCompression(model, path.string());
   return GltfReader(path.string(), std::move(model), bytes.size());
 }

@@ -16,6 +16,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/gltf_internal.h"
 #include "facerig/runtime/rig_builder.h"
+#include "facerig/runtime/rig_surface.h"
 
 namespace facerig {
 namespace {
@@ -82,12 +83,10 @@ IndexView AddIndexView(BufferBuilder* buffer, const Rig& rig) {
   return index;
 }
 
-// One triangle-list primitive per part, all on the same vertices and targets;
-// part_materials: empty, or each part's material (-1: none).
+// One triangle-list primitive per part, all on the same vertices and targets.
 std::vector<tinygltf::Primitive> PartPrimitives(tinygltf::Model* model, const Rig& rig, const IndexView& index,
                                                 const std::map<std::string, int>& attributes,
-                                                const std::vector<std::map<std::string, int>>& targets,
-                                                std::span<const int> part_materials) {
+                                                const std::vector<std::map<std::string, int>>& targets) {
   const std::size_t index_size = index.short_indices ? 2 : 4;
   std::vector<tinygltf::Primitive> primitives;
   for (std::size_t p = 0; p < rig.parts().size(); ++p) {
@@ -104,7 +103,7 @@ std::vector<tinygltf::Primitive> PartPrimitives(tinygltf::Model* model, const Ri
     primitive.indices = AddAccessor(model, std::move(indices));
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
     primitive.targets = targets;
-    if (!part_materials.empty()) primitive.material = part_materials[p];
+    primitive.material = part.material;
     primitives.push_back(std::move(primitive));
   }
   return primitives;
@@ -146,49 +145,39 @@ void AddSceneNode(tinygltf::Model* model, const Rig& rig, const std::string& nam
   model->defaultScene = 0;
 }
 
-// What a fresh document carries beyond the rig: the materials, and each part's.
-struct SurfaceMaterials {
-  std::vector<Material> materials;
-  std::vector<int> part_materials;  // empty, or one per rig part (-1: none)
-};
-
-// An image with this uri (one per distinct uri) and a texture showing it.
-int AddTexture(tinygltf::Model* model, const std::string& uri, std::map<std::string, int>* texture_of_uri) {
-  const auto [it, added] = texture_of_uri->emplace(uri, static_cast<int>(model->textures.size()));
-  if (!added) return it->second;
-  tinygltf::Image image;
-  image.uri = gltf_internal::SanitizedUtf8(uri);
-  model->images.push_back(std::move(image));
-  tinygltf::Texture texture;
-  texture.source = static_cast<int>(model->images.size()) - 1;
-  model->textures.push_back(std::move(texture));
-  return it->second;
+// The rig's images in the buffer (bufferViews, so a .glb is one file), one
+// texture per image.
+void AddImages(tinygltf::Model* model, BufferBuilder* buffer, std::span<const EncodedImage> images) {
+  for (const EncodedImage& image : images) {
+    tinygltf::Image written;
+    written.name = gltf_internal::SanitizedUtf8(image.name);
+    written.mimeType = MimeType(image.format);
+    written.bufferView = buffer->AddView(image.bytes.data(), image.bytes.size(), 0);
+    model->images.push_back(std::move(written));
+    tinygltf::Texture texture;
+    texture.source = static_cast<int>(model->images.size()) - 1;
+    model->textures.push_back(std::move(texture));
+  }
 }
 
 void AddMaterials(tinygltf::Model* model, std::span<const Material> materials) {
-  std::map<std::string, int> texture_of_uri;
   for (const Material& material : materials) {
     tinygltf::Material written;
     written.name = gltf_internal::SanitizedUtf8(material.name);
     const glm::vec4& colour = material.base_colour;
     written.pbrMetallicRoughness.baseColorFactor = {colour.r, colour.g, colour.b, colour.a};
-    if (!material.base_colour_image.empty()) {
-      written.pbrMetallicRoughness.baseColorTexture.index =
-          AddTexture(model, material.base_colour_image, &texture_of_uri);
-    }
-    if (!material.normal_image.empty()) {
-      written.normalTexture.index = AddTexture(model, material.normal_image, &texture_of_uri);
-    }
-    written.alphaMode = material.alpha_mode == AlphaMode::kMask    ? "MASK"
-                        : material.alpha_mode == AlphaMode::kBlend ? "BLEND"
-                                                                   : "OPAQUE";
+    written.pbrMetallicRoughness.metallicFactor = 0.0;  // skin, eyes and teeth are dielectrics
+    written.pbrMetallicRoughness.roughnessFactor = material.roughness;
+    written.pbrMetallicRoughness.baseColorTexture.index = material.base_colour_image;  // texture i shows image i
+    written.normalTexture.index = material.normal_image;
+    written.alphaMode = ToString(material.alpha_mode);
     if (material.alpha_mode == AlphaMode::kMask) written.alphaCutoff = material.alpha_cutoff;
     written.doubleSided = material.double_sided;
     model->materials.push_back(std::move(written));
   }
 }
 
-tinygltf::Model BuildModel(const Rig& rig, const std::string& name, const SurfaceMaterials& surface = {}) {
+tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = kGenerator;
@@ -200,118 +189,14 @@ tinygltf::Model BuildModel(const Rig& rig, const std::string& name, const Surfac
 
   tinygltf::Mesh mesh;
   mesh.name = name;
-  mesh.primitives = PartPrimitives(&model, rig, index, attributes, targets, surface.part_materials);
-  AddMaterials(&model, surface.materials);
+  mesh.primitives = PartPrimitives(&model, rig, index, attributes, targets);
+  AddImages(&model, &buffer, rig.images());
+  AddMaterials(&model, rig.materials());
   mesh.extras = MeshExtras(rig);
   if (rig.shape_count() > 0) mesh.weights.assign(rig.shape_count(), 0.0);
   model.meshes.push_back(std::move(mesh));
   AddSceneNode(&model, rig, name);
   return model;
-}
-
-// A rig with one vertex per distinct (vertex, corner UV) of `surface`: the
-// rig's vertices first, then copies at UV seams with the vertex's normal and
-// shape deltas; the parts split into runs of one material (part_materials).
-class SeamSplitter {
- public:
-  SeamSplitter(const Rig& rig, const Mesh& surface) : rig_(rig), surface_(surface) {}
-
-  RawRig Split(std::vector<int>* part_materials) {
-    RawRig raw = RigBuilder::ToRaw(rig_);
-    raw.normals.assign(rig_.normals().begin(), rig_.normals().end());  // as they are, not recomputed
-    if (!surface_.corner_uvs.empty()) SplitSeams(&raw);
-    SplitPartsByMaterial(&raw, part_materials);
-    return raw;
-  }
-
- private:
-  void SplitSeams(RawRig* raw) {
-    raw->uvs = PerVertexAttributes(surface_).uvs;
-    std::map<std::tuple<std::uint32_t, float, float>, std::uint32_t> copy_of;  // (vertex, u, v) -> copy
-    for (std::size_t t = 0; t < raw->triangles.size(); ++t) {
-      for (std::size_t c = 0; c < 3; ++c) {
-        const std::uint32_t v = raw->triangles[t][c];
-        const glm::vec2 uv = surface_.corner_uvs[t * 3 + c];
-        if (uv == raw->uvs[v]) continue;
-        const auto [it, added] =
-            copy_of.emplace(std::make_tuple(v, uv.x, uv.y), static_cast<std::uint32_t>(raw->positions.size()));
-        if (added) {
-          copies_.push_back(v);
-          raw->positions.push_back(raw->positions[v]);
-          raw->normals.push_back(raw->normals[v]);
-          raw->uvs.push_back(uv);
-        }
-        raw->triangles[t][c] = it->second;
-      }
-    }
-    for (RawBlendShape& shape : raw->shapes) AddCopies(&shape);
-  }
-
-  // Copies are appended in order after every rig vertex, so the shape's
-  // indices stay strictly increasing.
-  void AddCopies(RawBlendShape* shape) const {
-    const std::vector<std::uint32_t> originals = shape->vertex_indices;  // appending invalidates iterators
-    for (std::size_t k = 0; k < copies_.size(); ++k) {
-      const auto it = std::lower_bound(originals.begin(), originals.end(), copies_[k]);
-      if (it == originals.end() || *it != copies_[k]) continue;
-      const auto entry = static_cast<std::size_t>(it - originals.begin());
-      shape->vertex_indices.push_back(static_cast<std::uint32_t>(rig_.vertex_count() + k));
-      const glm::vec3 position_delta = shape->position_deltas[entry];  // a copy: push_back may reallocate
-      shape->position_deltas.push_back(position_delta);
-      if (!shape->normal_deltas.empty()) {
-        const glm::vec3 normal_delta = shape->normal_deltas[entry];
-        shape->normal_deltas.push_back(normal_delta);
-      }
-    }
-  }
-
-  void SplitPartsByMaterial(RawRig* raw, std::vector<int>* part_materials) const {
-    if (surface_.triangle_materials.empty()) return;
-    std::vector<RawPart> runs;
-    for (const RawPart& part : raw->parts) {
-      for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
-        const auto material = static_cast<int>(surface_.triangle_materials[t]);
-        if (t == part.first_triangle || material != part_materials->back()) {
-          runs.push_back({part.name, t, 0});
-          part_materials->push_back(material);
-        }
-        ++runs.back().triangle_count;
-      }
-    }
-    raw->parts = std::move(runs);
-  }
-
-  const Rig& rig_;
-  const Mesh& surface_;
-  std::vector<std::uint32_t> copies_;  // the rig vertex each copy repeats
-};
-
-// Whether `surface` lies on the rig: its vertices, and its triangles in the rig's order.
-std::optional<std::string> SurfaceMismatch(const Rig& rig, const Mesh& surface) {
-  std::string problem;
-  if (!surface.Validate(&problem)) return "the surface mesh is invalid: " + problem;
-  const auto finite = [](const glm::vec2& uv) { return std::isfinite(uv.x) && std::isfinite(uv.y); };
-  if (!std::all_of(surface.corner_uvs.begin(), surface.corner_uvs.end(), finite)) {
-    return std::string("the surface mesh has a UV that is not finite");
-  }
-  if (surface.vertex_count() != rig.vertex_count() ||
-      !std::equal(surface.triangles.begin(), surface.triangles.end(), rig.triangles().begin(),
-                  rig.triangles().end())) {
-    return std::string("the surface mesh's vertices or triangles are not the rig's");
-  }
-  return std::nullopt;
-}
-
-// Whether some corner's UV is not its vertex's UV in the rig.
-bool HasSeams(const Rig& rig, const Mesh& surface) {
-  if (surface.corner_uvs.empty()) return false;
-  if (rig.uvs().empty()) return true;
-  for (std::size_t t = 0; t < surface.triangle_count(); ++t) {
-    for (std::size_t c = 0; c < 3; ++c) {
-      if (surface.corner_uvs[t * 3 + c] != rig.uvs()[surface.triangles[t][c]]) return true;
-    }
-  }
-  return false;
 }
 
 }  // namespace
@@ -327,20 +212,10 @@ void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
 }
 
 void WriteGltf(const std::filesystem::path& path, const Rig& rig, const Mesh& surface) {
-  if (surface.corner_uvs.empty() && surface.triangle_materials.empty()) return WriteGltf(path, rig);
-  const Format format = FormatFromExtension(path);
-  if (const std::optional<std::string> problem = SurfaceMismatch(rig, surface)) {
-    throw IoError(IoErrorKind::kWriteFailed, path.string(), *problem);
-  }
-  if (surface.triangle_materials.empty() && !HasSeams(rig, surface)) return WriteGltf(path, rig);
-  SurfaceMaterials materials;
-  if (!surface.triangle_materials.empty()) materials.materials = surface.materials;
   std::string problem;
-  const std::optional<Rig> split =
-      RigBuilder::Build(SeamSplitter(rig, surface).Split(&materials.part_materials), &problem);
-  if (!split) throw IoError(IoErrorKind::kWriteFailed, path.string(), "the split rig is invalid: " + problem);
-  gltf_internal::RequireUtf8Names(*split, path.string());
-  WriteModel(path, format, BuildModel(*split, gltf_internal::SanitizedUtf8(path.stem().string()), materials));
+  const std::optional<Rig> dressed = RigWithSurface(rig, surface, &problem);
+  if (!dressed) throw IoError(IoErrorKind::kWriteFailed, path.string(), problem);
+  WriteGltf(path, *dressed);
 }
 
 }  // namespace facerig

@@ -16,6 +16,7 @@
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig_builder.h"
 #include "support/gltf_validator.h"
+#include "support/test_images.h"
 #include "support/test_meshes.h"
 
 namespace facerig {
@@ -34,13 +35,15 @@ Mesh SeamedSurface(const Rig& rig) {
   }
   surface.materials = {Material{.name = "skin",
                                 .base_colour = {0.8f, 0.6f, 0.5f, 1.0f},
-                                .base_colour_image = "skin.png",
-                                .normal_image = "skin_normal.png"},
+                                .base_colour_image = 0,
+                                .normal_image = 1},
                        Material{.name = "lens",
                                 .base_colour = {1.0f, 1.0f, 1.0f, 0.25f},
                                 .alpha_mode = AlphaMode::kMask,
                                 .alpha_cutoff = 0.3f,
                                 .double_sided = true}};
+  surface.images = {test::CheckerImage("skin.png", 8, 2, {200, 150, 120, 255}, {90, 40, 30, 255}),
+                    test::CheckerImage("skin_normal.png", 4, 1, {128, 128, 255, 255}, {128, 128, 255, 255})};
   surface.triangle_materials.assign(surface.triangle_count(), 0);
   for (std::size_t t = half; t + 1 < surface.triangle_count(); ++t) surface.triangle_materials[t] = 1;
   return surface;
@@ -84,13 +87,19 @@ TEST_CASE("gltf mesh: a rig written with a seamed, two-material surface reads ba
   REQUIRE(back.materials.size() == 2);
   CHECK(back.materials[0].name == "skin");
   CHECK(back.materials[0].base_colour == surface.materials[0].base_colour);
-  CHECK(back.materials[0].base_colour_image == "skin.png");
-  CHECK(back.materials[0].normal_image == "skin_normal.png");
+  // The images are embedded as they were, byte for byte.
+  REQUIRE(back.images.size() == 2);
+  REQUIRE(back.materials[0].base_colour_image == 0);
+  REQUIRE(back.materials[0].normal_image == 1);
+  CHECK(back.images[0].name == "skin.png");
+  CHECK(back.images[0].bytes == surface.images[0].bytes);
+  CHECK(back.images[0].width == 8);
+  CHECK(back.images[1].bytes == surface.images[1].bytes);
   CHECK(back.materials[0].alpha_mode == AlphaMode::kOpaque);
   CHECK_FALSE(back.materials[0].double_sided);
   CHECK(back.materials[1].name == "lens");
   CHECK(back.materials[1].base_colour == surface.materials[1].base_colour);
-  CHECK(back.materials[1].base_colour_image.empty());
+  CHECK(back.materials[1].base_colour_image == -1);
   CHECK(back.materials[1].alpha_mode == AlphaMode::kMask);
   CHECK(back.materials[1].alpha_cutoff == Approx(0.3f));
   CHECK(back.materials[1].double_sided);
@@ -98,6 +107,14 @@ TEST_CASE("gltf mesh: a rig written with a seamed, two-material surface reads ba
   // A copy moves and turns as its vertex does.
   const Rig read = ReadGltf(path);
   REQUIRE(read.shape_count() == rig.shape_count());
+  // The rig carries the materials too: each part names its own.
+  REQUIRE(read.materials().size() == 2);
+  REQUIRE(read.images().size() == 2);
+  REQUIRE(read.parts().size() == 3);
+  CHECK(read.parts()[0].material == 0);
+  CHECK(read.parts()[1].material == 1);
+  CHECK(read.parts()[2].material == 0);
+  CHECK(read.images()[0].bytes == surface.images[0].bytes);
   REQUIRE(read.has_normal_deltas());
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {
     for (std::size_t t = 0; t < rig.triangle_count(); ++t) {
@@ -164,6 +181,9 @@ TEST_CASE("gltf mesh: a foreign file's parts are named from its mesh, and its un
   document["meshes"][0]["primitives"][0]["material"] = 1;
   document["meshes"][0]["primitives"][1]["material"] = 9;
   document["images"] = {{{"uri", "textures/head.png"}}};
+  fs::create_directories(source.parent_path() / "textures");
+  const std::vector<std::uint8_t> png = test::CheckerPng(4, 2, {255, 0, 0, 255}, {0, 0, 255, 255});
+  WriteFileAtomically(source.parent_path() / "textures" / "head.png", std::string(png.begin(), png.end()));
   document["textures"] = {{{"source", 0}}};
   document["materials"] = {{{"name", "unused"}},
                            {{"name", "head"},
@@ -177,7 +197,10 @@ TEST_CASE("gltf mesh: a foreign file's parts are named from its mesh, and its un
   CHECK(mesh.part_names == std::vector<std::string>{"Head.primitive0", "Head.primitive1"});
   REQUIRE(mesh.materials.size() == 3);
   CHECK(mesh.materials[1].name == "head");
-  CHECK(mesh.materials[1].base_colour_image == "textures/head.png");
+  REQUIRE(mesh.materials[1].base_colour_image == 0);
+  REQUIRE(mesh.images.size() == 1);
+  CHECK(mesh.images[0].name == "head.png");
+  CHECK(mesh.images[0].bytes == png);
   CHECK(mesh.materials[1].base_colour.b == Approx(0.3f));
   CHECK(mesh.materials[1].alpha_mode == AlphaMode::kBlend);
   CHECK(mesh.materials[2].name == "default");
@@ -185,17 +208,14 @@ TEST_CASE("gltf mesh: a foreign file's parts are named from its mesh, and its un
   CHECK(mesh.triangle_materials.front() == 1);
   CHECK(mesh.triangle_materials[half] == 2);
   CHECK(mesh.corner_normals.size() == mesh.triangle_count() * 3);
-  // The rig reader keeps its own part names.
-  CHECK(ReadGltf(path).parts()[0].name == "primitive0");
+  // The rig reader names parts as the mesh reader does.
+  CHECK(ReadGltf(path).parts()[0].name == "Head.primitive0");
 }
 
 TEST_CASE("gltf mesh: files with UV seams and materials pass the Khronos validator", "[gltf][gltf-validator]") {
   const Rig rig = test::MakeGridRig(6, 4, true);
   const fs::path path = test::OutputPath("gltf_validate_seams.glb");
-  Mesh surface = SeamedSurface(rig);
-  surface.materials[0].base_colour_image.clear();  // no image file to open
-  surface.materials[0].normal_image.clear();
-  WriteGltf(path, rig, surface);
+  WriteGltf(path, rig, SeamedSurface(rig));  // with embedded PNGs
   test::RequireValidatorAccepts(path);
 }
 

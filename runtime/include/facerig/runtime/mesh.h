@@ -14,23 +14,11 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "facerig/runtime/material.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
-
-enum class AlphaMode : std::uint8_t { kOpaque = 0, kMask, kBlend };
-
-struct Material {
-  std::string name{};
-  glm::vec4 base_colour{1.0f};  // linear RGBA
-  // Image files, named relative to the mesh file's folder; empty: none.
-  std::string base_colour_image{};
-  std::string normal_image{};
-  AlphaMode alpha_mode = AlphaMode::kOpaque;
-  float alpha_cutoff = 0.5f;  // kMask only
-  bool double_sided = false;
-};
 
 struct Mesh {
   std::vector<glm::vec3> positions{};
@@ -43,6 +31,7 @@ struct Mesh {
   // Empty (no material), or one index into materials per triangle.
   std::vector<std::uint32_t> triangle_materials{};
   std::vector<Material> materials{};
+  std::vector<EncodedImage> images{};  // what the materials show
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t triangle_count() const { return triangles.size(); }
@@ -68,14 +57,17 @@ Mesh NeutralMesh(const Rig& rig);
 Mesh NeutralMesh(const RawRig& rig);
 
 // The same mesh with its triangles (and their corners, parts and materials)
-// grouped by part as ToRawRig orders them: parts in order of first
-// appearance, triangles in order within each. Its triangle t is then triangle
-// t of ToRawRig(mesh), so its corner and material data line up with a rig
-// built from it.
+// grouped by part and material as ToRawRig orders them: parts in order of
+// first appearance, a part's materials likewise, triangles in order within
+// each. Its triangle t is then triangle t of ToRawRig(mesh), so its corner
+// data lines up with a rig built from it. A mesh with materials but no parts
+// becomes one part "mesh".
 Mesh GroupedByPart(const Mesh& mesh);
 
-// The rig layout of a mesh (no shapes): per-vertex attributes as above, and
-// triangles grouped by part (GroupedByPart) so that each part is one range.
+// The rig layout of a mesh (no shapes): per-vertex attributes as above,
+// triangles grouped (GroupedByPart) so that each part and material is one
+// range (a part with two materials becomes two parts of the same name), and
+// the materials and images.
 RawRig ToRawRig(const Mesh& mesh);
 
 }  // namespace facerig

@@ -16,6 +16,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "facerig/runtime/material.h"
+
 namespace facerig {
 
 enum class Units : std::uint8_t { kUnknown = 0, kMillimetres, kCentimetres, kMetres };
@@ -39,6 +41,7 @@ struct Part {
   std::uint32_t triangle_count = 0;
   std::uint32_t first_vertex = 0;
   std::uint32_t vertex_count = 0;
+  std::int32_t material = -1;  // index into Rig::materials(); -1: none
 };
 
 // A read-only view of one sparse blend shape. vertex_indices is strictly
@@ -76,6 +79,9 @@ class Rig {
   // Empty when the rig has no texture coordinates.
   std::span<const glm::vec2> uvs() const { return uvs_; }
   std::span<const Part> parts() const { return parts_; }
+  // Empty when the rig has no materials; parts name theirs by index.
+  std::span<const Material> materials() const { return materials_; }
+  std::span<const EncodedImage> images() const { return images_; }
   Units units() const { return units_; }
   UpAxis up_axis() const { return up_axis_; }
   bool has_normal_deltas() const { return has_normal_deltas_; }
@@ -105,6 +111,8 @@ class Rig {
   std::vector<Triangle> triangles_;
   std::vector<glm::vec2> uvs_;
   std::vector<Part> parts_;
+  std::vector<Material> materials_;
+  std::vector<EncodedImage> images_;
   Units units_ = Units::kUnknown;
   UpAxis up_axis_ = UpAxis::kY;
   bool has_normal_deltas_ = false;

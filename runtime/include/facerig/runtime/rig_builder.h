@@ -30,6 +30,7 @@ struct RawPart {
   std::string name;
   std::uint32_t first_triangle = 0;
   std::uint32_t triangle_count = 0;
+  std::int32_t material = -1;  // index into RawRig::materials; -1: none
 };
 
 struct RawRig {
@@ -39,6 +40,8 @@ struct RawRig {
   std::vector<glm::vec2> uvs;      // empty, or one per vertex
   // Empty, or ranges that tile [0, triangles.size()) in order. Empty: one part "mesh".
   std::vector<RawPart> parts;
+  std::vector<Material> materials;
+  std::vector<EncodedImage> images;  // what the materials show
   Units units = Units::kUnknown;
   UpAxis up_axis = UpAxis::kY;
   // Either every non-empty shape has normal deltas or none has.

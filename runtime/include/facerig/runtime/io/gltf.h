@@ -49,16 +49,10 @@ Rig ReadGltf(const std::filesystem::path& path, Mesh* mesh);
 // Format from the extension (.glb or .gltf). Atomic (temporary file + rename).
 // Shape and part names must be valid UTF-8 (IoError kWriteFailed otherwise).
 void WriteGltf(const std::filesystem::path& path, const Rig& rig);
-// Same, with the corner UVs and the materials of `surface`, a mesh on the
-// rig's vertices whose triangle t is the rig's triangle t (GroupedByPart of
-// the mesh the rig was built from). Where a vertex has corners with different
-// UVs (a seam), copies of it are appended after the rig's vertices, each with
-// the vertex's normal and morph target deltas, so vertex v < vertex_count()
-// is still the rig's vertex v. One primitive per run of triangles of one part
-// and one material. Without materials, and without corner UVs other than the
-// rig's own, this is WriteGltf(path, rig). Material images are written as
-// uris as they are (relative to the written file's folder).
-// Throws IoError(kWriteFailed) when `surface` does not fit the rig.
+// Materials and images are written as the rig has them (images embedded in
+// the buffer, never re-encoded); each part's primitive names its material.
+// WriteGltf(path, rig, surface) writes RigWithSurface(rig, surface)
+// (rig_surface.h); IoError(kWriteFailed) when `surface` does not fit the rig.
 void WriteGltf(const std::filesystem::path& path, const Rig& rig, const Mesh& surface);
 
 }  // namespace facerig
