@@ -27,6 +27,7 @@
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/rig_surface.h"
 #include "facerig/runtime/rig_warnings.h"
 
 namespace facerig::cli {
@@ -77,13 +78,21 @@ bool IsGltf(const std::filesystem::path& path) {
   return extension == ".glb" || extension == ".gltf";
 }
 
+// The built rig dressed in the target's surface: its UVs (split at seams)
+// and its materials and images, for every output.
+Rig DressedRig(const Rig& rig, const Mesh& target_mesh) {
+  std::string problem;
+  std::optional<Rig> dressed = RigWithSurface(rig, target_mesh, &problem);
+  if (!dressed) throw InvalidInputError("the target's surface does not fit the built rig: " + problem);
+  return std::move(*dressed);
+}
+
 // A glTF target's own document, with the shapes added, so that a skinned
-// character keeps its skin, nodes and materials; else a fresh file (glTF with
-// the target mesh's UVs and materials).
+// character keeps its skin, nodes and materials; else a fresh file of the
+// dressed rig.
 void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::path& output, const Rig& rig,
-                  const Mesh& target_mesh) {
-  if (IsGltf(output) && !IsGltf(target)) return WriteGltf(output, rig, target_mesh);
-  if (!IsGltf(target) || !IsGltf(output)) return SaveRig(output, rig);
+                  const Rig& dressed) {
+  if (!IsGltf(target) || !IsGltf(output)) return SaveRig(output, dressed);
   const MorphTargetsWritten written = WriteGltfWithMorphTargets(target, output, rig);
   if (written.replaced_targets > 0) {
     std::fprintf(stderr, "replaced the %zu morph targets mesh '%s' had in %s\n", written.replaced_targets,
@@ -200,14 +209,15 @@ BuildOutputPaths AddBuildOutputs(const BuildOptions& options, OutputSet& set) {
 // Writes every output but the report under its temporary name.
 void WriteBuildOutputs(const BuildOptions& options, const BuildOutputPaths& paths, const Rig& rig,
                        const BuildRigResult& built) {
-  SaveBuiltRig(options.target_path, paths.rig, rig, built.target_mesh);
+  const Rig dressed = DressedRig(rig, built.target_mesh);
+  SaveBuiltRig(options.target_path, paths.rig, rig, dressed);
   CheckAfterWrite("rig", paths.rig);
   if (!paths.frig.empty()) {
-    SaveRig(paths.frig, rig);
+    SaveRig(paths.frig, dressed);
     CheckAfterWrite("frig", paths.frig);
   }
   if (!paths.obj_dir.empty()) {
-    WriteObjFolder(paths.obj_dir, rig);
+    WriteObjFolder(paths.obj_dir, dressed);
     CheckAfterWrite("obj-dir", paths.obj_dir);
   }
   if (!paths.template_topology.empty()) {
