@@ -3,6 +3,7 @@
 // right error; files without them still load.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -139,6 +140,18 @@ Bytes WithoutMaterialSections(Bytes bytes) {
   Put64(bytes, 16, bytes.size());
   FixCrc(bytes);
   return bytes;
+}
+
+// The frig fuzzer's seed with materials (fuzz/seeds/frig/). To rewrite it after
+// a deliberate change of the test rig, run
+//   FACERIG_WRITE_FRIG_FUZZ_SEED=1 facerig_runtime_tests "The frig fuzz seed with materials loads"
+TEST_CASE("The frig fuzz seed with materials loads", "[frig]") {
+  const fs::path seed = fs::path(FACERIG_SOURCE_DIR) / "fuzz" / "seeds" / "frig" / "materials_v1.frig";
+  if (std::getenv("FACERIG_WRITE_FRIG_FUZZ_SEED") != nullptr) WriteFrig(seed, MakeMaterialRig());
+  const Rig loaded = ReadFrig(seed);
+  CHECK(fs::file_size(seed) <= 65536);  // run-fuzz.sh's -max_len
+  RequireSameMesh(loaded, MakeMaterialRig());
+  RequireSameMaterials(loaded, MakeMaterialRig());
 }
 
 TEST_CASE("A .frig keeps materials, part materials and embedded images", "[frig]") {
