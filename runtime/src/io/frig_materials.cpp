@@ -112,13 +112,15 @@ class MaterialReader {
     Material material;
     material.name = Name(kMaterials, i, what);
     for (int c = 0; c < 4; ++c) {
-      material.base_colour[c] = Finite(FieldAt(kMaterials, i, 8 + 4 * static_cast<std::uint64_t>(c)), what + " base colour");
+      const std::uint64_t at = FieldAt(kMaterials, i, 8 + 4 * static_cast<std::uint64_t>(c));
+      material.base_colour[c] = Finite(at, what + " base colour");
     }
     material.base_colour_image = Index(FieldAt(kMaterials, i, 24), image_count, what + " base colour image");
     material.normal_image = Index(FieldAt(kMaterials, i, 28), image_count, what + " normal image");
     const std::uint32_t alpha_mode = Load32(At(FieldAt(kMaterials, i, 32)));
     if (alpha_mode > kMaxAlphaMode) {
-      Fail(IoErrorKind::kParse, FieldAt(kMaterials, i, 32), what + ": unknown alpha mode " + std::to_string(alpha_mode));
+      Fail(IoErrorKind::kParse, FieldAt(kMaterials, i, 32),
+           what + ": unknown alpha mode " + std::to_string(alpha_mode));
     }
     material.alpha_mode = static_cast<AlphaMode>(alpha_mode);
     material.alpha_cutoff = Finite(FieldAt(kMaterials, i, 36), what + " alpha cutoff");
@@ -137,8 +139,8 @@ class MaterialReader {
     try {
       return ProbeImage(bytes, path_);
     } catch (const IoError& error) {
-      throw IoError(error.kind(), path_, what + ": " + error.message(), 0,
-                    static_cast<std::int64_t>(at + static_cast<std::uint64_t>(std::max<std::int64_t>(error.offset(), 0))));
+      const auto within = static_cast<std::uint64_t>(std::max<std::int64_t>(error.offset(), 0));
+      throw IoError(error.kind(), path_, what + ": " + error.message(), 0, static_cast<std::int64_t>(at + within));
     }
   }
 
@@ -149,7 +151,8 @@ class MaterialReader {
     EncodedImage image;
     image.name = Name(kImages, i, what);
     if (image.name.empty() || image.name.find_first_of("/\\") != std::string::npos) {
-      Fail(IoErrorKind::kParse, FieldAt(kImages, i, 0), what + ": name '" + image.name + "' is not a plain file name");
+      Fail(IoErrorKind::kParse, FieldAt(kImages, i, 0),
+           what + ": name '" + image.name + "' is not a plain file name");
     }
     const std::uint32_t format = Load32(p + 8);
     if (format > kMaxImageFormat) {
@@ -231,7 +234,8 @@ void CheckMaterialCounts(const SectionRefs& sections, std::uint32_t part_count, 
   for (const Section k : {kMaterials, kImages}) {
     if (sections[k].count > kMaxIndexedCount) {
       throw IoError(IoErrorKind::kAbsurdCount, path,
-                    "section holds " + std::to_string(sections[k].count) + " elements, more than an index can name",
+                    "section " + std::string(k == kMaterials ? "'MATL'" : "'IMGS'") + " holds " +
+                        std::to_string(sections[k].count) + " elements, more than an i32 index can name",
                     0, static_cast<std::int64_t>(sections[k].table_entry + kEntryCountAt));
     }
   }
@@ -284,7 +288,9 @@ void WriteMaterialSections(const Rig& rig, std::span<const NameRef> material_nam
                            const std::array<std::uint64_t, kSectionKindCount>& offsets, std::byte* file) {
   if (!rig.materials().empty()) {
     Cursor materials(file + offsets[kMaterials]);
-    for (std::size_t i = 0; i < rig.materials().size(); ++i) WriteMaterial(rig.materials()[i], material_names[i], materials);
+    for (std::size_t i = 0; i < rig.materials().size(); ++i) {
+      WriteMaterial(rig.materials()[i], material_names[i], materials);
+    }
     Cursor part_materials(file + offsets[kPartMaterials]);
     for (const Part& part : rig.parts()) part_materials.U32(std::bit_cast<std::uint32_t>(part.material));
   }

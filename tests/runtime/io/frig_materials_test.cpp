@@ -192,7 +192,9 @@ TEST_CASE("A .frig loads as the GLB written from the same rig", "[frig][gltf]") 
   REQUIRE(from_glb.materials().size() == 2);
   REQUIRE(from_glb.images().size() == 2);
   RequireSameMaterials(from_frig, from_glb);
-  for (std::size_t i = 0; i < rig.parts().size(); ++i) CHECK(from_frig.parts()[i].name == from_glb.parts()[i].name);
+  for (std::size_t i = 0; i < rig.parts().size(); ++i) {
+    CHECK(from_frig.parts()[i].name == from_glb.parts()[i].name);
+  }
 }
 
 TEST_CASE("A .frig without material sections loads with no materials", "[frig]") {
