@@ -58,7 +58,7 @@
 //             u32 alpha_mode (0 opaque, 1 mask, 2 blend), f32 alpha_cutoff,
 //             u32 flags (bit 0: double-sided; other bits must be 0),
 //             f32 roughness; every float finite
-//   PMAT   4  part_count i32 material indices (into MATL; -1 none), present
+//   PMAT   4  part_count i32 material indices (into MATL; -1 none), written
 //             with MATL; a file without it loads with every part at -1
 //   IMGS  32  images, present iff the rig has any: u32 name_offset,
 //             u32 name_length (into STRS; a plain file name such as
