@@ -1,10 +1,13 @@
 // The .frig v1 layout (frig.h documents it) shared by the reader and the
-// writer: sizes, field offsets and the section kinds. Private to facerig::runtime.
+// writer: sizes, field offsets, the section kinds and little-endian packing. Private to facerig::runtime.
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
+#include <utility>
 
 #include "facerig/runtime/rig.h"
 
@@ -19,6 +22,13 @@ inline constexpr std::uint32_t kFlagHasNormalDeltas = 1u << 1;
 inline constexpr std::uint32_t kKnownFlags = kFlagHasUvs | kFlagHasNormalDeltas;
 inline constexpr std::uint32_t kMaxUnits = static_cast<std::uint32_t>(Units::kMetres);
 inline constexpr std::uint32_t kMaxUpAxis = static_cast<std::uint32_t>(UpAxis::kZ);
+inline constexpr std::uint64_t kMaterialSize = 48;
+inline constexpr std::uint64_t kImageEntrySize = 32;
+inline constexpr std::uint64_t kImageAlignment = 8;  // within 'IMGB', itself 16-aligned
+inline constexpr std::uint32_t kMaterialDoubleSided = 1u << 0;
+inline constexpr std::uint32_t kKnownMaterialFlags = kMaterialDoubleSided;
+inline constexpr std::uint32_t kMaxAlphaMode = static_cast<std::uint32_t>(AlphaMode::kBlend);
+inline constexpr std::uint32_t kMaxImageFormat = static_cast<std::uint32_t>(ImageFormat::kJpeg);
 
 // Header field offsets.
 inline constexpr std::uint64_t kMagicAt = 0;
@@ -56,6 +66,10 @@ enum Section : std::size_t {
   kShapePositions,
   kShapeNormals,
   kStrings,
+  kMaterials,
+  kPartMaterials,
+  kImages,
+  kImageBytes,
   kSectionKindCount,
 };
 
@@ -78,6 +92,73 @@ inline constexpr std::array<SectionKind, kSectionKindCount> kSectionKinds = {{
     {MakeTag("SPOS"), 12, true},
     {MakeTag("SNRM"), 12, false},
     {MakeTag("STRS"), 1, true},
+    {MakeTag("MATL"), static_cast<std::uint32_t>(kMaterialSize), false},
+    {MakeTag("PMAT"), 4, false},
+    {MakeTag("IMGS"), static_cast<std::uint32_t>(kImageEntrySize), false},
+    {MakeTag("IMGB"), 1, false},
 }};
+
+// Where a known section is, as the reader found it in the section table.
+struct SectionRef {
+  bool present = false;
+  std::uint64_t table_entry = 0;  // file offset of its section table entry
+  std::uint64_t count = 0;
+  std::uint64_t offset = 0;
+};
+using SectionRefs = std::array<SectionRef, kSectionKindCount>;
+
+// A name in 'STRS': (offset, length).
+using NameRef = std::pair<std::uint32_t, std::uint32_t>;
+
+constexpr std::uint64_t AlignUp(std::uint64_t value, std::uint64_t alignment) {
+  return (value + alignment - 1) / alignment * alignment;
+}
+
+// Explicit little-endian packing, independent of the host's byte order.
+inline std::uint32_t Load32(const std::byte* p) {
+  return std::to_integer<std::uint32_t>(p[0]) | std::to_integer<std::uint32_t>(p[1]) << 8 |
+         std::to_integer<std::uint32_t>(p[2]) << 16 | std::to_integer<std::uint32_t>(p[3]) << 24;
+}
+inline std::uint64_t Load64(const std::byte* p) {
+  return static_cast<std::uint64_t>(Load32(p)) | static_cast<std::uint64_t>(Load32(p + 4)) << 32;
+}
+inline float LoadFloat(const std::byte* p) { return std::bit_cast<float>(Load32(p)); }
+inline void Store32(std::byte* p, std::uint32_t value) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::byte>((value >> (8 * i)) & 0xFFu);
+}
+inline void Store64(std::byte* p, std::uint64_t value) {
+  Store32(p, static_cast<std::uint32_t>(value & 0xFFFFFFFFu));
+  Store32(p + 4, static_cast<std::uint32_t>(value >> 32));
+}
+
+// Writes consecutive fields into a buffer sized beforehand.
+class Cursor {
+ public:
+  explicit Cursor(std::byte* p) : p_(p) {}
+  void U32(std::uint32_t value) {
+    Store32(p_, value);
+    p_ += 4;
+  }
+  void U64(std::uint64_t value) {
+    Store64(p_, value);
+    p_ += 8;
+  }
+  void Float(float value) { U32(std::bit_cast<std::uint32_t>(value)); }
+  void Vec2(const glm::vec2& v) {
+    Float(v.x);
+    Float(v.y);
+  }
+  void Vec3(const glm::vec3& v) {
+    Float(v.x);
+    Float(v.y);
+    Float(v.z);
+  }
+  void Bytes(std::string_view text) {
+    for (char c : text) *p_++ = static_cast<std::byte>(c);
+  }
+
+ private:
+  std::byte* p_;
+};
 
 }  // namespace facerig::frig_format

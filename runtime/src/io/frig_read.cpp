@@ -15,6 +15,7 @@
 #include "facerig/runtime/io/input_file.h"
 #include "facerig/runtime/rig_builder.h"
 #include "frig_format.h"
+#include "frig_materials.h"
 
 namespace facerig {
 namespace {
@@ -43,23 +44,6 @@ std::string Hex32(std::uint32_t value) {
   std::snprintf(text, sizeof(text), "0x%08X", static_cast<unsigned>(value));
   return text;
 }
-
-// Explicit little-endian packing, independent of the host's byte order.
-std::uint32_t Load32(const std::byte* p) {
-  return std::to_integer<std::uint32_t>(p[0]) | std::to_integer<std::uint32_t>(p[1]) << 8 |
-         std::to_integer<std::uint32_t>(p[2]) << 16 | std::to_integer<std::uint32_t>(p[3]) << 24;
-}
-std::uint64_t Load64(const std::byte* p) {
-  return static_cast<std::uint64_t>(Load32(p)) | static_cast<std::uint64_t>(Load32(p + 4)) << 32;
-}
-float LoadFloat(const std::byte* p) { return std::bit_cast<float>(Load32(p)); }
-
-struct SectionRef {
-  bool present = false;
-  std::uint64_t table_entry = 0;  // file offset of its section table entry
-  std::uint64_t count = 0;
-  std::uint64_t offset = 0;
-};
 
 struct NamedRange {
   std::uint32_t name_offset;
@@ -93,6 +77,7 @@ class Parser {
     CheckIndices();
     CheckFinite();
     CheckShapeOrder();
+    materials_ = ReadFrigMaterials(bytes_, sections_, meta_.part_count, name_bytes_, path_);
     return Build();
   }
 
@@ -237,6 +222,7 @@ class Parser {
     ExpectCount(kShapeIndices, meta_.entry_count, "shape_entry_count");
     ExpectCount(kShapePositions, meta_.entry_count, "shape_entry_count");
     ExpectCount(kShapeNormals, has_normal_deltas ? meta_.entry_count : 0, "shape_entry_count");
+    CheckMaterialCounts(sections_, meta_.part_count, path_);
   }
 
   std::vector<glm::vec3> DecodeVec3(Section k) const {
@@ -313,7 +299,7 @@ class Parser {
     }
   }
 
-  void CheckIndices() const {
+  void CheckIndices() {
     const std::uint32_t n = meta_.vertex_count;
     for (std::size_t t = 0; t < raw_.triangles.size(); ++t) {
       for (std::size_t c = 0; c < 3; ++c) {
@@ -324,9 +310,8 @@ class Parser {
         }
       }
     }
-    std::uint64_t name_bytes = 0;
-    CheckNames(kParts, parts_, name_bytes);
-    CheckNames(kShapes, shapes_, name_bytes);
+    CheckNames(kParts, parts_, name_bytes_);
+    CheckNames(kShapes, shapes_, name_bytes_);
     for (std::size_t i = 0; i < parts_.size(); ++i) {
       if (std::uint64_t{parts_[i].first} + parts_[i].count > meta_.triangle_count) {
         Fail(IoErrorKind::kIndexOutOfRange, FieldAt(kParts, i, 2),
@@ -405,7 +390,11 @@ class Parser {
   }
 
   Rig Build() {
-    for (const NamedRange& r : parts_) raw_.parts.push_back({Name(r), r.first, r.count});
+    for (std::size_t i = 0; i < parts_.size(); ++i) {
+      raw_.parts.push_back({Name(parts_[i]), parts_[i].first, parts_[i].count, materials_.part_materials[i]});
+    }
+    raw_.materials = std::move(materials_.materials);
+    raw_.images = std::move(materials_.images);
     raw_.shapes.reserve(shapes_.size());
     for (const NamedRange& r : shapes_) {
       RawBlendShape shape;
@@ -431,7 +420,7 @@ class Parser {
 
   std::span<const std::byte> bytes_;
   const std::string& path_;
-  std::array<SectionRef, kSectionKindCount> sections_{};
+  SectionRefs sections_{};
   Meta meta_{};
   RawRig raw_;
   std::vector<NamedRange> parts_;
@@ -439,6 +428,8 @@ class Parser {
   std::vector<std::uint32_t> indices_;
   std::vector<glm::vec3> position_deltas_;
   std::vector<glm::vec3> normal_deltas_;
+  std::uint64_t name_bytes_ = 0;  // of the part and shape names, bounded by 'STRS'
+  FrigMaterials materials_;
 };
 
 }  // namespace

@@ -13,54 +13,12 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 #include "frig_format.h"
+#include "frig_materials.h"
 
 namespace facerig {
 namespace {
 
 using namespace frig_format;  // the layout shared with the reader
-
-constexpr std::uint64_t AlignUp(std::uint64_t value) {
-  return (value + kSectionAlignment - 1) / kSectionAlignment * kSectionAlignment;
-}
-
-// Explicit little-endian packing, independent of the host's byte order.
-void Store32(std::byte* p, std::uint32_t value) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::byte>((value >> (8 * i)) & 0xFFu);
-}
-void Store64(std::byte* p, std::uint64_t value) {
-  Store32(p, static_cast<std::uint32_t>(value & 0xFFFFFFFFu));
-  Store32(p + 4, static_cast<std::uint32_t>(value >> 32));
-}
-
-// Writes consecutive fields into a buffer sized beforehand.
-class Cursor {
- public:
-  explicit Cursor(std::byte* p) : p_(p) {}
-  void U32(std::uint32_t value) {
-    Store32(p_, value);
-    p_ += 4;
-  }
-  void U64(std::uint64_t value) {
-    Store64(p_, value);
-    p_ += 8;
-  }
-  void Float(float value) { U32(std::bit_cast<std::uint32_t>(value)); }
-  void Vec2(const glm::vec2& v) {
-    Float(v.x);
-    Float(v.y);
-  }
-  void Vec3(const glm::vec3& v) {
-    Float(v.x);
-    Float(v.y);
-    Float(v.z);
-  }
-  void Bytes(std::string_view text) {
-    for (char c : text) *p_++ = static_cast<std::byte>(c);
-  }
-
- private:
-  std::byte* p_;
-};
 
 std::uint32_t CheckedU32(std::uint64_t value, const char* what, const std::string& path) {
   if (value > std::numeric_limits<std::uint32_t>::max()) {
@@ -70,11 +28,11 @@ std::uint32_t CheckedU32(std::uint64_t value, const char* what, const std::strin
   return static_cast<std::uint32_t>(value);
 }
 
-// The string table: part names, then shape names, back to back; each name as
-// its (offset, length) in the table.
+// The string table: part, shape, material and image names, back to back;
+// each name as its (offset, length) in the table.
 struct StringTable {
   std::string bytes;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> part_names, shape_names;
+  std::vector<NameRef> part_names, shape_names, material_names, image_names;
 };
 
 StringTable BuildStringTable(const Rig& rig, const std::string& path) {
@@ -86,6 +44,8 @@ StringTable BuildStringTable(const Rig& rig, const std::string& path) {
   };
   for (const Part& part : rig.parts()) add_name(part.name, table.part_names);
   for (std::size_t s = 0; s < rig.shape_count(); ++s) add_name(rig.shape_name(s), table.shape_names);
+  for (const Material& material : rig.materials()) add_name(material.name, table.material_names);
+  for (const EncodedImage& image : rig.images()) add_name(image.name, table.image_names);
   CheckedU32(table.bytes.size(), "string table size", path);
   return table;
 }
@@ -122,12 +82,13 @@ Layout PlanLayout(const Rig& rig, std::uint64_t string_bytes) {
   for (std::size_t k = 0; k < kSectionKindCount; ++k) layout.present[k] = kSectionKinds[k].required;
   layout.present[kUvs] = has_uvs;
   layout.present[kShapeNormals] = has_normal_deltas;
+  PlanMaterialSections(rig, counts, layout.present);
 
   for (bool p : layout.present) layout.section_count += p ? 1u : 0u;
   std::uint64_t end = kHeaderSize + kTableEntrySize * layout.section_count;
   for (std::size_t k = 0; k < kSectionKindCount; ++k) {
     if (!layout.present[k]) continue;
-    layout.offsets[k] = AlignUp(end);
+    layout.offsets[k] = AlignUp(end, kSectionAlignment);
     end = layout.offsets[k] + counts[k] * kSectionKinds[k].element_size;
   }
   layout.file_size = end;
@@ -220,6 +181,7 @@ std::vector<std::byte> Serialize(const Rig& rig, const std::string& path) {
   if (rig.vertex_count() == 0) {
     throw IoError(IoErrorKind::kInvalidRig, path, "the rig has no vertices (empty or moved-from)");
   }
+  CheckMaterialsWritable(rig, path);
   const StringTable strings = BuildStringTable(rig, path);
   const Layout layout = PlanLayout(rig, strings.bytes.size());
 
@@ -231,6 +193,7 @@ std::vector<std::byte> Serialize(const Rig& rig, const std::string& path) {
   WriteParts(rig, strings, layout.At(file, kParts));
   WriteShapes(rig, strings, layout, file);
   layout.At(file, kStrings).Bytes(strings.bytes);
+  WriteMaterialSections(rig, strings.material_names, strings.image_names, layout.offsets, file);
 
   Store32(bytes.data() + kCrcAt, Crc32(std::span(bytes).subspan(kHeaderSize)));
   return bytes;

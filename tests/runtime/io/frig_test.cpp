@@ -19,13 +19,24 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "frig_bytes.h"
 #include "support/test_meshes.h"
 
 namespace facerig {
 namespace {
 
 namespace fs = std::filesystem;
-using Bytes = std::vector<std::byte>;
+using test::Bytes;
+using test::FindSection;
+using test::FixCrc;
+using test::Get32;
+using test::Get64;
+using test::ParseError;
+using test::Put32;
+using test::Put64;
+using test::PutFloat;
+using test::Section;
+using test::SectionInfo;
 using Catch::Matchers::Contains;
 
 // The committed file that every later build must keep reading. To rewrite it,
@@ -38,63 +49,6 @@ fs::path ReferencePath() {
 Rig MakeReferenceRig() { return test::MakeGridRig(4, 3, true); }
 
 Bytes ReferenceBytes() { return ReadFileBytes(ReferencePath()); }
-
-std::uint32_t Get32(const Bytes& bytes, std::uint64_t at) {
-  std::uint32_t value = 0;
-  for (int i = 3; i >= 0; --i) value = value << 8 | std::to_integer<std::uint32_t>(bytes[at + i]);
-  return value;
-}
-std::uint64_t Get64(const Bytes& bytes, std::uint64_t at) {
-  return Get32(bytes, at) | std::uint64_t{Get32(bytes, at + 4)} << 32;
-}
-void Put32(Bytes& bytes, std::uint64_t at, std::uint32_t value) {
-  for (int i = 0; i < 4; ++i) bytes[at + i] = static_cast<std::byte>((value >> (8 * i)) & 0xFFu);
-}
-void Put64(Bytes& bytes, std::uint64_t at, std::uint64_t value) {
-  Put32(bytes, at, static_cast<std::uint32_t>(value & 0xFFFFFFFFu));
-  Put32(bytes, at + 4, static_cast<std::uint32_t>(value >> 32));
-}
-void PutFloat(Bytes& bytes, std::uint64_t at, float value) {
-  std::uint32_t bits = 0;
-  std::memcpy(&bits, &value, sizeof(bits));
-  Put32(bytes, at, bits);
-}
-// Makes an edited file pass the checksum, so the check under test is reached.
-void FixCrc(Bytes& bytes) { Put32(bytes, 12, Crc32(std::span(bytes).subspan(32))); }
-
-struct SectionInfo {
-  std::uint64_t entry;  // offset of its section table entry
-  std::uint64_t count;
-  std::uint64_t offset;
-};
-
-std::optional<SectionInfo> FindSection(const Bytes& bytes, std::string_view tag) {
-  const std::uint32_t count = Get32(bytes, 8);
-  for (std::uint32_t i = 0; i < count; ++i) {
-    const std::uint64_t entry = 32 + 32 * std::uint64_t{i};
-    if (std::memcmp(&bytes[entry], tag.data(), 4) == 0) {
-      return SectionInfo{entry, Get64(bytes, entry + 8), Get64(bytes, entry + 16)};
-    }
-  }
-  return std::nullopt;
-}
-SectionInfo Section(const Bytes& bytes, std::string_view tag) {
-  const std::optional<SectionInfo> info = FindSection(bytes, tag);
-  REQUIRE(info);
-  return *info;
-}
-
-// Parses bytes that must be refused and returns the error, checking that it names the path.
-IoError ParseError(const Bytes& bytes, const std::string& path = "corpus/bad.frig") {
-  try {
-    static_cast<void>(ParseFrig(bytes, path));
-  } catch (const IoError& error) {
-    CHECK_THAT(error.what(), Contains(path));
-    return error;
-  }
-  FAIL("ParseFrig accepted malformed bytes");
-  throw std::logic_error("unreachable");
-}
 
 IoError ReadError(const fs::path& path) {
   try {
@@ -188,6 +142,10 @@ TEST_CASE("The committed v1 reference .frig still loads", "[frig]") {
   CHECK(loaded.parts().size() == 2);
   CHECK(loaded.has_normal_deltas());
   CHECK(!loaded.uvs().empty());
+  // Written before .frig carried materials: none, and no part names one.
+  CHECK(loaded.materials().empty());
+  CHECK(loaded.images().empty());
+  for (const Part& part : loaded.parts()) CHECK(part.material == -1);
 }
 
 TEST_CASE("SerializeFrig is deterministic and matches the committed .frig", "[frig]") {

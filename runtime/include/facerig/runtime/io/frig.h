@@ -50,7 +50,31 @@
 //             each shape; required
 //   SPOS  12  shape_entry_count position deltas, f32 x, y, z; required
 //   SNRM  12  shape_entry_count normal deltas, f32 x, y, z; present iff flag bit 1
-//   STRS   1  names (UTF-8, not NUL-terminated), parts first then shapes; required
+//   STRS   1  names (UTF-8, not NUL-terminated): parts, shapes, materials,
+//             then images; all names together are no longer than STRS; required
+//   MATL  48  materials, present iff the rig has any: u32 name_offset,
+//             u32 name_length (into STRS), f32 base colour r, g, b, a (linear),
+//             i32 base_colour_image, i32 normal_image (into IMGS; -1 none),
+//             u32 alpha_mode (0 opaque, 1 mask, 2 blend), f32 alpha_cutoff,
+//             u32 flags (bit 0: double-sided; other bits must be 0),
+//             f32 roughness; every float finite
+//   PMAT   4  part_count i32 material indices (into MATL; -1 none), written
+//             with MATL; a file without it loads with every part at -1
+//   IMGS  32  images, present iff the rig has any: u32 name_offset,
+//             u32 name_length (into STRS; a plain file name such as
+//             "skin.png"), u32 format (0 PNG, 1 JPEG), u32 width, u32 height,
+//             u32 byte_length (> 0), u64 data_offset (into IMGB)
+//   IMGB   1  the images' encoded bytes, present with IMGS: image i starts at
+//             the end of image i - 1 rounded up to a multiple of 8 (image 0 at
+//             0), padding 0, and the section ends with the last image
+//
+// Images are embedded, not referenced by path: a runtime file must work when
+// copied alone (into a game's assets, over the network), as a .glb does, and a
+// loader then opens no second file. The format, width and height must be
+// what the bytes' own header says (checked with ProbeImage); pixels are never
+// decoded. Files written before these sections existed load without
+// materials, and a rig without materials is written without them, byte for
+// byte as before; older readers skip them.
 //
 // Reading checks, in this order, and throws IoError with the path and the
 // byte offset of the offending field: size (kEmpty, kTruncated), magic
@@ -58,7 +82,11 @@
 // (kChecksumMismatch), section table and counts (kAbsurdCount, kTruncated,
 // kParse; all before any array is allocated), indices and ranges
 // (kIndexOutOfRange), NaN/Inf (kNonFinite), shape index order (kParse), then
-// RigBuilder::Build (kInvalidRig).
+// images, materials and part materials (a name outside STRS or an index out
+// of range kIndexOutOfRange; image bytes past IMGB kTruncated; ProbeImage's
+// kBadMagic, kTruncated, kAbsurdCount; a bad file name, format, alpha mode,
+// flags or data offset, or a header that disagrees with IMGS, kParse; a
+// non-finite material value kNonFinite), then RigBuilder::Build (kInvalidRig).
 #pragma once
 
 #include <cstddef>
@@ -84,7 +112,8 @@ Rig ReadFrig(const std::filesystem::path& path);
 
 // Deterministic: the same rig always gives the same bytes. Throws
 // IoError(kInvalidRig) for a rig no reader could load (no vertices, e.g. a
-// default-constructed or moved-from Rig).
+// default-constructed or moved-from Rig; a non-finite material value; image
+// bytes whose header disagrees with the image's format or size).
 std::vector<std::byte> SerializeFrig(const Rig& rig);
 // Atomic (temporary file + rename): on any failure the previous file, if any,
 // is left as it was. Throws IoError naming the path: kInvalidRig as
