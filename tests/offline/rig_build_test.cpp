@@ -14,6 +14,7 @@
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/self_intersection.h"
+#include "facerig/runtime/io/obj.h"
 #include "support/registration_targets.h"
 #include "support/test_meshes.h"
 
@@ -179,7 +180,54 @@ float SideOfShape(const Rig& rig, std::string_view name) {
   return weighted_x > 0.0 ? 1.0f : -1.0f;
 }
 
+// The largest length ratio of any edge of `triangles` between the neutral and
+// the neutral plus `shape`.
+float WorstStretch(const RawRig& rig, const RawBlendShape& shape) {
+  std::vector<glm::vec3> moved = rig.positions;
+  for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) moved[shape.vertex_indices[i]] += shape.position_deltas[i];
+  float worst = 1.0f;
+  for (const Triangle& t : rig.triangles) {
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[static_cast<std::size_t>(e)], b = t[static_cast<std::size_t>((e + 1) % 3)];
+      const float rest = glm::distance(rig.positions[a], rig.positions[b]);
+      if (rest > 0.0f) worst = std::max(worst, glm::distance(moved[a], moved[b]) / rest);
+    }
+  }
+  return worst;
+}
+
 }  // namespace
+
+TEST_CASE("(shared data) build: onto an ICT-topology face, the eyeballs stay still during a blink", "[shared-data]") {
+  const Rig& ict = test::IctRig();
+  RawRig target = ToRawRig(ReadObj(test::IctDir() / "identity005.obj"));
+  FaceLandmarks landmarks;
+  for (std::uint32_t i = 0; i < kDlibLandmarkCount; ++i) {
+    landmarks.points.push_back(target.positions[IctInfo().landmark_vertices[i]]);
+    landmarks.indices.push_back(i);
+    landmarks.confidence.push_back(1.0f);
+  }
+  const BuildRigResult built = BuildRig(ict, IctInfo(), target, PairLandmarks(IctInfo().landmark_vertices, landmarks));
+  for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
+    const auto shape = std::find_if(built.rig.shapes.begin(), built.rig.shapes.end(),
+                                    [&](const RawBlendShape& s) { return s.name == name; });
+    REQUIRE(shape != built.rig.shapes.end());
+    // ICT's eyeballs are vertices 21451-24590: each target part is mapped
+    // onto the template parts most of its vertices are near, so the front of
+    // an eyeball no longer takes the lid's motion.
+    float eyeball_move = 0.0f;
+    for (std::size_t i = 0; i < shape->vertex_indices.size(); ++i) {
+      if (shape->vertex_indices[i] >= 21451 && shape->vertex_indices[i] <= 24590) {
+        eyeball_move = std::max(eyeball_move, glm::length(shape->position_deltas[i]));
+      }
+    }
+    INFO(name << ": eyeball vertices move up to " << eyeball_move << " cm; worst edge stretch "
+              << WorstStretch(built.rig, *shape));
+    CHECK(eyeball_move < 1e-3f);
+    std::printf("%s on identity005: worst edge stretch %.1fx (the face's own blink: 3.5x)\n", name,
+                WorstStretch(built.rig, *shape));
+  }
+}
 
 TEST_CASE("(shared data) build: the ICT template onto the built-in default head, another topology, with detected "
           "landmarks: eyes blink, the jaw opens, the smile is on its side",
