@@ -1,6 +1,7 @@
 #include "gl_textures.h"
 
 #include <algorithm>
+#include <string>
 
 #include <epoxy/gl.h>
 #include <opencv2/imgcodecs.hpp>
@@ -25,7 +26,25 @@ cv::Mat ToRgba8(const cv::Mat& decoded) {
 
 enum class Role { kBaseColour, kNormal };
 
-GLuint Upload(const cv::Mat& rgba, Role role) {
+// 8x anisotropic filtering where the GPU has it; none on a software
+// rasteriser (Mesa llvmpipe, the headless path's usual renderer), where it
+// doubles the draw time of a textured face.
+float AnisotropyToUse() {
+  if (!epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic") &&
+      !epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic")) {
+    return 1.0f;
+  }
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const std::string name = renderer != nullptr ? renderer : "";
+  for (const char* software : {"llvmpipe", "softpipe", "SwiftShader"}) {
+    if (name.find(software) != std::string::npos) return 1.0f;
+  }
+  GLfloat max_anisotropy = 1.0f;
+  glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &max_anisotropy);
+  return std::min(max_anisotropy, 8.0f);
+}
+
+GLuint Upload(const cv::Mat& rgba, Role role, float anisotropy) {
   GLuint texture = 0;
   glGenTextures(1, &texture);
   glBindTexture(GL_TEXTURE_2D, texture);
@@ -41,12 +60,7 @@ GLuint Upload(const cv::Mat& rgba, Role role) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-  if (epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic") ||
-      epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic")) {
-    GLfloat max_anisotropy = 1.0f;
-    glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &max_anisotropy);
-    glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, std::min(max_anisotropy, 8.0f));
-  }
+  if (anisotropy > 1.0f) glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, anisotropy);
   glBindTexture(GL_TEXTURE_2D, 0);
   return texture;
 }
@@ -88,6 +102,7 @@ RigTextures::RigTextures(const Rig& rig)
     mark(as_base, material.base_colour_image);
     mark(as_normal, material.normal_image);
   }
+  const float anisotropy = AnisotropyToUse();
   for (std::size_t i = 0; i < images.size(); ++i) {
     if (!as_base[i] && !as_normal[i]) continue;
     cv::Mat rgba;
@@ -96,8 +111,8 @@ RigTextures::RigTextures(const Rig& rig)
       problems_.push_back(problem + "; its parts draw with their colour alone");
       continue;
     }
-    if (as_base[i]) base_colour_[i] = Upload(rgba, Role::kBaseColour);
-    if (as_normal[i]) normal_[i] = Upload(rgba, Role::kNormal);
+    if (as_base[i]) base_colour_[i] = Upload(rgba, Role::kBaseColour, anisotropy);
+    if (as_normal[i]) normal_[i] = Upload(rgba, Role::kNormal, anisotropy);
   }
 }
 
