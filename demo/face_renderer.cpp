@@ -45,6 +45,7 @@ struct FaceRenderer::DrawRange {
   std::uint32_t index_count = 0;
   PartLook look;
   unsigned base_texture = 0, normal_texture = 0;  // 0: none
+  unsigned features = 0;                          // the shader variant (ShaderFeature bits)
   glm::vec3 centroid{0.0f};                       // rig units
   std::string name;
 };
@@ -64,7 +65,7 @@ void FaceRenderer::SetDrawRanges(const Rig& rig) {
   const bool has_uvs = !rig.uvs().empty();
   bool warned_uvs = false;
   for (const Part& part : rig.parts()) {
-    DrawRange range{part.first_triangle * 3, part.triangle_count * 3, LookForPart(rig, part), 0, 0,
+    DrawRange range{part.first_triangle * 3, part.triangle_count * 3, LookForPart(rig, part), 0, 0, 0,
                     PartCentroid(rig, part), part.name};
     if (range.index_count == 0 || !range.look.visible) continue;
     if (has_uvs) {
@@ -74,12 +75,14 @@ void FaceRenderer::SetDrawRanges(const Rig& rig) {
       problems_.push_back("the rig's materials use images but it has no UVs; parts draw with their colour");
       warned_uvs = true;
     }
+    range.features = (range.base_texture != 0 ? kBaseTexture : 0u) | (range.normal_texture != 0 ? kNormalTexture : 0u) |
+                     (range.look.alpha_mode == AlphaMode::kMask ? kAlphaMask : 0u);
     ranges_.push_back(std::move(range));
   }
   // A rig without parts is all skin.
   if (ranges_.empty()) {
     Part all{"all", 0, static_cast<std::uint32_t>(rig.triangle_count())};
-    ranges_.push_back({0, all.triangle_count * 3, LookForPart(rig, all), 0, 0, PartCentroid(rig, all), "all"});
+    ranges_.push_back({0, all.triangle_count * 3, LookForPart(rig, all), 0, 0, 0, PartCentroid(rig, all), "all"});
   }
   // Blended parts last, drawn after everything opaque.
   const auto blended = [](const DrawRange& r) { return r.look.alpha_mode == AlphaMode::kBlend; };
@@ -114,16 +117,21 @@ void FaceRenderer::FrameVisibleParts(const Rig& rig) {
 }
 
 void FaceRenderer::CompileShaders() {
-  program_ = CompileProgram(kFaceVertexShader, kFaceFragmentShader, "face");
-  const auto at = [this](const char* name) { return glGetUniformLocation(program_, name); };
-  u_ = {at("u_model"), at("u_view"), at("u_projection"), at("u_normal_matrix"), at("u_camera_position"),
-        at("u_material"), at("u_base_color"), at("u_procedural_pupil"), at("u_unlit"),
-        at("u_wrap"), at("u_shininess"), at("u_specular"), at("u_rim"), at("u_ambient"),
-        at("u_base_texture"), at("u_normal_texture"), at("u_has_base_texture"), at("u_has_normal_texture"),
-        at("u_alpha_mode"), at("u_alpha_cutoff")};
-  glUseProgram(program_);
-  glUniform1i(u_.base_texture, 0);
-  glUniform1i(u_.normal_texture, 1);
+  variants_.resize(kShaderVariants);
+  for (const DrawRange& range : ranges_) {
+    ShaderVariant& variant = variants_[range.features];
+    if (variant.program != 0) continue;
+    const std::string fragment = FaceFragmentShader(range.features);
+    variant.program = CompileProgram(kFaceVertexShader, fragment.c_str(), "face");
+    const auto at = [&variant](const char* name) { return glGetUniformLocation(variant.program, name); };
+    variant.u = {at("u_model"), at("u_view"), at("u_projection"), at("u_normal_matrix"), at("u_camera_position"),
+                 at("u_material"), at("u_base_color"), at("u_procedural_pupil"), at("u_unlit"),
+                 at("u_wrap"), at("u_shininess"), at("u_specular"), at("u_rim"), at("u_ambient"),
+                 at("u_base_texture"), at("u_normal_texture"), at("u_alpha_mode"), at("u_alpha_cutoff")};
+    glUseProgram(variant.program);
+    glUniform1i(variant.u.base_texture, 0);
+    glUniform1i(variant.u.normal_texture, 1);
+  }
   glUseProgram(0);
 }
 
@@ -177,7 +185,9 @@ FaceRenderer::~FaceRenderer() {
   glDeleteBuffers(1, &radial_vbo_);
   glDeleteBuffers(1, &ebo_);
   glDeleteVertexArrays(1, &vao_);
-  glDeleteProgram(program_);
+  for (const ShaderVariant& variant : variants_) {
+    if (variant.program != 0) glDeleteProgram(variant.program);
+  }
 }
 
 void FaceRenderer::ResetCamera() {
@@ -202,21 +212,27 @@ glm::mat4 FaceRenderer::ModelMatrix(const glm::mat4& head_rotation) const {
          glm::translate(glm::mat4(1.0f), -neck_pivot_) * rig_to_scene_;
 }
 
-void FaceRenderer::SetFrameUniforms(int width, int height, const glm::mat4& model) {
+void FaceRenderer::SetFrameUniforms(const ShaderVariant& variant, int width, int height, const glm::mat4& model) {
+  const Uniforms& u = variant.u;
   const glm::mat4 view = camera_.View();
   const glm::mat4 projection = camera_.Projection(static_cast<float>(width) / static_cast<float>(std::max(height, 1)));
   const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(model));
   const glm::vec3 camera_position = glm::vec3(glm::inverse(view)[3]);
-  glUniformMatrix4fv(u_.model, 1, GL_FALSE, glm::value_ptr(model));
-  glUniformMatrix4fv(u_.view, 1, GL_FALSE, glm::value_ptr(view));
-  glUniformMatrix4fv(u_.projection, 1, GL_FALSE, glm::value_ptr(projection));
-  glUniformMatrix3fv(u_.normal_matrix, 1, GL_FALSE, glm::value_ptr(normal_matrix));
-  glUniform3fv(u_.camera_position, 1, glm::value_ptr(camera_position));
-  glUniform1i(u_.procedural_pupil, procedural_pupil_ ? 1 : 0);
-  glUniform1i(u_.unlit, unlit_ ? 1 : 0);
+  glUniformMatrix4fv(u.model, 1, GL_FALSE, glm::value_ptr(model));
+  glUniformMatrix4fv(u.view, 1, GL_FALSE, glm::value_ptr(view));
+  glUniformMatrix4fv(u.projection, 1, GL_FALSE, glm::value_ptr(projection));
+  glUniformMatrix3fv(u.normal_matrix, 1, GL_FALSE, glm::value_ptr(normal_matrix));
+  glUniform3fv(u.camera_position, 1, glm::value_ptr(camera_position));
+  glUniform1i(u.procedural_pupil, procedural_pupil_ ? 1 : 0);
+  glUniform1i(u.unlit, unlit_ ? 1 : 0);
 }
 
-void FaceRenderer::DrawRangeOf(const DrawRange& range) {
+void FaceRenderer::DrawRangeOf(const DrawRange& range, unsigned* current_variant) {
+  if (range.features != *current_variant) {
+    glUseProgram(variants_[range.features].program);
+    *current_variant = range.features;
+  }
+  const Uniforms& u = variants_[range.features].u;
   const PartLook& look = range.look;
   // Named parts keep drawing both sides (the mouth interior is seen from inside).
   if (look.double_sided) {
@@ -224,17 +240,15 @@ void FaceRenderer::DrawRangeOf(const DrawRange& range) {
   } else {
     glEnable(GL_CULL_FACE);
   }
-  glUniform1i(u_.material, static_cast<int>(look.kind));
-  glUniform4fv(u_.base_color, 1, glm::value_ptr(look.base_colour));
-  glUniform3fv(u_.wrap, 1, glm::value_ptr(look.shading.wrap));
-  glUniform1f(u_.shininess, look.shading.shininess);
-  glUniform1f(u_.specular, look.shading.specular);
-  glUniform1f(u_.rim, look.shading.rim);
-  glUniform1f(u_.ambient, look.shading.ambient);
-  glUniform1i(u_.alpha_mode, static_cast<int>(look.alpha_mode));
-  glUniform1f(u_.alpha_cutoff, look.alpha_cutoff);
-  glUniform1i(u_.has_base_texture, range.base_texture != 0 ? 1 : 0);
-  glUniform1i(u_.has_normal_texture, range.normal_texture != 0 ? 1 : 0);
+  glUniform1i(u.material, static_cast<int>(look.kind));
+  glUniform4fv(u.base_color, 1, glm::value_ptr(look.base_colour));
+  glUniform3fv(u.wrap, 1, glm::value_ptr(look.shading.wrap));
+  glUniform1f(u.shininess, look.shading.shininess);
+  glUniform1f(u.specular, look.shading.specular);
+  glUniform1f(u.rim, look.shading.rim);
+  glUniform1f(u.ambient, look.shading.ambient);
+  glUniform1i(u.alpha_mode, static_cast<int>(look.alpha_mode));
+  glUniform1f(u.alpha_cutoff, look.alpha_cutoff);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, range.base_texture);
   glActiveTexture(GL_TEXTURE1);
@@ -263,17 +277,21 @@ void FaceRenderer::Draw(int width, int height, const glm::mat4& head_rotation) {
   glFrontFace(GL_CCW);
 
   const glm::mat4 model = ModelMatrix(head_rotation);
-  glUseProgram(program_);
-  SetFrameUniforms(width, height, model);
+  for (const ShaderVariant& variant : variants_) {
+    if (variant.program == 0) continue;
+    glUseProgram(variant.program);
+    SetFrameUniforms(variant, width, height, model);
+  }
   glBindVertexArray(vao_);
-  for (std::size_t i = 0; i < first_blended_; ++i) DrawRangeOf(ranges_[i]);
+  unsigned current_variant = kShaderVariants;  // none yet
+  for (std::size_t i = 0; i < first_blended_; ++i) DrawRangeOf(ranges_[i], &current_variant);
   if (first_blended_ < ranges_.size()) {
     SortBlendedBackToFront(camera_.View() * model);
     glEnable(GL_BLEND);
     // Colour over what is behind; the target's alpha stays opaque.
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
-    for (const auto& [depth, index] : blend_order_) DrawRangeOf(ranges_[index]);
+    for (const auto& [depth, index] : blend_order_) DrawRangeOf(ranges_[index], &current_variant);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
   }

@@ -92,21 +92,26 @@ class FaceRenderer {
     int model = -1, view = -1, projection = -1, normal_matrix = -1, camera_position = -1;
     int material = -1, base_color = -1, procedural_pupil = -1, unlit = -1;
     int wrap = -1, shininess = -1, specular = -1, rim = -1, ambient = -1;
-    int base_texture = -1, normal_texture = -1, has_base_texture = -1, has_normal_texture = -1;
+    int base_texture = -1, normal_texture = -1;
     int alpha_mode = -1, alpha_cutoff = -1;
+  };
+  // One compiled fragment-shader variant (face_shaders.h's features).
+  struct ShaderVariant {
+    unsigned program = 0;  // 0: not compiled (no part needs it)
+    Uniforms u;
   };
   struct DrawRange;
   // Construction steps, in this order.
   void SetDrawRanges(const Rig& rig);      // a range per visible part with its look; procedural_pupil_
   void FrameVisibleParts(const Rig& rig);  // scene box and neck pivot from the visible parts
-  void CompileShaders();                   // program_ and the uniform locations
+  void CompileShaders();                   // the variants the parts need, and their uniform locations
   void CreateBuffers(const Rig& rig, std::span<const float> radial);
   void CreateUvBuffer(const Rig& rig);
   glm::mat4 ModelMatrix(const glm::mat4& head_rotation) const;
   // Per frame.
-  void SetFrameUniforms(int width, int height, const glm::mat4& model);
+  void SetFrameUniforms(const ShaderVariant& variant, int width, int height, const glm::mat4& model);
   void SortBlendedBackToFront(const glm::mat4& model_view);
-  void DrawRangeOf(const DrawRange& range);
+  void DrawRangeOf(const DrawRange& range, unsigned* current_variant);
 
   std::size_t vertex_count_ = 0;
   std::vector<DrawRange> ranges_;          // opaque and masked parts first, then blended ones
@@ -122,8 +127,8 @@ class FaceRenderer {
   float scene_size_ = 1.0f;
   OrbitCamera camera_;
 
-  unsigned program_ = 0, vao_ = 0, position_vbo_ = 0, normal_vbo_ = 0, radial_vbo_ = 0, uv_vbo_ = 0, ebo_ = 0;
-  Uniforms u_;
+  std::vector<ShaderVariant> variants_;  // indexed by features
+  unsigned vao_ = 0, position_vbo_ = 0, normal_vbo_ = 0, radial_vbo_ = 0, uv_vbo_ = 0, ebo_ = 0;
 };
 
 // Renders into an offscreen framebuffer (multisampled, resolved for reading back).

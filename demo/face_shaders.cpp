@@ -1,5 +1,7 @@
 #include "face_shaders.h"
 
+#include <string>
+
 namespace facerig::player {
 
 const char* const kFaceVertexShader = R"(#version 330 core
@@ -39,7 +41,10 @@ void main() {
 // Normal maps: the tangent frame comes from screen-space derivatives of the
 // position and UV (no tangent attribute); green points towards +v (OpenGL's
 // and glTF's convention).
-const char* const kFaceFragmentShader = R"(#version 330 core
+// Textures and alpha masking are compiled in only where a part needs them: a
+// shader that can discard loses early depth testing, and on llvmpipe unused
+// texture paths still cost.
+const char* const kFaceFragmentBody = R"(
 in vec3 v_world;
 in vec3 v_normal;
 in float v_radial;
@@ -50,8 +55,12 @@ uniform bool u_procedural_pupil;
 uniform vec3 u_camera_position;
 uniform vec3 u_wrap;
 uniform float u_shininess, u_specular, u_rim, u_ambient;
-uniform sampler2D u_base_texture, u_normal_texture;
-uniform bool u_has_base_texture, u_has_normal_texture;
+#ifdef BASE_TEXTURE
+uniform sampler2D u_base_texture;
+#endif
+#ifdef NORMAL_TEXTURE
+uniform sampler2D u_normal_texture;
+#endif
 uniform int u_alpha_mode;
 uniform float u_alpha_cutoff;
 uniform bool u_unlit;
@@ -59,7 +68,7 @@ out vec4 frag_color;
 
 const int kSkin = 0, kSclera = 1, kIris = 2, kPupil = 3, kTeeth = 4, kGums = 5, kTongue = 6,
           kMouthInner = 7;
-const int kOpaque = 0, kMask = 1, kBlend = 2;
+const int kBlend = 2;
 
 vec3 KeyDir() { return normalize(vec3(-0.75, 0.6, 0.6)); }
 vec3 FillDir() { return normalize(vec3(0.9, 0.0, 0.5)); }
@@ -88,6 +97,7 @@ float Specular(vec3 n, vec3 l, vec3 v, float shininess) {
   return pow(ndh, shininess) * (shininess + 8.0) / 25.0 * step(0.0, dot(n, l));
 }
 
+#ifdef NORMAL_TEXTURE
 vec3 PerturbedNormal(vec3 n) {
   vec3 dp1 = dFdx(v_world), dp2 = dFdy(v_world);
   vec2 duv1 = dFdx(v_uv), duv2 = dFdy(v_uv);
@@ -100,6 +110,7 @@ vec3 PerturbedNormal(vec3 n) {
   vec3 m = texture(u_normal_texture, TexCoord()).xyz * 2.0 - 1.0;
   return normalize(mat3(t * s, b * s, n) * m);
 }
+#endif
 
 // Untextured eyes: iris fibres, a darker limbus, the procedural pupil, a
 // sclera that darkens towards the corners.
@@ -116,8 +127,12 @@ vec3 EyeColor(vec3 base, float ndv) {
 
 void main() {
   vec4 base = u_base_color;
-  if (u_has_base_texture) base *= texture(u_base_texture, TexCoord());
-  if (u_alpha_mode == kMask && base.a < u_alpha_cutoff) discard;
+#ifdef BASE_TEXTURE
+  base *= texture(u_base_texture, TexCoord());
+#endif
+#ifdef ALPHA_MASK
+  if (base.a < u_alpha_cutoff) discard;
+#endif
   float alpha = u_alpha_mode == kBlend ? base.a : 1.0;
   if (u_unlit) {
     frag_color = vec4(EncodeSrgb(base.rgb), alpha);
@@ -125,11 +140,15 @@ void main() {
   }
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;  // inner mouth and single-sided parts are seen from both sides
-  if (u_has_normal_texture) n = PerturbedNormal(n);
+#ifdef NORMAL_TEXTURE
+  n = PerturbedNormal(n);
+#endif
   vec3 v = normalize(u_camera_position - v_world);
   float ndv = max(dot(n, v), 0.0);
   vec3 albedo = base.rgb;
-  if (!u_has_base_texture && (u_material == kSclera || u_material == kIris)) albedo = EyeColor(albedo, ndv);
+#ifndef BASE_TEXTURE
+  if (u_material == kSclera || u_material == kIris) albedo = EyeColor(albedo, ndv);
+#endif
 
   vec3 key = WrapDiffuse(n, KeyDir(), u_wrap) * kKeyColor;
   vec3 fill = WrapDiffuse(n, FillDir(), u_wrap) * kFillColor;
@@ -149,5 +168,13 @@ void main() {
   frag_color = vec4(EncodeSrgb(color), alpha);
 }
 )";
+
+std::string FaceFragmentShader(unsigned features) {
+  std::string source = "#version 330 core\n";
+  if (features & kBaseTexture) source += "#define BASE_TEXTURE\n";
+  if (features & kNormalTexture) source += "#define NORMAL_TEXTURE\n";
+  if (features & kAlphaMask) source += "#define ALPHA_MASK\n";
+  return source + kFaceFragmentBody;
+}
 
 }  // namespace facerig::player

@@ -2,9 +2,20 @@
 // material numbers are the values of facerig::player::Material.
 #pragma once
 
+#include <string>
+
 namespace facerig::player {
 
+// What a fragment shader variant compiles in (bits).
+enum ShaderFeature : unsigned {
+  kBaseTexture = 1,    // base colour x texture
+  kNormalTexture = 2,  // normal map
+  kAlphaMask = 4,      // discard below the alpha cutoff
+};
+inline constexpr unsigned kShaderVariants = 8;
+
 extern const char* const kFaceVertexShader;
-extern const char* const kFaceFragmentShader;
+// The fragment shader with `features` (ShaderFeature bits).
+std::string FaceFragmentShader(unsigned features);
 
 }  // namespace facerig::player
