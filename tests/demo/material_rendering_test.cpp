@@ -246,3 +246,27 @@ TEST_CASE("Player materials: drawing a textured, blended rig allocates nothing",
   }
   CHECK(counter.count() == 0);
 }
+
+TEST_CASE("Player materials: a normal map tilts the surface towards +u (red) and +v (green)", "[demo][materials]") {
+  // The key light comes from the upper left: a surface tilted left or up is brighter.
+  const auto brightness = [](glm::u8vec4 normal, const char* name) {
+    RawRig raw = facerig::test::MakeGridRawRig(9, 0);
+    raw.images.push_back(facerig::test::CheckerImage("normal.png", 16, 2, normal, normal));
+    raw.materials.push_back(facerig::Material{.name = "bumpy", .base_colour = {0.5f, 0.5f, 0.5f, 1.0f},
+                                              .normal_image = 0});
+    for (facerig::RawPart& part : raw.parts) part.material = 0;
+    glm::vec2 centre{0.0f};
+    const Image image = Render(Build(std::move(raw)), false, std::string("player_normal_") + name + ".png",
+                               [&](const FaceRenderer& renderer) {
+                                 CHECK(renderer.problems().empty());
+                                 centre = renderer.Project({4, 4, 0}, kWidth, kHeight, glm::mat4(1.0f));
+                               });
+    const glm::u8vec4 pixel = PixelAt(image, centre);
+    return int(pixel.r) + int(pixel.g) + int(pixel.b);
+  };
+  // Normals (+-0.6, 0, 0.8) and (0, +-0.6, 0.8), encoded as n * 0.5 + 0.5.
+  const int left = brightness({51, 128, 230, 255}, "left"), right = brightness({204, 128, 230, 255}, "right");
+  const int up = brightness({128, 204, 230, 255}, "up"), down = brightness({128, 51, 230, 255}, "down");
+  CHECK(left > right + 30);
+  CHECK(up > down + 30);
+}
