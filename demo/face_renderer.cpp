@@ -121,8 +121,8 @@ void FaceRenderer::CompileShaders() {
   for (const DrawRange& range : ranges_) {
     ShaderVariant& variant = variants_[range.features];
     if (variant.program != 0) continue;
-    const std::string fragment = FaceFragmentShader(range.features);
-    variant.program = CompileProgram(kFaceVertexShader, fragment.c_str(), "face");
+    const std::string vertex = FaceVertexShader(range.features), fragment = FaceFragmentShader(range.features);
+    variant.program = CompileProgram(vertex.c_str(), fragment.c_str(), "face");
     const auto at = [&variant](const char* name) { return glGetUniformLocation(variant.program, name); };
     variant.u = {at("u_model"), at("u_view"), at("u_projection"), at("u_normal_matrix"), at("u_camera_position"),
                  at("u_material"), at("u_base_color"), at("u_procedural_pupil"), at("u_unlit"),
@@ -249,10 +249,15 @@ void FaceRenderer::DrawRangeOf(const DrawRange& range, unsigned* current_variant
   glUniform1f(u.ambient, look.shading.ambient);
   glUniform1i(u.alpha_mode, static_cast<int>(look.alpha_mode));
   glUniform1f(u.alpha_cutoff, look.alpha_cutoff);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, range.base_texture);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, range.normal_texture);
+  // Only textured variants sample: others leave the units alone.
+  if (range.base_texture != 0) {
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, range.base_texture);
+  }
+  if (range.normal_texture != 0) {
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, range.normal_texture);
+  }
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count), GL_UNSIGNED_INT,
                  reinterpret_cast<const void*>(static_cast<std::uintptr_t>(range.first_index) * 4));
 }

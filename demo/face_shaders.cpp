@@ -4,23 +4,27 @@
 
 namespace facerig::player {
 
-const char* const kFaceVertexShader = R"(#version 330 core
+const char* const kFaceVertexBody = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in float a_radial;
+#ifdef UVS
 layout(location = 3) in vec2 a_uv;
+out vec2 v_uv;
+#endif
 uniform mat4 u_model, u_view, u_projection;
 uniform mat3 u_normal_matrix;
 out vec3 v_world;
 out vec3 v_normal;
 out float v_radial;
-out vec2 v_uv;
 void main() {
   vec4 world = u_model * vec4(a_position, 1.0);
   v_world = world.xyz;
   v_normal = u_normal_matrix * a_normal;
   v_radial = a_radial;
+#ifdef UVS
   v_uv = a_uv;
+#endif
   gl_Position = u_projection * u_view * world;
 }
 )";
@@ -48,7 +52,9 @@ const char* const kFaceFragmentBody = R"(
 in vec3 v_world;
 in vec3 v_normal;
 in float v_radial;
+#ifdef UVS
 in vec2 v_uv;
+#endif
 uniform int u_material;
 uniform vec4 u_base_color;
 uniform bool u_procedural_pupil;
@@ -77,8 +83,10 @@ const vec3 kKeyColor = vec3(1.00, 0.93, 0.84) * 2.2;
 const vec3 kFillColor = vec3(0.55, 0.65, 0.85) * 0.5;
 const vec3 kRimColor = vec3(0.85, 0.9, 1.0) * 1.6;
 
+#ifdef UVS
 // The rig's UVs have v up from the image's bottom; textures hold row 0 (the top) at t = 0.
 vec2 TexCoord() { return vec2(v_uv.x, 1.0 - v_uv.y); }
+#endif
 
 vec3 EncodeSrgb(vec3 linear) {
   vec3 c = clamp(linear, 0.0, 1.0);
@@ -169,8 +177,20 @@ void main() {
 }
 )";
 
+namespace {
+
+std::string Header(unsigned features) {
+  std::string header = "#version 330 core\n";
+  if (features & (kBaseTexture | kNormalTexture)) header += "#define UVS\n";
+  return header;
+}
+
+}  // namespace
+
+std::string FaceVertexShader(unsigned features) { return Header(features) + kFaceVertexBody; }
+
 std::string FaceFragmentShader(unsigned features) {
-  std::string source = "#version 330 core\n";
+  std::string source = Header(features);
   if (features & kBaseTexture) source += "#define BASE_TEXTURE\n";
   if (features & kNormalTexture) source += "#define NORMAL_TEXTURE\n";
   if (features & kAlphaMask) source += "#define ALPHA_MASK\n";

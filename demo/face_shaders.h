@@ -14,8 +14,9 @@ enum ShaderFeature : unsigned {
 };
 inline constexpr unsigned kShaderVariants = 8;
 
-extern const char* const kFaceVertexShader;
-// The fragment shader with `features` (ShaderFeature bits).
+// The shaders with `features` (ShaderFeature bits); UVs are passed only to
+// textured variants.
+std::string FaceVertexShader(unsigned features);
 std::string FaceFragmentShader(unsigned features);
 
 }  // namespace facerig::player
