@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 #include <catch2/catch.hpp>
@@ -17,6 +18,7 @@
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
 #include "gl_textures.h"
+#include "headless_player.h"
 #include "media_writer.h"
 #include "support/allocation_counter.h"
 #include "support/test_images.h"
@@ -210,6 +212,16 @@ TEST_CASE("Player materials: an image that does not decode is named, and its par
   });
   const glm::u8vec4 pixel = PixelAt(frame, centre);
   CHECK(pixel.g > pixel.r + 60);
+
+  // The headless player says so and renders on.
+  facerig::player::PlayerOptions options;
+  options.headless = true;
+  options.frames_dir = facerig::test::FreshOutputFolder("player_bad_image") / "frames";
+  options.width = 64, options.height = 48, options.fps = 10.0, options.duration = 0.1;
+  std::ostringstream log;
+  const facerig::player::HeadlessResult result = facerig::player::RunHeadless(rig, options, log);
+  CHECK(result.frames.size() == 1);
+  CHECK(log.str().find("warning: image \"checker.png\"") != std::string::npos);
 }
 
 TEST_CASE("Player materials: decoding checks the header's size and gives RGBA rows top first", "[demo][materials]") {
