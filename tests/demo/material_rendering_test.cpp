@@ -282,3 +282,18 @@ TEST_CASE("Player materials: a normal map tilts the surface towards +u (red) and
   CHECK(left > right + 30);
   CHECK(up > down + 30);
 }
+
+TEST_CASE("Player materials: a masked material cuts out its transparent texels", "[demo][materials]") {
+  RawRig raw = CheckerGridRaw();
+  raw.images[0] = facerig::test::CheckerImage("cutout.png", 64, 2, kRed, glm::u8vec4(40, 60, 200, 0));
+  raw.materials[0].alpha_mode = AlphaMode::kMask;
+  raw.materials[0].alpha_cutoff = 0.5f;
+  std::array<glm::vec2, 4> cells{};
+  const Image image = Render(Build(std::move(raw)), true, "player_mask_unlit.png",
+                             [&](const FaceRenderer& renderer) { cells = CellCentres(renderer); });
+  const glm::u8vec4 background = PixelAt(image, {1.0f, 1.0f});
+  CheckNear(PixelAt(image, cells[0]), kRed, 3);
+  CheckNear(PixelAt(image, cells[3]), kRed, 3);
+  CheckNear(PixelAt(image, cells[1]), background, 0);
+  CheckNear(PixelAt(image, cells[2]), background, 0);
+}
