@@ -1,5 +1,6 @@
 #include "face_materials.h"
 
+#include <algorithm>
 #include <cctype>
 #include <string>
 
@@ -7,7 +8,7 @@ namespace facerig::player {
 
 glm::vec3 BaseColor(Material material) {
   switch (material) {
-    // Linear colours (the shader outputs gamma 2.2).
+    // Linear colours (the shader encodes sRGB).
     case Material::kSkin: return {0.54f, 0.33f, 0.245f};
     case Material::kSclera: return {0.72f, 0.69f, 0.66f};
     case Material::kIris: return {0.07f, 0.17f, 0.26f};
@@ -21,7 +22,43 @@ glm::vec3 BaseColor(Material material) {
   return {0.0f, 0.0f, 0.0f};
 }
 
+Shading ShadingFor(Material kind) {
+  switch (kind) {
+    case Material::kSkin: return {{0.55f, 0.25f, 0.18f}, 24.0f, 0.05f, 0.35f, 1.0f};
+    case Material::kSclera:
+    case Material::kIris: return {glm::vec3(0.15f), 500.0f, 0.9f, 0.0f, 1.0f};
+    case Material::kPupil: return {glm::vec3(0.0f), 400.0f, 0.8f, 0.0f, 1.0f};
+    case Material::kTeeth: return {{0.3f, 0.28f, 0.25f}, 60.0f, 0.15f, 0.0f, 0.7f};
+    case Material::kGums:
+    case Material::kTongue: return {{0.5f, 0.25f, 0.2f}, 40.0f, 0.12f, 0.0f, 0.5f};
+    case Material::kMouthInner: return {glm::vec3(0.0f), 16.0f, 0.02f, 0.0f, 0.3f};
+    case Material::kHidden: break;
+  }
+  return {};
+}
+
+float ShininessForRoughness(float roughness) {
+  const float alpha = std::max(roughness * roughness, 0.03f);
+  return std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 2048.0f);
+}
+
 namespace {
+
+PartLook NamedPartLook(Material kind) {
+  PartLook look;
+  look.kind = kind;
+  look.shading = ShadingFor(kind);
+  look.base_colour = glm::vec4(BaseColor(kind), 1.0f);
+  look.visible = kind != Material::kHidden;
+  return look;
+}
+
+// A material that says nothing but its name (an OBJ's usemtl, glTF's
+// defaults): white, opaque, fully rough, no images. The part's name says more.
+bool SaysOnlyItsName(const facerig::Material& material) {
+  return material.base_colour == glm::vec4(1.0f) && material.base_colour_image < 0 && material.normal_image < 0 &&
+         material.alpha_mode == AlphaMode::kOpaque && material.roughness == 1.0f;
+}
 
 std::string Lower(std::string_view text) {
   std::string lower(text);
@@ -44,6 +81,31 @@ Material MaterialForPart(std::string_view part_name) {
   if (has("tongue")) return Material::kTongue;
   if (has("mouth_inner") || has("mouthinner") || has("mouth_cavity")) return Material::kMouthInner;
   return Material::kSkin;
+}
+
+PartLook LookForPart(const Rig& rig, const Part& part) {
+  const Material kind = MaterialForPart(part.name);
+  if (part.material < 0 || static_cast<std::size_t>(part.material) >= rig.materials().size()) {
+    return NamedPartLook(kind);
+  }
+  const facerig::Material& material = rig.materials()[static_cast<std::size_t>(part.material)];
+  if (SaysOnlyItsName(material)) return NamedPartLook(kind);
+  PartLook look;
+  look.from_material = true;
+  look.kind = kind == Material::kHidden ? Material::kSkin : kind;
+  look.shading = ShadingFor(look.kind);
+  // The material's roughness replaces the named kind's gloss; its wrap and
+  // ambient (skin scattering, a dark mouth) stay.
+  look.shading.shininess = ShininessForRoughness(material.roughness);
+  look.shading.specular = 0.04f;  // dielectric reflectance at normal incidence
+  look.base_colour = material.base_colour;
+  look.base_colour_image = material.base_colour_image;
+  look.normal_image = material.normal_image;
+  look.alpha_mode = material.alpha_mode;
+  look.alpha_cutoff = material.alpha_cutoff;
+  look.double_sided = material.double_sided;
+  look.visible = kind != Material::kHidden || material.alpha_mode != AlphaMode::kOpaque;
+  return look;
 }
 
 const char* ToString(Material material) {

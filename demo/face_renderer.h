@@ -1,13 +1,17 @@
-// OpenGL 3.3 core rendering of a rig: skin-like shading, eyes with iris and
-// pupil, a material per rig part chosen by its name, and an orbit camera
-// framed from the neutral's bounding box. Needs a current GL context (SDL
+// OpenGL 3.3 core rendering of a rig: the rig's own materials and textures
+// (base colour, normal map, alpha mask or blend, double-sided), skin-like
+// shading, eyes with iris and pupil, a colour chosen by the part's name for
+// parts without a material, and an orbit camera framed from the neutral's
+// bounding box. Needs a current GL context (SDL
 // window or HeadlessGlContext) for its whole life.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -16,6 +20,11 @@
 
 #include "facerig/runtime/rig.h"
 #include "media_writer.h"
+
+namespace facerig::player {
+class RigTextures;
+struct PartLook;
+}  // namespace facerig::player
 
 namespace facerig::player {
 
@@ -47,8 +56,9 @@ struct OrbitCamera {
 
 class FaceRenderer {
  public:
-  // Uploads the rig's topology and compiles the shaders. Throws
-  // std::runtime_error with the GL info log when a shader fails.
+  // Uploads the rig's topology, UVs and images and compiles the shaders.
+  // Throws std::runtime_error with the GL info log when a shader fails. An
+  // image that does not decode is not an error: see problems().
   explicit FaceRenderer(const Rig& rig);
   ~FaceRenderer();
   FaceRenderer(const FaceRenderer&) = delete;
@@ -56,8 +66,15 @@ class FaceRenderer {
 
   // Replaces the dynamic vertex data (glBufferSubData). Sizes must be vertex_count().
   void Upload(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals);
-  // Draws into the bound framebuffer, viewport (0,0,width,height), clearing it first.
+  // Draws into the bound framebuffer, viewport (0,0,width,height), clearing it
+  // first: opaque and masked parts, then blended ones back to front.
   void Draw(int width, int height, const glm::mat4& head_rotation);
+  // Base colour only, no lighting (to check textures and colours).
+  void set_unlit(bool unlit) { unlit_ = unlit; }
+  // What went wrong preparing the rig's look (an image that does not decode,
+  // textures without UVs), one sentence each; the parts concerned draw with
+  // their colour.
+  const std::vector<std::string>& problems() const { return problems_; }
 
   OrbitCamera& camera() { return camera_; }
   // Frames the neutral's bounding box from the front.
@@ -71,21 +88,38 @@ class FaceRenderer {
   float scene_size() const { return scene_size_; }
 
  private:
-  struct DrawRange {
-    std::uint32_t first_index = 0;
-    std::uint32_t index_count = 0;
-    Material material = Material::kSkin;
-    std::string name;
+  struct Uniforms {
+    int model = -1, view = -1, projection = -1, normal_matrix = -1, camera_position = -1;
+    int material = -1, base_color = -1, procedural_pupil = -1, unlit = -1;
+    int wrap = -1, shininess = -1, specular = -1, rim = -1, ambient = -1;
+    int base_texture = -1, normal_texture = -1;
+    int alpha_mode = -1, alpha_cutoff = -1;
   };
+  // One compiled fragment-shader variant (face_shaders.h's features).
+  struct ShaderVariant {
+    unsigned program = 0;  // 0: not compiled (no part needs it)
+    Uniforms u;
+  };
+  struct DrawRange;
   // Construction steps, in this order.
-  void SetDrawRanges(const Rig& rig);      // a range per part with its material; procedural_pupil_
+  void SetDrawRanges(const Rig& rig);      // a range per visible part with its look; procedural_pupil_
   void FrameVisibleParts(const Rig& rig);  // scene box and neck pivot from the visible parts
-  void CompileShaders();                   // program_ and the uniform locations
+  void CompileShaders();                   // the variants the parts need, and their uniform locations
   void CreateBuffers(const Rig& rig, std::span<const float> radial);
+  void CreateUvBuffer(const Rig& rig);
   glm::mat4 ModelMatrix(const glm::mat4& head_rotation) const;
+  // Per frame.
+  void SetFrameUniforms(const ShaderVariant& variant, int width, int height, const glm::mat4& model);
+  void SortBlendedBackToFront(const glm::mat4& model_view);
+  void DrawRangeOf(const DrawRange& range, unsigned* current_variant);
 
   std::size_t vertex_count_ = 0;
-  std::vector<DrawRange> ranges_;
+  std::vector<DrawRange> ranges_;          // opaque and masked parts first, then blended ones
+  std::size_t first_blended_ = 0;          // ranges_[first_blended_..] blend
+  std::vector<std::pair<float, std::size_t>> blend_order_;  // (view depth, range), reused every frame
+  std::unique_ptr<RigTextures> textures_;
+  std::vector<std::string> problems_;
+  bool unlit_ = false;
   bool procedural_pupil_ = false;  // iris parts draw their own pupil (rig has no pupil part)
   glm::mat4 rig_to_scene_{1.0f};
   glm::vec3 scene_center_{0.0f}, scene_lo_{0.0f}, scene_hi_{0.0f};
@@ -93,9 +127,8 @@ class FaceRenderer {
   float scene_size_ = 1.0f;
   OrbitCamera camera_;
 
-  unsigned program_ = 0, vao_ = 0, position_vbo_ = 0, normal_vbo_ = 0, radial_vbo_ = 0, ebo_ = 0;
-  int u_model_ = -1, u_view_ = -1, u_projection_ = -1, u_normal_matrix_ = -1;
-  int u_material_ = -1, u_base_color_ = -1, u_procedural_pupil_ = -1, u_camera_position_ = -1;
+  std::vector<ShaderVariant> variants_;  // indexed by features
+  unsigned vao_ = 0, position_vbo_ = 0, normal_vbo_ = 0, radial_vbo_ = 0, uv_vbo_ = 0, ebo_ = 0;
 };
 
 // Renders into an offscreen framebuffer (multisampled, resolved for reading back).

@@ -155,7 +155,7 @@ void WriteSpeechVideoAndTiming(const PlayerOptions& options, const Rig& rig, con
 
 // Renders the frames and writes every output under its temporary name.
 void RenderAndWrite(const Rig& rig, const PlayerOptions& options, const TemporaryOutputs& outputs,
-                    HeadlessResult* result) {
+                    HeadlessResult* result, std::ostream& log) {
   HeadlessGlContext context;
   result->gl_description = context.description();
   IdleLifeParams idle;
@@ -163,6 +163,7 @@ void RenderAndWrite(const Rig& rig, const PlayerOptions& options, const Temporar
   FaceAnimator animator(rig, idle);
   StartAnimation(options, &animator, result);
   FaceRenderer renderer(rig);
+  for (const std::string& problem : renderer.problems()) log << "warning: " << problem << '\n';
   OffscreenTarget target(options.width, options.height, options.msaa);
   std::optional<Hud> hud;
   if (options.hud) hud.emplace();
@@ -184,7 +185,7 @@ HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::os
   OutputSet set;  // removes the temporaries on any exception
   const TemporaryOutputs outputs = AddOutputs(options, result.speech, set, log);
   try {
-    RenderAndWrite(rig, options, outputs, &result);
+    RenderAndWrite(rig, options, outputs, &result, log);
     ThrowIfStopped();
   } catch (const Interrupted&) {
     throw;
