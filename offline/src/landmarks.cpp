@@ -17,6 +17,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/mesh_components.h"
 #include "facerig/offline/openings.h"
 #include "facerig/offline/rigid_align.h"
 #include "facerig/offline/stats.h"
@@ -64,10 +65,16 @@ dlib::array2d<unsigned char> ToDlib(const RgbImage& image) {
   return out;
 }
 
+// Parts of at least this fraction of the largest part's area are skin (as
+// BuildRigParams::registration_min_part_area).
+constexpr double kSkinPartAreaFraction = 0.1;
+
 // Where an eye is a hole in the mesh, its points follow the hole.
 void FitEyesToMesh(const Mesh& mesh, const LandmarkParams& params, LandmarkResult& result) {
   if (params.fit_eyes_to_openings) {
-    result.eyes_fitted = FitEyesToOpenings(mesh.positions, mesh.triangles, result.landmarks.points);
+    // Holes in the skin only: ICT's eye layers have edges around the eye too.
+    const std::vector<Triangle> skin = LargePartTriangles(mesh.positions, mesh.triangles, kSkinPartAreaFraction);
+    result.eyes_fitted = FitEyesToOpenings(mesh.positions, skin, result.landmarks.points);
   }
   if (params.correct_eye_corners && result.eyes_fitted < 2) {
     result.corrected = CorrectEyeCorners(mesh.positions, mesh.triangles, result.landmarks.points);

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/displacement_transfer.h"
+#include "facerig/offline/mesh_components.h"
 #include "facerig/offline/stats.h"
 
 namespace facerig {
@@ -79,34 +80,6 @@ double MeanDeformationPercent(std::span<const glm::vec3> template_positions, std
   return region_vertex_count > 0 && diagonal > 0.0 ? 100.0 * sum / region_vertex_count / diagonal : 0.0;
 }
 
-// The target's triangles the template is registered onto: the parts (connected
-// components) whose area is at least min_fraction of the largest part's. An
-// artist's head has separate eyeballs, teeth and lashes; registering the skin
-// onto them would pull the template's lids over the eyeballs.
-std::vector<Triangle> RegistrationTriangles(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                                            double min_fraction, std::size_t& parts_left_out) {
-  std::vector<std::uint32_t> part_of_vertex;
-  const std::size_t parts = ConnectedComponents(positions.size(), triangles, part_of_vertex);
-  std::vector<double> area(parts, 0.0);
-  for (const Triangle& t : triangles) {
-    area[part_of_vertex[t[0]]] +=
-        0.5 * glm::length(glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]));
-  }
-  const double largest = *std::max_element(area.begin(), area.end());
-  std::vector<Triangle> kept;
-  kept.reserve(triangles.size());
-  for (const Triangle& t : triangles) {
-    if (area[part_of_vertex[t[0]]] >= min_fraction * largest) kept.push_back(t);
-  }
-  parts_left_out = 0;
-  std::vector<std::uint8_t> has_triangles(parts, 0);
-  for (const Triangle& t : triangles) has_triangles[part_of_vertex[t[0]]] = 1;
-  for (std::size_t p = 0; p < parts; ++p) {
-    if (has_triangles[p] && area[p] < min_fraction * largest) ++parts_left_out;
-  }
-  return kept;
-}
-
 // The expressions' margins, kept to the descriptor's rims where it lists them.
 std::vector<OpeningMargin> DescribedMargins(std::vector<OpeningMargin> margins, const FaceTemplateInfo& info) {
   if (!info.eyelid_rim && !info.lip_rim) return margins;
@@ -163,8 +136,11 @@ MarginStage AlignMargins(const Rig& template_rig, const FaceTemplateInfo& templa
   MarginStage stage;
   if (params.align_margins_to_openings) {
     stage.margins = DescribedMargins(FindOpeningMargins(template_rig, params.openings), template_info);
+    // Rims of the skin only: the edges of ICT's eye layers are not lid margins.
+    const std::vector<Triangle> skin =
+        LargePartTriangles(target.positions, target.triangles, params.registration_min_part_area);
     stage.aligned = AlignMarginsToOpenings(result.registration.positions, template_rig.triangles(), stage.margins,
-                                           target.positions, target.triangles, params.openings);
+                                           target.positions, skin, params.openings);
     result.margin_vertices_aligned = stage.aligned.aligned_vertices;
     result.margin_mean_correction = stage.aligned.mean_correction;
   }
@@ -305,8 +281,8 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
   };
   if (target.triangles.empty()) throw InvalidInputError("the target mesh has no triangles");
   std::size_t parts_left_out = 0;
-  const std::vector<Triangle> skin = RegistrationTriangles(target.positions, target.triangles,
-                                                           params.registration_min_part_area, parts_left_out);
+  const std::vector<Triangle> skin = LargePartTriangles(target.positions, target.triangles,
+                                                        params.registration_min_part_area, &parts_left_out);
   NonrigidIcpResult fit = NonrigidIcp(NeutralMesh(template_rig), Mesh{.positions = target.positions, .triangles = skin},
                                       landmarks, registration);
   BuildRigResult result =
