@@ -87,7 +87,7 @@ class ObjMaterialReader {
     if (map.file.empty()) return -1;
     auto refuse = [&](const IoError& error) -> std::int32_t {
       throw IoError(error.kind(), mtl_path.string(),
-                    map.statement + ": '" + QuoteInput(map.file) + "' " + error.message(), map.line);
+                    map.statement + ": '" + QuoteInput(map.file) + "': " + error.message(), map.line);
     };
     std::filesystem::path path;
     try {
