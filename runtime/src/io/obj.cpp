@@ -375,6 +375,10 @@ void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> posi
 void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
               std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
               std::span<const Triangle> triangles, std::span<const Part> parts, const MtlReference& mtl) {
+  if (mtl.mtl_file.empty()) {
+    WriteObj(path, positions, normals, uvs, triangles, parts);
+    return;
+  }
   std::string out = "# written by facerig\nmtllib " + mtl.mtl_file + "\n";
   AppendVertices(out, positions, normals, uvs);
   const std::vector<std::string> names = PartMaterialNames(path, parts, mtl.material_names);

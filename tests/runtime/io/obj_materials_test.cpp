@@ -304,6 +304,10 @@ TEST_CASE("OBJ materials: a folder of OBJs shares one MTL and one set of images"
   REQUIRE(partial.materials.size() == 2);
   CHECK(partial.materials[1].name == "default");
   CHECK(partial.materials[1].base_colour == glm::vec4(1.0f));
+  // No library (a rig without materials): as the writer without one.
+  WriteObj(folder / "plain.obj", rig.positions(), rig.normals(), rig.uvs(), rig.triangles(), rig.parts(), MtlReference{});
+  CHECK(ReadInputText(folder / "plain.obj").find("mtllib") == std::string::npos);
+  CHECK(ReadObj(folder / "plain.obj").materials[0].name == "left");
 }
 
 }  // namespace facerig

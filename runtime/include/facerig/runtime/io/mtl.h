@@ -50,9 +50,9 @@ struct MtlMaterial {
 
 // The materials of an MTL file in file order (a name defined twice appears
 // twice; OBJ reading uses the first). Throws IoError naming
-// `path_for_errors` and the 1-based line: kParse for a statement before any
-// `newmtl`, a `newmtl` without a name, a map without a file name or a
-// malformed number; kNonFinite for NaN or Inf.
+// `path_for_errors` and the 1-based line: kParse for a Kd, d, Tr, Ns or map
+// statement before any `newmtl`, a `newmtl` without a name, a map without a
+// file name or a malformed number; kNonFinite for NaN or Inf.
 std::vector<MtlMaterial> ParseMtl(std::string_view text, const std::string& path_for_errors);
 
 // A `mtllib` statement's file names: several names separated by spaces, or,

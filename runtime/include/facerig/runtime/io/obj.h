@@ -53,6 +53,7 @@ void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> posi
 // material (Part::material, by mtl.material_names); a part without one gets
 // `usemtl default`, which reads back as the default material. The MTL is
 // written separately (WriteMtl), so that a folder of OBJs can share one.
+// An empty mtl.mtl_file (a rig without materials) writes as the overload above.
 void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
               std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
               std::span<const Triangle> triangles, std::span<const Part> parts, const MtlReference& mtl);
