@@ -85,7 +85,7 @@ TEST_CASE("OBJ: materials become parts, reordered so each part is one range", "[
   REQUIRE(mesh.triangles[2] == facerig::Triangle{0, 2, 3});
 }
 
-TEST_CASE("OBJ: usemtl names may contain spaces; ParseObj records mtllib names and opens nothing", "[obj]") {
+TEST_CASE("OBJ: usemtl names may contain spaces, and ParseObj records mtllib names and opens nothing", "[obj]") {
   const std::string text =
       "mtllib face.mtl eyes.MTL\nmtllib my head.mtl\r\n"
       "v 0 0 0\nv 1 0 0\nv 1 1 0\n"

@@ -51,7 +51,8 @@ void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> posi
               std::span<const Triangle> triangles, std::span<const Part> parts);
 // The same with `mtllib mtl.mtl_file` and, per part, `usemtl` naming its
 // material (Part::material, by mtl.material_names); a part without one gets
-// `usemtl default`, which reads back as the default material. The MTL is
+// `usemtl default` (with '_' appended while a material has that name), which
+// reads back as the default material. The MTL is
 // written separately (WriteMtl), so that a folder of OBJs can share one.
 // An empty mtl.mtl_file (a rig without materials) writes as the overload above.
 void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
