@@ -8,6 +8,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/input_file.h"
+#include "obj_materials.h"
 
 namespace facerig {
 namespace {
@@ -28,7 +29,10 @@ class ObjParser {
       ParseLine(text_.substr(pos, end - pos));
       pos = end + 1;
     }
-    if (stats) stats->polygon_count = polygon_count_;
+    if (stats) {
+      stats->polygon_count = polygon_count_;
+      stats->mtl_files = std::move(mtl_files_);
+    }
     return Finish();
   }
 
@@ -38,6 +42,12 @@ class ObjParser {
   }
 
   static bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+  static std::string_view Trim(std::string_view text) {
+    while (!text.empty() && IsSpace(text.front())) text.remove_prefix(1);
+    while (!text.empty() && IsSpace(text.back())) text.remove_suffix(1);
+    return text;
+  }
 
   // Next whitespace-separated token of `rest` (advancing it); empty at the end.
   static std::string_view NextToken(std::string_view& rest) {
@@ -158,11 +168,16 @@ class ObjParser {
       const std::string_view name = NextToken(rest);
       current_group_ = Intern(group_names_, name.empty() ? "default" : name);
     } else if (keyword == "usemtl") {
-      const std::string_view name = NextToken(rest);
+      // The rest of the line, as MTL's newmtl: material names may contain spaces.
+      const std::string_view name = Trim(rest);
       current_material_ = Intern(material_names_, name.empty() ? "default" : name);
       any_material_ = true;
+    } else if (keyword == "mtllib") {
+      for (std::string& name : SplitMtllibNames(rest)) {
+        if (!name.empty()) mtl_files_.push_back(std::move(name));
+      }
     }
-    // Other statements (mtllib, s, l, p, vp, curves) do not affect a triangle mesh.
+    // Other statements (s, l, p, vp, curves) do not affect a triangle mesh.
   }
 
   // Corner attributes where any face gives them. A corner without one takes
@@ -237,6 +252,7 @@ class ObjParser {
   std::vector<std::uint32_t> triangle_material_;
   std::vector<std::string> group_names_;
   std::vector<std::string> material_names_;
+  std::vector<std::string> mtl_files_;
   std::uint32_t current_group_ = kUnset;
   std::uint32_t current_material_ = kUnset;
   bool any_material_ = false;
@@ -252,24 +268,9 @@ void AppendFloat(std::string& out, float value) {
   out.append(buffer, result.ptr);
 }
 
-}  // namespace
-
-Mesh ParseObj(std::string_view text, const std::string& path_for_errors, ObjStats* stats) {
-  if (text.empty()) throw IoError(IoErrorKind::kEmpty, path_for_errors, "the file is empty");
-  return ObjParser(text, path_for_errors).Parse(stats);
-}
-
-Mesh ReadObj(const std::filesystem::path& path, ObjStats* stats) {
-  const std::string text = ReadInputText(path);
-  return ParseObj(text, path.string(), stats);
-}
-
-void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
-              std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
-              std::span<const Triangle> triangles, std::span<const Part> parts) {
-  std::string out;
-  out.reserve(positions.size() * 64 + triangles.size() * 40);
-  out += "# written by facerig\n";
+void AppendVertices(std::string& out, std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                    std::span<const glm::vec2> uvs) {
+  out.reserve(out.size() + positions.size() * 64);
   auto append_line = [&out](const char* keyword, const float* values, int count) {
     out += keyword;
     for (int i = 0; i < count; ++i) {
@@ -281,8 +282,13 @@ void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> posi
   for (const glm::vec3& p : positions) append_line("v", &p.x, 3);
   for (const glm::vec2& uv : uvs) append_line("vt", &uv.x, 2);
   for (const glm::vec3& n : normals) append_line("vn", &n.x, 3);
-  const bool with_uv = !uvs.empty();
-  const bool with_normal = !normals.empty();
+}
+
+// Faces of each part after `usemtl <usemtl_names[part]>`; all faces when
+// there are no parts.
+void AppendFaces(std::string& out, std::span<const Triangle> triangles, std::span<const Part> parts,
+                 std::span<const std::string> usemtl_names, bool with_normal, bool with_uv) {
+  out.reserve(out.size() + triangles.size() * 40);
   auto append_corner = [&](std::uint32_t v) {
     const std::string index = std::to_string(v + 1);
     out += ' ';
@@ -303,19 +309,95 @@ void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> posi
       out += '\n';
     }
   };
-  if (parts.empty()) {
-    append_triangles(0, triangles.size());
-  } else {
-    for (const Part& part : parts) {
-      out += "usemtl " + part.name + "\n";
-      append_triangles(part.first_triangle, part.triangle_count);
-    }
+  if (parts.empty()) append_triangles(0, triangles.size());
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    out += "usemtl " + usemtl_names[p] + "\n";
+    append_triangles(parts[p].first_triangle, parts[p].triangle_count);
   }
+}
+
+// Each part's material name; "default" (made unlike the materials' names) for
+// a part without one.
+std::vector<std::string> PartMaterialNames(const std::filesystem::path& path, std::span<const Part> parts,
+                                           std::span<const std::string> material_names) {
+  std::string fallback = "default";
+  while (std::find(material_names.begin(), material_names.end(), fallback) != material_names.end()) fallback += '_';
+  std::vector<std::string> names;
+  for (const Part& part : parts) {
+    if (part.material >= static_cast<std::int64_t>(material_names.size())) {
+      throw IoError(IoErrorKind::kInvalidRig, path.string(),
+                    "part '" + part.name + "' uses material " + std::to_string(part.material) + " of " +
+                        std::to_string(material_names.size()));
+    }
+    names.push_back(part.material < 0 ? fallback : material_names[static_cast<std::size_t>(part.material)]);
+  }
+  return names;
+}
+
+// "<stem>.mtl" for the OBJ at `path`, with only characters safe in a file name.
+std::string MtlFileName(const std::filesystem::path& path) {
+  std::string stem = path.stem().string();
+  for (char& c : stem) {
+    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.';
+    if (!safe) c = '_';
+  }
+  stem.erase(0, stem.find_first_not_of('.'));
+  return (stem.empty() ? std::string("materials") : stem) + ".mtl";
+}
+
+}  // namespace
+
+Mesh ParseObj(std::string_view text, const std::string& path_for_errors, ObjStats* stats) {
+  if (text.empty()) throw IoError(IoErrorKind::kEmpty, path_for_errors, "the file is empty");
+  return ObjParser(text, path_for_errors).Parse(stats);
+}
+
+Mesh ReadObj(const std::filesystem::path& path, ObjStats* stats) {
+  const std::string text = ReadInputText(path);
+  ObjStats read;
+  Mesh mesh = ParseObj(text, path.string(), &read);
+  ReadObjMaterials(path, read.mtl_files, &mesh, &read.warnings);
+  if (stats) *stats = std::move(read);
+  return mesh;
+}
+
+void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
+              std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
+              std::span<const Triangle> triangles, std::span<const Part> parts) {
+  std::string out = "# written by facerig\n";
+  AppendVertices(out, positions, normals, uvs);
+  std::vector<std::string> part_names;
+  for (const Part& part : parts) part_names.push_back(part.name);
+  AppendFaces(out, triangles, parts, part_names, !normals.empty(), !uvs.empty());
+  WriteFileAtomically(path, out);
+}
+
+void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
+              std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
+              std::span<const Triangle> triangles, std::span<const Part> parts, const MtlReference& mtl) {
+  if (mtl.mtl_file.empty()) {
+    WriteObj(path, positions, normals, uvs, triangles, parts);
+    return;
+  }
+  std::string out = "# written by facerig\nmtllib " + mtl.mtl_file + "\n";
+  AppendVertices(out, positions, normals, uvs);
+  const std::vector<std::string> names = PartMaterialNames(path, parts, mtl.material_names);
+  AppendFaces(out, triangles, parts, names, !normals.empty(), !uvs.empty());
   WriteFileAtomically(path, out);
 }
 
 void WriteObj(const std::filesystem::path& path, const Rig& rig) {
-  WriteObj(path, rig.positions(), rig.normals(), rig.uvs(), rig.triangles(), rig.parts());
+  if (rig.materials().empty()) {
+    WriteObj(path, rig.positions(), rig.normals(), rig.uvs(), rig.triangles(), rig.parts());
+    return;
+  }
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  const MtlReference mtl = WriteMtl(folder, MtlFileName(path), rig.materials(), rig.images());
+  WriteObj(path, rig, mtl);
+}
+
+void WriteObj(const std::filesystem::path& path, const Rig& rig, const MtlReference& mtl) {
+  WriteObj(path, rig.positions(), rig.normals(), rig.uvs(), rig.triangles(), rig.parts(), mtl);
 }
 
 }  // namespace facerig

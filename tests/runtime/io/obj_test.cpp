@@ -85,6 +85,20 @@ TEST_CASE("OBJ: materials become parts, reordered so each part is one range", "[
   REQUIRE(mesh.triangles[2] == facerig::Triangle{0, 2, 3});
 }
 
+TEST_CASE("OBJ: usemtl names may contain spaces, and ParseObj records mtllib names and opens nothing", "[obj]") {
+  const std::string text =
+      "mtllib face.mtl eyes.MTL\nmtllib my head.mtl\r\n"
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\n"
+      "usemtl lens glass \r\nf 1 2 3\n";
+  facerig::ObjStats stats;
+  const facerig::Mesh parsed = ParseObj(text, "/nonexistent/mem.obj", &stats);
+  REQUIRE(parsed.materials.size() == 1);
+  REQUIRE(parsed.materials[0].name == "lens glass");
+  REQUIRE(parsed.materials[0].base_colour == glm::vec4(1.0f));
+  REQUIRE(stats.mtl_files == std::vector<std::string>{"face.mtl", "eyes.MTL", "my head.mtl"});
+  REQUIRE(stats.warnings.empty());
+}
+
 TEST_CASE("OBJ: malformed input gives typed errors with the line", "[obj][malformed]") {
   REQUIRE(KindOf("") == IoErrorKind::kEmpty);
   REQUIRE(KindOf("# only a comment\n") == IoErrorKind::kEmpty);
