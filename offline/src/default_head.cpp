@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -123,6 +124,7 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features) {
   for (const glm::dvec3& p : head.positions) raw.positions.push_back(glm::vec3(p));
   raw.triangles = head.triangles;
   raw.parts = head.parts;
+  default_head::DressHead(raw, head);
   raw.shapes = default_head::BuildExpressions(head);
   std::string problem;
   std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
@@ -139,6 +141,9 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features) {
     features->eyeball_radius = static_cast<float>(default_head::Anatomy::kEyeRadius);
     features->nose_tip = control.Find("nose_tip");
     features->mouth_corners = {control.Find("mouth_corner_L"), control.Find("mouth_corner_R")};
+    features->upper_lip_border = control.Find("lip_upper_outer");
+    features->lower_lip_border = control.Find("lip_lower_outer");
+    features->cheeks = {control.Find("cheek_inner_L"), control.Find("cheek_inner_R")};
     features->upper_lip = head.upper_lip;
     features->lower_lip = head.lower_lip;
     features->skin_vertex_count = head.skin_count;
@@ -181,6 +186,14 @@ std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
       WritePng(path, RenderRig(rig, positions, normals, view));
       written.push_back(path);
     }
+  }
+  // The painted textures as they are embedded, to look at on their own.
+  for (const EncodedImage& image : rig.images()) {
+    const std::filesystem::path path = directory / image.name;
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(image.bytes.data()), static_cast<std::streamsize>(image.bytes.size()));
+    if (!out) throw std::runtime_error("preview: writing " + path.string() + " failed");
+    written.push_back(path);
   }
   return written;
 }
