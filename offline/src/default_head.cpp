@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -12,8 +11,6 @@
 #include <glm/geometric.hpp>
 
 #include "default_head_internal.h"
-#include "facerig/offline/rasterizer.h"
-#include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
@@ -151,51 +148,6 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features) {
     features->control_triangle_count = static_cast<std::uint32_t>(control.triangles.size());
   }
   return std::move(*rig);
-}
-
-std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
-                                                            const std::filesystem::path& directory,
-                                                            int size) {
-  struct Pose {
-    const char* name;
-    std::vector<std::pair<const char*, float>> weights;
-  };
-  const std::vector<Pose> poses = {
-      {"neutral", {}},
-      {"jaw_open", {{"jawOpen", 1.0f}}},
-      {"smile", {{"mouthSmile_L", 1.0f}, {"mouthSmile_R", 1.0f}, {"eyeSquint_L", 0.4f}, {"eyeSquint_R", 0.4f}}},
-      {"blink", {{"eyeBlink_L", 1.0f}, {"eyeBlink_R", 1.0f}}},
-      {"speech", {{"jawOpen", 0.4f}, {"mouthFunnel", 0.3f}}},
-  };
-  std::filesystem::create_directories(directory);
-  std::vector<std::filesystem::path> written;
-  std::vector<float> weights(rig.shape_count());
-  std::vector<glm::vec3> positions(rig.vertex_count()), normals(rig.vertex_count());
-  const glm::vec3 centre{0.0f, -1.5f, 0.0f};
-  for (const Pose& pose : poses) {
-    std::fill(weights.begin(), weights.end(), 0.0f);
-    for (const auto& [name, weight] : pose.weights) {
-      if (const auto index = rig.FindShape(name)) weights[*index] = weight;
-    }
-    BlendJob job{&rig, weights, NormalMode::kRecompute, positions, normals};
-    if (job.Run() != BlendJobError::kNone) throw std::logic_error("preview: blend failed");
-    for (const auto& [view_name, yaw] : {std::pair<const char*, float>{"front", 0.0f},
-                                         std::pair<const char*, float>{"three_quarter", 0.6f}}) {
-      const RasterView view = RasterView::Orbit(centre, 13.5f, size, size, yaw);
-      const std::filesystem::path path = directory / (std::string(pose.name) + "_" + view_name + ".png");
-      WritePng(path, RenderRig(rig, positions, normals, view));
-      written.push_back(path);
-    }
-  }
-  // The painted textures as they are embedded, to look at on their own.
-  for (const EncodedImage& image : rig.images()) {
-    const std::filesystem::path path = directory / image.name;
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(image.bytes.data()), static_cast<std::streamsize>(image.bytes.size()));
-    if (!out) throw std::runtime_error("preview: writing " + path.string() + " failed");
-    written.push_back(path);
-  }
-  return written;
 }
 
 }  // namespace facerig
