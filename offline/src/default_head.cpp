@@ -50,6 +50,23 @@ std::vector<std::uint32_t> BoundaryChain(const std::vector<Triangle>& triangles,
   throw std::logic_error("default head: opening chain not found");
 }
 
+// The lip margins, projected separately, leave a slit between the lips that
+// shows the teeth; at rest each upper margin vertex meets its lower partner
+// (kept a hair apart so the opening keeps its orientation).
+void CloseLipsAtRest(HeadGeometry& head) {
+  constexpr double kHalfGap = 0.002;  // cm
+  for (std::size_t i = 0; i < head.upper_lip.size(); ++i) {
+    glm::dvec3& upper = head.positions[head.upper_lip[i]];
+    glm::dvec3& lower = head.positions[head.lower_lip[i]];
+    const glm::dvec3 middle = 0.5 * (upper + lower);
+    const glm::dvec3 apart = upper - lower;
+    const double length = glm::length(apart);
+    const glm::dvec3 up = length > 1e-9 ? apart / length : glm::dvec3(0.0, 1.0, 0.0);
+    upper = middle + kHalfGap * up;
+    lower = middle - kHalfGap * up;
+  }
+}
+
 }  // namespace
 
 HeadGeometry BuildSkin() {
@@ -81,6 +98,7 @@ HeadGeometry BuildSkin() {
       head.upper_lid[0].size() != head.lower_lid[0].size()) {
     throw std::logic_error("default head: upper and lower margins differ in length");
   }
+  CloseLipsAtRest(head);
 
   // Jaw weights authored on the control face, subdivided like positions.
   // A trailing '_' names both sides.

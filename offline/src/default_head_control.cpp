@@ -39,7 +39,7 @@ glm::dvec3 OnLid(double azimuth, double elevation) {
 // Midline points (x = 0), front to back.
 std::vector<NamedPoint> MidlinePoints() {
   return {
-      {"neck_front_rim", {0.0, -19.0, 3.6}},
+      {"neck_front_rim", {0.0, -16.8, 4.0}},
       {"menton", {0.0, -11.2, 7.2}},
       {"chin", {0.0, -9.4, 8.3}},
       {"lip_lower_outer", {0.0, -7.25, 8.6}},
@@ -52,7 +52,7 @@ std::vector<NamedPoint> MidlinePoints() {
       {"forehead", {0.0, 6.5, 7.3}},
       {"crown", {0.0, 11.9, 0.0}},
       {"occiput", {0.0, 0.0, -10.4}},
-      {"neck_back_rim", {0.0, -19.0, -6.6}},
+      {"neck_back_rim", {0.0, -15.0, -6.9}},
   };
 }
 
@@ -90,8 +90,8 @@ std::vector<NamedPoint> LeftPoints() {
       {"temple_L", {6.3, 3.0, 3.5}},
       {"back_L", {6.0, 1.0, -6.5}},
       // Neck.
-      {"neck_front_rim_L", {3.5, -19.0, 2.3}},
-      {"neck_back_rim_L", {3.5, -19.0, -5.2}},
+      {"neck_front_rim_L", {4.3, -16.6, 2.4}},
+      {"neck_back_rim_L", {4.3, -15.4, -5.3}},
   };
 }
 
