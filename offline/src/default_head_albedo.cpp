@@ -125,23 +125,40 @@ cv::Vec3f SkinTone(const glm::vec3& p, float jaw, float coarse_noise) {
   return colour * (1.0f + coarse_noise);
 }
 
-// Smooth noise: `cells` x `cells` random values in [-amplitude, amplitude], upsampled.
-cv::Mat SmoothNoise(int size, int cells, float amplitude, std::uint64_t seed) {
-  cv::RNG rng(seed);
-  cv::Mat small(cells, cells, CV_32F);
-  rng.fill(small, cv::RNG::UNIFORM, -amplitude, amplitude);
-  cv::Mat noise;
-  cv::resize(small, noise, cv::Size(size, size), 0.0, 0.0, cv::INTER_CUBIC);
-  return noise;
+// Value noise on the surface (not in the texture, whose texels stretch
+// towards the neck): a hashed lattice of `cell` cm, smoothly interpolated, in [-1, 1].
+float LatticeValue(int x, int y, int z, std::uint32_t seed) {
+  std::uint32_t h = seed;
+  for (const int c : {x, y, z}) {
+    h ^= static_cast<std::uint32_t>(c) + 0x9e3779b9u + (h << 6) + (h >> 2);
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+  }
+  return static_cast<float>(h & 0xffffu) / 32767.5f - 1.0f;
+}
+
+float SurfaceNoise(const cv::Vec3f& p, float cell, std::uint32_t seed) {
+  const glm::vec3 q = glm::vec3(p[0], p[1], p[2]) / cell;
+  const glm::vec3 base = glm::floor(q);
+  glm::vec3 f = q - base;
+  f = f * f * (3.0f - 2.0f * f);
+  const int x = static_cast<int>(base.x), y = static_cast<int>(base.y), z = static_cast<int>(base.z);
+  float value = 0.0f;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+    const float w = (dx ? f.x : 1.0f - f.x) * (dy ? f.y : 1.0f - f.y) * (dz ? f.z : 1.0f - f.z);
+    value += w * LatticeValue(x + dx, y + dy, z + dz, seed);
+  }
+  return value;
 }
 
 void PaintSkinTone(SkinCanvas& canvas) {
-  const cv::Mat coarse = SmoothNoise(canvas.size, 12, 0.035f, 11) + SmoothNoise(canvas.size, 48, 0.02f, 12);
   for (int y = 0; y < canvas.size; ++y) {
     for (int x = 0; x < canvas.size; ++x) {
       if (!canvas.covered.at<std::uint8_t>(y, x)) continue;
       const cv::Vec3f p = canvas.position.at<cv::Vec3f>(y, x);
-      canvas.colour.at<cv::Vec3f>(y, x) = SkinTone({p[0], p[1], p[2]}, canvas.jaw.at<float>(y, x), coarse.at<float>(y, x));
+      const float blotches = 0.035f * SurfaceNoise(p, 3.0f, 11) + 0.02f * SurfaceNoise(p, 0.9f, 12);
+      canvas.colour.at<cv::Vec3f>(y, x) = SkinTone({p[0], p[1], p[2]}, canvas.jaw.at<float>(y, x), blotches);
     }
   }
 }
@@ -178,14 +195,15 @@ void FillUncovered(SkinCanvas& canvas) {
   filled.copyTo(canvas.colour, canvas.covered == 0);
 }
 
-// Fine, pore-scale variation, so the skin does not look airbrushed.
+// Fine, pore-scale variation, so the skin does not look airbrushed (on the
+// skin; texels no triangle covers keep their filled colour).
 void AddFineNoise(SkinCanvas& canvas) {
-  cv::Mat fine(canvas.size, canvas.size, CV_32F);
-  cv::RNG rng(13);
-  rng.fill(fine, cv::RNG::NORMAL, 0.0, 0.02);
-  cv::GaussianBlur(fine, fine, cv::Size(0, 0), 0.8);
   for (int y = 0; y < canvas.size; ++y) {
-    for (int x = 0; x < canvas.size; ++x) canvas.colour.at<cv::Vec3f>(y, x) *= 1.0f + fine.at<float>(y, x);
+    for (int x = 0; x < canvas.size; ++x) {
+      if (!canvas.covered.at<std::uint8_t>(y, x)) continue;
+      const cv::Vec3f p = canvas.position.at<cv::Vec3f>(y, x);
+      canvas.colour.at<cv::Vec3f>(y, x) *= 1.0f + 0.025f * SurfaceNoise(p, 0.07f, 13) + 0.015f * SurfaceNoise(p, 0.25f, 14);
+    }
   }
 }
 

@@ -123,7 +123,7 @@ void PaintBrows(SkinCanvas& canvas) {
       const glm::dvec3 along = glm::normalize(curve[k + 1] - curve[k]);
       const glm::dvec3 up = glm::normalize(glm::dvec3(0.0, 1.0, 0.0) - along * along.y);
       const double thickness = 0.6 * (1.0 - t) + 0.2 * t;
-      const glm::dvec3 root = curve[k] + up * (rng.uniform(-0.5, 0.5) * thickness - 0.1);
+      const glm::dvec3 root = curve[k] + up * (rng.uniform(-0.5, 0.5) * thickness - 0.2);
       // Hairs rise at the inner end and lie along the brow towards the tail.
       const double rise = t < 0.25 ? 70.0 - 200.0 * t : 20.0 - 40.0 * (t - 0.25);
       const double angle = Radians(rise + rng.uniform(-12.0, 12.0));

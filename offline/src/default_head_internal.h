@@ -110,6 +110,9 @@ HeadGeometry BuildSkin();
 void AddParts(HeadGeometry& head);
 // The blend shapes, dense over all vertices of the head.
 std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head);
+// Moves the lip margins of a shape's dense deltas so that at weight 1 the
+// mouth opening is an ellipse (default_head_round_mouth.cpp).
+void RoundMouthOpening(const HeadGeometry& head, std::vector<glm::dvec3>& deltas);
 
 // UVs (default_head_uv.cpp). The skin: a seamless disc about the crown (the
 // neck opening on its rim), the face upright in the lower half. An eyeball:

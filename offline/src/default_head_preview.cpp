@@ -98,6 +98,8 @@ std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
       {"smile", {{"mouthSmile_L", 1.0f}, {"mouthSmile_R", 1.0f}, {"eyeSquint_L", 0.4f}, {"eyeSquint_R", 0.4f}}},
       {"blink", {{"eyeBlink_L", 1.0f}, {"eyeBlink_R", 1.0f}}},
       {"speech", {{"jawOpen", 0.4f}, {"mouthFunnel", 0.3f}}},
+      {"oh", {{"jawOpen", 0.35f}, {"mouthFunnel", 0.9f}}},
+      {"ee", {{"jawOpen", 0.12f}, {"mouthStretch_L", 0.6f}, {"mouthStretch_R", 0.6f}, {"mouthSmile_L", 0.3f}, {"mouthSmile_R", 0.3f}}},
   };
   std::filesystem::create_directories(directory);
   std::vector<std::filesystem::path> written;

@@ -19,16 +19,22 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Radial texel density along the polar angle: a floor plus a bump over the
-// face (polar angles of about 60 to 130 degrees from the crown).
-constexpr double kDensityFloor = 0.3, kFaceBump = 2.0;
-constexpr double kFaceAngle = 78.0 * kPi / 180.0, kFaceWidth = 45.0 * kPi / 180.0;
+// Radial texel density along the polar angle: a floor and a bump over the
+// face (polar angles of about 40 to 130 degrees from the crown).
+struct Bump {
+  double amplitude, centre, width;  // radians
+};
+constexpr double kDensityFloor = 0.3;
+constexpr Bump kBumps[] = {{2.0, 78.0 * kPi / 180.0, 45.0 * kPi / 180.0}};
 
 // The integral of the density from 0 to `polar`.
 double DensityIntegral(double polar) {
-  const double bump = kFaceBump * kFaceWidth * std::sqrt(kPi) / 2.0 *
-                      (std::erf((polar - kFaceAngle) / kFaceWidth) - std::erf(-kFaceAngle / kFaceWidth));
-  return kDensityFloor * polar + bump;
+  double integral = kDensityFloor * polar;
+  for (const Bump& b : kBumps) {
+    integral += b.amplitude * b.width * std::sqrt(kPi) / 2.0 *
+                (std::erf((polar - b.centre) / b.width) - std::erf(-b.centre / b.width));
+  }
+  return integral;
 }
 
 }  // namespace

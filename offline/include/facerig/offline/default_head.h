@@ -58,7 +58,7 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features = nullptr);
 RgbImage DecodeImage(const EncodedImage& image);
 
 // Writes small PNG previews of the head (front and three-quarter views of
-// neutral, jawOpen, smile, blink, and a mid-speech pose) and the rig's
+// neutral, jawOpen, smile, blink, a mid-speech pose, "oh" and "ee") and the rig's
 // images (the painted textures, PNG) into `directory`. Returns the files written.
 std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
                                                             const std::filesystem::path& directory,
