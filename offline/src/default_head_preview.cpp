@@ -121,6 +121,12 @@ std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
       WritePng(path, textured.Render(positions, normals, view));
       written.push_back(path);
     }
+    if (pose.weights.empty()) {  // the whole head and neck in profile
+      const RasterView view = RasterView::Orbit({0.0f, -3.5f, 0.0f}, 15.0f, size, size, 1.5708f);
+      const std::filesystem::path path = directory / (std::string(pose.name) + "_profile.png");
+      WritePng(path, textured.Render(positions, normals, view));
+      written.push_back(path);
+    }
   }
   // The painted textures as they are embedded, to look at on their own.
   for (const EncodedImage& image : rig.images()) {

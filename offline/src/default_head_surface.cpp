@@ -73,7 +73,8 @@ double HeadField(const glm::dvec3& world) {
   // widening towards the shoulders at its base.
   const double flare = 1.0 + 0.16 * std::clamp((-12.5 - p.y) / 4.0, 0.0, 1.0);
   const double neck = (std::hypot(p.x / (5.1 * flare), (p.z + 1.3) / 5.5) - 1.0) * 5.1;
-  f = SmoothMin(f, SmoothMax(neck, p.y + 3.0, 1.0), 2.8);
+  // Cut flat at the base, so rays between the rim's points end there too.
+  f = SmoothMin(f, SmoothMax(SmoothMax(neck, p.y + 3.0, 1.0), -(p.y + 17.2), 0.6), 2.8);
   f = SidedFeatures(f, p);
   // Nose: bridge, tip, base and wings, blended softly.
   double nose = Capsule(p, {0.0, 0.7, 7.5}, {0.0, -2.5, 9.45}, 0.62);

@@ -19,13 +19,15 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Radial texel density along the polar angle: a floor and a bump over the
-// face (polar angles of about 40 to 130 degrees from the crown).
+// Radial texel density along the polar angle: a floor, a bump over the face
+// (polar angles of about 40 to 130 degrees from the crown) and a small one
+// over the neck, whose texels would otherwise stretch into streaks.
 struct Bump {
   double amplitude, centre, width;  // radians
 };
 constexpr double kDensityFloor = 0.3;
-constexpr Bump kBumps[] = {{2.0, 78.0 * kPi / 180.0, 45.0 * kPi / 180.0}};
+constexpr Bump kBumps[] = {{2.0, 78.0 * kPi / 180.0, 45.0 * kPi / 180.0},
+                           {0.5, 152.0 * kPi / 180.0, 14.0 * kPi / 180.0}};
 
 // The integral of the density from 0 to `polar`.
 double DensityIntegral(double polar) {
