@@ -11,8 +11,6 @@
 #include <glm/geometric.hpp>
 
 #include "default_head_internal.h"
-#include "facerig/offline/rasterizer.h"
-#include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
@@ -52,6 +50,23 @@ std::vector<std::uint32_t> BoundaryChain(const std::vector<Triangle>& triangles,
   throw std::logic_error("default head: opening chain not found");
 }
 
+// The lip margins, projected separately, leave a slit between the lips that
+// shows the teeth; at rest each upper margin vertex meets its lower partner
+// (kept a hair apart so the opening keeps its orientation).
+void CloseLipsAtRest(HeadGeometry& head) {
+  constexpr double kHalfGap = 0.002;  // cm
+  for (std::size_t i = 0; i < head.upper_lip.size(); ++i) {
+    glm::dvec3& upper = head.positions[head.upper_lip[i]];
+    glm::dvec3& lower = head.positions[head.lower_lip[i]];
+    const glm::dvec3 middle = 0.5 * (upper + lower);
+    const glm::dvec3 apart = upper - lower;
+    const double length = glm::length(apart);
+    const glm::dvec3 up = length > 1e-9 ? apart / length : glm::dvec3(0.0, 1.0, 0.0);
+    upper = middle + kHalfGap * up;
+    lower = middle - kHalfGap * up;
+  }
+}
+
 }  // namespace
 
 HeadGeometry BuildSkin() {
@@ -83,6 +98,7 @@ HeadGeometry BuildSkin() {
       head.upper_lid[0].size() != head.lower_lid[0].size()) {
     throw std::logic_error("default head: upper and lower margins differ in length");
   }
+  CloseLipsAtRest(head);
 
   // Jaw weights authored on the control face, subdivided like positions.
   // A trailing '_' names both sides.
@@ -123,6 +139,7 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features) {
   for (const glm::dvec3& p : head.positions) raw.positions.push_back(glm::vec3(p));
   raw.triangles = head.triangles;
   raw.parts = head.parts;
+  default_head::DressHead(raw, head);
   raw.shapes = default_head::BuildExpressions(head);
   std::string problem;
   std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
@@ -139,6 +156,9 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features) {
     features->eyeball_radius = static_cast<float>(default_head::Anatomy::kEyeRadius);
     features->nose_tip = control.Find("nose_tip");
     features->mouth_corners = {control.Find("mouth_corner_L"), control.Find("mouth_corner_R")};
+    features->upper_lip_border = control.Find("lip_upper_outer");
+    features->lower_lip_border = control.Find("lip_lower_outer");
+    features->cheeks = {control.Find("cheek_inner_L"), control.Find("cheek_inner_R")};
     features->upper_lip = head.upper_lip;
     features->lower_lip = head.lower_lip;
     features->skin_vertex_count = head.skin_count;
@@ -146,43 +166,6 @@ Rig BuildDefaultHead(DefaultHeadFeatures* features) {
     features->control_triangle_count = static_cast<std::uint32_t>(control.triangles.size());
   }
   return std::move(*rig);
-}
-
-std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
-                                                            const std::filesystem::path& directory,
-                                                            int size) {
-  struct Pose {
-    const char* name;
-    std::vector<std::pair<const char*, float>> weights;
-  };
-  const std::vector<Pose> poses = {
-      {"neutral", {}},
-      {"jaw_open", {{"jawOpen", 1.0f}}},
-      {"smile", {{"mouthSmile_L", 1.0f}, {"mouthSmile_R", 1.0f}, {"eyeSquint_L", 0.4f}, {"eyeSquint_R", 0.4f}}},
-      {"blink", {{"eyeBlink_L", 1.0f}, {"eyeBlink_R", 1.0f}}},
-      {"speech", {{"jawOpen", 0.4f}, {"mouthFunnel", 0.3f}}},
-  };
-  std::filesystem::create_directories(directory);
-  std::vector<std::filesystem::path> written;
-  std::vector<float> weights(rig.shape_count());
-  std::vector<glm::vec3> positions(rig.vertex_count()), normals(rig.vertex_count());
-  const glm::vec3 centre{0.0f, -1.5f, 0.0f};
-  for (const Pose& pose : poses) {
-    std::fill(weights.begin(), weights.end(), 0.0f);
-    for (const auto& [name, weight] : pose.weights) {
-      if (const auto index = rig.FindShape(name)) weights[*index] = weight;
-    }
-    BlendJob job{&rig, weights, NormalMode::kRecompute, positions, normals};
-    if (job.Run() != BlendJobError::kNone) throw std::logic_error("preview: blend failed");
-    for (const auto& [view_name, yaw] : {std::pair<const char*, float>{"front", 0.0f},
-                                         std::pair<const char*, float>{"three_quarter", 0.6f}}) {
-      const RasterView view = RasterView::Orbit(centre, 13.5f, size, size, yaw);
-      const std::filesystem::path path = directory / (std::string(pose.name) + "_" + view_name + ".png");
-      WritePng(path, RenderRig(rig, positions, normals, view));
-      written.push_back(path);
-    }
-  }
-  return written;
 }
 
 }  // namespace facerig

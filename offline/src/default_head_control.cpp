@@ -39,7 +39,7 @@ glm::dvec3 OnLid(double azimuth, double elevation) {
 // Midline points (x = 0), front to back.
 std::vector<NamedPoint> MidlinePoints() {
   return {
-      {"neck_front_rim", {0.0, -19.0, 3.6}},
+      {"neck_front_rim", {0.0, -18.5, 4.0}},
       {"menton", {0.0, -11.2, 7.2}},
       {"chin", {0.0, -9.4, 8.3}},
       {"lip_lower_outer", {0.0, -7.25, 8.6}},
@@ -52,7 +52,7 @@ std::vector<NamedPoint> MidlinePoints() {
       {"forehead", {0.0, 6.5, 7.3}},
       {"crown", {0.0, 11.9, 0.0}},
       {"occiput", {0.0, 0.0, -10.4}},
-      {"neck_back_rim", {0.0, -19.0, -6.6}},
+      {"neck_back_rim", {0.0, -18.5, -6.9}},
   };
 }
 
@@ -89,9 +89,10 @@ std::vector<NamedPoint> LeftPoints() {
       // Skull.
       {"temple_L", {6.3, 3.0, 3.5}},
       {"back_L", {6.0, 1.0, -6.5}},
-      // Neck.
-      {"neck_front_rim_L", {3.5, -19.0, 2.3}},
-      {"neck_back_rim_L", {3.5, -19.0, -5.2}},
+      // Neck: the rim lies on the flat cut at its base (default_head_surface.cpp).
+      {"neck_front_rim_L", {4.3, -18.5, 2.4}},
+      {"neck_side_rim_L", {5.85, -18.5, -1.3}},
+      {"neck_back_rim_L", {4.3, -18.5, -5.3}},
   };
 }
 
@@ -166,7 +167,7 @@ std::vector<Triangle> HalfMeshTriangles(const glm::dvec3& origin, const std::vec
        h("lid_lower_outer_L"), h("lid_lower_inner_L")},
       {h("lip_upper_inner"), h("lip_upper_inner_L"), h("mouth_corner_L"), h("lip_lower_inner_L"),
        h("lip_lower_inner")},
-      {h("neck_front_rim"), h("neck_front_rim_L"), h("neck_back_rim_L"), h("neck_back_rim")},
+      {h("neck_front_rim"), h("neck_front_rim_L"), h("neck_side_rim_L"), h("neck_back_rim_L"), h("neck_back_rim")},
   };
   std::vector<Triangle> half;
   for (const Triangle& t : ConvexHull(half_directions)) {
@@ -255,8 +256,8 @@ void CheckOpeningsAreBoundaries(const ControlMesh& mesh) {
   chain(mesh.eyes[0]);
   chain(mesh.eyes[1]);
   chain(mesh.mouth);
-  const std::vector<std::string> rim = {"neck_front_rim", "neck_front_rim_L", "neck_back_rim_L",
-                                        "neck_back_rim", "neck_back_rim_R", "neck_front_rim_R"};
+  const std::vector<std::string> rim = {"neck_front_rim", "neck_front_rim_L", "neck_side_rim_L", "neck_back_rim_L",
+                                        "neck_back_rim", "neck_back_rim_R", "neck_side_rim_R", "neck_front_rim_R"};
   for (std::size_t i = 0; i < rim.size(); ++i) {
     const std::uint32_t a = mesh.Find(rim[i]), b = mesh.Find(rim[(i + 1) % rim.size()]);
     expected.insert({std::min(a, b), std::max(a, b)});

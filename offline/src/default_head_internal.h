@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <Eigen/Sparse>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "facerig/runtime/rig.h"
@@ -71,6 +72,8 @@ struct Anatomy {
   static glm::dvec3 EyeCentre(int side) {     // side 0: left (+X), 1: right
     return {side == 0 ? 3.15 : -3.15, 0.35, 5.8};
   }
+  static constexpr double kIrisRadius = 0.58;   // stylized: a little large
+  static constexpr double kPupilRadius = 0.24;
   static constexpr double kMouthY = -6.25;
   // Jaw hinge: a horizontal axis through both temporomandibular joints.
   static glm::dvec3 JawPivot() { return {0.0, -1.6, -0.2}; }
@@ -107,5 +110,28 @@ HeadGeometry BuildSkin();
 void AddParts(HeadGeometry& head);
 // The blend shapes, dense over all vertices of the head.
 std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head);
+// Moves the lip margins of a shape's dense deltas so that at weight 1 the
+// mouth opening is an ellipse (default_head_round_mouth.cpp).
+void RoundMouthOpening(const HeadGeometry& head, std::vector<glm::dvec3>& deltas);
+
+// UVs (default_head_uv.cpp). The skin: a seamless disc about the crown (the
+// neck opening on its rim), the face upright in the lower half. An eyeball:
+// a disc about its gaze axis; EyeUvRadius gives the UV radius of a polar
+// angle from that axis.
+glm::dvec2 SkinUv(const glm::dvec3& position);
+glm::dvec2 EyeUv(const glm::dvec3& position, int side);
+double EyeUvRadius(double polar_angle);
+// One UV per vertex of the head; untextured parts get (0.5, 0.5).
+std::vector<glm::vec2> HeadUvs(const HeadGeometry& head);
+
+// Painted textures (default_head_albedo*.cpp, default_head_materials.cpp),
+// square, in pixels.
+inline constexpr int kSkinTextureSize = 1024;
+inline constexpr int kEyeTextureSize = 512;
+EncodedImage PaintSkinAlbedo(const HeadGeometry& head, const std::vector<glm::vec2>& uvs);
+EncodedImage PaintEyeAlbedo();
+// Gives `raw` (the head's rig data, parts in place) its UVs, textures and
+// materials: skin, eye, teeth, tongue, mouth interior.
+void DressHead(RawRig& raw, const HeadGeometry& head);
 
 }  // namespace facerig::default_head

@@ -138,9 +138,8 @@ std::vector<Triangle> AddTeethRow(HeadGeometry& head, double front, double half_
 namespace {
 
 void AddEyeballs(HeadGeometry& head) {
-  // Eyeballs. The iris is 0.58 cm in radius, the pupil 0.24 cm (stylized: a little large).
   const double r = Anatomy::kEyeRadius;
-  const double iris = std::asin(0.58 / r), pupil = std::asin(0.24 / r);
+  const double iris = std::asin(Anatomy::kIrisRadius / r), pupil = std::asin(Anatomy::kPupilRadius / r);
   std::array<std::vector<Triangle>, 6> eye_parts;  // white L, R, iris L, R, pupil L, R
   const auto eyes_begin = static_cast<std::uint32_t>(head.positions.size());
   for (int zone = 0; zone < 3; ++zone) {

@@ -69,9 +69,12 @@ double HeadField(const glm::dvec3& world) {
   // Chin and mouth mound.
   f = SmoothMin(f, Ellipsoid(p, {0.0, -9.4, 6.7}, {2.5, 1.8, 2.0}), 3.0);
   f = SmoothMin(f, Ellipsoid(p, {0.0, -5.9, 5.7}, {3.1, 2.6, 2.9}), 1.5);
-  // Neck: an elliptic column, open downwards, buried in the head at its top.
-  const double neck = (std::hypot(p.x / 5.1, (p.z + 1.3) / 5.5) - 1.0) * 5.1;
-  f = SmoothMin(f, SmoothMax(neck, p.y + 3.0, 1.0), 2.8);
+  // Neck: an elliptic column, open downwards, buried in the head at its top,
+  // widening towards the shoulders at its base.
+  const double flare = 1.0 + 0.16 * std::clamp((-12.5 - p.y) / 4.0, 0.0, 1.0);
+  const double neck = (std::hypot(p.x / (5.1 * flare), (p.z + 1.3) / 5.5) - 1.0) * 5.1;
+  // Cut flat at the base, so rays between the rim's points end there too.
+  f = SmoothMin(f, SmoothMax(SmoothMax(neck, p.y + 3.0, 1.0), -(p.y + 17.2), 0.6), 2.8);
   f = SidedFeatures(f, p);
   // Nose: bridge, tip, base and wings, blended softly.
   double nose = Capsule(p, {0.0, 0.7, 7.5}, {0.0, -2.5, 9.45}, 0.62);

@@ -213,3 +213,35 @@ TEST_CASE("Default head: jawOpen rotates the jaw about a hinge", "[default_head]
   const facerig::Part* upper = rig.FindPart("teeth_upper");
   CHECK(open[upper->first_vertex] == rig.positions()[upper->first_vertex]);
 }
+
+TEST_CASE("Default head: proportions of a person: a short neck, lips sealed at rest, a round 'oh'",
+          "[default_head]") {
+  facerig::DefaultHeadFeatures features;
+  const facerig::Rig& rig = Head(&features);
+  const std::vector<glm::vec3> rest(rig.positions().begin(), rig.positions().end());
+  // The neck ends a neck's length below the chin, not a column below it.
+  float chin = 1e9f, lowest = 1e9f;
+  for (std::uint32_t v = 0; v < features.skin_vertex_count; ++v) {
+    lowest = std::min(lowest, rest[v].y);
+    if (std::abs(rest[v].x) < 0.5f && rest[v].z > 5.0f) chin = std::min(chin, rest[v].y);
+  }
+  INFO("chin " << chin << " cm, bottom of the neck " << lowest << " cm");
+  CHECK(chin - lowest > 3.5f);
+  CHECK(chin - lowest < 7.0f);
+  // At rest the lips meet along the whole margin: nothing shows between them.
+  CHECK(MaxGap(rest, features.upper_lip, features.lower_lip) < 0.01f);
+  // "oh": the opening is round, not a diamond. Half way to the corners an
+  // ellipse is sqrt(3)/2 of its middle height; a diamond half.
+  const std::vector<glm::vec3> oh = Pose(rig, {{"mouthFunnel", 1.0f}});
+  const std::size_t n = features.upper_lip.size(), mid = n / 2;
+  const float middle = oh[features.upper_lip[mid]].y - oh[features.lower_lip[mid]].y;
+  const float half_width = 0.5f * (oh[features.mouth_corners[0]].x - oh[features.mouth_corners[1]].x);
+  CHECK(middle > 0.35f * half_width);  // open, not a slit
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = oh[features.upper_lip[i]].x;
+    if (std::abs(std::abs(x) - 0.5f * half_width) > 0.1f * half_width) continue;
+    const float height = oh[features.upper_lip[i]].y - oh[features.lower_lip[i]].y;
+    INFO("margin pair " << i << " at x " << x << ": " << height << " cm open, " << middle << " in the middle");
+    CHECK(height > 0.75f * middle);
+  }
+}

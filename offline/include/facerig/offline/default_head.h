@@ -21,6 +21,7 @@
 #include <glm/vec3.hpp>
 
 #include "facerig/offline/face_template.h"
+#include "facerig/offline/rasterizer.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -36,17 +37,29 @@ struct DefaultHeadFeatures {
   // the other, corners excluded; upper[i] meets lower[i] when closed.
   std::array<std::vector<std::uint32_t>, 2> upper_lid, lower_lid;
   std::vector<std::uint32_t> upper_lip, lower_lip;
+  // Skin vertices on the midline vermilion borders (the painted lips lie
+  // between them and the margins) and on the cheeks.
+  std::uint32_t upper_lip_border = 0, lower_lip_border = 0;
+  std::array<std::uint32_t, 2> cheeks{};
   std::uint32_t skin_vertex_count = 0;            // skin vertices come first
   std::uint32_t control_vertex_count = 0;
   std::uint32_t control_triangle_count = 0;
 };
 
-// Deterministic: the same rig, bit for bit, on every run.
+// Deterministic: the same rig, bit for bit, on every run. The rig carries
+// UVs and materials: skin and eyes with textures painted in code (PNG, skin
+// 1024x1024: a seamless disc about the crown, the face upright in its lower
+// half; eyes 512x512: a disc about the gaze axis, iris and pupil in the
+// middle), untextured teeth, tongue and mouth interior.
 Rig BuildDefaultHead(DefaultHeadFeatures* features = nullptr);
 
+// The pixels of an encoded image (PNG or JPEG), to check what was painted.
+// Throws std::runtime_error when the bytes do not decode.
+RgbImage DecodeImage(const EncodedImage& image);
+
 // Writes small PNG previews of the head (front and three-quarter views of
-// neutral, jawOpen, smile, blink, and a mid-speech pose) into `directory`.
-// Returns the files written.
+// neutral, jawOpen, smile, blink, a mid-speech pose, "oh" and "ee") and the rig's
+// images (the painted textures, PNG) into `directory`. Returns the files written.
 std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
                                                             const std::filesystem::path& directory,
                                                             int size = 256);
