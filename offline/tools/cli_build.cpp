@@ -23,6 +23,7 @@
 #include "facerig/offline/io/build_target.h"
 #include "facerig/offline/io/gltf_with_morph_targets.h"
 #include "facerig/runtime/io/gltf.h"
+#include "facerig/runtime/io/mtl.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/io/output_set.h"
@@ -112,9 +113,13 @@ std::string ShapeFileName(std::string_view name) {
 }
 
 // neutral.obj and one OBJ per shape on the target's topology, into `folder`
-// (the output set's temporary folder for --obj-dir).
+// (the output set's temporary folder for --obj-dir), sharing one
+// materials.mtl and the images when the rig has materials.
 void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
-  WriteObj(folder / "neutral.obj", rig);
+  const MtlReference mtl = rig.materials().empty()
+                               ? MtlReference{}
+                               : WriteMtl(folder, "materials.mtl", rig.materials(), rig.images());
+  WriteObj(folder / "neutral.obj", rig, mtl);
   CheckAfterWrite("obj-neutral", folder / "neutral.obj");
   std::vector<glm::vec3> positions, normals(rig.vertex_count());
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {
@@ -124,7 +129,7 @@ void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
       positions[shape.vertex_indices[i]] += shape.position_deltas[i];
     }
     ComputeVertexNormals(positions, rig.triangles(), normals);
-    WriteObj(folder / ShapeFileName(shape.name), positions, normals, rig.uvs(), rig.triangles(), rig.parts());
+    WriteObj(folder / ShapeFileName(shape.name), positions, normals, rig.uvs(), rig.triangles(), rig.parts(), mtl);
     ThrowIfStopped();
   }
 }
@@ -197,8 +202,13 @@ BuildOutputPaths AddBuildOutputs(const BuildOptions& options, OutputSet& set) {
   paths.rig = add_file(options.output);
   paths.frig = add_file(options.frig);
   if (!options.obj_dir.empty()) {
-    const ReplaceableFolder obj_folder{
-        [](const std::filesystem::path& name) { return name.extension() == ".obj"; }, ".obj files", "--obj-dir"};
+    // What WriteObjFolder writes: OBJs, their MTL and its images.
+    const ReplaceableFolder obj_folder{[](const std::filesystem::path& name) {
+                                         const std::string extension = name.extension().string();
+                                         return extension == ".obj" || extension == ".mtl" || extension == ".png" ||
+                                                extension == ".jpg";
+                                       },
+                                       ".obj, .mtl, .png and .jpg files", "--obj-dir"};
     paths.obj_dir = set.Add(options.obj_dir, OutputSet::Kind::kFolder, obj_folder);
   }
   paths.template_topology = add_file(options.template_topology);

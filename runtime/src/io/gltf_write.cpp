@@ -15,6 +15,7 @@
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/gltf_internal.h"
+#include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/rig_surface.h"
 
@@ -207,8 +208,10 @@ void WriteGltf(const std::filesystem::path& path, const Rig& rig) {
     throw IoError(IoErrorKind::kWriteFailed, path.string(), "the rig is empty (no vertices or triangles)");
   }
   gltf_internal::RequireUtf8Names(rig, path.string());
-  // The mesh and node are named after the file, whatever bytes its name has.
-  WriteModel(path, format, BuildModel(rig, gltf_internal::SanitizedUtf8(path.stem().string())));
+  // The mesh and node are named after the file (its final name when this is
+  // an output set's temporary), whatever bytes its name has.
+  const std::string stem = std::filesystem::path(FinalFileName(path.filename().string())).stem().string();
+  WriteModel(path, format, BuildModel(rig, gltf_internal::SanitizedUtf8(stem)));
 }
 
 void WriteGltf(const std::filesystem::path& path, const Rig& rig, const Mesh& surface) {

@@ -30,6 +30,16 @@ std::string TemporaryName(std::string_view tag, const fs::path& final_path) {
          final_path.filename().string();
 }
 
+}  // namespace
+
+std::string FinalFileName(std::string_view file_name) {
+  if (!file_name.starts_with(kTemporaryPrefix)) return std::string(file_name);
+  const std::size_t dash = file_name.find('-', kTemporaryPrefix.size());
+  return dash == std::string_view::npos ? std::string(file_name) : std::string(file_name.substr(dash + 1));
+}
+
+namespace {
+
 bool IsInside(const fs::path& inner, const fs::path& outer) {
   const fs::path relative = inner.lexically_relative(outer);
   return !relative.empty() && *relative.begin() != "..";

@@ -8,6 +8,7 @@
 #include "facerig/runtime/io/gltf.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/rig_builder.h"
+#include "facerig/runtime/rig_surface.h"
 
 namespace facerig {
 namespace {
@@ -40,7 +41,13 @@ Rig LoadRig(const std::filesystem::path& path, const ObjLoadOptions& obj_options
   const std::string ext = LowerExtension(path);
   if (ext == ".frig") return ReadFrig(path);
   if (ext == ".glb" || ext == ".gltf") return ReadGltf(path);
-  if (ext == ".obj") return RigFromObjMesh(ReadObj(path), path, obj_options);
+  if (ext == ".obj") {
+    const Mesh mesh = ReadObj(path);
+    std::string problem;
+    std::optional<Rig> dressed = RigWithSurface(RigFromObjMesh(mesh, path, obj_options), GroupedByPart(mesh), &problem);
+    if (!dressed) throw IoError(IoErrorKind::kInvalidRig, path.string(), problem);
+    return std::move(*dressed);
+  }
   throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
                 "unknown extension '" + ext + "' (expected .obj, .glb, .gltf or .frig)");
 }

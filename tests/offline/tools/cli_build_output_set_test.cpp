@@ -156,7 +156,7 @@ TEST_CASE("facerig build: an --obj-dir holding other files is not replaced", "[c
   const test::CommandOutcome outcome = BuildWithFailure(out, "");
   INFO(outcome.error_output);
   CHECK(outcome.exit_code == 1);
-  CHECK(outcome.error_output.find("holds notes.txt, not only .obj files") != std::string::npos);
+  CHECK(outcome.error_output.find("holds notes.txt, not only .obj, .mtl, .png and .jpg files") != std::string::npos);
   CHECK(ReadText(out / "objs" / "notes.txt") == "mine");
   CHECK(ReadText(out / "objs" / "neutral.obj") == "old neutral");
   CHECK(ReadText(out / "face.glb") == "old glb");

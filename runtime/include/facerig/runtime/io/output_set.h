@@ -25,6 +25,10 @@ namespace facerig {
 // removes those whose process is gone.
 inline constexpr std::string_view kTemporaryPrefix = ".facerig-tmp-";
 
+// The name a temporary stands for (".facerig-tmp-1234-face.glb" -> "face.glb"),
+// for writers that record their own file name; other names as they are.
+std::string FinalFileName(std::string_view file_name);
+
 // What an existing folder may hold for a kFolder output to replace it, so that
 // a folder of the user's own files is never thrown away: every entry must be a
 // regular file for which `holds` is true ("frame_NNNNN.png files", for the

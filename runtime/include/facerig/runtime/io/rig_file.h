@@ -16,10 +16,14 @@ struct ObjLoadOptions {
   UpAxis up_axis = UpAxis::kY;
 };
 
-// .obj (neutral only, no shapes), .glb, .gltf or .frig. Throws IoError.
+// .obj (neutral only, no shapes), .glb, .gltf or .frig. Throws IoError. An
+// OBJ is dressed in its own surface (RigWithSurface): vertices are copied at
+// UV seams, after the file's own, so that every corner keeps its UV, as in a
+// GLB written from it.
 Rig LoadRig(const std::filesystem::path& path, const ObjLoadOptions& obj_options = {});
-// The rig LoadRig makes of an OBJ's mesh (ToRawRig; all normals recomputed
-// when some vertex has none). Throws IoError(kInvalidRig) naming `path`.
+// The rig of an OBJ's mesh on the file's own vertices, one UV per vertex
+// (ToRawRig; all normals recomputed when some vertex has none): what a build
+// registers onto. Throws IoError(kInvalidRig) naming `path`.
 Rig RigFromObjMesh(const Mesh& mesh, const std::filesystem::path& path, const ObjLoadOptions& obj_options = {});
 // .obj (neutral only), .glb, .gltf or .frig. Throws IoError.
 void SaveRig(const std::filesystem::path& path, const Rig& rig);
