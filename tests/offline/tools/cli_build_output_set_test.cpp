@@ -97,7 +97,12 @@ void CheckNewSet(const fs::path& out) {
   CHECK(nlohmann::json::parse(ReadText(out / "report.json"))["shapes"] == frig.shape_count());
   // Replaced, not merged: the older run's shape is gone.
   CHECK(!fs::exists(out / "objs" / "from_an_older_run.obj"));
-  CHECK(Names(out / "objs").size() == frig.shape_count() + 1);
+  // neutral.obj, one OBJ per shape, and the head's materials.mtl with its skin and eye images.
+  const std::vector<std::string> names = Names(out / "objs");
+  CHECK(std::count_if(names.begin(), names.end(), [](const std::string& name) { return name.ends_with(".obj"); }) ==
+        static_cast<std::ptrdiff_t>(frig.shape_count() + 1));
+  CHECK(std::count(names.begin(), names.end(), "materials.mtl") == 1);
+  CHECK(names.size() == frig.shape_count() + 1 + 1 + frig.images().size());
   CHECK(ReadText(out / "objs" / "neutral.obj").rfind("old", 0) != 0);
 }
 
