@@ -115,6 +115,8 @@ EncodedImage PaintEyeAlbedo() {
 void DressHead(RawRig& raw, const HeadGeometry& head) {
   raw.uvs = HeadUvs(head);
   raw.images = {PaintSkinAlbedo(head, raw.uvs), PaintEyeAlbedo()};
+  // Painted with image rows going down; a rig's v goes up (OBJ's convention, rig.h).
+  for (glm::vec2& uv : raw.uvs) uv.y = 1.0f - uv.y;
   raw.materials = {
       MakeMaterial("skin", glm::vec4(1.0f), 0, 0.6f),
       MakeMaterial("eye", glm::vec4(1.0f), 1, 0.1f),

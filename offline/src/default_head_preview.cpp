@@ -18,7 +18,9 @@ namespace {
 // Bilinear, clamped to the edge; sRGB 0..1.
 glm::vec3 Sample(const RgbImage& image, glm::vec2 uv) {
   const float x = std::clamp(uv.x * static_cast<float>(image.width) - 0.5f, 0.0f, static_cast<float>(image.width - 1));
-  const float y = std::clamp(uv.y * static_cast<float>(image.height) - 0.5f, 0.0f, static_cast<float>(image.height - 1));
+  // The rig's v goes up; image rows go down.
+  const float y =
+      std::clamp((1.0f - uv.y) * static_cast<float>(image.height) - 0.5f, 0.0f, static_cast<float>(image.height - 1));
   const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
   const int x1 = std::min(x0 + 1, image.width - 1), y1 = std::min(y0 + 1, image.height - 1);
   auto at = [&](int px, int py) {

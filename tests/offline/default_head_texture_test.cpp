@@ -34,7 +34,8 @@ std::filesystem::path WriteHeadGlb(const facerig::Rig& rig, const char* folder) 
 // The texel (nearest) under a UV, as 0..255 RGB.
 glm::vec3 Texel(const facerig::RgbImage& image, glm::vec2 uv) {
   const int x = std::clamp(static_cast<int>(uv.x * static_cast<float>(image.width)), 0, image.width - 1);
-  const int y = std::clamp(static_cast<int>(uv.y * static_cast<float>(image.height)), 0, image.height - 1);
+  // The rig's v goes up (OBJ's convention); image rows go down.
+  const int y = std::clamp(static_cast<int>((1.0f - uv.y) * static_cast<float>(image.height)), 0, image.height - 1);
   const std::size_t i = (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)) * 3;
   return {image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]};
 }
