@@ -1,6 +1,7 @@
 #include "face_materials.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <string>
 
@@ -53,11 +54,14 @@ PartLook NamedPartLook(Material kind) {
   return look;
 }
 
-// A material that says nothing but its name (an OBJ's usemtl, glTF's
-// defaults): white, opaque, fully rough, no images. The part's name says more.
-bool SaysOnlyItsName(const facerig::Material& material) {
-  return material.base_colour == glm::vec4(1.0f) && material.base_colour_image < 0 && material.normal_image < 0 &&
-         material.alpha_mode == AlphaMode::kOpaque && material.roughness == 1.0f;
+// A placeholder: opaque, untextured and grey or white (an OBJ's bare usemtl,
+// glTF's default, an exporter's default grey, ICT-FaceKit's Kd 0.6 on every
+// part). The part's name says more; a coloured material is the artist's.
+bool IsPlaceholder(const facerig::Material& material) {
+  const glm::vec4& c = material.base_colour;
+  const bool grey = std::abs(c.r - c.g) < 0.02f && std::abs(c.g - c.b) < 0.02f && c.a == 1.0f;
+  return grey && material.base_colour_image < 0 && material.normal_image < 0 &&
+         material.alpha_mode == AlphaMode::kOpaque;
 }
 
 std::string Lower(std::string_view text) {
@@ -89,7 +93,7 @@ PartLook LookForPart(const Rig& rig, const Part& part) {
     return NamedPartLook(kind);
   }
   const facerig::Material& material = rig.materials()[static_cast<std::size_t>(part.material)];
-  if (SaysOnlyItsName(material)) return NamedPartLook(kind);
+  if (IsPlaceholder(material)) return NamedPartLook(kind);
   PartLook look;
   look.from_material = true;
   look.kind = kind == Material::kHidden ? Material::kSkin : kind;

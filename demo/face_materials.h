@@ -42,9 +42,9 @@ struct PartLook {
   bool visible = true;
 };
 
-// The part's material (rig.materials()[part.material]) when it has one that
-// says more than its name (an OBJ's materials are names only), else its
-// named-part look. ICT's overlays and lashes stay hidden unless their
+// The part's material (rig.materials()[part.material]) unless it is a
+// placeholder (opaque, untextured, grey or white: an OBJ's bare usemtl, an
+// exporter's default), else its named-part look. ICT's overlays and lashes stay hidden unless their
 // material blends or masks: drawn opaque they would cover the eyes.
 PartLook LookForPart(const Rig& rig, const Part& part);
 

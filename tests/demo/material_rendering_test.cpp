@@ -171,18 +171,22 @@ TEST_CASE("Player materials: blended parts draw after opaque ones, back to front
   CheckNear(PixelAt(image, centre), {64, 64, 128, 255}, 4);
 }
 
-TEST_CASE("Player materials: materials that only name themselves keep the named-part colours", "[demo][materials]") {
+TEST_CASE("Player materials: placeholder materials (bare names, default greys) keep the named-part colours",
+          "[demo][materials]") {
   RawRig named = facerig::test::MakeGridRawRig(9, 0);
   RawRig with_names = named;
+  RawRig greys = named;  // ICT-FaceKit's MTL: Kd 0.6 and Ns 18 on the face
   RawRig coloured = named;
   with_names.materials.push_back(facerig::Material{.name = "M_Face"});
+  greys.materials.push_back(facerig::Material{.name = "M_Face", .base_colour = {0.6f, 0.6f, 0.6f, 1.0f}, .roughness = 0.32f});
   coloured.materials.push_back(facerig::Material{.name = "green", .base_colour = {0.05f, 0.6f, 0.05f, 1.0f}});
-  for (RawRig* raw : {&with_names, &coloured}) {
+  for (RawRig* raw : {&with_names, &greys, &coloured}) {
     for (facerig::RawPart& part : raw->parts) part.material = 0;
   }
   const Image before = Render(Build(named), false, "player_named_parts.png");
   const Image after = Render(Build(with_names), false, "player_name_only_materials.png");
   CHECK(before.rgba == after.rgba);
+  CHECK(Render(Build(greys), false, "player_grey_materials.png").rgba == before.rgba);
   glm::vec2 centre{0.0f};
   const Image green = Render(Build(coloured), false, "player_green_material.png", [&](const FaceRenderer& renderer) {
     centre = renderer.Project({4, 4, 0}, kWidth, kHeight, glm::mat4(1.0f));
