@@ -169,4 +169,21 @@ std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& rig, FaceTemplate
   return info.landmark_vertices;
 }
 
+std::optional<FaceLandmarks> LandmarksOnTemplateTopology(const Rig& template_rig, const FaceTemplateInfo& info,
+                                                         std::span<const glm::vec3> target_positions,
+                                                         std::span<const Triangle> target_triangles) {
+  if (info.landmark_vertices.size() != kDlibLandmarkCount || target_positions.size() != template_rig.vertex_count() ||
+      !std::equal(target_triangles.begin(), target_triangles.end(), template_rig.triangles().begin(),
+                  template_rig.triangles().end())) {
+    return std::nullopt;
+  }
+  FaceLandmarks landmarks;
+  for (std::uint32_t i = 0; i < kDlibLandmarkCount; ++i) {
+    landmarks.points.push_back(target_positions[info.landmark_vertices[i]]);
+    landmarks.indices.push_back(i);
+    landmarks.confidence.push_back(1.0f);
+  }
+  return landmarks;
+}
+
 }  // namespace facerig

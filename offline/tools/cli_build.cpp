@@ -156,6 +156,7 @@ BuildInputs LoadBuildInputs(const BuildOptions& options) {
 
 struct BuildLandmarks {
   RegistrationLandmarks pairs;
+  std::string source;          // the --landmarks file, "detected" or "template topology"
   int target_eyes_fitted = 0;  // detected eyes put on the target's eye openings
 };
 
@@ -172,9 +173,17 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, BuildInputs& inpu
   };
   BuildLandmarks found;
   FaceLandmarks target_landmarks;
+  const std::optional<FaceLandmarks> on_template_topology = LandmarksOnTemplateTopology(
+      inputs.template_rig, inputs.template_info, inputs.target.rig.positions, inputs.target.rig.triangles);
   if (!options.landmarks.empty()) {
     target_landmarks = ReadLandmarksJson(options.landmarks);
+    found.source = options.landmarks;
+  } else if (on_template_topology) {
+    std::fputs("the target has the template's topology: its landmarks are the template's landmark vertices\n", stderr);
+    target_landmarks = *on_template_topology;
+    found.source = "template topology";
   } else {
+    found.source = "detected";
     std::fputs("detecting landmarks on the target...\n", stderr);
     LandmarkResult detected = get_detector().Detect(NeutralMesh(inputs.target.rig));
     target_landmarks = std::move(detected.landmarks);
@@ -279,7 +288,7 @@ nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& input
   report["target_vertices"] = inputs.target_vertices;
   report["shapes"] = rig.shape_count();
   report["units"] = ToString(rig.units());
-  report["landmarks"] = options.landmarks.empty() ? "detected" : options.landmarks;
+  report["landmarks"] = landmarks.source;
   report["options"] = {{"contacts", options.contacts}, {"eye_fit", options.fit_eyes_to_openings}};
   report["target_eyes_fitted"] = landmarks.target_eyes_fitted;
   report["registration"] = RegistrationReport(built);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "facerig/offline/landmarks.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
@@ -114,5 +115,14 @@ FaceTemplate LoadFaceTemplate(const std::filesystem::path& rig_path, const std::
 // detected on the neutral (nearest region vertex), recorded as derived.
 // \throw LandmarkDetectionError (as LandmarkDetector::Detect).
 std::vector<std::uint32_t> TemplateLandmarkVertices(const Rig& rig, FaceTemplateInfo& info, LandmarkDetector& detector);
+
+// A target on the template's own topology (the same vertex count and
+// triangles: ICT-FaceKit's identities, a rig written with
+// --template-topology) needs no detection: its landmarks are the template's
+// landmark vertices. nullopt when the topology differs or the descriptor has
+// no landmarks.
+std::optional<FaceLandmarks> LandmarksOnTemplateTopology(const Rig& template_rig, const FaceTemplateInfo& info,
+                                                         std::span<const glm::vec3> target_positions,
+                                                         std::span<const Triangle> target_triangles);
 
 }  // namespace facerig
