@@ -1,5 +1,7 @@
 #include "face_materials.h"
 
+#include "facerig/runtime/part_roles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cctype>
@@ -54,36 +56,23 @@ PartLook NamedPartLook(Material kind) {
   return look;
 }
 
-// A placeholder: opaque, untextured and grey or white (an OBJ's bare usemtl,
-// glTF's default, an exporter's default grey, ICT-FaceKit's Kd 0.6 on every
-// part). The part's name says more; a coloured material is the artist's.
-bool IsPlaceholder(const facerig::Material& material) {
-  const glm::vec4& c = material.base_colour;
-  const bool grey = std::abs(c.r - c.g) < 0.02f && std::abs(c.g - c.b) < 0.02f && c.a == 1.0f;
-  return grey && material.base_colour_image < 0 && material.normal_image < 0 &&
-         material.alpha_mode == AlphaMode::kOpaque;
-}
-
-std::string Lower(std::string_view text) {
-  std::string lower(text);
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return lower;
-}
-
 }  // namespace
 
 Material MaterialForPart(std::string_view part_name) {
-  const std::string name = Lower(part_name);
-  const auto has = [&](const char* word) { return name.find(word) != std::string::npos; };
-  if (has("occlusion") || has("lacrimal") || has("eyeblend")) return Material::kHidden;
-  if (has("lash")) return Material::kHidden;
-  if (has("sclera") || has("eye_white") || has("eyewhite")) return Material::kSclera;
-  if (has("pupil")) return Material::kPupil;
-  if (has("iris")) return Material::kIris;
-  if (has("teeth") || has("tooth")) return Material::kTeeth;
-  if (has("gum")) return Material::kGums;
-  if (has("tongue")) return Material::kTongue;
-  if (has("mouth_inner") || has("mouthinner") || has("mouth_cavity")) return Material::kMouthInner;
+  switch (RoleOfPart(part_name)) {
+    case PartRole::kSkin: return Material::kSkin;
+    case PartRole::kSclera: return Material::kSclera;
+    case PartRole::kIris: return Material::kIris;
+    case PartRole::kPupil: return Material::kPupil;
+    case PartRole::kTeeth: return Material::kTeeth;
+    case PartRole::kGums: return Material::kGums;
+    case PartRole::kTongue: return Material::kTongue;
+    case PartRole::kMouthInner: return Material::kMouthInner;
+    // Transparent layers and lash cards: drawn opaque without their material
+    // they cover the eyes with grey shells or a black band.
+    case PartRole::kEyeLayer:
+    case PartRole::kLashes: return Material::kHidden;
+  }
   return Material::kSkin;
 }
 
@@ -93,7 +82,7 @@ PartLook LookForPart(const Rig& rig, const Part& part) {
     return NamedPartLook(kind);
   }
   const facerig::Material& material = rig.materials()[static_cast<std::size_t>(part.material)];
-  if (IsPlaceholder(material)) return NamedPartLook(kind);
+  if (IsPlaceholderMaterial(material)) return NamedPartLook(kind);
   PartLook look;
   look.from_material = true;
   look.kind = kind == Material::kHidden ? Material::kSkin : kind;

@@ -28,6 +28,7 @@
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/part_roles.h"
 #include "facerig/runtime/rig_surface.h"
 #include "facerig/runtime/rig_warnings.h"
 
@@ -80,8 +81,11 @@ bool IsGltf(const std::filesystem::path& path) {
 }
 
 // The built rig dressed in the target's surface: its UVs (split at seams)
-// and its materials and images, for every output.
-Rig DressedRig(const Rig& rig, const Mesh& target_mesh) {
+// and its materials and images, for every output. Parts whose material is a
+// placeholder get one of their role (part_roles.h): skin-coloured skin,
+// off-white teeth, lashes and eye layers blended, never grey over the eyes.
+Rig DressedRig(const Rig& rig, Mesh target_mesh) {
+  ReplacePlaceholderMaterials(target_mesh);
   std::string problem;
   std::optional<Rig> dressed = RigWithSurface(rig, target_mesh, &problem);
   if (!dressed) throw InvalidInputError("the target's surface does not fit the built rig: " + problem);

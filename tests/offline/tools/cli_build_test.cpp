@@ -125,9 +125,11 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   INFO(difference);
   test::RequireValidatorAccepts(folder / "face.glb");
 
-  // One OBJ per shape plus the neutral, each on the target's vertices.
+  // One OBJ per shape plus the neutral, each on the target's vertices, and
+  // the MTL of the skin material the bare scan was given.
   CHECK(std::distance(fs::directory_iterator(folder / "shapes"), fs::directory_iterator{}) ==
-        static_cast<std::ptrdiff_t>(ict.shape_count() + 1));
+        static_cast<std::ptrdiff_t>(ict.shape_count() + 2));
+  CHECK(fs::exists(folder / "shapes" / "materials.mtl"));
   const Mesh neutral = ReadObj(folder / "shapes" / "neutral.obj");
   CHECK(neutral.positions.size() == target.positions.size());
   const Mesh jaw_open = ReadObj(folder / "shapes" / "jawOpen.obj");

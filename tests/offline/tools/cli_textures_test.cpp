@@ -15,6 +15,7 @@
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/mesh.h"
+#include "facerig/runtime/part_roles.h"
 #include "support/command_runner.h"
 #include "support/gltf_validator.h"
 #include "support/test_meshes.h"
@@ -77,6 +78,19 @@ TEST_CASE("(shared data) facerig convert and build keep a textured ICT face's im
   test::RequireValidatorAccepts(folder / "built.glb");
   CheckTextured(LoadRig(folder / "built.glb"), source, albedo);
   CheckTextured(LoadRig(folder / "built.frig"), source, albedo);
+  // ICT's MTL gives its eye layers and lashes an opaque grey: the build gives
+  // them their role's blended material, so they never cover the eyes.
+  const Rig built_rig = LoadRig(folder / "built.glb");
+  for (const Part& part : built_rig.parts()) {
+    REQUIRE(part.material >= 0);
+    const Material& material = built_rig.materials()[static_cast<std::size_t>(part.material)];
+    INFO(part.name << ": " << material.name);
+    CHECK(material.name == part.name);
+    const bool layer = part.name == "M_EyeOcclusion" || part.name == "M_LacrimalFluid" || part.name == "M_EyeBlend" ||
+                       part.name == "M_EyeLashes";
+    CHECK((material.alpha_mode == AlphaMode::kBlend) == layer);
+    if (part.name != "M_Face") CHECK(!IsPlaceholderMaterial(material));
+  }
   // The OBJ folder shares one MTL and the image under its own name.
   CHECK(fs::exists(folder / "objs" / "materials.mtl"));
   const Mesh neutral = ReadObj(folder / "objs" / "neutral.obj");
