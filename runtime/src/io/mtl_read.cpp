@@ -6,6 +6,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/input_file.h"
 #include "facerig/runtime/io/mtl.h"
+#include "text_lines.h"
 
 namespace facerig {
 namespace {
@@ -65,14 +66,10 @@ class MtlParser {
   MtlParser(std::string_view text, const std::string& path) : text_(text), path_(path) {}
 
   std::vector<MtlMaterial> Parse() {
-    std::size_t pos = 0;
-    while (pos < text_.size()) {
-      std::size_t end = text_.find('\n', pos);
-      if (end == std::string_view::npos) end = text_.size();
+    ForEachLine(text_, [this](std::string_view line) {
       ++line_;
-      ParseLine(text_.substr(pos, end - pos));
-      pos = end + 1;
-    }
+      ParseLine(line);
+    });
     for (MtlMaterial& material : materials_) Finish(material);
     return std::move(materials_);
   }

@@ -9,6 +9,7 @@
 #include "facerig/runtime/io/atomic_file.h"
 #include "facerig/runtime/io/input_file.h"
 #include "obj_materials.h"
+#include "text_lines.h"
 
 namespace facerig {
 namespace {
@@ -21,14 +22,10 @@ class ObjParser {
   ObjParser(std::string_view text, const std::string& path) : text_(text), path_(path) {}
 
   Mesh Parse(ObjStats* stats) {
-    std::size_t pos = 0;
-    while (pos < text_.size()) {
-      std::size_t end = text_.find('\n', pos);
-      if (end == std::string_view::npos) end = text_.size();
+    ForEachLine(text_, [this](std::string_view line) {
       ++line_;
-      ParseLine(text_.substr(pos, end - pos));
-      pos = end + 1;
-    }
+      ParseLine(line);
+    });
     if (stats) {
       stats->polygon_count = polygon_count_;
       stats->mtl_files = std::move(mtl_files_);
