@@ -109,7 +109,8 @@ std::string FormatSummary(const TimingSummary& summary, const std::string& title
 
 void WriteTimingJson(const std::filesystem::path& path, const TimingSummary& summary,
                      const std::vector<FrameSample>& samples, const std::string& rig_name,
-                     std::size_t vertex_count, std::size_t shape_count) {
+                     std::size_t vertex_count, std::size_t shape_count,
+                     const std::optional<OutputTimeline>& timeline) {
   using nlohmann::json;
   const auto stage_json = [](const StageSummary& s) {
     return json{{"p50_ms", s.p50}, {"p95_ms", s.p95}, {"p99_ms", s.p99}, {"worst_ms", s.worst},
@@ -131,6 +132,12 @@ void WriteTimingJson(const std::filesystem::path& path, const TimingSummary& sum
   for (const FrameSample& sample : samples) per_frame.push_back(sample.ms);
   out["per_frame_ms"] = per_frame;
   out["per_frame_columns"] = {"update", "blend", "normals", "upload", "draw"};
+  if (timeline) {
+    out["timeline"] = {{"frame0_seconds", 0.0},
+                       {"fps", timeline->fps},
+                       {"wav_start_seconds", timeline->wav_start},
+                       {"speech_start_seconds", timeline->speech_start}};
+  }
   const std::string text = out.dump(2) + '\n';
   WriteWholeFile(path, text, "timing JSON");
 }

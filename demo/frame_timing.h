@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,11 +61,20 @@ class FrameTimer {
 
 // "frames 120  total p50 1.23 ms p95 ... worst 3.4 ms (frame 17)" and one line per stage.
 std::string FormatSummary(const TimingSummary& summary, const std::string& title);
-// JSON with the summary per stage and the raw per-frame samples. A write error
-// (a full disk: a short write, a failed flush or close) removes the file and
-// throws std::runtime_error "cannot write timing JSON PATH: reason".
+// Where a headless run's outputs sit on one timeline, in seconds from frame 0.
+struct OutputTimeline {
+  double fps = 30.0;
+  double wav_start = 0.0;     // the WAV's first sample
+  double speech_start = 0.0;  // the first sample of speech in it (the lead-in)
+};
+
+// JSON with the summary per stage and the raw per-frame samples, and the
+// timeline when given. A write error (a full disk: a short write, a failed
+// flush or close) removes the file and throws std::runtime_error "cannot
+// write timing JSON PATH: reason".
 void WriteTimingJson(const std::filesystem::path& path, const TimingSummary& summary,
                      const std::vector<FrameSample>& samples, const std::string& rig_name,
-                     std::size_t vertex_count, std::size_t shape_count);
+                     std::size_t vertex_count, std::size_t shape_count,
+                     const std::optional<OutputTimeline>& timeline = std::nullopt);
 
 }  // namespace facerig::player

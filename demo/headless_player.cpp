@@ -40,7 +40,7 @@ std::string Quote(const std::filesystem::path& path) {
 void WriteMp4(const PlayerOptions& options, const TemporaryOutputs& outputs, const std::filesystem::path& wav) {
   std::string command = "ffmpeg -loglevel error -y -framerate " + std::to_string(options.fps) + " -i " +
                         Quote(outputs.frames / "frame_%05d.png");
-  if (!wav.empty()) command += " -itsoffset " + std::to_string(options.lead_in) + " -i " + Quote(wav) + " -c:a aac";
+  if (!wav.empty()) command += " -i " + Quote(wav) + " -c:a aac";  // both start at frame 0
   command += " -c:v libx264 -pix_fmt yuv420p " + Quote(outputs.mp4);
   if (std::system(command.c_str()) != 0) throw std::runtime_error("ffmpeg failed: " + command);
 }
@@ -140,16 +140,19 @@ TemporaryOutputs AddOutputs(const PlayerOptions& options, const SpeechLine& spee
 void WriteSpeechVideoAndTiming(const PlayerOptions& options, const Rig& rig, const TemporaryOutputs& outputs,
                                const HeadlessResult& result) {
   const SpeechLine& speech = result.speech;
-  if (!outputs.wav.empty()) {
-    WriteWav(outputs.wav, speech.audio, speech.sample_rate > 0 ? speech.sample_rate : EspeakPhonemeSource::kSampleRate);
-  }
-  if (!outputs.mp4_wav.empty()) WriteWav(outputs.mp4_wav, speech.audio, speech.sample_rate);
+  const int rate = speech.sample_rate > 0 ? speech.sample_rate : EspeakPhonemeSource::kSampleRate;
+  // The WAV starts with frame 0: the lead-in is silence, so any tool muxes the two in sync.
+  std::vector<std::int16_t> audio(static_cast<std::size_t>(std::lround(result.speech_start * rate)), 0);
+  audio.insert(audio.end(), speech.audio.begin(), speech.audio.end());
+  if (!outputs.wav.empty()) WriteWav(outputs.wav, audio, rate);
+  if (!outputs.mp4_wav.empty()) WriteWav(outputs.mp4_wav, audio, rate);
   ThrowIfStopped();
   if (!outputs.mp4.empty()) WriteMp4(options, outputs, outputs.wav.empty() ? outputs.mp4_wav : outputs.wav);
   ThrowIfStopped();
   if (!outputs.timing_json.empty()) {
     WriteTimingJson(outputs.timing_json, result.timing, result.samples, RigPath(options).filename().string(),
-                    rig.vertex_count(), rig.shape_count());
+                    rig.vertex_count(), rig.shape_count(),
+                    OutputTimeline{.fps = options.fps, .wav_start = 0.0, .speech_start = result.speech_start});
   }
 }
 

@@ -43,8 +43,8 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
   --headless       no window and no sound card: render offscreen (EGL), animation time =
                    frame / fps; writes DIR/frame_00000.png ... and the speech as a WAV
   --lead-in S      headless: the speech starts S seconds after frame 0 (default 0.3), so the
-                   first frame is the face at rest; the WAV holds the speech only (the MP4
-                   offsets it by S)
+                   first frame is the face at rest; the WAV starts with frame 0 (S seconds of
+                   silence, then the speech), so frames and WAV mux in sync
   --hud            headless: draw the HUD into the frames
   --version        print the version and exit
 

@@ -26,7 +26,7 @@ if [[ -z ${DISPLAY:-} && -z ${WAYLAND_DISPLAY:-} ]]; then
   echo
   echo "run-main: no display, so the player ran headless."
   echo "  frames: $frames/frame_00000.png ... ($(ls "$frames" | wc -l) PNGs, 30 fps)"
-  echo "  audio:  $build/player.wav (starts 0.3 s after frame 0)"
+  echo "  audio:  $build/player.wav (starts with frame 0; the speech 0.3 s in)"
   echo "  timing: $build/player_timing.json"
   if command -v ffmpeg >/dev/null; then
     echo "  video:  add --mp4 FILE to the player's command line to mux them (ffmpeg is installed)"

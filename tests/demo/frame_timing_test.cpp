@@ -28,6 +28,15 @@ TEST_CASE("Timing JSON: written whole, or a full disk is an error and leaves no 
   const std::vector<FrameSample> samples(3);
   facerig::player::WriteTimingJson(path, summary, samples, "rig.frig", 16, 2);
   CHECK(nlohmann::json::parse(std::ifstream(path))["per_frame_ms"].size() == 3);
+  CHECK(!nlohmann::json::parse(std::ifstream(path)).contains("timeline"));
+  // A headless run says where the WAV and the speech start, in seconds from frame 0.
+  facerig::player::WriteTimingJson(path, summary, samples, "rig.frig", 16, 2,
+                                   facerig::player::OutputTimeline{.fps = 30.0, .wav_start = 0.0, .speech_start = 0.3});
+  const nlohmann::json timeline = nlohmann::json::parse(std::ifstream(path))["timeline"];
+  CHECK(timeline["frame0_seconds"] == 0.0);
+  CHECK(timeline["wav_start_seconds"] == 0.0);
+  CHECK(timeline["speech_start_seconds"] == 0.3);
+  CHECK(timeline["fps"] == 30.0);
 
   fs::remove(path);
   setenv("FACERIG_PLAYER_INJECT_FAILURE", "timing", 1);

@@ -79,12 +79,15 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   REQUIRE(result.frames.size() ==
           static_cast<std::size_t>(std::ceil((start + speech.audio_duration().count() + 0.6) * kFps - 1e-9)));
 
-  // The WAV is exactly the synthesized speech.
+  // The WAV starts with frame 0: the lead-in's silence, then exactly the synthesized speech.
   int wav_rate = 0;
   const std::vector<std::int16_t> wav = facerig::player::ReadWav(options.wav, &wav_rate);
   CHECK(wav_rate == speech.sample_rate);
-  REQUIRE(wav.size() == speech.audio.size());
-  CHECK(wav == speech.audio);
+  const auto lead_in = static_cast<std::size_t>(std::lround(start * speech.sample_rate));
+  CHECK(lead_in == static_cast<std::size_t>(0.3 * speech.sample_rate));
+  REQUIRE(wav.size() == lead_in + speech.audio.size());
+  CHECK(std::all_of(wav.begin(), wav.begin() + static_cast<std::ptrdiff_t>(lead_in), [](std::int16_t s) { return s == 0; }));
+  CHECK(std::equal(speech.audio.begin(), speech.audio.end(), wav.begin() + static_cast<std::ptrdiff_t>(lead_in)));
 
   // The first frame is the neutral face.
   const Image neutral = facerig::player::RenderNeutral(rig, kWidth, kHeight);
