@@ -18,6 +18,7 @@
 #include "facerig/runtime/io/image_file.h"
 #include "gltf_accessors.h"
 #include "gltf_components.h"
+#include "gltf_scene.h"
 
 namespace facerig {
 namespace {
@@ -41,6 +42,10 @@ class GltfReader {
   // The rig, and the neutral as a Mesh into *mesh when not null.
   Rig Read(Mesh* mesh);
   Mesh ReadMesh();
+  // Every mesh of the scene in scene space (SceneMerger), for files that are
+  // not one of facerig's: nullopt when the scene is one untransformed mesh or
+  // facerig's own (Read then reads it as it is).
+  std::optional<Rig> ReadScene() const;
 
  private:
   [[noreturn]] void Fail(IoErrorKind kind, const std::string& message) const {
@@ -321,6 +326,20 @@ int GltfReader::MaterialOf(const tinygltf::Primitive& primitive) const {
   return primitive.material < static_cast<int>(model_.materials.size()) ? primitive.material : -1;
 }
 
+// A part name for primitive p of a mesh with `part_count` parts:
+// extras.facerig.parts, else the mesh's (or node's) name `base`, with the
+// primitive's material name (or "primitive<p>") when it has several parts.
+std::string PartName(const tinygltf::Model& model, const tinygltf::Mesh& mesh, const std::string& base,
+                     std::size_t p, std::size_t part_count) {
+  const tinygltf::Value& part_names = Member(Member(mesh.extras, "facerig"), "parts");
+  const int material = mesh.primitives[p].material;
+  const bool named = material >= 0 && static_cast<std::size_t>(material) < model.materials.size() &&
+                     !model.materials[static_cast<std::size_t>(material)].name.empty();
+  const std::string suffix = named ? model.materials[static_cast<std::size_t>(material)].name : "primitive" + std::to_string(p);
+  const std::string fallback = base.empty() ? suffix : part_count == 1 ? base : base + "." + suffix;
+  return StringOr(part_names, p, fallback);
+}
+
 // The neutral read into `raw` as a Mesh, with part names from the mesh's (or
 // its node's) name where extras.facerig.parts has none, and the materials.
 Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
@@ -330,15 +349,11 @@ Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
   for (std::size_t n = 0; base.empty() && n < model_.nodes.size(); ++n) {
     if (model_.nodes[n].mesh == mesh_index) base = model_.nodes[n].name;
   }
-  const tinygltf::Value& part_names = Member(Member(gltf_mesh.extras, "facerig"), "parts");
   Mesh mesh = NeutralMesh(raw);
   bool any_material = false, any_without = false;
   for (std::size_t i = 0; i < part_primitives.size(); ++i) {
     const std::size_t p = part_primitives[i];
-    const std::string fallback = base.empty()              ? "primitive" + std::to_string(p)
-                                 : part_primitives.size() == 1 ? base
-                                                               : base + ".primitive" + std::to_string(p);
-    mesh.part_names[i] = StringOr(part_names, p, fallback);
+    mesh.part_names[i] = PartName(model_, gltf_mesh, base, p, part_primitives.size());
     (MaterialOf(gltf_mesh.primitives[p]) >= 0 ? any_material : any_without) = true;
   }
   if (!any_material) return mesh;
@@ -368,6 +383,47 @@ GltfReader::Neutral GltfReader::ReadChosenNeutral() const {
 Mesh GltfReader::ReadMesh() {
   const Neutral neutral = ReadChosenNeutral();
   return NeutralMeshOf(neutral.mesh_index, neutral.raw, neutral.part_primitives);
+}
+
+std::optional<Rig> GltfReader::ReadScene() const {
+  const std::vector<gltf_internal::MeshInstance> instances = gltf_internal::SceneMeshInstances(model_);
+  if (instances.empty()) return std::nullopt;
+  if (instances.size() == 1) {
+    const tinygltf::Mesh& only = model_.meshes[static_cast<std::size_t>(instances[0].mesh)];
+    if (Member(only.extras, "facerig").IsObject() || instances[0].world == glm::dmat4(1.0)) return std::nullopt;
+  }
+  Mesh appearance;
+  const std::vector<std::int32_t> kept = ReadImages(&appearance);
+  std::vector<Material> materials;
+  for (const tinygltf::Material& material : model_.materials) materials.push_back(ReadMaterial(material, kept));
+  const auto default_material = static_cast<std::int32_t>(materials.size());
+  bool used_default = false;
+  gltf_internal::SceneMerger merger;
+  for (const gltf_internal::MeshInstance& instance : instances) {
+    const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(instance.mesh)];
+    const std::string base = mesh.name.empty() ? model_.nodes[static_cast<std::size_t>(instance.node)].name : mesh.name;
+    const MeshVertices vertices = GroupMeshVertices(model_, mesh, path_, file_size_);
+    RawRig piece;
+    std::vector<std::size_t> part_primitives;
+    ReadNeutral(mesh, vertices, &piece, &part_primitives);
+    ReadShapes(mesh, vertices.blocks, &piece);
+    for (std::size_t i = 0; i < piece.parts.size(); ++i) {
+      const std::size_t p = part_primitives[i];
+      piece.parts[i].name = PartName(model_, mesh, base, p, piece.parts.size());
+      const int material = MaterialOf(mesh.primitives[p]);
+      piece.parts[i].material = material >= 0 ? material : default_material;
+      used_default = used_default || material < 0;
+    }
+    merger.Add(std::move(piece), instance.world);
+  }
+  RawRig merged = merger.Finish();
+  if (used_default) materials.push_back(Material{.name = "default"});
+  merged.materials = std::move(materials);
+  merged.images = std::move(appearance.images);
+  std::string problem;
+  std::optional<Rig> rig = RigBuilder::Build(std::move(merged), &problem);
+  if (!rig) Fail(IoErrorKind::kInvalidRig, problem);
+  return rig;
 }
 
 Rig GltfReader::Read(Mesh* neutral) {
@@ -414,12 +470,23 @@ GltfReader ReaderOfBytes(std::span<const std::byte> bytes, const std::filesystem
 
 }  // namespace
 
-Rig ReadGltf(const std::filesystem::path& path) { return ReaderOfFile(path).Read(nullptr); }
+namespace {
+
+// The rig as a viewer shows the file: every mesh of its scene where it has
+// several or moves them (ReadScene), else its mesh as it is.
+Rig ReadSceneRig(GltfReader reader) {
+  std::optional<Rig> scene = reader.ReadScene();
+  return scene ? std::move(*scene) : reader.Read(nullptr);
+}
+
+}  // namespace
+
+Rig ReadGltf(const std::filesystem::path& path) { return ReadSceneRig(ReaderOfFile(path)); }
 
 Rig ReadGltf(const std::filesystem::path& path, Mesh* mesh) { return ReaderOfFile(path).Read(mesh); }
 
 Rig ParseGltf(std::span<const std::byte> bytes, const std::filesystem::path& path) {
-  return ReaderOfBytes(bytes, path).Read(nullptr);
+  return ReadSceneRig(ReaderOfBytes(bytes, path));
 }
 
 Mesh ReadGltfMesh(const std::filesystem::path& path) { return ReaderOfFile(path).ReadMesh(); }

@@ -194,7 +194,7 @@ TEST_CASE("gltf mesh: a foreign file's parts are named from its mesh, and its un
   WriteFileAtomically(path, document.dump());
 
   const Mesh mesh = ReadGltfMesh(path);
-  CHECK(mesh.part_names == std::vector<std::string>{"Head.primitive0", "Head.primitive1"});
+  CHECK(mesh.part_names == std::vector<std::string>{"Head.head", "Head.primitive1"});
   REQUIRE(mesh.materials.size() == 3);
   CHECK(mesh.materials[1].name == "head");
   REQUIRE(mesh.materials[1].base_colour_image == 0);
@@ -209,7 +209,7 @@ TEST_CASE("gltf mesh: a foreign file's parts are named from its mesh, and its un
   CHECK(mesh.triangle_materials[half] == 2);
   CHECK(mesh.corner_normals.size() == mesh.triangle_count() * 3);
   // The rig reader names parts as the mesh reader does.
-  CHECK(ReadGltf(path).parts()[0].name == "Head.primitive0");
+  CHECK(ReadGltf(path).parts()[0].name == "Head.head");
 }
 
 TEST_CASE("gltf mesh: files with UV seams and materials pass the Khronos validator", "[gltf][gltf-validator]") {
