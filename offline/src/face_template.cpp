@@ -96,9 +96,16 @@ class DescriptorReader {
 void ReadFingerprint(const json& value, const Rig& rig, const DescriptorReader& reader, FaceTemplateInfo& info) {
   if (!value.is_object()) reader.Fail("fingerprint", "expected an object, got " + Shown(value));
   TemplateFingerprint print;
+  // A count must be a non-negative integer: nlohmann converts a float such as
+  // 3e41 to size_t without a check (undefined behaviour; found by fuzzing).
+  const auto count = [&](const char* key) {
+    const json& field = value.at(key);
+    if (!field.is_number_unsigned()) reader.Fail(std::string("fingerprint.") + key, "expected a count, got " + Shown(field));
+    return field.get<std::size_t>();
+  };
   try {
-    print.vertex_count = value.at("vertex_count").get<std::size_t>();
-    print.triangle_count = value.at("triangle_count").get<std::size_t>();
+    print.vertex_count = count("vertex_count");
+    print.triangle_count = count("triangle_count");
     print.neutral_checksum = value.at("neutral_checksum").get<std::string>();
   } catch (const json::exception& error) {
     reader.Fail("fingerprint", QuoteInput(error.what()));

@@ -187,6 +187,8 @@ TEST_CASE("face template: a bad descriptor is rejected naming the file, field an
   RequireRejected("rims", R"({"eyelids": [1, -4]})", "rims.eyelids[1]");
   RequireRejected("vertex_groups", R"({"face": {"first": 3, "last": 1}})", "vertex_groups.face");
   RequireRejected("fingerprint", R"({"vertex_count": "eight"})", "fingerprint");
+  RequireRejected("fingerprint", R"({"vertex_count": 3.2e41, "triangle_count": 1, "neutral_checksum": "x"})",
+                  "fingerprint.vertex_count");
   const Rig rig = TwoQuads();
   REQUIRE_THROWS_WITH(ParseFaceTemplateInfo("{\"region\": ", rig, "broken.json"),
                       Catch::Contains("broken.json") && Catch::Contains("not JSON"));
