@@ -1,4 +1,5 @@
 // Landmark files (JSON) and the debug drawing of a detection.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -105,7 +106,19 @@ void ReadConfidenceAndIndices(const nlohmann::json& json, const std::string& nam
     landmarks.confidence.assign(n, 1.0f);
   }
   if (json.contains("indices")) {
-    landmarks.indices = json["indices"].get<std::vector<std::uint32_t>>();
+    // Each an integer: nlohmann casts a float such as 3.6e55 to uint32 unchecked (found by fuzzing).
+    const nlohmann::json& indices = json["indices"];
+    if (!indices.is_array() ||
+        !std::all_of(indices.begin(), indices.end(), [](const nlohmann::json& i) { return i.is_number_unsigned(); })) {
+      FailLandmarks(IoErrorKind::kParse, name, "indices: expected an array of landmark indices 0..67");
+    }
+    for (const nlohmann::json& i : indices) {
+      if (i.get<std::uint64_t>() > 67) {
+        FailLandmarks(IoErrorKind::kParse, name,
+                      "indices: landmark index " + std::to_string(i.get<std::uint64_t>()) + " is outside dlib's 0..67");
+      }
+      landmarks.indices.push_back(static_cast<std::uint32_t>(i.get<std::uint64_t>()));
+    }
   } else {
     for (std::uint32_t i = 0; i < n; ++i) landmarks.indices.push_back(i);
   }
