@@ -70,6 +70,8 @@ class GltfReader {
   Neutral ReadChosenNeutral() const;
   Mesh NeutralMeshOf(int mesh_index, const RawRig& raw, const std::vector<std::size_t>& part_primitives) const;
   std::vector<std::int32_t> ReadImages(Mesh* mesh) const;
+  // The document's images and every material, in its order, into *mesh.
+  void ReadMaterials(Mesh* mesh) const;
   std::int32_t ImageOfTexture(int texture_index, const std::vector<std::int32_t>& kept) const;
   Material ReadMaterial(const tinygltf::Material& material, const std::vector<std::int32_t>& kept) const;
   int MaterialOf(const tinygltf::Primitive& primitive) const;
@@ -289,11 +291,17 @@ std::vector<std::int32_t> GltfReader::ReadImages(Mesh* mesh) const {
       kept.push_back(-1);  // a missing external file: the material keeps its colour
       continue;
     }
-    const ImageHeader header = ProbeImage(bytes, path_ + ": " + what);
     kept.push_back(static_cast<std::int32_t>(mesh->images.size()));
-    mesh->images.push_back(MakeEncodedImage(bytes, ImageFileName(image, i, header.format), path_ + ": " + what));
+    EncodedImage encoded = MakeEncodedImage(bytes, std::string(), path_ + ": " + what);  // probes the header
+    encoded.name = ImageFileName(image, i, encoded.format);
+    mesh->images.push_back(std::move(encoded));
   }
   return kept;
+}
+
+void GltfReader::ReadMaterials(Mesh* mesh) const {
+  const std::vector<std::int32_t> kept = ReadImages(mesh);
+  for (const tinygltf::Material& material : model_.materials) mesh->materials.push_back(ReadMaterial(material, kept));
 }
 
 std::int32_t GltfReader::ImageOfTexture(int texture_index, const std::vector<std::int32_t>& kept) const {
@@ -357,8 +365,7 @@ Mesh GltfReader::NeutralMeshOf(int mesh_index, const RawRig& raw,
     (MaterialOf(gltf_mesh.primitives[p]) >= 0 ? any_material : any_without) = true;
   }
   if (!any_material) return mesh;
-  const std::vector<std::int32_t> kept = ReadImages(&mesh);
-  for (const tinygltf::Material& material : model_.materials) mesh.materials.push_back(ReadMaterial(material, kept));
+  ReadMaterials(&mesh);
   // glTF's default material (opaque white, single-sided) for primitives without one.
   const auto default_material = static_cast<std::uint32_t>(mesh.materials.size());
   if (any_without) mesh.materials.push_back(Material{.name = "default"});
@@ -393,9 +400,8 @@ std::optional<Rig> GltfReader::ReadScene() const {
     if (Member(only.extras, "facerig").IsObject() || instances[0].world == glm::dmat4(1.0)) return std::nullopt;
   }
   Mesh appearance;
-  const std::vector<std::int32_t> kept = ReadImages(&appearance);
-  std::vector<Material> materials;
-  for (const tinygltf::Material& material : model_.materials) materials.push_back(ReadMaterial(material, kept));
+  ReadMaterials(&appearance);
+  std::vector<Material> materials = std::move(appearance.materials);
   const auto default_material = static_cast<std::int32_t>(materials.size());
   bool used_default = false;
   gltf_internal::SceneMerger merger;
