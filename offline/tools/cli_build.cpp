@@ -17,6 +17,7 @@
 #include "cli_common.h"
 #include "cli_options.h"
 #include "cli_template_info.h"
+#include "facerig/offline/eye_textures.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/offline/rig_build.h"
 #include "facerig/runtime/error.h"
@@ -83,9 +84,11 @@ bool IsGltf(const std::filesystem::path& path) {
 // The built rig dressed in the target's surface: its UVs (split at seams)
 // and its materials and images, for every output. Parts whose material is a
 // placeholder get one of their role (part_roles.h): skin-coloured skin,
-// off-white teeth, lashes and eye layers blended, never grey over the eyes.
+// off-white teeth, lashes and eye layers blended, never grey over the eyes;
+// eyes without a texture get one painted (iris and pupil in any viewer).
 Rig DressedRig(const Rig& rig, Mesh target_mesh) {
   ReplacePlaceholderMaterials(target_mesh);
+  PaintEyeTextures(target_mesh);
   std::string problem;
   std::optional<Rig> dressed = RigWithSurface(rig, target_mesh, &problem);
   if (!dressed) throw InvalidInputError("the target's surface does not fit the built rig: " + problem);
