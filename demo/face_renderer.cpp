@@ -14,6 +14,7 @@
 #include "face_shaders.h"
 #include "gl_textures.h"
 #include "iris_radial.h"
+#include "mouth_light.h"
 
 namespace facerig::player {
 namespace {
@@ -55,10 +56,11 @@ FaceRenderer::FaceRenderer(const Rig& rig) : vertex_count_(rig.vertex_count()), 
   problems_ = textures_->problems();
   SetDrawRanges(rig);
   const std::vector<float> radial = IrisRadial(rig, rig_to_scene_, procedural_pupil_);
+  const std::vector<float> mouth_light = MouthLight(rig, rig_to_scene_);
   FrameVisibleParts(rig);
   ResetCamera();
   CompileShaders();
-  CreateBuffers(rig, radial);
+  CreateBuffers(rig, radial, mouth_light);
 }
 
 void FaceRenderer::SetDrawRanges(const Rig& rig) {
@@ -135,7 +137,7 @@ void FaceRenderer::CompileShaders() {
   glUseProgram(0);
 }
 
-void FaceRenderer::CreateBuffers(const Rig& rig, std::span<const float> radial) {
+void FaceRenderer::CreateBuffers(const Rig& rig, std::span<const float> radial, std::span<const float> mouth_light) {
   glGenVertexArrays(1, &vao_);
   glBindVertexArray(vao_);
   const auto vertex_bytes = static_cast<GLsizeiptr>(vertex_count_ * sizeof(glm::vec3));
@@ -155,6 +157,12 @@ void FaceRenderer::CreateBuffers(const Rig& rig, std::span<const float> radial) 
                GL_STATIC_DRAW);
   glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
   glEnableVertexAttribArray(2);
+  glGenBuffers(1, &mouth_light_vbo_);
+  glBindBuffer(GL_ARRAY_BUFFER, mouth_light_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mouth_light.size() * sizeof(float)), mouth_light.data(),
+               GL_STATIC_DRAW);
+  glVertexAttribPointer(4, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
+  glEnableVertexAttribArray(4);
   CreateUvBuffer(rig);
   glGenBuffers(1, &ebo_);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_);
@@ -183,6 +191,7 @@ FaceRenderer::~FaceRenderer() {
   glDeleteBuffers(1, &position_vbo_);
   glDeleteBuffers(1, &normal_vbo_);
   glDeleteBuffers(1, &radial_vbo_);
+  glDeleteBuffers(1, &mouth_light_vbo_);
   glDeleteBuffers(1, &ebo_);
   glDeleteVertexArrays(1, &vao_);
   for (const ShaderVariant& variant : variants_) {

@@ -105,7 +105,7 @@ class FaceRenderer {
   void SetDrawRanges(const Rig& rig);      // a range per visible part with its look; procedural_pupil_
   void FrameVisibleParts(const Rig& rig);  // scene box and neck pivot from the visible parts
   void CompileShaders();                   // the variants the parts need, and their uniform locations
-  void CreateBuffers(const Rig& rig, std::span<const float> radial);
+  void CreateBuffers(const Rig& rig, std::span<const float> radial, std::span<const float> mouth_light);
   void CreateUvBuffer(const Rig& rig);
   glm::mat4 ModelMatrix(const glm::mat4& head_rotation) const;
   // Per frame.
@@ -128,7 +128,7 @@ class FaceRenderer {
   OrbitCamera camera_;
 
   std::vector<ShaderVariant> variants_;  // indexed by features
-  unsigned vao_ = 0, position_vbo_ = 0, normal_vbo_ = 0, radial_vbo_ = 0, uv_vbo_ = 0, ebo_ = 0;
+  unsigned vao_ = 0, position_vbo_ = 0, normal_vbo_ = 0, radial_vbo_ = 0, mouth_light_vbo_ = 0, uv_vbo_ = 0, ebo_ = 0;
 };
 
 // Renders into an offscreen framebuffer (multisampled, resolved for reading back).

@@ -8,6 +8,7 @@ const char* const kFaceVertexBody = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in float a_radial;
+layout(location = 4) in float a_mouth_light;
 #ifdef UVS
 layout(location = 3) in vec2 a_uv;
 out vec2 v_uv;
@@ -17,11 +18,13 @@ uniform mat3 u_normal_matrix;
 out vec3 v_world;
 out vec3 v_normal;
 out float v_radial;
+out float v_mouth_light;
 void main() {
   vec4 world = u_model * vec4(a_position, 1.0);
   v_world = world.xyz;
   v_normal = u_normal_matrix * a_normal;
   v_radial = a_radial;
+  v_mouth_light = a_mouth_light;
 #ifdef UVS
   v_uv = a_uv;
 #endif
@@ -52,6 +55,7 @@ const char* const kFaceFragmentBody = R"(
 in vec3 v_world;
 in vec3 v_normal;
 in float v_radial;
+in float v_mouth_light;  // light reaching the inside of the mouth (mouth_light.h)
 #ifdef UVS
 in vec2 v_uv;
 #endif
@@ -162,11 +166,12 @@ void main() {
   vec3 fill = WrapDiffuse(n, FillDir(), u_wrap) * kFillColor;
   float up = n.y * 0.5 + 0.5;
   vec3 ambient = mix(vec3(0.06, 0.045, 0.04), vec3(0.13, 0.14, 0.17), up) * u_ambient;
-  vec3 color = albedo * (key + fill + ambient);
+  vec3 color = albedo * (key + fill + ambient) * v_mouth_light;
 
   float fresnel = 0.04 + 0.96 * pow(1.0 - ndv, 5.0);
-  color += kKeyColor * Specular(n, KeyDir(), v, u_shininess) * u_specular * (1.0 + 4.0 * fresnel);
-  color += kFillColor * Specular(n, FillDir(), v, u_shininess) * u_specular;
+  float specular_light = u_specular * v_mouth_light;
+  color += kKeyColor * Specular(n, KeyDir(), v, u_shininess) * specular_light * (1.0 + 4.0 * fresnel);
+  color += kFillColor * Specular(n, FillDir(), v, u_shininess) * specular_light;
   if (u_rim > 0.0) {
     float rim = pow(1.0 - ndv, 3.0) * max(dot(n, RimDir()) + 0.3, 0.0);
     color += kRimColor * rim * u_rim * albedo;
