@@ -143,72 +143,96 @@ float Hud::Text(float x, float y, std::string_view text, const glm::vec4& color,
   return x;
 }
 
+// Sizes and colours of one frame's HUD.
+struct Hud::Layout {
+  float w = 0.0f, h = 0.0f;
+  float scale = 1.0f, line = 0.0f, margin = 0.0f;
+  glm::vec4 white{0.95f, 0.95f, 0.95f, 1.0f}, dim{0.7f, 0.75f, 0.8f, 1.0f};
+  glm::vec4 accent{1.0f, 0.8f, 0.35f, 1.0f}, panel{0.0f, 0.0f, 0.0f, 0.45f};
+  float TextWidth(std::size_t chars) const { return static_cast<float>(chars) * kGlyphAdvance * scale; }
+};
+
 void Hud::Draw(const HudState& state, int width, int height) {
   vertices_.clear();
+  Layout layout;
+  layout.w = static_cast<float>(width);
+  layout.h = static_cast<float>(height);
   // Pixel-doubled on large windows only: at 2x the bars would cover the face.
-  const float scale = (height >= 900 && width >= 1200) ? 2.0f : 1.0f;
-  const float line = kLineHeight * scale;
-  const float margin = 6.0f * scale;
-  const glm::vec4 white(0.95f, 0.95f, 0.95f, 1.0f), dim(0.7f, 0.75f, 0.8f, 1.0f);
-  const glm::vec4 accent(1.0f, 0.8f, 0.35f, 1.0f), panel(0.0f, 0.0f, 0.0f, 0.45f);
-  const auto w = static_cast<float>(width), h = static_cast<float>(height);
+  layout.scale = (height >= 900 && width >= 1200) ? 2.0f : 1.0f;
+  layout.line = kLineHeight * layout.scale;
+  layout.margin = 6.0f * layout.scale;
+  DrawStatusPanel(state, layout);
+  DrawWeightBars(state, layout);
+  DrawInputLine(state, layout);
+  Submit(width, height);
+}
 
-  // Top left: clock, phoneme and viseme, frame time, emotions, on a panel
-  // wide enough for the emotion line (the longest).
-  const auto text_width = [&](std::size_t chars) { return static_cast<float>(chars) * kGlyphAdvance * scale; };
-  Rect(0.0f, 0.0f, margin * 2.0f + text_width(62), margin + 3.0f * line + 2.0f * scale, panel);
-  float y = margin;
-  float x = Text(margin, y, "t " + Fixed(state.time, 2) + " s   phoneme ", dim, scale);
-  x = Text(x, y, state.phoneme.empty() ? "-" : state.phoneme, accent, scale);
-  x = Text(x, y, "   viseme ", dim, scale);
-  Text(x, y, state.viseme, accent, scale);
-  y += line;
-  Text(margin, y, "frame p50 " + Fixed(state.frame_p50_ms, 2) + " ms  p99 " + Fixed(state.frame_p99_ms, 2) + " ms",
-       dim, scale);
-  y += line;
-  x = margin;
+// Top left: clock, phoneme and viseme, frame time, emotions, on a panel wide
+// enough for the emotion line (the longest).
+void Hud::DrawStatusPanel(const HudState& state, const Layout& l) {
+  const float scale = l.scale;
+  Rect(0.0f, 0.0f, l.margin * 2.0f + l.TextWidth(62), l.margin + 3.0f * l.line + 2.0f * scale, l.panel);
+  float y = l.margin;
+  float x = Text(l.margin, y, "t " + Fixed(state.time, 2) + " s   phoneme ", l.dim, scale);
+  x = Text(x, y, state.phoneme.empty() ? "-" : state.phoneme, l.accent, scale);
+  x = Text(x, y, "   viseme ", l.dim, scale);
+  Text(x, y, state.viseme, l.accent, scale);
+  y += l.line;
+  Text(l.margin, y,
+       "frame p50 " + Fixed(state.frame_p50_ms, 2) + " ms  p99 " + Fixed(state.frame_p99_ms, 2) + " ms", l.dim,
+       scale);
+  y += l.line;
+  x = l.margin;
   for (std::size_t e = 0; e < kEmotionCount; ++e) {
-    const glm::vec4 color = state.emotions[e] > 0.01f ? accent : dim;
+    const glm::vec4 color = state.emotions[e] > 0.01f ? l.accent : l.dim;
     x = Text(x, y, std::to_string(e + 1) + " " + std::string(ToString(static_cast<Emotion>(e))) + " ", color, scale);
   }
-  Text(x, y, "(+/- " + Fixed(state.emotion_intensity, 1) + ")", dim, scale);
+  Text(x, y, "(+/- " + Fixed(state.emotion_intensity, 1) + ")", l.dim, scale);
+}
 
-  // Right: a bar per active weight, largest first, as many as fit.
-  const float bar_width = 60.0f * scale, name_width = 18.0f * kGlyphAdvance * scale;
-  const float left = w - margin - bar_width - name_width;
-  float bar_y = margin + 3.0f * line + 4.0f * scale;  // below the top-left panel's rows
-  const float bottom_reserved = (state.show_input ? 3.0f : 1.0f) * line + margin;
+// Right: a bar per active weight, largest first, as many as fit.
+void Hud::DrawWeightBars(const HudState& state, const Layout& l) {
+  const float bar_width = 60.0f * l.scale, name_width = 18.0f * kGlyphAdvance * l.scale;
+  const float left = l.w - l.margin - bar_width - name_width;
+  float bar_y = l.margin + 3.0f * l.line + 4.0f * l.scale;  // below the top-left panel's rows
+  const float bottom_reserved = (state.show_input ? 3.0f : 1.0f) * l.line + l.margin;
   for (const auto& [name, value] : state.weights) {
-    if (bar_y + line > h - bottom_reserved) break;
-    Rect(left - 2.0f, bar_y - 1.0f, name_width + bar_width + 4.0f, line, panel);
-    Text(left, bar_y, name.substr(0, 17), white, scale);
-    Rect(left + name_width, bar_y, bar_width * std::clamp(value, 0.0f, 1.0f), 7.0f * scale,
+    if (bar_y + l.line > l.h - bottom_reserved) break;
+    Rect(left - 2.0f, bar_y - 1.0f, name_width + bar_width + 4.0f, l.line, l.panel);
+    Text(left, bar_y, name.substr(0, 17), l.white, l.scale);
+    Rect(left + name_width, bar_y, bar_width * std::clamp(value, 0.0f, 1.0f), 7.0f * l.scale,
          glm::vec4(0.35f, 0.75f, 1.0f, 0.9f));
-    bar_y += line;
+    bar_y += l.line;
   }
+}
 
-  // Bottom: status and the text line.
-  float bottom = h - margin - line;
+// Bottom: status and the text line.
+void Hud::DrawInputLine(const HudState& state, const Layout& l) {
+  const float scale = l.scale;
+  float bottom = l.h - l.margin - l.line;
   if (state.show_input) {
-    Rect(0.0f, bottom - 3.0f * scale, w, line + 6.0f * scale, panel);
-    const float after_prompt = Text(margin, bottom, "> ", accent, scale);
-    Text(after_prompt, bottom, state.input, white, scale);
+    Rect(0.0f, bottom - 3.0f * scale, l.w, l.line + 6.0f * scale, l.panel);
+    const float after_prompt = Text(l.margin, bottom, "> ", l.accent, scale);
+    Text(after_prompt, bottom, state.input, l.white, scale);
     // The cursor sits after `cursor` bytes; every byte draws one glyph.
     const float cursor_x = after_prompt + static_cast<float>(state.cursor) * kGlyphAdvance * scale;
-    Rect(cursor_x - 1.0f, bottom - scale, scale, 9.0f * scale, accent);
-    bottom -= line + 4.0f * scale;
+    Rect(cursor_x - 1.0f, bottom - scale, scale, 9.0f * scale, l.accent);
+    bottom -= l.line + 4.0f * scale;
   }
   if (!state.status.empty()) {
-    Rect(0.0f, bottom - 2.0f * scale, margin * 2.0f + text_width(state.status.size()), line + 2.0f * scale, panel);
-    Text(margin, bottom, state.status, dim, scale);
+    Rect(0.0f, bottom - 2.0f * scale, l.margin * 2.0f + l.TextWidth(state.status.size()), l.line + 2.0f * scale,
+         l.panel);
+    Text(l.margin, bottom, state.status, l.dim, scale);
   }
+}
 
+void Hud::Submit(int width, int height) {
   glViewport(0, 0, width, height);
   glDisable(GL_DEPTH_TEST);
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glUseProgram(program_);
-  glUniform2f(u_viewport_, w, h);
+  glUniform2f(u_viewport_, static_cast<float>(width), static_cast<float>(height));
   glBindVertexArray(vao_);
   glBindBuffer(GL_ARRAY_BUFFER, vbo_);
   // Orphan and refill: the HUD is rebuilt every frame.

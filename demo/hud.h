@@ -47,6 +47,11 @@ class Hud {
   void Draw(const HudState& state, int width, int height);
 
  private:
+  struct Layout;
+  void DrawStatusPanel(const HudState& state, const Layout& layout);
+  void DrawWeightBars(const HudState& state, const Layout& layout);
+  void DrawInputLine(const HudState& state, const Layout& layout);
+  void Submit(int width, int height);
   void Rect(float x, float y, float w, float h, const glm::vec4& color);
   // Returns the x after the text.
   float Text(float x, float y, std::string_view text, const glm::vec4& color, float scale);

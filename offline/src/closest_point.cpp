@@ -71,6 +71,13 @@ glm::vec3 ClosestPointOnTriangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec
 }
 
 ClosestPointQuery::ClosestPointQuery(const Mesh& mesh) : positions_(mesh.positions), triangles_(mesh.triangles) {
+  CheckMesh();
+  ComputeNormals();
+  FindBoundaryEdges();
+  BuildTree();
+}
+
+void ClosestPointQuery::CheckMesh() const {
   if (positions_.empty() || triangles_.empty()) {
     throw InvalidInputError("closest point: the mesh has no vertices or no triangles");
   }
@@ -80,17 +87,21 @@ ClosestPointQuery::ClosestPointQuery(const Mesh& mesh) : positions_(mesh.positio
       throw InvalidInputError("closest point: vertex " + std::to_string(v) + " has a non-finite coordinate");
     }
   }
-  const std::size_t n = positions_.size();
-  vertex_normals_.assign(n, glm::vec3(0.0f));
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    for (std::uint32_t v : triangles_[t]) {
+      if (v >= positions_.size()) {
+        throw InvalidInputError("closest point: triangle " + std::to_string(t) + " uses vertex " +
+                                std::to_string(v) + " of " + std::to_string(positions_.size()));
+      }
+    }
+  }
+}
+
+void ClosestPointQuery::ComputeNormals() {
+  vertex_normals_.assign(positions_.size(), glm::vec3(0.0f));
   face_normals_.resize(triangles_.size());
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const Triangle& tri = triangles_[t];
-    for (std::uint32_t v : tri) {
-      if (v >= n) {
-        throw InvalidInputError("closest point: triangle " + std::to_string(t) + " uses vertex " +
-                                std::to_string(v) + " of " + std::to_string(n));
-      }
-    }
     const glm::vec3 area_normal = glm::cross(positions_[tri[1]] - positions_[tri[0]],
                                              positions_[tri[2]] - positions_[tri[0]]);
     const float length = glm::length(area_normal);
@@ -101,10 +112,12 @@ ClosestPointQuery::ClosestPointQuery(const Mesh& mesh) : positions_(mesh.positio
     const float length = glm::length(normal);
     normal = length > 0.0f ? normal / length : glm::vec3(0.0f);
   }
+}
 
-  // Boundary edges: used by exactly one triangle (undirected). Edge uses
-  // sorted by key, then one linear pass over runs of equal keys: several
-  // times faster than a hash map or a binary search per edge on large meshes.
+// Boundary edges: used by exactly one triangle (undirected). Edge uses sorted
+// by key, then one linear pass over runs of equal keys: several times faster
+// than a hash map or a binary search per edge on large meshes.
+void ClosestPointQuery::FindBoundaryEdges() {
   struct EdgeUse {
     std::uint64_t key;
     std::uint32_t slot;  // 3 * triangle + edge
@@ -121,7 +134,7 @@ ClosestPointQuery::ClosestPointQuery(const Mesh& mesh) : positions_(mesh.positio
   }
   std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) { return x.key < y.key; });
   boundary_edges_.assign(triangles_.size(), 0);
-  boundary_vertex_.assign(n, 0);
+  boundary_vertex_.assign(positions_.size(), 0);
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i + 1;
     while (j < uses.size() && uses[j].key == uses[i].key) ++j;
@@ -133,8 +146,9 @@ ClosestPointQuery::ClosestPointQuery(const Mesh& mesh) : positions_(mesh.positio
     }
     i = j;
   }
-  uses = {};
+}
 
+void ClosestPointQuery::BuildTree() {
   std::vector<glm::vec3> centroids(triangles_.size());
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     const Triangle& tri = triangles_[t];

@@ -83,10 +83,20 @@ bool RasterBuffers::SurfacePoint(int x, int y, const Mesh& mesh, glm::vec3& poin
   return true;
 }
 
-RasterBuffers Rasterize(const Mesh& mesh, const RasterView& view) {
-  CheckView(view);
-  const std::span<const glm::vec3> positions = mesh.positions;
-  const std::span<const Triangle> triangles = mesh.triangles;
+namespace {
+
+void CheckTriangles(const Mesh& mesh) {
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (std::uint32_t v : mesh.triangles[t]) {
+      if (v >= mesh.positions.size()) {
+        throw InvalidInputError("Rasterize: triangle " + std::to_string(t) + " uses vertex " + std::to_string(v) +
+                                " >= " + std::to_string(mesh.positions.size()));
+      }
+    }
+  }
+}
+
+RasterBuffers EmptyBuffers(const RasterView& view) {
   RasterBuffers buffers;
   buffers.width = view.width;
   buffers.height = view.height;
@@ -95,63 +105,68 @@ RasterBuffers Rasterize(const Mesh& mesh, const RasterView& view) {
   buffers.barycentrics.assign(pixel_count, glm::vec3(0.0f));
   buffers.depths.assign(pixel_count, -std::numeric_limits<float>::infinity());
   buffers.back_facing.assign(pixel_count, 0);
+  return buffers;
+}
 
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    for (std::uint32_t v : triangles[t]) {
-      if (v >= positions.size()) {
-        throw InvalidInputError("Rasterize: triangle " + std::to_string(t) + " uses vertex " +
-                                    std::to_string(v) + " >= " + std::to_string(positions.size()));
+// Draws triangle `t` (corners a, b, c in image coordinates, depth in z) into
+// the buffers where it is nearer than what they hold.
+void RasterizeTriangle(RasterBuffers& buffers, std::size_t t, const glm::vec3& a, const glm::vec3& b,
+                       const glm::vec3& c) {
+  const auto width = static_cast<float>(buffers.width), height = static_cast<float>(buffers.height);
+  // Off-screen (most triangles of a close-up): skip before any other work.
+  const float min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
+  const float min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
+  if (!(max_x >= 0.0f && max_y >= 0.0f && min_x < width && min_y < height)) return;
+  // Signed area in image coordinates (y down): negative = counter-clockwise
+  // on screen when seen from the camera = front facing.
+  const double area = (static_cast<double>(b.x) - a.x) * (static_cast<double>(c.y) - a.y) -
+                      (static_cast<double>(c.x) - a.x) * (static_cast<double>(b.y) - a.y);
+  if (!(std::abs(area) >= 1e-12)) return;  // degenerate on screen, or non-finite
+  const double inverse_area = 1.0 / area;
+  const std::uint8_t back = area > 0.0 ? 1 : 0;
+  // Only pixels whose centres lie in the bounding box can be covered: a
+  // pixel-sized triangle tests one to four pixels, not nine.
+  const int x0 = std::max(0, static_cast<int>(std::ceil(min_x - 0.5f)));
+  const int x1 = std::min(buffers.width - 1, static_cast<int>(std::floor(max_x - 0.5f)));
+  const int y0 = std::max(0, static_cast<int>(std::ceil(min_y - 0.5f)));
+  const int y1 = std::min(buffers.height - 1, static_cast<int>(std::floor(max_y - 0.5f)));
+  for (int y = y0; y <= y1; ++y) {
+    const double py = y + 0.5;
+    for (int x = x0; x <= x1; ++x) {
+      const double px = x + 0.5;
+      // Barycentrics from edge functions, in double so the coverage test is
+      // exact enough that shared edges leave no cracks.
+      const double w0 = ((static_cast<double>(b.x) - px) * (static_cast<double>(c.y) - py) -
+                         (static_cast<double>(c.x) - px) * (static_cast<double>(b.y) - py)) * inverse_area;
+      if (w0 < 0.0) continue;
+      const double w1 = ((static_cast<double>(c.x) - px) * (static_cast<double>(a.y) - py) -
+                         (static_cast<double>(a.x) - px) * (static_cast<double>(c.y) - py)) * inverse_area;
+      const double w2 = 1.0 - w0 - w1;
+      if (w1 < 0.0 || w2 < 0.0) continue;
+      const float depth = static_cast<float>(w0 * a.z + w1 * b.z + w2 * c.z);
+      const std::size_t i = buffers.index(x, y);
+      if (depth > buffers.depths[i]) {
+        buffers.depths[i] = depth;
+        buffers.triangle_ids[i] = static_cast<std::int32_t>(t);
+        buffers.barycentrics[i] =
+            glm::vec3(static_cast<float>(w0), static_cast<float>(w1), static_cast<float>(w2));
+        buffers.back_facing[i] = back;
       }
     }
   }
-  std::vector<glm::vec3> projected(positions.size());
-  for (std::size_t v = 0; v < positions.size(); ++v) projected[v] = ProjectToImage(view, positions[v]);
+}
 
-  const auto width = static_cast<float>(view.width), height = static_cast<float>(view.height);
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const Triangle& tri = triangles[t];
-    const glm::vec3 a = projected[tri[0]], b = projected[tri[1]], c = projected[tri[2]];
-    // Off-screen (most triangles of a close-up): skip before any other work.
-    const float min_x = std::min({a.x, b.x, c.x}), max_x = std::max({a.x, b.x, c.x});
-    const float min_y = std::min({a.y, b.y, c.y}), max_y = std::max({a.y, b.y, c.y});
-    if (!(max_x >= 0.0f && max_y >= 0.0f && min_x < width && min_y < height)) continue;
-    // Signed area in image coordinates (y down): negative = counter-clockwise
-    // on screen when seen from the camera = front facing.
-    const double area = (static_cast<double>(b.x) - a.x) * (static_cast<double>(c.y) - a.y) -
-                        (static_cast<double>(c.x) - a.x) * (static_cast<double>(b.y) - a.y);
-    if (!(std::abs(area) >= 1e-12)) continue;  // degenerate on screen, or non-finite
-    const double inverse_area = 1.0 / area;
-    const std::uint8_t back = area > 0.0 ? 1 : 0;
-    // Only pixels whose centres lie in the bounding box can be covered: a
-    // pixel-sized triangle tests one to four pixels, not nine.
-    const int x0 = std::max(0, static_cast<int>(std::ceil(min_x - 0.5f)));
-    const int x1 = std::min(view.width - 1, static_cast<int>(std::floor(max_x - 0.5f)));
-    const int y0 = std::max(0, static_cast<int>(std::ceil(min_y - 0.5f)));
-    const int y1 = std::min(view.height - 1, static_cast<int>(std::floor(max_y - 0.5f)));
-    for (int y = y0; y <= y1; ++y) {
-      const double py = y + 0.5;
-      for (int x = x0; x <= x1; ++x) {
-        const double px = x + 0.5;
-        // Barycentrics from edge functions, in double so the coverage test is
-        // exact enough that shared edges leave no cracks.
-        const double w0 = ((static_cast<double>(b.x) - px) * (static_cast<double>(c.y) - py) -
-                           (static_cast<double>(c.x) - px) * (static_cast<double>(b.y) - py)) * inverse_area;
-        if (w0 < 0.0) continue;
-        const double w1 = ((static_cast<double>(c.x) - px) * (static_cast<double>(a.y) - py) -
-                           (static_cast<double>(a.x) - px) * (static_cast<double>(c.y) - py)) * inverse_area;
-        const double w2 = 1.0 - w0 - w1;
-        if (w1 < 0.0 || w2 < 0.0) continue;
-        const float depth = static_cast<float>(w0 * a.z + w1 * b.z + w2 * c.z);
-        const std::size_t i = buffers.index(x, y);
-        if (depth > buffers.depths[i]) {
-          buffers.depths[i] = depth;
-          buffers.triangle_ids[i] = static_cast<std::int32_t>(t);
-          buffers.barycentrics[i] = glm::vec3(static_cast<float>(w0), static_cast<float>(w1),
-                                              static_cast<float>(w2));
-          buffers.back_facing[i] = back;
-        }
-      }
-    }
+}  // namespace
+
+RasterBuffers Rasterize(const Mesh& mesh, const RasterView& view) {
+  CheckView(view);
+  CheckTriangles(mesh);
+  RasterBuffers buffers = EmptyBuffers(view);
+  std::vector<glm::vec3> projected(mesh.positions.size());
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) projected[v] = ProjectToImage(view, mesh.positions[v]);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    RasterizeTriangle(buffers, t, projected[tri[0]], projected[tri[1]], projected[tri[2]]);
   }
   return buffers;
 }

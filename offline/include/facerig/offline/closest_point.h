@@ -56,6 +56,10 @@ class ClosestPointQuery {
     std::uint32_t first = 0;  // leaf: first index into order_; inner: left child
     std::uint32_t count = 0;  // leaf: triangle count; inner: 0 (right child = left + 1)
   };
+  void CheckMesh() const;  // throws InvalidInputError
+  void ComputeNormals();
+  void FindBoundaryEdges();
+  void BuildTree();
   void Build(std::uint32_t count, const std::vector<glm::vec3>& centroids);
   ClosestPointHit FindFiltered(glm::vec3 query, float max_distance, const glm::vec3* normal,
                                float min_normal_dot) const;
