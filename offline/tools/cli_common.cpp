@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "facerig/runtime/error.h"
@@ -9,6 +10,14 @@
 #include "facerig/offline/io/template_folder.h"
 
 namespace facerig::cli {
+
+CLI::Option* AddReportOption(CLI::App& app, std::string& path) {
+  return app.add_option("--json", path, "write a JSON report");
+}
+
+CLI::Option* AddShapePredictorOption(CLI::App& app, LandmarkParams& params) {
+  return app.add_option("--shape-predictor", params.shape_predictor, "dlib 68-point shape predictor file");
+}
 
 RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units) {
   TemplateImportOptions options;
@@ -22,6 +31,30 @@ void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json
   WriteFileAtomically(path, json.dump(2) + "\n");
 }
 
+void WriteOutputSet(const std::function<void(OutputSet& set)>& write) {
+  const StopSignalScope stop_signals;  // SIGINT / SIGTERM: the temporaries go, the previous set stays
+  OutputSet set;                        // removes the temporaries unless committed
+  try {
+    write(set);
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
+  }
+  set.Commit();
+}
+
+std::filesystem::path AddOptionalFile(OutputSet& set, const std::string& path) {
+  return path.empty() ? std::filesystem::path() : set.Add(path, OutputSet::Kind::kFile);
+}
+
+void WriteReport(OutputSet& set, const std::string& path, const nlohmann::json& report) {
+  if (path.empty()) return;
+  const std::filesystem::path temporary = set.Add(path, OutputSet::Kind::kFile);
+  WriteJsonAtomically(temporary, report);
+  CheckAfterWrite("report", temporary);
+}
+
 void ProgressBar(const char* label, std::size_t done, std::size_t total) {
   constexpr int kWidth = 30;
   const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
@@ -32,6 +65,10 @@ void ProgressBar(const char* label, std::size_t done, std::size_t total) {
 }
 
 int Fail(const std::exception& error) {
+  if (const auto* stopped = dynamic_cast<const Interrupted*>(&error)) {
+    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped->what());
+    return 128 + stopped->signal();
+  }
   std::fprintf(stderr, "facerig: %s\n", error.what());
   return 1;
 }
@@ -48,6 +85,12 @@ void CheckWritable(const std::filesystem::path& path) {
   }
   std::error_code ignored;
   std::filesystem::remove(probe, ignored);
+}
+
+void CheckWritable(std::initializer_list<std::string> paths) {
+  for (const std::string& path : paths) {
+    if (!path.empty()) CheckWritable(path);
+  }
 }
 
 }  // namespace facerig::cli
