@@ -11,8 +11,9 @@
 
 namespace facerig::cli {
 
-CLI::Option* AddReportOption(CLI::App& app, std::string& path) {
-  return app.add_option("--json", path, "write a JSON report");
+void AddOutputOptions(CLI::App& app, std::string& output, std::string& report_path, const std::string& output_help) {
+  app.add_option("-o", output, output_help)->required();
+  app.add_option("--json", report_path, "write a JSON report");
 }
 
 CLI::Option* AddShapePredictorOption(CLI::App& app, LandmarkParams& params) {

@@ -40,8 +40,8 @@ Subcommand<Options> AddSubcommand(CLI::App& facerig, CommandBody& body, const ch
   return {app, options};
 }
 
-// --json REPORT into `path`.
-CLI::Option* AddReportOption(CLI::App& app, std::string& path);
+// -o OUTPUT (required) and --json REPORT: the file a command makes and its report.
+void AddOutputOptions(CLI::App& app, std::string& output, std::string& report_path, const std::string& output_help);
 
 // --shape-predictor FILE into `params` (the dlib 68-point model).
 CLI::Option* AddShapePredictorOption(CLI::App& app, LandmarkParams& params);

@@ -14,6 +14,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_common.h"
@@ -76,6 +77,14 @@ void CheckSameTopology(const Rig& a, const std::string& a_path, const Rig& b, co
     throw std::runtime_error(b_path + " is in " + ToString(b.units()) + ", " + a_path + " in " +
                              ToString(a.units()));
   }
+}
+
+// Two rigs that must share one topology and units (CheckSameTopology).
+std::pair<Rig, Rig> LoadRigsOfOneTopology(const std::string& a_path, const std::string& b_path) {
+  Rig a = LoadRigOrTemplateFolder(a_path);
+  Rig b = LoadRigOrTemplateFolder(b_path);
+  CheckSameTopology(a, a_path, b, b_path);
+  return {std::move(a), std::move(b)};
 }
 
 Rig BuildOrThrow(RawRig raw, const std::string& what) {
@@ -160,9 +169,7 @@ int RunCaricature(const CaricatureOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     CheckWritable({output, report_path});
-    const Rig rig = LoadRigOrTemplateFolder(rig_path);
-    const Rig average_rig = LoadRigOrTemplateFolder(average_path);
-    CheckSameTopology(rig, rig_path, average_rig, average_path);
+    const auto [rig, average_rig] = LoadRigsOfOneTopology(rig_path, average_path);
     std::vector<glm::vec3> average(average_rig.positions().begin(), average_rig.positions().end());
     double alignment_rms = 0.0;
     if (align) {
@@ -209,9 +216,7 @@ int RunMorph(const MorphOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     CheckWritable({output, report_path});
-    const Rig template_rig = LoadRigOrTemplateFolder(template_path);
-    const Rig target_rig = LoadRigOrTemplateFolder(target_path);
-    CheckSameTopology(template_rig, template_path, target_rig, target_path);
+    const auto [template_rig, target_rig] = LoadRigsOfOneTopology(template_path, target_path);
     if (target_rig.FindShape(kIdentityMorphShape)) {
       throw std::runtime_error(target_path + " already has a shape called " + kIdentityMorphShape);
     }
@@ -243,9 +248,8 @@ void AddAverageCommand(CLI::App& facerig, CommandBody& body) {
       "(unless --no-align). The output has the first face's topology, UVs and parts and no shapes.",
       RunAverage);
   average->add_option("faces", options->face_paths, "two or more faces")->required()->expected(2, CLI::detail::expected_max_vector_size);
-  average->add_option("-o", options->output, "output (.obj, .glb, .gltf or .frig)")->required();
   average->add_flag("!--no-align", options->align, "do not align the faces rigidly first");
-  AddReportOption(*average, options->report_path);
+  AddOutputOptions(*average, options->output, options->report_path, "output (.obj, .glb, .gltf or .frig)");
 }
 
 void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
@@ -258,10 +262,9 @@ void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
   caricature->add_option("--rig", options->rig_path, "the rig")->required();
   caricature->add_option("--average", options->average_path, "the average face (.obj or a rig)")->required();
   caricature->add_option("--factor", options->factor, "F in [-1, 3]")->required();
-  caricature->add_option("-o", options->output, "output rig (.glb, .gltf or .frig)")->required();
   caricature->add_flag("--keep-deltas", options->keep_deltas, "keep the expressions' deltas");
   caricature->add_flag("!--no-align", options->align, "do not align the average rigidly first");
-  AddReportOption(*caricature, options->report_path);
+  AddOutputOptions(*caricature, options->output, options->report_path, "output rig (.glb, .gltf or .frig)");
 }
 
 void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
@@ -272,8 +275,7 @@ void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
       RunMorph);
   morph->add_option("--template", options->template_path, "the template rig")->required();
   morph->add_option("--target", options->target_path, "the target rig, on the template's topology")->required();
-  morph->add_option("-o", options->output, "output rig (.glb, .gltf or .frig)")->required();
-  AddReportOption(*morph, options->report_path);
+  AddOutputOptions(*morph, options->output, options->report_path, "output rig (.glb, .gltf or .frig)");
 }
 
 }  // namespace facerig::cli

@@ -196,9 +196,8 @@ void AddLandmarksCommand(CLI::App& facerig, CommandBody& body) {
       "writes them as 3D points in the mesh's coordinates.",
       RunLandmarks);
   landmarks->add_option("mesh", options->mesh_path, "the mesh (OBJ or a rig)")->required();
-  landmarks->add_option("-o", options->output, "landmarks JSON to write")->required();
   landmarks->add_option("--debug-png", options->debug_png, "draw the detection into this PNG");
-  AddReportOption(*landmarks, options->report_path);
+  AddOutputOptions(*landmarks, options->output, options->report_path, "landmarks JSON to write");
   AddShapePredictorOption(*landmarks, options->params);
 }
 
@@ -211,9 +210,8 @@ void AddRegisterCommand(CLI::App& facerig, CommandBody& body) {
   reg->add_option("--template-info", options->template_info_path, "the template's descriptor JSON (default: beside the rig, shipped, or derived)")
       ->check(CLI::ExistingFile);
   reg->add_option("--target", options->target_path, "the mesh to fit (OBJ or a rig)")->required();
-  reg->add_option("-o", options->output, "fitted OBJ to write")->required();
   reg->add_option("--landmarks", options->landmarks_path, "the target's landmarks (default: detected)");
-  AddReportOption(*reg, options->report_path);
+  AddOutputOptions(*reg, options->output, options->report_path, "fitted OBJ to write");
   AddShapePredictorOption(*reg, options->landmark_params);
 }
 
