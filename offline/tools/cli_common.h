@@ -66,6 +66,13 @@ void WriteOutputSet(const std::function<void(OutputSet& set)>& write);
 // `path` is empty (an output not asked for).
 std::filesystem::path AddOptionalFile(OutputSet& set, const std::string& path);
 
+// Writes an output that may bring files beside it (an OBJ's MTL and images):
+// `write(path)` writes it at `path`, of `final_path`'s name, in a scratch
+// folder beside `final_path`; each file it made there becomes an output of
+// `set` under its name beside `final_path`. Returns `final_path`'s temporary.
+std::filesystem::path WriteWithFilesBeside(OutputSet& set, const std::filesystem::path& final_path,
+                                           const std::function<void(const std::filesystem::path& path)>& write);
+
 // The report as the set's last output (the injection step "report"); nothing
 // when `path` is empty.
 void WriteReport(OutputSet& set, const std::string& path, const nlohmann::json& report);

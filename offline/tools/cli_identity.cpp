@@ -94,12 +94,13 @@ Rig BuildOrThrow(RawRig raw, const std::string& what) {
   return std::move(*rig);
 }
 
-// The rig (or OBJ, by `output`'s extension) and the report, as one set.
+// The rig (or OBJ with its MTL and images, by `output`'s extension) and the
+// report, as one set.
 void WriteRigSet(const std::string& output, const Rig& rig, const std::string& report_path,
                  const nlohmann::json& report) {
   WriteOutputSet([&](OutputSet& set) {
-    const std::filesystem::path temporary = set.Add(output, OutputSet::Kind::kFile);
-    SaveRig(temporary, rig);
+    const std::filesystem::path temporary =
+        WriteWithFilesBeside(set, output, [&rig](const std::filesystem::path& path) { SaveRig(path, rig); });
     CheckAfterWrite("rig", temporary);
     WriteReport(set, report_path, report);
   });

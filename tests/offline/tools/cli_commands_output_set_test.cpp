@@ -3,6 +3,7 @@
 // the report, or an earlier one), a failed rename or SIGTERM between writes
 // leaves the previous outputs byte for byte and no temporaries; a run
 // replaces every output.
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/landmarks.h"
+#include "facerig/runtime/io/mtl.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
@@ -195,6 +197,28 @@ TEST_CASE("facerig average / caricature / morph: a run replaces the output and i
     const std::size_t input_shapes = LoadRig(MakeInputs().grid_b).shape_count();
     CHECK(written.shape_count() == (command.name == "average" ? 0 : input_shapes + (command.name == "morph")));
   }
+}
+
+TEST_CASE("facerig average -o X.obj of textured heads: the OBJ, its MTL and images are outputs of the set",
+          "[cli][output-set]") {
+  const fs::path out = test::FreshOutputFolder("average_textured_set");
+  const std::string head = FACERIG_DEFAULT_HEAD;
+  const CommandCase command{"average",
+                            {"average", head, head, "-o", (out / "average.obj").string(), "--json",
+                             (out / "report.json").string()},
+                            {"average.obj", "report.json"}};
+  CheckFailedWrite(command, "fail-report", "report.json");  // no MTL or image left beside the old OBJ
+
+  REQUIRE(RunWithFailure(command, "").exit_code == 0);
+  CHECK(test::Temporaries(out).empty());
+  const Rig written = LoadRig(out / "average.obj");  // through its mtllib line: the MTL's final name
+  const Rig original = LoadRig(head);
+  CHECK(written.materials().size() == original.materials().size());
+  CHECK(written.images().size() == original.images().size());
+  std::vector<std::string> expected{"average.mtl", "average.obj", "report.json"};
+  for (const std::string& name : ImageFileNames(original.images())) expected.push_back(name);
+  std::sort(expected.begin(), expected.end());
+  CHECK(test::Names(out) == expected);
 }
 
 TEST_CASE("facerig landmarks on the built-in head: a failed write keeps the previous JSON, PNG and report",
