@@ -1,8 +1,12 @@
 // `facerig landmarks`, `register`, `average`, `caricature` and `morph` write
 // their outputs as one set (output_set.h): a write that fails (the last one,
 // the report, or an earlier one), a failed rename or SIGTERM between writes
-// leaves the previous outputs byte for byte and no temporaries; a run
-// replaces every output.
+// leaves the previous outputs byte for byte and no temporaries; a kill leaves
+// them too, and the next run removes its temporaries; a run replaces every
+// output, with the files an OBJ brings beside it.
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <csignal>
 #include <cstdlib>
@@ -56,19 +60,26 @@ const Inputs& MakeInputs() {
   return inputs;
 }
 
-// Landmarks of the built-in head on itself: its template's landmark vertices
-// (detected once, as the descriptor derives them).
-fs::path HeadLandmarks() {
-  const fs::path path = test::FreshOutputFolder("commands_set_head") / "head_landmarks.json";
+// The built-in head's descriptor with its landmark vertices (detected once,
+// as the descriptor derives them), and those vertices as landmarks of the
+// head itself: register then detects nothing.
+struct HeadFiles {
+  fs::path descriptor, landmarks;
+};
+
+HeadFiles WriteHeadFiles() {
+  const fs::path folder = test::FreshOutputFolder("commands_set_head");
+  const HeadFiles files{folder / "head.template.json", folder / "head_landmarks.json"};
   const Rig head = LoadRig(FACERIG_DEFAULT_HEAD);
   FaceTemplateInfo info = DefaultHeadTemplateInfo(head);
   LandmarkDetector detector{LandmarkParams{}};
   (void)TemplateLandmarkVertices(head, info, detector);
+  test::WriteText(files.descriptor, FaceTemplateInfoToJson(info));
   const std::optional<FaceLandmarks> landmarks =
       LandmarksOnTemplateTopology(head, info, head.positions(), head.triangles());
   REQUIRE(landmarks.has_value());
-  WriteLandmarksJson(path, *landmarks);
-  return path;
+  WriteLandmarksJson(files.landmarks, *landmarks);
+  return files;
 }
 
 CommandCase Landmarks(const fs::path& out) {
@@ -79,10 +90,11 @@ CommandCase Landmarks(const fs::path& out) {
 }
 
 CommandCase Register(const fs::path& out) {
+  const HeadFiles head = WriteHeadFiles();
   return {"register",
-          {"register", "--template", FACERIG_DEFAULT_HEAD, "--target", FACERIG_DEFAULT_HEAD, "--landmarks",
-           HeadLandmarks().string(), "-o", (out / "fitted.obj").string(), "--json",
-           (out / "report.json").string()},
+          {"register", "--template", FACERIG_DEFAULT_HEAD, "--template-info", head.descriptor.string(), "--target",
+           FACERIG_DEFAULT_HEAD, "--landmarks", head.landmarks.string(), "-o", (out / "fitted.obj").string(),
+           "--json", (out / "report.json").string()},
           {"fitted.obj", "report.json"}};
 }
 
@@ -164,6 +176,31 @@ void CheckReplaced(const CommandCase& command) {
   if (command.name != "landmarks") CHECK(report["output"] == (out / command.outputs[0]).string());
 }
 
+// `average` of the textured built-in head with itself, as an OBJ.
+CommandCase TexturedAverage(const fs::path& out) {
+  const std::string head = FACERIG_DEFAULT_HEAD;
+  return {"average",
+          {"average", head, head, "-o", (out / "average.obj").string(), "--json", (out / "report.json").string()},
+          {"average.obj", "report.json"}};
+}
+
+// A normal run writes the OBJ, its MTL under the OBJ's final name (it loads
+// through the mtllib line) and the images, and leaves no temporaries.
+void CheckTexturedAverage(const CommandCase& command) {
+  const test::CommandOutcome outcome = RunWithFailure(command, "");
+  INFO(outcome.error_output);
+  REQUIRE(outcome.exit_code == 0);
+  const fs::path out = OutputFolder(command);
+  const Rig written = LoadRig(out / "average.obj");
+  const Rig original = LoadRig(FACERIG_DEFAULT_HEAD);
+  CHECK(written.materials().size() == original.materials().size());
+  CHECK(written.images().size() == original.images().size());
+  std::vector<std::string> expected{"average.mtl", "average.obj", "report.json"};
+  for (const std::string& name : ImageFileNames(original.images())) expected.push_back(name);
+  std::sort(expected.begin(), expected.end());
+  CHECK(test::Names(out) == expected);
+}
+
 }  // namespace
 
 TEST_CASE("facerig average / caricature / morph: a failed write or rename, or SIGTERM, keeps the previous outputs",
@@ -201,24 +238,29 @@ TEST_CASE("facerig average / caricature / morph: a run replaces the output and i
 
 TEST_CASE("facerig average -o X.obj of textured heads: the OBJ, its MTL and images are outputs of the set",
           "[cli][output-set]") {
-  const fs::path out = test::FreshOutputFolder("average_textured_set");
-  const std::string head = FACERIG_DEFAULT_HEAD;
-  const CommandCase command{"average",
-                            {"average", head, head, "-o", (out / "average.obj").string(), "--json",
-                             (out / "report.json").string()},
-                            {"average.obj", "report.json"}};
+  const CommandCase command = TexturedAverage(test::FreshOutputFolder("average_textured_set"));
   CheckFailedWrite(command, "fail-report", "report.json");  // no MTL or image left beside the old OBJ
+  CheckTexturedAverage(command);
+}
 
-  REQUIRE(RunWithFailure(command, "").exit_code == 0);
-  CHECK(test::Temporaries(out).empty());
-  const Rig written = LoadRig(out / "average.obj");  // through its mtllib line: the MTL's final name
-  const Rig original = LoadRig(head);
-  CHECK(written.materials().size() == original.materials().size());
-  CHECK(written.images().size() == original.images().size());
-  std::vector<std::string> expected{"average.mtl", "average.obj", "report.json"};
-  for (const std::string& name : ImageFileNames(original.images())) expected.push_back(name);
-  std::sort(expected.begin(), expected.end());
-  CHECK(test::Names(out) == expected);
+TEST_CASE("facerig average killed between its writes: the previous outputs stay, the next run removes the "
+          "temporaries",
+          "[cli][output-set]") {
+  const CommandCase command = TexturedAverage(test::FreshOutputFolder("average_killed_set"));
+  WritePreviousOutputs(command);
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    RunWithFailure(command, "kill-after-rig");
+    _exit(0);  // not reached: the run kills itself
+  }
+  int status = 0;
+  REQUIRE(waitpid(child, &status, 0) == child);
+  CHECK((WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL));
+  const fs::path out = OutputFolder(command);
+  CHECK(!test::Temporaries(out).empty());  // no chance to clean up
+  for (const std::string& name : command.outputs) CHECK(test::ReadText(out / name) == "old " + name);
+  CheckTexturedAverage(command);
 }
 
 TEST_CASE("facerig landmarks on the built-in head: a failed write keeps the previous JSON, PNG and report",
