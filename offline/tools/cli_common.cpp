@@ -1,14 +1,29 @@
 #include "cli_common.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/atomic_file.h"
 #include "facerig/offline/io/template_folder.h"
 
 namespace facerig::cli {
+
+void AddOutputOptions(CLI::App& app, std::string& output, std::string& report_path, const std::string& output_help) {
+  app.add_option("-o", output, output_help)->required();
+  app.add_option("--json", report_path, "write a JSON report");
+}
+
+CLI::Option* AddShapePredictorOption(CLI::App& app, LandmarkParams& params) {
+  return app.add_option("--shape-predictor", params.shape_predictor, "dlib 68-point shape predictor file");
+}
 
 RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units) {
   TemplateImportOptions options;
@@ -22,6 +37,90 @@ void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json
   WriteFileAtomically(path, json.dump(2) + "\n");
 }
 
+void WriteOutputSet(const std::function<void(OutputSet& set)>& write) {
+  const StopSignalScope stop_signals;  // SIGINT / SIGTERM: the temporaries go, the previous set stays
+  OutputSet set;                        // removes the temporaries unless committed
+  try {
+    write(set);
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
+  }
+  set.Commit();
+}
+
+std::filesystem::path AddOptionalFile(OutputSet& set, const std::string& path) {
+  return path.empty() ? std::filesystem::path() : set.Add(path, OutputSet::Kind::kFile);
+}
+
+namespace {
+
+// A folder removed with what it holds when the scope ends.
+class ScratchFolder {
+ public:
+  explicit ScratchFolder(std::filesystem::path path) : path_(std::move(path)) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+std::string ReplaceAll(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
+}  // namespace
+
+std::filesystem::path WriteWithFilesBeside(OutputSet& set, const std::filesystem::path& final_path,
+                                           const std::function<void(const std::filesystem::path& path)>& write) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::absolute(final_path).parent_path();
+  // Named as a temporary, so that the next run removes it if this one is killed.
+  const ScratchFolder scratch(folder / (std::string(kTemporaryPrefix) + std::to_string(::getpid()) + "-files-" +
+                                        final_path.filename().string()));
+  try {
+    write(scratch.path() / final_path.filename());
+  } catch (const std::exception& error) {
+    // Name the files where the user asked for them, not in the scratch folder.
+    throw std::runtime_error(ReplaceAll(error.what(), scratch.path().string() + "/",
+                                        final_path.has_parent_path() ? final_path.parent_path().string() + "/" : ""));
+  }
+  std::vector<fs::path> made;
+  for (const fs::directory_entry& entry : fs::directory_iterator(scratch.path())) made.push_back(entry.path());
+  std::sort(made.begin(), made.end());
+  fs::path main_temporary;
+  for (const fs::path& file : made) {
+    const fs::path beside = file.filename() == final_path.filename() ? final_path : folder / file.filename();
+    const fs::path temporary = set.Add(beside, OutputSet::Kind::kFile);
+    fs::rename(file, temporary);
+    if (beside == final_path) main_temporary = temporary;
+  }
+  if (main_temporary.empty()) {
+    throw std::runtime_error("cannot write " + final_path.string() + ": the writer made no such file");
+  }
+  return main_temporary;
+}
+
+void WriteReport(OutputSet& set, const std::string& path, const nlohmann::json& report) {
+  if (path.empty()) return;
+  const std::filesystem::path temporary = set.Add(path, OutputSet::Kind::kFile);
+  WriteJsonAtomically(temporary, report);
+  CheckAfterWrite("report", temporary);
+}
+
 void ProgressBar(const char* label, std::size_t done, std::size_t total) {
   constexpr int kWidth = 30;
   const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
@@ -32,6 +131,10 @@ void ProgressBar(const char* label, std::size_t done, std::size_t total) {
 }
 
 int Fail(const std::exception& error) {
+  if (const auto* stopped = dynamic_cast<const Interrupted*>(&error)) {
+    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped->what());
+    return 128 + stopped->signal();
+  }
   std::fprintf(stderr, "facerig: %s\n", error.what());
   return 1;
 }
@@ -48,6 +151,12 @@ void CheckWritable(const std::filesystem::path& path) {
   }
   std::error_code ignored;
   std::filesystem::remove(probe, ignored);
+}
+
+void CheckWritable(std::initializer_list<std::string> paths) {
+  for (const std::string& path : paths) {
+    if (!path.empty()) CheckWritable(path);
+  }
 }
 
 }  // namespace facerig::cli

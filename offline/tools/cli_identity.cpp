@@ -14,6 +14,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_common.h"
@@ -78,6 +79,14 @@ void CheckSameTopology(const Rig& a, const std::string& a_path, const Rig& b, co
   }
 }
 
+// Two rigs that must share one topology and units (CheckSameTopology).
+std::pair<Rig, Rig> LoadRigsOfOneTopology(const std::string& a_path, const std::string& b_path) {
+  Rig a = LoadRigOrTemplateFolder(a_path);
+  Rig b = LoadRigOrTemplateFolder(b_path);
+  CheckSameTopology(a, a_path, b, b_path);
+  return {std::move(a), std::move(b)};
+}
+
 Rig BuildOrThrow(RawRig raw, const std::string& what) {
   std::string problem;
   std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
@@ -85,14 +94,16 @@ Rig BuildOrThrow(RawRig raw, const std::string& what) {
   return std::move(*rig);
 }
 
-void WriteReport(const std::string& path, const nlohmann::json& report) {
-  if (!path.empty()) WriteJsonAtomically(path, report);
-}
-
-// Fails before any work when an output cannot be created (IoError naming it).
-void CheckOutputsWritable(const std::string& output, const std::string& report_path) {
-  CheckWritable(output);
-  if (!report_path.empty()) CheckWritable(report_path);
+// The rig (or OBJ with its MTL and images, by `output`'s extension) and the
+// report, as one set.
+void WriteRigSet(const std::string& output, const Rig& rig, const std::string& report_path,
+                 const nlohmann::json& report) {
+  WriteOutputSet([&](OutputSet& set) {
+    const std::filesystem::path temporary =
+        WriteWithFilesBeside(set, output, [&rig](const std::filesystem::path& path) { SaveRig(path, rig); });
+    CheckAfterWrite("rig", temporary);
+    WriteReport(set, report_path, report);
+  });
 }
 
 // " cm", or nothing for a mesh of unknown units (an OBJ).
@@ -111,7 +122,7 @@ int RunAverage(const AverageOptions& options) {
   if (!CheckOutputExtension(output, true)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
-    CheckOutputsWritable(output, report_path);
+    CheckWritable({output, report_path});
     std::optional<Rig> first;
     std::vector<std::vector<glm::vec3>> faces;
     for (const std::string& path : face_paths) {
@@ -130,21 +141,19 @@ int RunAverage(const AverageOptions& options) {
     raw.normals.clear();
     raw.shapes.clear();
     const Rig rig = BuildOrThrow(std::move(raw), "average");
-    SaveRig(output, rig);
     float spread = 0.0f;
     for (const auto& face : faces) spread = std::max(spread, MaxDistance(face, average));
+    const nlohmann::json report = {{"faces", face_paths},
+                                   {"output", output},
+                                   {"vertices", rig.vertex_count()},
+                                   {"aligned", align},
+                                   {"largest_distance_from_average", spread},
+                                   {"units", ToString(rig.units())},
+                                   {"seconds", SecondsSince(start)}};
+    WriteRigSet(output, rig, report_path, report);
     std::printf("wrote %s: average of %zu faces (%zu vertices%s); largest vertex distance from it %g%s\n",
                 output.c_str(), faces.size(), rig.vertex_count(), align ? ", rigidly aligned" : "",
                 static_cast<double>(spread), UnitsSuffix(rig).c_str());
-    nlohmann::json report;
-    report["faces"] = face_paths;
-    report["output"] = output;
-    report["vertices"] = rig.vertex_count();
-    report["aligned"] = align;
-    report["largest_distance_from_average"] = spread;
-    report["units"] = ToString(rig.units());
-    report["seconds"] = SecondsSince(start);
-    WriteReport(report_path, report);
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -160,10 +169,8 @@ int RunCaricature(const CaricatureOptions& options) {
   if (!CheckOutputExtension(output, false)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
-    CheckOutputsWritable(output, report_path);
-    const Rig rig = LoadRigOrTemplateFolder(rig_path);
-    const Rig average_rig = LoadRigOrTemplateFolder(average_path);
-    CheckSameTopology(rig, rig_path, average_rig, average_path);
+    CheckWritable({output, report_path});
+    const auto [rig, average_rig] = LoadRigsOfOneTopology(rig_path, average_path);
     std::vector<glm::vec3> average(average_rig.positions().begin(), average_rig.positions().end());
     double alignment_rms = 0.0;
     if (align) {
@@ -178,28 +185,26 @@ int RunCaricature(const CaricatureOptions& options) {
     const auto caricature_start = std::chrono::steady_clock::now();
     const Rig result = BuildOrThrow(CaricatureRig(rig, average, params), "caricature");
     const double caricature_seconds = SecondsSince(caricature_start);
-    SaveRig(output, result);
     const float moved = MaxDistance(result.positions(), rig.positions());
+    const nlohmann::json report = {
+        {"rig", rig_path},
+        {"average", average_path},
+        {"output", output},
+        {"factor", factor},
+        {"expressions", keep_deltas ? "keep-deltas" : "deformation-transfer"},
+        {"aligned", align},
+        {"alignment_rms", alignment_rms},
+        {"largest_neutral_displacement", moved},
+        {"vertices", result.vertex_count()},
+        {"shapes", result.shape_count()},
+        {"seconds", {{"load", load_seconds}, {"caricature", caricature_seconds}, {"total", SecondsSince(start)}}}};
+    WriteRigSet(output, result, report_path, report);
     std::printf(
         "wrote %s: caricature factor %g of %s (%zu vertices, %zu shapes, expressions %s); neutral moved "
         "up to %g%s; %.2f s\n",
         output.c_str(), static_cast<double>(factor), rig_path.c_str(), result.vertex_count(),
         result.shape_count(), keep_deltas ? "deltas kept" : "by deformation transfer", static_cast<double>(moved),
         UnitsSuffix(result).c_str(), SecondsSince(start));
-    nlohmann::json report;
-    report["rig"] = rig_path;
-    report["average"] = average_path;
-    report["output"] = output;
-    report["factor"] = factor;
-    report["expressions"] = keep_deltas ? "keep-deltas" : "deformation-transfer";
-    report["aligned"] = align;
-    report["alignment_rms"] = alignment_rms;
-    report["largest_neutral_displacement"] = moved;
-    report["vertices"] = result.vertex_count();
-    report["shapes"] = result.shape_count();
-    report["seconds"] = {
-        {"load", load_seconds}, {"caricature", caricature_seconds}, {"total", SecondsSince(start)}};
-    WriteReport(report_path, report);
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -211,29 +216,25 @@ int RunMorph(const MorphOptions& options) {
   if (!CheckOutputExtension(output, false)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
-    CheckOutputsWritable(output, report_path);
-    const Rig template_rig = LoadRigOrTemplateFolder(template_path);
-    const Rig target_rig = LoadRigOrTemplateFolder(target_path);
-    CheckSameTopology(template_rig, template_path, target_rig, target_path);
+    CheckWritable({output, report_path});
+    const auto [template_rig, target_rig] = LoadRigsOfOneTopology(template_path, target_path);
     if (target_rig.FindShape(kIdentityMorphShape)) {
       throw std::runtime_error(target_path + " already has a shape called " + kIdentityMorphShape);
     }
     const Rig result = BuildOrThrow(IdentityMorphRig(template_rig, target_rig), "identity morph");
-    SaveRig(output, result);
     const float morph = MaxDistance(template_rig.positions(), target_rig.positions());
+    const nlohmann::json report = {{"template", template_path},
+                                   {"target", target_path},
+                                   {"output", output},
+                                   {"vertices", result.vertex_count()},
+                                   {"shapes", result.shape_count()},
+                                   {"identity_shape", kIdentityMorphShape},
+                                   {"largest_identity_displacement", morph},
+                                   {"seconds", SecondsSince(start)}};
+    WriteRigSet(output, result, report_path, report);
     std::printf("wrote %s: %zu vertices, %zu shapes (the target's %zu + %s, moving vertices up to %g%s); %.2f s\n",
                 output.c_str(), result.vertex_count(), result.shape_count(), target_rig.shape_count(),
                 kIdentityMorphShape, static_cast<double>(morph), UnitsSuffix(result).c_str(), SecondsSince(start));
-    nlohmann::json report;
-    report["template"] = template_path;
-    report["target"] = target_path;
-    report["output"] = output;
-    report["vertices"] = result.vertex_count();
-    report["shapes"] = result.shape_count();
-    report["identity_shape"] = kIdentityMorphShape;
-    report["largest_identity_displacement"] = morph;
-    report["seconds"] = SecondsSince(start);
-    WriteReport(report_path, report);
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -248,9 +249,8 @@ void AddAverageCommand(CLI::App& facerig, CommandBody& body) {
       "(unless --no-align). The output has the first face's topology, UVs and parts and no shapes.",
       RunAverage);
   average->add_option("faces", options->face_paths, "two or more faces")->required()->expected(2, CLI::detail::expected_max_vector_size);
-  average->add_option("-o", options->output, "output (.obj, .glb, .gltf or .frig)")->required();
   average->add_flag("!--no-align", options->align, "do not align the faces rigidly first");
-  average->add_option("--json", options->report_path, "write a JSON report");
+  AddOutputOptions(*average, options->output, options->report_path, "output (.obj, .glb, .gltf or .frig)");
 }
 
 void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
@@ -263,10 +263,9 @@ void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
   caricature->add_option("--rig", options->rig_path, "the rig")->required();
   caricature->add_option("--average", options->average_path, "the average face (.obj or a rig)")->required();
   caricature->add_option("--factor", options->factor, "F in [-1, 3]")->required();
-  caricature->add_option("-o", options->output, "output rig (.glb, .gltf or .frig)")->required();
   caricature->add_flag("--keep-deltas", options->keep_deltas, "keep the expressions' deltas");
   caricature->add_flag("!--no-align", options->align, "do not align the average rigidly first");
-  caricature->add_option("--json", options->report_path, "write a JSON report");
+  AddOutputOptions(*caricature, options->output, options->report_path, "output rig (.glb, .gltf or .frig)");
 }
 
 void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
@@ -277,8 +276,7 @@ void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
       RunMorph);
   morph->add_option("--template", options->template_path, "the template rig")->required();
   morph->add_option("--target", options->target_path, "the target rig, on the template's topology")->required();
-  morph->add_option("-o", options->output, "output rig (.glb, .gltf or .frig)")->required();
-  morph->add_option("--json", options->report_path, "write a JSON report");
+  AddOutputOptions(*morph, options->output, options->report_path, "output rig (.glb, .gltf or .frig)");
 }
 
 }  // namespace facerig::cli

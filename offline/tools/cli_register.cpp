@@ -40,71 +40,124 @@ struct RegisterOptions {
   std::string template_info_path;
 };
 
+nlohmann::json LandmarksReport(const LandmarksOptions& options, const RawRig& mesh, const LandmarkResult& result,
+                               double load_seconds, double model_seconds) {
+  return {{"mesh", options.mesh_path},
+          {"vertices", mesh.positions.size()},
+          {"views_tried", result.views_tried},
+          {"eyes_fitted_to_openings", result.eyes_fitted},
+          {"snapped", result.snapped},
+          {"detector_score", result.detector_score},
+          {"seconds", {{"load_mesh", load_seconds}, {"load_model", model_seconds}, {"detect", result.seconds}}}};
+}
+
+// The landmarks JSON, the debug PNG (under a temporary name that keeps its
+// extension, which picks the image format) and the report, as one set.
+void WriteLandmarksSet(const LandmarksOptions& options, const LandmarkResult& result, const nlohmann::json& report) {
+  WriteOutputSet([&](OutputSet& set) {
+    const std::filesystem::path landmarks = set.Add(options.output, OutputSet::Kind::kFile);
+    WriteLandmarksJson(landmarks, result.landmarks);
+    CheckAfterWrite("landmarks", landmarks);
+    if (const std::filesystem::path png = AddOptionalFile(set, options.debug_png); !png.empty()) {
+      WritePng(png, DrawLandmarks(result));
+      CheckAfterWrite("debug-png", png);
+    }
+    WriteReport(set, options.report_path, report);
+  });
+}
+
 int RunLandmarks(const LandmarksOptions& options) {
-  const auto& [mesh_path, output, debug_png, report_path, params] = options;
   try {
+    CheckWritable({options.output, options.debug_png, options.report_path});
     const auto start = std::chrono::steady_clock::now();
-    const RawRig mesh = LoadMeshForEditing(mesh_path);
+    const RawRig mesh = LoadMeshForEditing(options.mesh_path);
     const double load_seconds = SecondsSince(start);
     std::fprintf(stderr, "%s: %zu vertices, %zu triangles (%.2f s to load); detecting landmarks...\n",
-                 mesh_path.c_str(), mesh.positions.size(), mesh.triangles.size(), load_seconds);
+                 options.mesh_path.c_str(), mesh.positions.size(), mesh.triangles.size(), load_seconds);
     const auto model_start = std::chrono::steady_clock::now();
-    LandmarkDetector detector(params);
+    LandmarkDetector detector(options.params);
     const double model_seconds = SecondsSince(model_start);
     const LandmarkResult result = detector.Detect(NeutralMesh(mesh));
-    if (!debug_png.empty()) WritePng(debug_png, DrawLandmarks(result));
-    WriteLandmarksJson(output, result.landmarks);
+    WriteLandmarksSet(options, result, LandmarksReport(options, mesh, result, load_seconds, model_seconds));
     std::printf(
         "wrote %s (68 landmarks; %d views tried, %d snapped off holes, %d eyes fitted to openings, detector score "
         "%.2f; %.3f s)\n",
-        output.c_str(), result.views_tried, result.snapped, result.eyes_fitted, result.detector_score,
+        options.output.c_str(), result.views_tried, result.snapped, result.eyes_fitted, result.detector_score,
         result.seconds);
-    if (!report_path.empty()) {
-      nlohmann::json report;
-      report["mesh"] = mesh_path;
-      report["vertices"] = mesh.positions.size();
-      report["views_tried"] = result.views_tried;
-      report["eyes_fitted_to_openings"] = result.eyes_fitted;
-      report["snapped"] = result.snapped;
-      report["detector_score"] = result.detector_score;
-      report["seconds"] = {{"load_mesh", load_seconds}, {"load_model", model_seconds}, {"detect", result.seconds}};
-      WriteJsonAtomically(report_path, report);
-    }
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
   }
 }
 
+// The target's landmarks (from --landmarks or detected) paired with the
+// template's landmark vertices; the detector is loaded only when needed.
+RegistrationLandmarks FindRegisterLandmarks(const RegisterOptions& options, const Rig& rig, const RawRig& target,
+                                            FaceTemplateInfo& template_info) {
+  std::optional<LandmarkDetector> detector;
+  auto get_detector = [&]() -> LandmarkDetector& {
+    if (!detector) detector.emplace(options.landmark_params);
+    return *detector;
+  };
+  FaceLandmarks target_landmarks;
+  if (!options.landmarks_path.empty()) {
+    target_landmarks = ReadLandmarksJson(options.landmarks_path);
+  } else {
+    std::fprintf(stderr, "detecting landmarks on the target...\n");
+    target_landmarks = get_detector().Detect(NeutralMesh(target)).landmarks;
+  }
+  if (template_info.landmark_vertices.empty()) std::fprintf(stderr, "detecting landmarks on the template...\n");
+  const std::vector<std::uint32_t> template_vertex_of = TemplateLandmarkVertices(rig, template_info, get_detector());
+  PrintTemplateInfo(template_info);
+  return PairLandmarks(template_vertex_of, target_landmarks);
+}
+
+nlohmann::json RegisterReport(const RegisterOptions& options, const FaceTemplateInfo& template_info,
+                              const NonrigidIcpResult& fit) {
+  const ResidualStats& residual = fit.residual;
+  return {{"template", options.template_path},
+          {"target", options.target_path},
+          {"output", options.output},
+          {"landmarks", options.landmarks_path.empty() ? "detected" : options.landmarks_path},
+          {"template_info", TemplateInfoReport(template_info)},
+          {"residual_percent_of_diagonal",
+           {{"mean", residual.mean_percent}, {"p95", residual.p95_percent}, {"max", residual.max_percent}}},
+          {"target_diagonal", residual.target_diagonal},
+          {"measured_vertices", residual.vertex_count},
+          {"rejected_vertices", residual.rejected_count},
+          {"landmark_rms", fit.landmark_rms},
+          {"rigid_scale", fit.rigid.scale},
+          {"iterations_per_stage", fit.iterations_per_stage},
+          {"factorizations", fit.factorizations}};
+}
+
+// The fitted OBJ and the report, as one set.
+void WriteRegisterSet(const RegisterOptions& options, const Rig& rig, const NonrigidIcpResult& fit,
+                      const nlohmann::json& report) {
+  std::vector<glm::vec3> normals(fit.positions.size());
+  ComputeVertexNormals(fit.positions, rig.triangles(), normals);
+  WriteOutputSet([&](OutputSet& set) {
+    const std::filesystem::path obj = set.Add(options.output, OutputSet::Kind::kFile);
+    WriteObj(obj, fit.positions, normals, rig.uvs(), rig.triangles(), rig.parts());
+    CheckAfterWrite("obj", obj);
+    WriteReport(set, options.report_path, report);
+  });
+}
+
 int RunRegister(const RegisterOptions& options) {
-  const auto& [template_path, target_path, output, landmarks_path, report_path, landmark_params,
-               template_info_path] = options;
   try {
+    CheckWritable({options.output, options.report_path});
     const auto start = std::chrono::steady_clock::now();
-    const Rig rig = LoadRigOrTemplateFolder(template_path);
-    const RawRig target = LoadMeshForEditing(target_path);
+    const Rig rig = LoadRigOrTemplateFolder(options.template_path);
+    const RawRig target = LoadMeshForEditing(options.target_path);
     const double load_seconds = SecondsSince(start);
     std::fprintf(stderr, "template %zu vertices, target %zu vertices (%.2f s to load)\n", rig.vertex_count(),
                  target.positions.size(), load_seconds);
 
-    std::optional<LandmarkDetector> detector;
-    auto get_detector = [&]() -> LandmarkDetector& {
-      if (!detector) detector.emplace(landmark_params);
-      return *detector;
-    };
     const auto landmark_start = std::chrono::steady_clock::now();
-    FaceLandmarks target_landmarks;
-    if (!landmarks_path.empty()) {
-      target_landmarks = ReadLandmarksJson(landmarks_path);
-    } else {
-      std::fprintf(stderr, "detecting landmarks on the target...\n");
-      target_landmarks = get_detector().Detect(NeutralMesh(target)).landmarks;
-    }
-    FaceTemplateInfo template_info = ResolveFaceTemplateInfo(rig, template_path, template_info_path);
-    if (template_info.landmark_vertices.empty()) std::fprintf(stderr, "detecting landmarks on the template...\n");
-    const std::vector<std::uint32_t> template_vertex_of = TemplateLandmarkVertices(rig, template_info, get_detector());
-    PrintTemplateInfo(template_info);
-    const RegistrationLandmarks landmarks = PairLandmarks(template_vertex_of, target_landmarks);
+    FaceTemplateInfo template_info =
+        ResolveFaceTemplateInfo(rig, options.template_path, options.template_info_path);
+    const RegistrationLandmarks landmarks = FindRegisterLandmarks(options, rig, target, template_info);
     const double landmark_seconds = SecondsSince(landmark_start);
 
     NonrigidIcpParams params;
@@ -113,41 +166,22 @@ int RunRegister(const RegisterOptions& options) {
     params.progress = [](std::size_t done, std::size_t total) { ProgressBar("non-rigid ICP", done, total); };
     const NonrigidIcpResult fit = NonrigidIcp(NeutralMesh(rig), NeutralMesh(target), landmarks, params);
 
-    std::vector<glm::vec3> normals(fit.positions.size());
-    ComputeVertexNormals(fit.positions, rig.triangles(), normals);
-    WriteObj(output, fit.positions, normals, rig.uvs(), rig.triangles(), rig.parts());
+    nlohmann::json report = RegisterReport(options, template_info, fit);
+    const NonrigidIcpTimings& timings = fit.timings;
+    report["seconds"] = {{"load", load_seconds},
+                         {"landmarks", landmark_seconds},
+                         {"rigid", timings.rigid_seconds},
+                         {"setup", timings.setup_seconds},
+                         {"correspondences", timings.correspondence_seconds},
+                         {"factorize", timings.factorize_seconds},
+                         {"solve", timings.solve_seconds},
+                         {"nonrigid_total", timings.total_seconds},
+                         {"total", SecondsSince(start)}};
+    WriteRegisterSet(options, rig, fit, report);
     std::printf("wrote %s: residual mean %.4f%% p95 %.4f%% max %.3f%% of the target diagonal; landmark rms %g; "
                 "%.2f s\n",
-                output.c_str(), fit.residual.mean_percent, fit.residual.p95_percent, fit.residual.max_percent,
-                fit.landmark_rms, fit.timings.total_seconds);
-    if (!report_path.empty()) {
-      nlohmann::json report;
-      report["template"] = template_path;
-      report["target"] = target_path;
-      report["output"] = output;
-      report["landmarks"] = landmarks_path.empty() ? "detected" : landmarks_path;
-      report["template_info"] = TemplateInfoReport(template_info);
-      report["residual_percent_of_diagonal"] = {{"mean", fit.residual.mean_percent},
-                                                {"p95", fit.residual.p95_percent},
-                                                {"max", fit.residual.max_percent}};
-      report["target_diagonal"] = fit.residual.target_diagonal;
-      report["measured_vertices"] = fit.residual.vertex_count;
-      report["rejected_vertices"] = fit.residual.rejected_count;
-      report["landmark_rms"] = fit.landmark_rms;
-      report["rigid_scale"] = fit.rigid.scale;
-      report["iterations_per_stage"] = fit.iterations_per_stage;
-      report["factorizations"] = fit.factorizations;
-      report["seconds"] = {{"load", load_seconds},
-                           {"landmarks", landmark_seconds},
-                           {"rigid", fit.timings.rigid_seconds},
-                           {"setup", fit.timings.setup_seconds},
-                           {"correspondences", fit.timings.correspondence_seconds},
-                           {"factorize", fit.timings.factorize_seconds},
-                           {"solve", fit.timings.solve_seconds},
-                           {"nonrigid_total", fit.timings.total_seconds},
-                           {"total", SecondsSince(start)}};
-      WriteJsonAtomically(report_path, report);
-    }
+                options.output.c_str(), fit.residual.mean_percent, fit.residual.p95_percent,
+                fit.residual.max_percent, fit.landmark_rms, timings.total_seconds);
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -162,10 +196,9 @@ void AddLandmarksCommand(CLI::App& facerig, CommandBody& body) {
       "writes them as 3D points in the mesh's coordinates.",
       RunLandmarks);
   landmarks->add_option("mesh", options->mesh_path, "the mesh (OBJ or a rig)")->required();
-  landmarks->add_option("-o", options->output, "landmarks JSON to write")->required();
   landmarks->add_option("--debug-png", options->debug_png, "draw the detection into this PNG");
-  landmarks->add_option("--json", options->report_path, "write a JSON report");
-  landmarks->add_option("--shape-predictor", options->params.shape_predictor, "dlib 68-point shape predictor file");
+  AddOutputOptions(*landmarks, options->output, options->report_path, "landmarks JSON to write");
+  AddShapePredictorOption(*landmarks, options->params);
 }
 
 void AddRegisterCommand(CLI::App& facerig, CommandBody& body) {
@@ -177,10 +210,9 @@ void AddRegisterCommand(CLI::App& facerig, CommandBody& body) {
   reg->add_option("--template-info", options->template_info_path, "the template's descriptor JSON (default: beside the rig, shipped, or derived)")
       ->check(CLI::ExistingFile);
   reg->add_option("--target", options->target_path, "the mesh to fit (OBJ or a rig)")->required();
-  reg->add_option("-o", options->output, "fitted OBJ to write")->required();
   reg->add_option("--landmarks", options->landmarks_path, "the target's landmarks (default: detected)");
-  reg->add_option("--json", options->report_path, "write a JSON report");
-  reg->add_option("--shape-predictor", options->landmark_params.shape_predictor, "dlib 68-point shape predictor file");
+  AddOutputOptions(*reg, options->output, options->report_path, "fitted OBJ to write");
+  AddShapePredictorOption(*reg, options->landmark_params);
 }
 
 }  // namespace facerig::cli
