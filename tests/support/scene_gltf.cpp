@@ -69,7 +69,11 @@ tinygltf::Primitive MeshPrimitive(const SceneMesh& mesh, int material, Accessors
         accessors->Add(mesh.weights.data(), mesh.weights.size() * sizeof(glm::vec4), mesh.weights.size(), kFloat,
                        TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
   }
-  for (const auto& [name, deltas] : mesh.targets) primitive.targets.push_back({{"POSITION", accessors->AddVec3(deltas)}});
+  if (!mesh.normals.empty()) primitive.attributes["NORMAL"] = accessors->AddVec3(mesh.normals);
+  for (std::size_t t = 0; t < mesh.targets.size(); ++t) {
+    primitive.targets.push_back({{"POSITION", accessors->AddVec3(mesh.targets[t].second)}});
+    if (t < mesh.target_normals.size()) primitive.targets.back()["NORMAL"] = accessors->AddVec3(mesh.target_normals[t]);
+  }
   return primitive;
 }
 
@@ -166,6 +170,9 @@ SceneGltf Flattened(const SceneGltf& scene) {
     const glm::dmat4 world = NodeWorld(scene, static_cast<int>(n));
     SceneMesh mesh = scene.meshes[static_cast<std::size_t>(node.mesh)];
     for (glm::vec3& p : mesh.positions) p = glm::vec3(world * glm::dvec4(p, 1.0));
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+    for (glm::vec3& normal : mesh.normals) normal = glm::vec3(glm::normalize(normal_matrix * glm::dvec3(normal)));
+    mesh.target_normals.clear();  // normal deltas do not move linearly
     for (auto& [name, deltas] : mesh.targets) {
       for (glm::vec3& d : deltas) d = glm::vec3(glm::dmat3(world) * glm::dvec3(d));
     }

@@ -25,7 +25,9 @@ struct SceneMesh {
   std::string name;
   std::vector<glm::vec3> positions{};
   std::vector<Triangle> triangles{};
+  std::vector<glm::vec3> normals{};  // none, or one per vertex
   std::vector<std::pair<std::string, std::vector<glm::vec3>>> targets{};  // name, one delta per vertex
+  std::vector<std::vector<glm::vec3>> target_normals{};  // none, or normal deltas for every target
   glm::vec4 colour{1.0f};                                              // the material's base colour
   // Skinned meshes: up to four joints (indices into the skin's joints) and weights per vertex.
   std::vector<std::array<std::uint16_t, 4>> joints{};
