@@ -398,7 +398,8 @@ Mesh GltfReader::ReadMesh() {
 
 // Whether the scene is one mesh that ReadScene would leave as it is:
 // facerig's own, or one that no node transform or skin moves.
-bool GltfReader::ReadsAsItIs(const gltf_internal::MeshInstance& only, const std::vector<glm::dmat4>& node_worlds) const {
+bool GltfReader::ReadsAsItIs(const gltf_internal::MeshInstance& only,
+                             const std::vector<glm::dmat4>& node_worlds) const {
   if (Member(model_.meshes[static_cast<std::size_t>(only.mesh)].extras, "facerig").IsObject()) return true;
   if (only.skin < 0) return only.world == glm::dmat4(1.0);
   return gltf_internal::SkinPose(model_, only.skin, node_worlds, path_, file_size_).LeavesMeshInPlace();

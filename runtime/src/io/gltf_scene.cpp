@@ -85,7 +85,9 @@ std::vector<glm::dmat4> NodeWorlds(const tinygltf::Model& model) {
   std::vector<int> parent(count, -1);
   for (std::size_t n = 0; n < count; ++n) {
     for (int child : model.nodes[n].children) {
-      if (child >= 0 && static_cast<std::size_t>(child) < count && parent[child] < 0) parent[child] = static_cast<int>(n);
+      if (child >= 0 && static_cast<std::size_t>(child) < count && parent[child] < 0) {
+        parent[child] = static_cast<int>(n);
+      }
     }
   }
   std::vector<glm::dmat4> worlds(count, glm::dmat4(1.0));

@@ -92,7 +92,7 @@ bool SkinPose::LeavesMeshInPlace() const {
   return std::all_of(identity_.begin(), identity_.end(), [](bool identity) { return identity; });
 }
 
-SkinPose::Column SkinPose::ReadColumn(int accessor_index, int type, bool weights, std::size_t count,
+SkinPose::Column SkinPose::ReadColumn(int accessor_index, int type, Values values, std::size_t count,
                                       const std::string& what) const {
   if (accessor_index < 0 || static_cast<std::size_t>(accessor_index) >= model_.accessors.size()) {
     Fail(IoErrorKind::kIndexOutOfRange, what + ": accessor " + std::to_string(accessor_index) + " does not exist");
@@ -102,13 +102,15 @@ SkinPose::Column SkinPose::ReadColumn(int accessor_index, int type, bool weights
   const bool float_type = component == TINYGLTF_COMPONENT_TYPE_FLOAT;
   const bool small_unsigned =
       component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-  const bool allowed = weights ? float_type || (small_unsigned && accessor.normalized)
-                               : small_unsigned && !accessor.normalized;
+  const bool allowed = values == Values::kFloats    ? float_type
+                       : values == Values::kWeights ? float_type || (small_unsigned && accessor.normalized)
+                                                    : small_unsigned && !accessor.normalized;
   if (accessor.type != type || !allowed) {
     Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " is " +
                                   TypeName(accessor.type) + " of component type " + std::to_string(component) +
-                                  (weights ? ", expected float or normalized unsigned byte or short"
-                                           : ", expected unsigned byte or short"));
+                                  (values == Values::kFloats    ? ", expected MAT4 of floats"
+                                   : values == Values::kWeights ? ", expected float or normalized unsigned integers"
+                                                                : ", expected unsigned byte or short"));
   }
   if (accessor.count < count) {
     Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " has " +
@@ -137,12 +139,7 @@ SkinPose::Column SkinPose::ReadColumn(int accessor_index, int type, bool weights
 
 void SkinPose::ReadInverseBinds(int accessor_index, std::vector<glm::dmat4>* inverse_binds) const {
   const std::string what = "skins[" + std::to_string(skin_) + "].inverseBindMatrices";
-  if (accessor_index >= 0 && static_cast<std::size_t>(accessor_index) < model_.accessors.size() &&
-      (model_.accessors[static_cast<std::size_t>(accessor_index)].type != TINYGLTF_TYPE_MAT4 ||
-       model_.accessors[static_cast<std::size_t>(accessor_index)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)) {
-    Fail(IoErrorKind::kParse, what + ": accessor " + std::to_string(accessor_index) + " is not MAT4 of floats");
-  }
-  const Column column = ReadColumn(accessor_index, TINYGLTF_TYPE_MAT4, true, inverse_binds->size(), what);
+  const Column column = ReadColumn(accessor_index, TINYGLTF_TYPE_MAT4, Values::kFloats, inverse_binds->size(), what);
   for (std::size_t j = 0; j < inverse_binds->size(); ++j) {
     glm::dmat4& m = (*inverse_binds)[j];
     for (int i = 0; i < 16; ++i) {
@@ -165,9 +162,11 @@ std::vector<SkinPose::WeightSet> SkinPose::WeightSetsOf(const tinygltf::Primitiv
     const std::string joints = "JOINTS_" + std::to_string(n), weights = "WEIGHTS_" + std::to_string(n);
     const auto joints_it = primitive.attributes.find(joints), weights_it = primitive.attributes.find(weights);
     if (joints_it == primitive.attributes.end() || weights_it == primitive.attributes.end()) break;
-    sets.push_back({ReadColumn(joints_it->second, TINYGLTF_TYPE_VEC4, false, vertex_count, what + " " + joints),
-                    ReadColumn(weights_it->second, TINYGLTF_TYPE_VEC4, true, vertex_count, what + " " + weights),
-                    what + " " + joints, what + " " + weights});
+    const std::string joints_name = what + " " + joints, weights_name = what + " " + weights;
+    sets.push_back(
+        {ReadColumn(joints_it->second, TINYGLTF_TYPE_VEC4, Values::kJointIndices, vertex_count, joints_name),
+         ReadColumn(weights_it->second, TINYGLTF_TYPE_VEC4, Values::kWeights, vertex_count, weights_name),
+         joints_name, weights_name});
   }
   if (sets.empty()) Fail(IoErrorKind::kParse, what + " is skinned but has no JOINTS_0 and WEIGHTS_0");
   return sets;
@@ -183,12 +182,14 @@ glm::dmat4 SkinPose::Blend(const BlockWeights& block, std::uint32_t vertex) cons
     const WeightSet& set = block.sets[s];
     for (std::size_t k = 0; k < 4; ++k) {
       const std::size_t size = ComponentSize(set.joints.component_type);
-      const std::uint32_t joint = LoadIndex(set.joints.data + v * set.joints.stride + k * size, set.joints.component_type);
+      const std::uint32_t joint =
+          LoadIndex(set.joints.data + v * set.joints.stride + k * size, set.joints.component_type);
       const std::size_t weight_size = ComponentSize(set.weights.component_type);
       const double weight = LoadAsFloat(set.weights.data + v * set.weights.stride + k * weight_size,
                                         set.weights.component_type, set.weights.normalized);
       if (!std::isfinite(weight) || weight < 0.0) {
-        Fail(IoErrorKind::kNonFinite, set.weights_name + ": vertex " + std::to_string(v) + " has a negative or non-finite weight");
+        Fail(IoErrorKind::kNonFinite,
+             set.weights_name + ": vertex " + std::to_string(v) + " has a negative or non-finite weight");
       }
       if (s == 0 && k == 0) first_joint = joint;
       if (weight == 0.0) continue;
@@ -223,8 +224,8 @@ void SkinPose::Apply(const tinygltf::Mesh& mesh, const MeshVertices& vertices, R
     const tinygltf::Primitive& primitive = mesh.primitives[p];
     const VertexBlock& block = vertices.blocks[vertices.block_of_accessor.at(primitive.attributes.at("POSITION"))];
     if (SkinAttributes(primitive) != SkinAttributes(*block.primitive)) {
-      Fail(IoErrorKind::kParse, "primitive " + std::to_string(p) +
-                                    " shares its POSITION accessor with another primitive but not its JOINTS and WEIGHTS");
+      Fail(IoErrorKind::kParse, "mesh '" + mesh.name + "' primitive " + std::to_string(p) +
+                                    " shares its POSITION accessor with another but not its JOINTS and WEIGHTS");
     }
   }
   MoveVertices(

@@ -36,11 +36,14 @@ class SkinPose {
   void Apply(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* piece) const;
 
  private:
+  // What an accessor may hold: JOINTS_n's unsigned integers, WEIGHTS_n's
+  // floats or normalized unsigned integers, or floats only.
+  enum class Values { kJointIndices, kWeights, kFloats };
   struct Column;
   struct WeightSet;
   struct BlockWeights;
   [[noreturn]] void Fail(IoErrorKind kind, const std::string& message) const;
-  Column ReadColumn(int accessor_index, int type, bool weights, std::size_t count, const std::string& what) const;
+  Column ReadColumn(int accessor_index, int type, Values values, std::size_t count, const std::string& what) const;
   std::vector<WeightSet> WeightSetsOf(const tinygltf::Primitive& primitive, std::uint32_t vertex_count,
                                       const std::string& what) const;
   glm::dmat4 Blend(const BlockWeights& block, std::uint32_t vertex) const;

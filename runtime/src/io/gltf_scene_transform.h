@@ -55,8 +55,8 @@ void MoveVertices(const TransformOf& transform_of, RawRig* piece) {
       const VertexMover mover(transform_of(v));
       shape.position_deltas[i] = mover.Delta(shape.position_deltas[i]);
       if (i >= shape.normal_deltas.size()) continue;
-      shape.normal_deltas[i] = with_normals ? mover.NormalDelta(piece->normals[v], shape.normal_deltas[i])
-                                            : mover.Normal(shape.normal_deltas[i]) * glm::length(shape.normal_deltas[i]);
+      const glm::vec3 d = shape.normal_deltas[i];
+      shape.normal_deltas[i] = with_normals ? mover.NormalDelta(piece->normals[v], d) : mover.Normal(d) * glm::length(d);
     }
   }
   for (std::size_t v = 0; v < piece->positions.size(); ++v) {
