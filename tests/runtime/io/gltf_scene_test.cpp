@@ -271,6 +271,12 @@ TEST_CASE("gltf scene: a scale of 0 on a mesh node or a joint reads without NaNs
     CHECK(AllFinite(rig));
     CHECK(Near(rig.positions()[4], {0.0f, 0.0f, 0.0f}));
     CHECK(rig.normals()[4] == glm::vec3(0, -1, 0));  // a flattened mesh has no direction: its normals are kept
+    // A node's scale of 0.01 leaves normal deltas changes of unit normals (v1 turns from -Y to -Z).
+    const BlendShapeView jaw = rig.shape(*rig.FindShape("jawOpen"));
+    REQUIRE(jaw.normal_deltas.size() == jaw.vertex_indices.size());
+    const auto entry = std::find(jaw.vertex_indices.begin(), jaw.vertex_indices.end(), 1u);
+    REQUIRE(entry != jaw.vertex_indices.end());
+    CHECK(Near(jaw.normal_deltas[static_cast<std::size_t>(entry - jaw.vertex_indices.begin())], {0.0f, 1.0f, -1.0f}));
   }
 }
 
