@@ -71,6 +71,20 @@ SceneGltf CentimetreScene() {
   return scene;
 }
 
+// The same scene authored in metres: no 0.01 scale on the armature, every
+// vertex, delta and node translation below it a hundredth as large.
+SceneGltf MetreScene(SceneGltf scene) {
+  scene.nodes[0].scale = glm::dvec3(1.0);
+  for (std::size_t n = 1; n < scene.nodes.size(); ++n) scene.nodes[n].translation *= 0.01;
+  for (SceneMesh& mesh : scene.meshes) {
+    for (glm::vec3& p : mesh.positions) p *= 0.01f;
+    for (auto& [name, deltas] : mesh.targets) {
+      for (glm::vec3& d : deltas) d *= 0.01f;
+    }
+  }
+  return scene;
+}
+
 facerig::Rig WrittenAndLoaded(const SceneGltf& scene, const std::string& name) {
   const fs::path path = facerig::test::OutputPath(name);
   facerig::test::WriteSceneGltf(path, scene);
@@ -143,7 +157,8 @@ int PixelsOf(const Image& image, Piece piece) {
 TEST_CASE("Player: a multi-mesh GLB in centimetres under a scaled, turned, moved armature", "[demo][gltf]") {
   const SceneGltf scene = CentimetreScene();
   const facerig::Rig rig = WrittenAndLoaded(scene, "player_scene_cm.glb");
-  const facerig::Rig flat = WrittenAndLoaded(facerig::test::Flattened(scene), "player_scene_m.glb");
+  const facerig::Rig flat = WrittenAndLoaded(facerig::test::Flattened(scene), "player_scene_flat.glb");
+  const facerig::Rig metres = WrittenAndLoaded(MetreScene(scene), "player_scene_m.glb");
   REQUIRE(rig.parts().size() == 3);
   REQUIRE(rig.vertex_count() == flat.vertex_count());
   // Metres: the head is 22 cm tall, whatever units the file's vertices are in.
@@ -161,11 +176,14 @@ TEST_CASE("Player: a multi-mesh GLB in centimetres under a scaled, turned, moved
   }
   CHECK(chin_delta_found);
 
-  SECTION("drawn at the same size and place as the scene with its transforms applied") {
+  SECTION("drawn as the scene in metres, and as the scene with its transforms applied") {
+    const bool applied = GENERATE(false, true);
+    INFO((applied ? "transforms applied" : "in metres"));
     const Image drawn = facerig::player::RenderNeutral(rig, kWidth, kHeight);
-    const Image reference = facerig::player::RenderNeutral(flat, kWidth, kHeight);
+    const Image reference = facerig::player::RenderNeutral(applied ? flat : metres, kWidth, kHeight);
     facerig::player::WritePng(facerig::test::OutputPath("player_scene_cm.png"), drawn);
-    facerig::player::WritePng(facerig::test::OutputPath("player_scene_m.png"), reference);
+    facerig::player::WritePng(facerig::test::OutputPath(applied ? "player_scene_flat.png" : "player_scene_m.png"),
+                              reference);
     const Silhouette s = SilhouetteOf(drawn), r = SilhouetteOf(reference);
     INFO("silhouette " << s.pixels << " px in [" << s.min_x << "," << s.max_x << "]x[" << s.min_y << "," << s.max_y
                        << "], reference " << r.pixels << " px in [" << r.min_x << "," << r.max_x << "]x[" << r.min_y
