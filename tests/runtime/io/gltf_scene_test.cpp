@@ -316,3 +316,38 @@ TEST_CASE("gltf scene: malformed skins are refused naming the file and the field
 }
 
 }  // namespace facerig
+
+namespace facerig {
+
+TEST_CASE("gltf scene: skin accessors outside their bufferView are refused", "[gltf]") {
+  const fs::path path = test::OutputPath("gltf_skinned_outside.gltf");
+  test::WriteSceneGltf(path, MakeSkinnedScene(true).scene);
+  const std::vector<std::byte> bytes = ReadFileBytes(path);
+  json document = json::parse(std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  const json& attributes = document["meshes"][0]["primitives"][0]["attributes"];
+  std::string field;
+  SECTION("JOINTS_0 past the end") {
+    document["accessors"][attributes["JOINTS_0"].get<int>()]["byteOffset"] = 4096;
+    field = "JOINTS_0";
+  }
+  SECTION("WEIGHTS_0 with a stride shorter than its elements") {
+    document["bufferViews"][document["accessors"][attributes["WEIGHTS_0"].get<int>()]["bufferView"].get<int>()]
+            ["byteStride"] = 4;
+    field = "WEIGHTS_0";
+  }
+  SECTION("inverse bind matrices that are not MAT4") {
+    document["accessors"][document["skins"][0]["inverseBindMatrices"].get<int>()]["type"] = "VEC4";
+    field = "inverseBindMatrices";
+  }
+  WriteFileAtomically(path, document.dump());
+  try {
+    ReadGltf(path);
+    FAIL("read a skin accessor outside its data");
+  } catch (const IoError& e) {
+    INFO(e.what());
+    CHECK(e.path() == path.string());
+    CHECK(std::string(e.what()).find(field) != std::string::npos);
+  }
+}
+
+}  // namespace facerig
