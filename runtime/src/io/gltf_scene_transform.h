@@ -44,7 +44,8 @@ class VertexMover {
 };
 
 // Moves every vertex v of `piece` (and its shapes' deltas) by
-// transform_of(v), a glm::dmat4. Normal deltas need the rest normals: without
+// transform_of(v), a glm::dmat4; vertices whose transform is the identity
+// are left exactly as they are. Normal deltas need the rest normals: without
 // them (a piece without normals) they are moved as directions.
 template <typename TransformOf>
 void MoveVertices(const TransformOf& transform_of, RawRig* piece) {
@@ -52,7 +53,9 @@ void MoveVertices(const TransformOf& transform_of, RawRig* piece) {
   for (RawBlendShape& shape : piece->shapes) {
     for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
       const std::uint32_t v = shape.vertex_indices[i];
-      const VertexMover mover(transform_of(v));
+      const glm::dmat4 transform = transform_of(v);
+      if (transform == glm::dmat4(1.0)) continue;  // bit for bit as read
+      const VertexMover mover(transform);
       shape.position_deltas[i] = mover.Delta(shape.position_deltas[i]);
       if (i >= shape.normal_deltas.size()) continue;
       const glm::vec3 d = shape.normal_deltas[i];
@@ -60,7 +63,9 @@ void MoveVertices(const TransformOf& transform_of, RawRig* piece) {
     }
   }
   for (std::size_t v = 0; v < piece->positions.size(); ++v) {
-    const VertexMover mover(transform_of(static_cast<std::uint32_t>(v)));
+    const glm::dmat4 transform = transform_of(static_cast<std::uint32_t>(v));
+    if (transform == glm::dmat4(1.0)) continue;
+    const VertexMover mover(transform);
     piece->positions[v] = mover.Position(piece->positions[v]);
     if (with_normals) piece->normals[v] = mover.Normal(piece->normals[v]);
   }
