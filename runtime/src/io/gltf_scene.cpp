@@ -9,6 +9,8 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "gltf_scene_transform.h"
+
 namespace facerig::gltf_internal {
 namespace {
 
@@ -69,7 +71,7 @@ std::vector<MeshInstance> SceneMeshInstances(const tinygltf::Model& model) {
     const glm::dmat4 world = visit.parent * LocalTransform(node);
     if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < model.meshes.size()) {
       // glTF ignores a skinned mesh node's transform: its joints place it.
-      instances.push_back({node.mesh, visit.node, node.skin >= 0 ? glm::dmat4(1.0) : world});
+      instances.push_back({node.mesh, visit.node, node.skin >= 0 ? glm::dmat4(1.0) : world, node.skin});
     }
     for (auto it = node.children.rbegin(); it != node.children.rend(); ++it) {
       stack.push_back({*it, world, visit.depth + 1});
@@ -78,14 +80,40 @@ std::vector<MeshInstance> SceneMeshInstances(const tinygltf::Model& model) {
   return instances;
 }
 
-void SceneMerger::Add(RawRig piece, const glm::dmat4& world) {
-  const glm::dmat3 linear(world);
-  const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(linear));
-  for (glm::vec3& p : piece.positions) p = glm::vec3(world * glm::dvec4(p, 1.0));
-  for (glm::vec3& n : piece.normals) {
-    const glm::dvec3 moved = normal_matrix * glm::dvec3(n);
-    n = glm::length(moved) > 0.0 ? glm::vec3(glm::normalize(moved)) : n;
+std::vector<glm::dmat4> NodeWorlds(const tinygltf::Model& model) {
+  const std::size_t count = model.nodes.size();
+  std::vector<int> parent(count, -1);
+  for (std::size_t n = 0; n < count; ++n) {
+    for (int child : model.nodes[n].children) {
+      if (child >= 0 && static_cast<std::size_t>(child) < count && parent[child] < 0) {
+        parent[child] = static_cast<int>(n);
+      }
+    }
   }
+  std::vector<glm::dmat4> worlds(count, glm::dmat4(1.0));
+  std::vector<bool> done(count, false);
+  std::vector<int> chain;
+  for (std::size_t n = 0; n < count; ++n) {
+    // Up to the first node already done (or the root), then down again.
+    chain.clear();
+    int up = static_cast<int>(n);
+    while (up >= 0 && !done[up] && chain.size() <= static_cast<std::size_t>(kMaxDepth)) {
+      chain.push_back(up);
+      up = parent[up];
+    }
+    glm::dmat4 world = up >= 0 && done[up] ? worlds[up] : glm::dmat4(1.0);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      if (done[*it]) continue;  // a cycle came back to a node of this chain
+      world = world * LocalTransform(model.nodes[static_cast<std::size_t>(*it)]);
+      worlds[*it] = world;
+      done[*it] = true;
+    }
+  }
+  return worlds;
+}
+
+void SceneMerger::Add(RawRig piece, const glm::dmat4& world) {
+  if (world != glm::dmat4(1.0)) MoveVertices([&world](std::uint32_t) { return world; }, &piece);
   const auto offset = static_cast<std::uint32_t>(merged_.positions.size());
   const auto triangle_offset = static_cast<std::uint32_t>(merged_.triangles.size());
   all_normals_ = all_normals_ && piece.normals.size() == piece.positions.size();
@@ -109,10 +137,8 @@ void SceneMerger::Add(RawRig piece, const glm::dmat4& world) {
     RawBlendShape& into = merged_.shapes[it->second];
     for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
       into.vertex_indices.push_back(shape.vertex_indices[i] + offset);
-      into.position_deltas.push_back(glm::vec3(linear * glm::dvec3(shape.position_deltas[i])));
-      if (!shape.normal_deltas.empty()) {
-        into.normal_deltas.push_back(glm::vec3(normal_matrix * glm::dvec3(shape.normal_deltas[i])));
-      }
+      into.position_deltas.push_back(shape.position_deltas[i]);
+      if (!shape.normal_deltas.empty()) into.normal_deltas.push_back(shape.normal_deltas[i]);
     }
   }
 }
