@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "facerig/runtime/error.h"
@@ -34,6 +35,30 @@ void ProgressBar(const char* label, std::size_t done, std::size_t total) {
 int Fail(const std::exception& error) {
   std::fprintf(stderr, "facerig: %s\n", error.what());
   return 1;
+}
+
+int RunWritingCommand(const std::function<int()>& command) {
+  try {
+    return command();
+  } catch (const Interrupted& stopped) {
+    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped.what());
+    return 128 + stopped.signal();
+  } catch (const std::exception& error) {
+    return Fail(error);
+  }
+}
+
+void WriteOutputSet(const std::function<void(OutputSet&)>& write) {
+  const StopSignalScope stop_signals;
+  OutputSet set;  // removes the temporaries unless committed
+  try {
+    write(set);
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
+  }
+  set.Commit();
 }
 
 void CheckWritable(const std::filesystem::path& path) {

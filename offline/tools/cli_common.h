@@ -1,18 +1,20 @@
 // Helpers shared by the `facerig` subcommands (tools/cli_*.cpp): adding a
-// subcommand, mesh loading for targets, atomic JSON reports, a progress bar
-// on stderr, timing.
+// subcommand, mesh loading for targets, atomic JSON reports, outputs written
+// as one set, a progress bar on stderr, timing.
 #pragma once
 
 #include <chrono>
 #include <cstddef>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_options.h"  // SecondsSince
+#include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig::cli {
@@ -50,6 +52,17 @@ void ProgressBar(const char* label, std::size_t done, std::size_t total);
 
 // Prints "facerig: <what>" to stderr and returns exit code 1.
 int Fail(const std::exception& error);
+
+// Runs a command that writes files and returns its exit code; when it throws,
+// 128 + the signal for SIGINT / SIGTERM (saying nothing was written), else
+// Fail(error).
+int RunWritingCommand(const std::function<int()>& command);
+
+// Writes a command's outputs as one set (output_set.h): `write` adds each
+// output to the set and writes its temporary; then all go in place together.
+// On any error or SIGINT / SIGTERM the temporaries go and the previous outputs
+// stay; an error is rethrown naming the final paths.
+void WriteOutputSet(const std::function<void(OutputSet&)>& write);
 
 // Fails early (IoError naming the path) when a file cannot be created in
 // `path`'s folder, so a long computation does not end in an unwritable path.

@@ -179,33 +179,21 @@ std::string WriteDefaultHeadFiles(const Rig& rig, const DefaultHeadOptions& opti
 
 // Writes default_head.{glb,frig} and its descriptor (the build runs it into
 // build/data) and previews, as one set (output_set.h).
+int MakeDefaultHead(const DefaultHeadOptions& options) {
+  DefaultHeadFeatures features;
+  const Rig rig = BuildDefaultHead(&features);
+  std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
+              features.control_vertex_count, features.control_triangle_count,
+              features.skin_vertex_count);
+  std::filesystem::create_directories(options.out_dir);
+  std::string written;
+  WriteOutputSet([&](OutputSet& set) { written = WriteDefaultHeadFiles(rig, options, set); });
+  std::fputs(written.c_str(), stdout);
+  return 0;
+}
+
 int RunDefaultHead(const DefaultHeadOptions& options) {
-  try {
-    DefaultHeadFeatures features;
-    const Rig rig = BuildDefaultHead(&features);
-    std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
-                features.control_vertex_count, features.control_triangle_count,
-                features.skin_vertex_count);
-    std::filesystem::create_directories(options.out_dir);
-    const StopSignalScope stop_signals;  // SIGINT / SIGTERM: the temporaries go, the previous set stays
-    OutputSet set;                        // removes the temporaries on any error
-    std::string written;
-    try {
-      written = WriteDefaultHeadFiles(rig, options, set);
-    } catch (const Interrupted&) {
-      throw;
-    } catch (const std::exception& error) {
-      throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
-    }
-    set.Commit();
-    std::fputs(written.c_str(), stdout);
-    return 0;
-  } catch (const Interrupted& stopped) {
-    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped.what());
-    return 128 + stopped.signal();
-  } catch (const std::exception& error) {
-    return Fail(error);
-  }
+  return RunWritingCommand([&options] { return MakeDefaultHead(options); });
 }
 
 }  // namespace
