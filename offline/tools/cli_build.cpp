@@ -377,11 +377,9 @@ int RunBuild(const BuildOptions& options) {
 }  // namespace
 
 void AddBuildCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* build = facerig.add_subcommand("build", "a rig for a new face, end to end");
-  build->footer(kBuildDescription);
-  auto options = std::make_shared<BuildOptions>();
+  const auto [build, options] =
+      AddSubcommand(facerig, body, "build", "a rig for a new face, end to end", kBuildDescription, RunBuild);
   AddBuildOptions(*build, *options);
-  build->callback([&body, options] { body = [options] { return RunBuild(*options); }; });
 }
 
 }  // namespace facerig::cli

@@ -199,30 +199,27 @@ int RunDefaultHead(const DefaultHeadOptions& options) {
 }  // namespace
 
 void AddInspectCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* inspect = facerig.add_subcommand("inspect", "print a rig's vertices, parts, shapes and sparsity");
-  auto options = std::make_shared<RigFileOptions>();
+  const auto [inspect, options] =
+      AddSubcommand(facerig, body, "inspect", "print a rig's vertices, parts, shapes and sparsity", "", RunInspect);
   inspect->add_option("rig", options->paths, "FILE|DIR: the rig")->required()->expected(1);
   inspect->add_option("--json", options->report, "also write a JSON report (counts, shape names, warnings)");
   AddFolderOptions(*inspect, options->folder);
-  inspect->callback([&body, options] { body = [options] { return RunInspect(*options); }; });
 }
 
 void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* convert = facerig.add_subcommand("convert", "convert a rig between formats");
-  auto options = std::make_shared<RigFileOptions>();
+  const auto [convert, options] =
+      AddSubcommand(facerig, body, "convert", "convert a rig between formats", "", RunConvert);
   convert->add_option("files", options->paths, "IN OUT")->required()->expected(2);
   AddFolderOptions(*convert, options->folder);
-  convert->callback([&body, options] { body = [options] { return RunConvert(*options); }; });
 }
 
 void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* head = facerig.add_subcommand("default-head", "write the built-in head (.glb and .frig)");
-  auto options = std::make_shared<DefaultHeadOptions>();
+  const auto [head, options] =
+      AddSubcommand(facerig, body, "default-head", "write the built-in head (.glb and .frig)", "", RunDefaultHead);
   head->add_option("out_dir", options->out_dir, "OUT_DIR: where to write default_head.{glb,frig}")->required();
   head->add_option("--preview", options->preview_dir, "also render previews into DIR");
   head->add_option("--preview-size", options->preview_size, "preview size in pixels (64-4096, default 256)")
       ->transform(CLI::Bound(64, 4096));
-  head->callback([&body, options] { body = [options] { return RunDefaultHead(*options); }; });
 }
 
 }  // namespace facerig::cli
