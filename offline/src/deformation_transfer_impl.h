@@ -20,6 +20,7 @@
 #include <Eigen/SparseCore>
 #include <glm/common.hpp>
 
+#include "bounding_box.h"
 #include "openings_contacts.h"
 #include "facerig/offline/stats.h"
 
@@ -81,17 +82,7 @@ inline void CheckPositions(std::span<const glm::vec3> positions, std::size_t ver
   }
 }
 
-inline float BoundingDiagonal(std::span<const glm::vec3> positions) {
-  if (positions.empty()) return 0.0f;
-  glm::vec3 lo = positions[0];
-  glm::vec3 hi = positions[0];
-  for (const glm::vec3& p : positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  const glm::vec3 d = hi - lo;
-  return std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-}
+inline float BoundingDiagonal(std::span<const glm::vec3> positions) { return BoxAround(positions).diagonal(); }
 
 
 }  // namespace deformation_transfer_detail

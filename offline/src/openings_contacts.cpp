@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "bounding_box.h"
 #include "mesh_edges.h"
 
 namespace facerig {
@@ -51,14 +52,9 @@ ContactFinder::ContactFinder(std::span<const glm::vec3> neutral, std::span<const
   }
   // The triangles by grid cell (compressed rows), for the lines of sight.
   if (!neutral.empty()) {
-    glm::vec3 low = neutral[0];
-    glm::vec3 high = neutral[0];
-    for (const glm::vec3& p : neutral) {
-      low = glm::min(low, p);
-      high = glm::max(high, p);
-    }
-    const glm::vec3 extent = high - low;
-    grid_origin_ = low;
+    const BoundingBox box = BoxAround(neutral);
+    const glm::vec3 extent = box.extent();
+    grid_origin_ = box.low;
     grid_size_ = kGridSize;
     grid_cell_ = std::max(std::max(extent.x, extent.y), std::max(extent.z, 1e-6f)) / static_cast<float>(kGridSize);
   }

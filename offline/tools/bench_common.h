@@ -11,15 +11,17 @@
 
 #include "cli_options.h"
 
-// Parses a benchmark's arguments (argv[0] is the benchmark's name) into
-// `options` with `add_options`. Returns the exit code when the run stops
-// there (--help, a bad value), else nullopt.
+// Parses a benchmark's arguments (argv[0] is the benchmark's name) into its
+// options with `add_options`, then runs it. Returns the exit code: the
+// parser's when the run stops there (--help, a bad value), else run's.
 template <typename Options>
-std::optional<int> ParseBenchOptions(int argc, char** argv, const char* description, const char* name,
-                                     void (*add_options)(CLI::App&, Options&), Options& options) {
+int ParseAndRunBench(int argc, char** argv, const char* description, const char* name,
+                     void (*add_options)(CLI::App&, Options&), int (*run)(const Options&)) {
+  Options options;
   CLI::App app(description, name);
   add_options(app, options);
-  return facerig::cli::ParseCommandLine(app, argc - 1, argv + 1);
+  if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
+  return run(options);
 }
 
 // Prints why a benchmark failed; returns the exit code for main (1).

@@ -311,14 +311,7 @@ nlohmann::json MeasureScan(facerig::LandmarkDetector& detector, const facerig::t
   return json;
 }
 
-}  // namespace
-
-int RunRegisterBenchmark(int argc, char** argv) {
-  RegisterOptions settings;
-  const char* const description = "landmarks + registration of the ICT template onto re-meshed random ICT faces";
-  const auto exit_code = ParseBenchOptions(argc, argv, description, "facerig-bench register", AddRegisterOptions, settings);
-  if (exit_code) return *exit_code;
-
+int BenchmarkRegistration(const RegisterOptions& settings) {
   nlohmann::json report;
   try {
     const auto load_start = Clock::now();
@@ -365,4 +358,11 @@ int RunRegisterBenchmark(int argc, char** argv) {
               "target's bounding-box diagonal; correspondence: fitted face vertex vs the true position of the\n"
               "same ICT vertex. Times are wall clock on this machine (noisy when it is shared).\n");
   return WriteBenchJson(settings.json_path, report);
+}
+
+}  // namespace
+
+int RunRegisterBenchmark(int argc, char** argv) {
+  return ParseAndRunBench(argc, argv, "landmarks + registration of the ICT template onto re-meshed random ICT faces",
+                          "facerig-bench register", AddRegisterOptions, BenchmarkRegistration);
 }

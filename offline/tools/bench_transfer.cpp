@@ -22,14 +22,12 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/offline/io/template_folder.h"
+#include "support/ict_vertex_ranges.h"
 
 namespace {
 
-// ICT-FaceKit: the face region, vertices [0, 9409).
-constexpr std::size_t kFaceLast = 9409;
+namespace ict = facerig::test::ict;
 constexpr int kIdentityModes = 20;
-// Face and eye sockets, [0, 17039): the eyelid margins are in the sockets.
-constexpr std::size_t kLidLast = 17039;
 
 using Meshes = std::vector<std::vector<glm::vec3>>;
 
@@ -66,18 +64,18 @@ void Measure(ModeReport& report, const facerig::Rig& rig, const Meshes& truth,
              const std::vector<facerig::OpeningMargins>& eyes, const std::vector<std::size_t>& blinks) {
   for (std::size_t s = 0; s < result.size(); ++s) {
     const facerig::ExpressionError e =
-        facerig::MeasureExpressionError(target, truth[s], result[s], 0, kFaceLast);
+        facerig::MeasureExpressionError(target, truth[s], result[s], 0, ict::kFace.end);
     report.errors.push_back(e.relative_error);
     report.leaks.push_back(e.leak);
     report.shape_of_error.emplace_back(rig.shape_name(s));
     double largest2 = 0.0;
-    for (std::size_t v = 0; v < kFaceLast; ++v) {
+    for (std::size_t v = 0; v < ict::kFace.end; ++v) {
       const glm::dvec3 d = glm::dvec3(truth[s][v]) - glm::dvec3(target[v]);
       largest2 = std::max(largest2, d.x * d.x + d.y * d.y + d.z * d.z);
     }
     double along = 0.0;
     double norm2 = 0.0;
-    for (std::size_t v = 0; v < kFaceLast; ++v) {
+    for (std::size_t v = 0; v < ict::kFace.end; ++v) {
       const glm::dvec3 d = glm::dvec3(truth[s][v]) - glm::dvec3(target[v]);
       const double d2 = d.x * d.x + d.y * d.y + d.z * d.z;
       if (d2 <= 0.01 * largest2) continue;  // moved: > 10% of the largest displacement
@@ -155,7 +153,7 @@ BlinkCheck FindBlinkCheck(const facerig::Rig& rig, const Meshes& expressions) {
   std::vector<std::size_t>& blinks = check.blinks;
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     if (auto s = rig.FindShape(name)) {
-      eyes.push_back(facerig::FindEyelidMargins(facerig::NeutralMesh(rig), expressions[*s], 0, kLidLast));
+      eyes.push_back(facerig::FindEyelidMargins(facerig::NeutralMesh(rig), expressions[*s], 0, ict::kBeforeTeeth.end));
       blinks.push_back(*s);
     }
   }
@@ -252,7 +250,7 @@ void RunDisplacementTransfers(std::vector<ModeReport>& modes, const facerig::Rig
       facerig::TransferDisplacements(matrices, target, displacement_params);
   modes[kDisplacement].seconds += moved.seconds / faces;
   Measure(modes[kDisplacement], rig, face.truth, moved.poses, target, check.eyes, check.blinks);
-  displacement_params.bounding_box_vertices.resize(kFaceLast);
+  displacement_params.bounding_box_vertices.resize(ict::kFace.end);
   std::iota(displacement_params.bounding_box_vertices.begin(),
             displacement_params.bounding_box_vertices.end(), 0u);
   const facerig::DisplacementTransferResult face_box =
@@ -390,13 +388,7 @@ nlohmann::json RunHeaderJson(const TransferOptions& options, const SolverFacts& 
   return report;
 }
 
-}  // namespace
-
-int RunTransferBenchmark(int argc, char** argv) {
-  TransferOptions options;
-  const char* const description = "deformation transfer / displacement matrices of the ICT rig onto random identities";
-  const auto exit_code = ParseBenchOptions(argc, argv, description, "facerig-bench transfer", AddTransferOptions, options);
-  if (exit_code) return *exit_code;
+int BenchmarkTransfer(const TransferOptions& options) {
   const facerig::DeformationTransferParams& params = options.params;
 
   facerig::Rig rig;
@@ -432,4 +424,12 @@ int RunTransferBenchmark(int argc, char** argv) {
   if (options.per_shape_table) PrintPerShapeTable(rig, modes);
   PrintLegend(check, rig.shape_count());
   return WriteBenchJson(options.json_path, report);
+}
+
+}  // namespace
+
+int RunTransferBenchmark(int argc, char** argv) {
+  return ParseAndRunBench(argc, argv,
+                          "deformation transfer / displacement matrices of the ICT rig onto random identities",
+                          "facerig-bench transfer", AddTransferOptions, BenchmarkTransfer);
 }

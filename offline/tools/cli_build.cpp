@@ -326,9 +326,7 @@ nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& input
 // temporaries go and the previous set stays.
 void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
                    const BuildRigResult& built, const Rig& rig, std::vector<BuildStage>& stages) {
-  const StopSignalScope stop_signals;
-  OutputSet set;  // removes the temporaries unless committed
-  try {
+  WriteOutputSet([&](OutputSet& set) {
     const BuildOutputPaths paths = AddBuildOutputs(options, set);
     const auto start = std::chrono::steady_clock::now();
     WriteBuildOutputs(options, paths, rig, built);
@@ -337,64 +335,54 @@ void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const
       WriteJsonAtomically(paths.report, BuildReport(options, inputs, landmarks, built, rig, stages));
       CheckAfterWrite("report", paths.report);
     }
-  } catch (const Interrupted&) {
-    throw;
-  } catch (const std::exception& error) {
-    throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
-  }
-  set.Commit();
+  });
+}
+
+int BuildAndWrite(const BuildOptions& options) {
+  std::vector<BuildStage> stages;
+  auto timed = [&stages](const char* name, auto&& body) {
+    const auto start = std::chrono::steady_clock::now();
+    auto value = body();
+    stages.push_back({name, SecondsSince(start)});
+    return value;
+  };
+  BuildInputs inputs = timed("load", [&] { return LoadBuildInputs(options); });
+  std::fprintf(stderr, "template %zu vertices, %zu shapes; target %zu vertices (%.2f s to load)\n",
+               inputs.template_rig.vertex_count(), inputs.template_rig.shape_count(), inputs.target_vertices,
+               stages.back().seconds);
+  const BuildLandmarks landmarks = timed("landmarks", [&] { return FindBuildLandmarks(options, inputs); });
+
+  BuildRigParams params;
+  params.mode = options.mode;
+  if (!options.contacts) params.transfer.contact_weight = 0.0;
+  params.progress = [](const char* stage, std::size_t done, std::size_t total) { ProgressBar(stage, done, total); };
+  const BuildRigResult built =
+      BuildRig(inputs.template_rig, inputs.template_info, std::move(inputs.target), landmarks.pairs, params);
+  stages.insert(stages.end(), built.stages.begin(), built.stages.end());
+  std::string problem;
+  const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
+  if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
+  WriteBuildSet(options, inputs, landmarks, built, *rig, stages);
+
+  const ResidualStats& residual = built.registration.residual;
+  std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "
+              "%.4f%% p95 %.4f%% of the diagonal; %.2f s\n",
+              options.output.c_str(), rig->vertex_count(), rig->shape_count(), ToString(options.mode),
+              ToString(rig->units()), residual.mean_percent, residual.p95_percent,
+              TotalSeconds(stages));
+  return 0;
 }
 
 int RunBuild(const BuildOptions& options) {
-  try {
-    std::vector<BuildStage> stages;
-    auto timed = [&stages](const char* name, auto&& body) {
-      const auto start = std::chrono::steady_clock::now();
-      auto value = body();
-      stages.push_back({name, SecondsSince(start)});
-      return value;
-    };
-    BuildInputs inputs = timed("load", [&] { return LoadBuildInputs(options); });
-    std::fprintf(stderr, "template %zu vertices, %zu shapes; target %zu vertices (%.2f s to load)\n",
-                 inputs.template_rig.vertex_count(), inputs.template_rig.shape_count(), inputs.target_vertices,
-                 stages.back().seconds);
-    const BuildLandmarks landmarks = timed("landmarks", [&] { return FindBuildLandmarks(options, inputs); });
-
-    BuildRigParams params;
-    params.mode = options.mode;
-    if (!options.contacts) params.transfer.contact_weight = 0.0;
-    params.progress = [](const char* stage, std::size_t done, std::size_t total) { ProgressBar(stage, done, total); };
-    const BuildRigResult built =
-        BuildRig(inputs.template_rig, inputs.template_info, std::move(inputs.target), landmarks.pairs, params);
-    stages.insert(stages.end(), built.stages.begin(), built.stages.end());
-    std::string problem;
-    const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
-    if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
-    WriteBuildSet(options, inputs, landmarks, built, *rig, stages);
-
-    const ResidualStats& residual = built.registration.residual;
-    std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "
-                "%.4f%% p95 %.4f%% of the diagonal; %.2f s\n",
-                options.output.c_str(), rig->vertex_count(), rig->shape_count(), ToString(options.mode),
-                ToString(rig->units()), residual.mean_percent, residual.p95_percent,
-                TotalSeconds(stages));
-    return 0;
-  } catch (const Interrupted& stopped) {
-    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped.what());
-    return 128 + stopped.signal();
-  } catch (const std::exception& error) {
-    return Fail(error);
-  }
+  return RunWritingCommand([&options] { return BuildAndWrite(options); });
 }
 
 }  // namespace
 
 void AddBuildCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* build = facerig.add_subcommand("build", "a rig for a new face, end to end");
-  build->footer(kBuildDescription);
-  auto options = std::make_shared<BuildOptions>();
+  const auto [build, options] =
+      AddSubcommand(facerig, body, "build", "a rig for a new face, end to end", kBuildDescription, RunBuild);
   AddBuildOptions(*build, *options);
-  build->callback([&body, options] { body = [options] { return RunBuild(*options); }; });
 }
 
 }  // namespace facerig::cli

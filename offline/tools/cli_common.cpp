@@ -139,6 +139,14 @@ int Fail(const std::exception& error) {
   return 1;
 }
 
+int RunWritingCommand(const std::function<int()>& command) {
+  try {
+    return command();
+  } catch (const std::exception& error) {
+    return Fail(error);  // SIGINT / SIGTERM too (Interrupted)
+  }
+}
+
 void CheckWritable(const std::filesystem::path& path) {
   const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   const std::filesystem::path probe = folder / (".facerig-write-check-" + path.filename().string());

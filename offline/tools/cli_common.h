@@ -84,6 +84,10 @@ void ProgressBar(const char* label, std::size_t done, std::size_t total);
 // signal for an Interrupted run (its temporaries gone, nothing written).
 int Fail(const std::exception& error);
 
+// Runs a command that writes files and returns its exit code, or Fail's
+// when it throws.
+int RunWritingCommand(const std::function<int()>& command);
+
 // Fails early (IoError naming the path) when a file cannot be created in
 // `path`'s folder, so a long computation does not end in an unwritable path.
 void CheckWritable(const std::filesystem::path& path);

@@ -179,62 +179,47 @@ std::string WriteDefaultHeadFiles(const Rig& rig, const DefaultHeadOptions& opti
 
 // Writes default_head.{glb,frig} and its descriptor (the build runs it into
 // build/data) and previews, as one set (output_set.h).
+int MakeDefaultHead(const DefaultHeadOptions& options) {
+  DefaultHeadFeatures features;
+  const Rig rig = BuildDefaultHead(&features);
+  std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
+              features.control_vertex_count, features.control_triangle_count,
+              features.skin_vertex_count);
+  std::filesystem::create_directories(options.out_dir);
+  std::string written;
+  WriteOutputSet([&](OutputSet& set) { written = WriteDefaultHeadFiles(rig, options, set); });
+  std::fputs(written.c_str(), stdout);
+  return 0;
+}
+
 int RunDefaultHead(const DefaultHeadOptions& options) {
-  try {
-    DefaultHeadFeatures features;
-    const Rig rig = BuildDefaultHead(&features);
-    std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
-                features.control_vertex_count, features.control_triangle_count,
-                features.skin_vertex_count);
-    std::filesystem::create_directories(options.out_dir);
-    const StopSignalScope stop_signals;  // SIGINT / SIGTERM: the temporaries go, the previous set stays
-    OutputSet set;                        // removes the temporaries on any error
-    std::string written;
-    try {
-      written = WriteDefaultHeadFiles(rig, options, set);
-    } catch (const Interrupted&) {
-      throw;
-    } catch (const std::exception& error) {
-      throw std::runtime_error(set.WithFinalPaths(error.what()) + "; the previous outputs are unchanged");
-    }
-    set.Commit();
-    std::fputs(written.c_str(), stdout);
-    return 0;
-  } catch (const Interrupted& stopped) {
-    std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped.what());
-    return 128 + stopped.signal();
-  } catch (const std::exception& error) {
-    return Fail(error);
-  }
+  return RunWritingCommand([&options] { return MakeDefaultHead(options); });
 }
 
 }  // namespace
 
 void AddInspectCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* inspect = facerig.add_subcommand("inspect", "print a rig's vertices, parts, shapes and sparsity");
-  auto options = std::make_shared<RigFileOptions>();
+  const auto [inspect, options] =
+      AddSubcommand(facerig, body, "inspect", "print a rig's vertices, parts, shapes and sparsity", "", RunInspect);
   inspect->add_option("rig", options->paths, "FILE|DIR: the rig")->required()->expected(1);
   inspect->add_option("--json", options->report, "also write a JSON report (counts, shape names, warnings)");
   AddFolderOptions(*inspect, options->folder);
-  inspect->callback([&body, options] { body = [options] { return RunInspect(*options); }; });
 }
 
 void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* convert = facerig.add_subcommand("convert", "convert a rig between formats");
-  auto options = std::make_shared<RigFileOptions>();
+  const auto [convert, options] =
+      AddSubcommand(facerig, body, "convert", "convert a rig between formats", "", RunConvert);
   convert->add_option("files", options->paths, "IN OUT")->required()->expected(2);
   AddFolderOptions(*convert, options->folder);
-  convert->callback([&body, options] { body = [options] { return RunConvert(*options); }; });
 }
 
 void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body) {
-  CLI::App* head = facerig.add_subcommand("default-head", "write the built-in head (.glb and .frig)");
-  auto options = std::make_shared<DefaultHeadOptions>();
+  const auto [head, options] =
+      AddSubcommand(facerig, body, "default-head", "write the built-in head (.glb and .frig)", "", RunDefaultHead);
   head->add_option("out_dir", options->out_dir, "OUT_DIR: where to write default_head.{glb,frig}")->required();
   head->add_option("--preview", options->preview_dir, "also render previews into DIR");
   head->add_option("--preview-size", options->preview_size, "preview size in pixels (64-4096, default 256)")
       ->transform(CLI::Bound(64, 4096));
-  head->callback([&body, options] { body = [options] { return RunDefaultHead(*options); }; });
 }
 
 }  // namespace facerig::cli

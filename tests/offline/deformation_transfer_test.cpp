@@ -14,6 +14,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "facerig/runtime/io/obj.h"
+#include "support/ict_vertex_ranges.h"
 #include "support/slit_sheet.h"
 #include "support/test_meshes.h"
 
@@ -21,11 +22,7 @@ namespace {
 
 using Meshes = std::vector<std::vector<glm::vec3>>;
 
-// ICT-FaceKit face region [0, 9409); face + eye sockets [0, 17039); teeth.
-constexpr std::size_t kFaceLast = 9409;
-constexpr std::size_t kLidLast = 17039;
-constexpr std::size_t kTeethFirst = 17039;
-constexpr std::size_t kTeethLast = 21451;
+namespace ict = facerig::test::ict;
 
 using TinyMesh = facerig::Mesh;
 
@@ -143,7 +140,7 @@ ErrorTable Measure(const Meshes& result, const Meshes& truth, std::span<const gl
   ErrorTable table;
   for (std::size_t s = 0; s < result.size(); ++s) {
     const facerig::ExpressionError e =
-        facerig::MeasureExpressionError(face, truth[s], result[s], 0, kFaceLast);
+        facerig::MeasureExpressionError(face, truth[s], result[s], 0, ict::kFace.end);
     table.errors.push_back(e.relative_error);
     table.leaks.push_back(e.leak);
     if (e.relative_error > table.worst) {
@@ -570,7 +567,7 @@ TEST_CASE("Classic deformation transfer of the ICT rig onto random identities (s
     CHECK(classic.floating_components > 0);
     const std::size_t jaw = *rig.FindShape("jawOpen");
     const facerig::ExpressionError teeth = facerig::MeasureExpressionError(
-        face, truth[jaw], classic.expressions[jaw], kTeethFirst, kTeethLast);
+        face, truth[jaw], classic.expressions[jaw], ict::kTeeth.begin, ict::kTeeth.end);
     CHECK(teeth.relative_error < 0.1);
     // Parts without static vertices (eyeballs, teeth) match the template's mean
     // displacement, so nothing drifts off: the worst vertex error stays small.
@@ -606,7 +603,7 @@ TEST_CASE("eyeBlink closes the lids as far as the template's deltas do (shared d
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     const std::size_t s = *rig.FindShape(name);
     const facerig::OpeningMargins margins =
-        facerig::FindEyelidMargins(facerig::NeutralMesh(rig), Ict().expressions[s], 0, kLidLast);
+        facerig::FindEyelidMargins(facerig::NeutralMesh(rig), Ict().expressions[s], 0, ict::kBeforeTeeth.end);
     REQUIRE(margins.upper.size() >= 3);
     const facerig::OpeningGap on_template = facerig::MeasureOpeningGap(Ict().expressions[s], margins);
     const facerig::OpeningGap on_truth = facerig::MeasureOpeningGap(truth[s], margins);

@@ -14,6 +14,7 @@
 
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/self_intersection.h"
+#include "support/ict_vertex_ranges.h"
 #include "support/registration_targets.h"
 #include "support/test_meshes.h"
 
@@ -22,17 +23,7 @@ namespace {
 using Meshes = std::vector<std::vector<glm::vec3>>;
 using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 
-// ICT-FaceKit vertex ranges (README.upstream.md): face [0, 9409), face + head
-// and neck (the skin) [0, 11248); then mouth socket, eye sockets, gums and
-// tongue, teeth, eyeballs up to 24591. The rest (lacrimal fluid, eye blend and
-// occlusion meshes, eyelashes) are overlays that intersect the eyes by design.
-constexpr std::size_t kFaceLast = 9409;
-constexpr std::size_t kSkinLast = 11248;
-constexpr std::size_t kInnerLast = 24591;
-constexpr std::uint32_t kGumsFirst = 14062;
-constexpr std::uint32_t kTeethFirst = 17039;
-constexpr std::uint32_t kTeethLast = 21451;
-constexpr std::size_t kLidLast = 17039;
+namespace ict = facerig::test::ict;
 constexpr std::uint32_t kSeed = 6;
 
 // The template, a random identity, its ground truth and both transfers (TransferRig), once per binary.
@@ -70,7 +61,7 @@ const Transfers& IctTransfers() {
 
 Pairs IntersectingPairs(std::span<const glm::vec3> positions) {
   facerig::SelfIntersectionParams params;
-  params.region_last = kInnerLast;
+  params.region_last = ict::kSolid.end;
   params.max_pairs = std::numeric_limits<std::size_t>::max();
   return facerig::FindSelfIntersections(facerig::test::MeshOf(positions, facerig::test::IctRig().triangles()), params).pairs;
 }
@@ -91,8 +82,8 @@ NewIntersections CountNew(std::span<const glm::vec3> positions, const Pairs& exp
   NewIntersections count;
   for (const auto& pair : expression) {
     if (std::binary_search(neutral.begin(), neutral.end(), pair)) continue;
-    const bool first_skin = triangles[pair.first][0] < kSkinLast;
-    const bool second_skin = triangles[pair.second][0] < kSkinLast;
+    const bool first_skin = triangles[pair.first][0] < ict::kSkin.end;
+    const bool second_skin = triangles[pair.second][0] < ict::kSkin.end;
     if (first_skin && second_skin) {
       ++count.skin;
       const facerig::Triangle& a = triangles[pair.first];
@@ -105,7 +96,7 @@ NewIntersections CountNew(std::span<const glm::vec3> positions, const Pairs& exp
       ++count.inner;
       auto part = [&](std::uint32_t t) {
         const std::uint32_t v = triangles[t][0];
-        return v >= kGumsFirst && v < kTeethFirst ? 1 : v >= kTeethFirst && v < kTeethLast ? 2 : 0;
+        return ict::kGumsAndTongue.Contains(v) ? 1 : ict::kTeeth.Contains(v) ? 2 : 0;
       };
       if (part(pair.first) * part(pair.second) == 2) ++count.gums_teeth;
     }
@@ -227,7 +218,7 @@ TEST_CASE("jawOpen + mouthClose closes the lips as the template does, and eyeBli
   const std::vector<glm::vec3> open = Combine(rig.positions(), {&data.template_expressions[jaw]});
   const std::vector<glm::vec3> closed =
       Combine(rig.positions(), {&data.template_expressions[jaw], &data.template_expressions[close]});
-  const facerig::OpeningMargins lips = facerig::FindLipMargins(rig.positions(), open, closed, 0, kFaceLast);
+  const facerig::OpeningMargins lips = facerig::FindLipMargins(rig.positions(), open, closed, 0, ict::kFace.end);
   REQUIRE(lips.upper.size() >= 20);
   // The mouth is about 5 cm wide (ICT's lip corners, landmarks 48 and 54, are 5.07 cm apart).
   CHECK(lips.width > 4.0);
@@ -270,7 +261,7 @@ TEST_CASE("jawOpen + mouthClose closes the lips as the template does, and eyeBli
     for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
       const std::size_t s = *rig.FindShape(name);
       const facerig::OpeningMargins lids =
-          facerig::FindEyelidMargins(facerig::NeutralMesh(rig), data.template_expressions[s], 0, kLidLast);
+          facerig::FindEyelidMargins(facerig::NeutralMesh(rig), data.template_expressions[s], 0, ict::kBeforeTeeth.end);
       const facerig::OpeningGap lid_template = facerig::MeasureOpeningGap(data.template_expressions[s], lids);
       const facerig::OpeningGap lid_truth = facerig::MeasureOpeningGap(data.truth[s], lids);
       const facerig::OpeningGap lid = facerig::MeasureOpeningGap((*transferred)[s], lids);
@@ -325,7 +316,7 @@ TEST_CASE("eyeBlink closes eyes opened wider than the template's: contacts (shar
   std::vector<facerig::OpeningMargins> eyes;
   for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
     blinks.push_back(expressions[*rig.FindShape(name)]);
-    eyes.push_back(facerig::FindEyelidMargins(facerig::NeutralMesh(rig), blinks.back(), 0, kLidLast));
+    eyes.push_back(facerig::FindEyelidMargins(facerig::NeutralMesh(rig), blinks.back(), 0, ict::kBeforeTeeth.end));
   }
   const std::vector<glm::vec3> wide = WidenEyes(rig.positions(), eyes, 0.5f);
   // The widened eye is open wider: its lid gap at rest grows.

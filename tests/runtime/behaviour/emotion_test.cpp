@@ -20,17 +20,8 @@
 #include "support/allocation_counter.h"
 #include "support/test_meshes.h"
 
-using facerig::Emotion;
-using facerig::ChannelLayer;
-using facerig::ChannelRule;
-using facerig::ChannelValue;
-using facerig::CombineChannelsError;
-using facerig::CombineChannelsJob;
-using facerig::EmotionChannelsJob;
-using facerig::EmotionChannelsJobError;
-using facerig::Viseme;
-
-using facerig::test::Key;
+namespace facerig {
+using test::Key;
 
 namespace {
 
@@ -514,3 +505,5 @@ TEST_CASE("ICT-FaceKit: a 30 ms p between aa closes the lips while smiling, end 
     REQUIRE(best_frame <= 0.05f * open);
   }
 }
+
+}  // namespace facerig

@@ -9,16 +9,8 @@
 #include "support/allocation_counter.h"
 #include "support/test_meshes.h"
 
-using facerig::CoarticulationError;
-using facerig::CoarticulationJob;
-using facerig::CoarticulationParams;
-using facerig::Viseme;
-using facerig::VisemeKey;
-using facerig::VisemeTrack;
-using facerig::VisemeTrackError;
-using facerig::VisemeWeights;
-
-using facerig::test::Key;
+namespace facerig {
+using test::Key;
 
 namespace {
 
@@ -266,3 +258,5 @@ TEST_CASE("CoarticulationJob invalid inputs", "[coarticulation]") {
   REQUIRE(run(&empty, 0.1, &params, &out) == CoarticulationError::kNone);
   for (float w : out) REQUIRE(w == 0.0f);
 }
+
+}  // namespace facerig
