@@ -41,6 +41,11 @@ struct TopologyMappingParams {
   // Nearest triangle with face normal . vertex normal >= this (cos 75
   // degrees); when none lies within zero_weight_distance, the plain nearest.
   float min_normal_dot = 0.26f;
+  // A facing triangle is taken only this much farther than the plain nearest
+  // one: a lip resting on the other lies well within it, while a vertex whose
+  // normal is off (a fold of slivers on a decimated mesh) must not jump to
+  // another sheet of its part centimetres away.
+  float facing_reach = 0.005f;
   // The rims of the target's openings: the inset of boundary vertices, their
   // snapping onto the template's margins, smoothing along them and closing
   // (boundary_inset, rim_*; BuildRig sets these from BuildRigParams::openings).
