@@ -269,6 +269,7 @@ TargetSearchView MakeTargetSearchView(std::span<const glm::vec3> positions, std:
 
 // Everything the per-vertex mapping reads, in absolute distances.
 struct VertexMapper {
+  const ClosestPointQuery& whole;  // the whole fitted template
   std::span<const glm::vec3> fitted_template;
   std::span<const Triangle> template_triangles;
   const std::vector<TemplateRimEdge>& rim_edges;
@@ -280,9 +281,9 @@ struct VertexMapper {
 
   // The template point of target vertex v: on a template rim edge when it
   // snaps to one, else the nearest facing point of its part's surface, else
-  // `nearest`. Counts snaps and facing fallbacks in `mapping`.
-  ClosestPointHit Map(std::size_t v, ClosestPointHit nearest, const PartSurface* surface, bool& snapped,
-                      TopologyMapping& mapping) const {
+  // the nearest point of the whole template. Counts snaps and facing
+  // fallbacks in `mapping`.
+  ClosestPointHit Map(std::size_t v, const PartSurface* surface, bool& snapped, TopologyMapping& mapping) const {
     const ClosestPointHit on_rim =
         target.on_boundary[v] && !rim_edges.empty()
             ? NearestOnRim(target.positions[v], -target.inward[v], fitted_template, template_triangles, rim_edges,
@@ -294,7 +295,7 @@ struct VertexMapper {
       snapped = true;
       return on_rim;
     }
-    if (!surface) return nearest;
+    if (!surface) return whole.Find(target.positions[v]);
     const ClosestPointHit plain = surface->query->Find(target.queries[v]);
     ClosestPointHit facing = surface->query->FindFacing(target.queries[v], target.normals[v], params.min_normal_dot,
                                                         std::min(zero, plain.distance + facing_reach));
@@ -344,8 +345,6 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
       ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
   const std::size_t target_parts =
       ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
-  std::vector<ClosestPointHit> nearest(target_positions.size());
-  for (std::size_t v = 0; v < target_positions.size(); ++v) nearest[v] = whole.Find(target_positions[v]);
   const ClosestPointQuery target_surface(target_mesh);
   const PartVotes votes{
       NearestPartAreas(target_positions, target_triangles, target_part_of_vertex, target_parts, whole,
@@ -359,7 +358,7 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
       MakeTargetSearchView(target_positions, target_triangles, params.openings.boundary_inset * diagonal);
   CheckTemplateMargins(template_margins, fitted_template.size());
   const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_margins);
-  const VertexMapper mapper{fitted_template, template_triangles, rim_edges, target, params,
+  const VertexMapper mapper{whole, fitted_template, template_triangles, rim_edges, target, params,
                             params.openings.rim_snap_distance * diagonal, params.facing_reach * diagonal, zero};
 
   const std::size_t n = target_positions.size();
@@ -372,7 +371,7 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
   for (std::size_t v = 0; v < n; ++v) {
     bool snapped = false;
     const ClosestPointHit hit =
-        mapper.Map(v, nearest[v], surfaces.surface_of_part[target_part_of_vertex[v]], snapped, mapping);
+        mapper.Map(v, surfaces.surface_of_part[target_part_of_vertex[v]], snapped, mapping);
     rim_snapped[v] = snapped ? 1 : 0;
     RecordHit(mapping, v, hit, full, zero, distance_sum);
   }

@@ -51,6 +51,9 @@ IctTarget DecimatedTarget(const Mesh& face, double triangle_fraction) {
 }
 
 // The largest length ratio of any edge between `positions` and `positions` + `deltas` (one per vertex).
+// Raw edge ratios are extreme on slivers, but the face's own blink is
+// measured on the same triangles (decimation keeps a subset of its
+// vertices), so its slivers are the build's and the ratio of the two is fair.
 float WorstStretch(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
                    std::span<const glm::vec3> deltas) {
   float worst = 1.0f;
@@ -118,6 +121,14 @@ std::array<BlinkMeasure, 2> BuildAndMeasureBlinks(const IctTarget& target) {
   return {MeasureBlink(target, built.rig, kBlinks[0]), MeasureBlink(target, built.rig, kBlinks[1])};
 }
 
+void CheckBlinks(const std::array<BlinkMeasure, 2>& blinks) {
+  for (std::size_t i = 0; i < kBlinks.size(); ++i) {
+    INFO(kBlinks[i]);
+    CHECK(blinks[i].eyeball_move < 1e-3f);
+    CHECK(blinks[i].stretch <= 1.3f * blinks[i].true_stretch);
+  }
+}
+
 void PrintBlinks(const char* identity, const char* topology, const IctTarget& target,
                  const std::array<BlinkMeasure, 2>& blinks) {
   std::printf("%s, %s (%zu triangles): worst edge stretch L %.2fx R %.2fx (their own blinks: %.2fx %.2fx); "
@@ -140,22 +151,24 @@ TEST_CASE("(shared data) build: onto a decimated ICT face with detected landmark
   REQUIRE(target.mesh.triangles.size() > face.triangles.size() / 4);
   const std::array<BlinkMeasure, 2> blinks = BuildAndMeasureBlinks(target);
   PrintBlinks("identity005", "decimated", target, blinks);
-  for (std::size_t i = 0; i < kBlinks.size(); ++i) {
-    INFO(kBlinks[i]);
-    CHECK(blinks[i].eyeball_move < 1e-3f);
-    CHECK(blinks[i].stretch <= 1.3f * blinks[i].true_stretch);
-  }
+  CheckBlinks(blinks);
 }
 
-// The closing table: more identities, on ICT's topology and decimated.
-TEST_CASE("(shared data) build: blink stretch against the face's own on ICT identities, full and decimated",
+// The same on more identities, full and decimated (12 builds, ~3 minutes):
+// hidden, run by name.
+TEST_CASE("(shared data) build: onto more ICT faces, full and decimated, blinks stretch the lids no more than their "
+          "own blinks",
           "[shared-data][.measure]") {
   for (const char* identity : {"identity000", "identity001", "identity005", "identity010", "identity011",
                                "identity019"}) {
     const Mesh face = ReadObj(test::IctDir() / (std::string(identity) + ".obj"));
-    const IctTarget full = FullTarget(face), decimated = DecimatedTarget(face, kDecimatedFraction);
-    PrintBlinks(identity, "ICT topology", full, BuildAndMeasureBlinks(full));
-    PrintBlinks(identity, "decimated", decimated, BuildAndMeasureBlinks(decimated));
+    for (const IctTarget& target : {FullTarget(face), DecimatedTarget(face, kDecimatedFraction)}) {
+      const bool decimated = target.mesh.triangles.size() < face.triangles.size();
+      const std::array<BlinkMeasure, 2> blinks = BuildAndMeasureBlinks(target);
+      PrintBlinks(identity, decimated ? "decimated" : "ICT topology", target, blinks);
+      INFO(identity << (decimated ? " decimated" : " ICT topology"));
+      CheckBlinks(blinks);
+    }
   }
 }
 
