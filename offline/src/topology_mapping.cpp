@@ -345,7 +345,8 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
       ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
   const std::size_t target_parts =
       ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
-  const ClosestPointQuery target_surface(target_mesh);
+  const ClosestPointQuery target_surface(Mesh{.positions = {target_positions.begin(), target_positions.end()},
+                                              .triangles = {target_triangles.begin(), target_triangles.end()}});
   const PartVotes votes{
       NearestPartAreas(target_positions, target_triangles, target_part_of_vertex, target_parts, whole,
                        template_part_of_vertex, zero),
