@@ -296,12 +296,15 @@ struct VertexMapper {
       return on_rim;
     }
     if (!surface) return whole.Find(target.positions[v]);
-    const ClosestPointHit plain = surface->query->Find(target.queries[v]);
-    ClosestPointHit facing = surface->query->FindFacing(target.queries[v], target.normals[v], params.min_normal_dot,
-                                                        std::min(zero, plain.distance + facing_reach));
-    if (facing.triangle < 0) {
-      facing = plain;
-      ++mapping.facing_fallbacks;
+    ClosestPointHit facing =
+        surface->query->FindFacing(target.queries[v], target.normals[v], params.min_normal_dot, zero);
+    // Within facing_reach of the vertex it is near enough whatever the plain nearest is.
+    if (facing.triangle < 0 || facing.distance > facing_reach) {
+      const ClosestPointHit plain = surface->query->Find(target.queries[v]);
+      if (facing.triangle < 0 || facing.distance > plain.distance + facing_reach) {
+        facing = plain;
+        ++mapping.facing_fallbacks;
+      }
     }
     facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);
     return facing;
