@@ -149,6 +149,10 @@ TEST_CASE("(shared data) build: onto a decimated ICT face with detected landmark
   // A decimation, not a copy: the triangle count is what the detector and the mapping see.
   REQUIRE(target.mesh.triangles.size() < face.triangles.size() / 2);
   REQUIRE(target.mesh.triangles.size() > face.triangles.size() / 4);
+  // The eyeballs are in it, so that their staying still is measured.
+  REQUIRE(std::count_if(target.original_vertex.begin(), target.original_vertex.end(), [](std::uint32_t v) {
+            return v >= kFirstEyeballVertex && v <= kLastEyeballVertex;
+          }) > 1000);
   const std::array<BlinkMeasure, 2> blinks = BuildAndMeasureBlinks(target);
   PrintBlinks("identity005", "decimated", target, blinks);
   CheckBlinks(blinks);
