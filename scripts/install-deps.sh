@@ -18,6 +18,7 @@ packages=(
   # EGL + Mesa (llvmpipe) render headless without a display or GPU.
   libsdl2-dev libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0
   catch2                                           # tests
+  libmeshoptimizer-dev                             # tests: decimated targets
   nodejs npm                                       # glTF validator in the tests
 )
 

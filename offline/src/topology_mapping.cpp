@@ -113,6 +113,10 @@ void CheckParams(const TopologyMappingParams& params) {
   if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
     throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
   }
+  if (!(params.facing_reach >= 0.0f) || !std::isfinite(params.facing_reach)) {
+    throw InvalidInputError("topology mapping: facing_reach must be finite and >= 0, not " +
+                            std::to_string(params.facing_reach));
+  }
   const OpeningParams& openings = params.openings;
   if (!(openings.rim_smoothing_radius >= 0.0f) || !std::isfinite(openings.rim_smoothing_radius)) {
     throw InvalidInputError("topology mapping: rim_smoothing_radius must be finite and >= 0, not " +
@@ -136,34 +140,54 @@ void CheckTemplateMargins(std::span<const MarginDirection> margins, std::size_t 
   }
 }
 
-// Per target vertex, its nearest point on the whole fitted template; per
-// target part, which template parts its vertices are nearest to (within `zero`).
-struct PartVotes {
-  std::vector<ClosestPointHit> nearest;
-  std::vector<std::map<std::uint32_t, std::size_t>> votes;
-  std::vector<std::size_t> part_size;
-};
+double TriangleArea(std::span<const glm::vec3> positions, const Triangle& t) {
+  return 0.5 * static_cast<double>(
+                   glm::length(glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]])));
+}
 
-PartVotes CountPartVotes(const ClosestPointQuery& whole, std::span<const Triangle> template_triangles,
-                         std::span<const std::uint32_t> template_part_of_vertex,
-                         std::span<const glm::vec3> target_positions,
-                         std::span<const std::uint32_t> target_part_of_vertex, std::size_t target_parts, float zero) {
-  const std::size_t n = target_positions.size();
-  PartVotes result;
-  result.votes.resize(target_parts);
-  result.part_size.assign(target_parts, 0);
-  result.nearest.resize(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    result.nearest[v] = whole.Find(target_positions[v]);
-    const std::uint32_t part = target_part_of_vertex[v];
-    ++result.part_size[part];
-    if (result.nearest[v].distance <= zero) {
-      const Triangle& t = template_triangles[static_cast<std::size_t>(result.nearest[v].triangle)];
-      ++result.votes[part][template_part_of_vertex[t[0]]];
+glm::vec3 Centroid(std::span<const glm::vec3> positions, const Triangle& t) {
+  return (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0f;
+}
+
+// For each connected part of a mesh (`from`), the fraction of its area
+// nearest to each part of another (`onto`, within `reach`), sampled at
+// triangle centroids: a decimated thin part (the tear film between lid and
+// eyeball) keeps mostly its border vertices, which lie where it meets its
+// neighbours and are as near to them as to itself; its centroids lie inside it.
+std::vector<std::map<std::uint32_t, double>> NearestPartAreas(std::span<const glm::vec3> from_positions,
+                                                              std::span<const Triangle> from_triangles,
+                                                              std::span<const std::uint32_t> from_part_of_vertex,
+                                                              std::size_t from_parts, const ClosestPointQuery& onto,
+                                                              std::span<const std::uint32_t> onto_part_of_vertex,
+                                                              float reach) {
+  std::vector<std::map<std::uint32_t, double>> fractions(from_parts);
+  std::vector<double> part_area(from_parts, 0.0);
+  for (const Triangle& t : from_triangles) {
+    const double area = TriangleArea(from_positions, t);
+    const std::uint32_t part = from_part_of_vertex[t[0]];
+    part_area[part] += area;
+    const ClosestPointHit hit = onto.Find(Centroid(from_positions, t), reach);
+    if (hit.triangle >= 0) {
+      fractions[part][onto_part_of_vertex[onto.triangles()[static_cast<std::size_t>(hit.triangle)][0]]] += area;
     }
   }
-  return result;
+  for (std::size_t part = 0; part < from_parts; ++part) {
+    for (auto& [onto_part, area] : fractions[part]) area = part_area[part] > 0.0 ? area / part_area[part] : 0.0;
+  }
+  return fractions;
 }
+
+// Which template parts each target part matches, in both directions: the
+// fraction of the target part's area nearest to each template part, and of
+// each template part's area nearest to each target part. One-way votes are
+// not enough for thin parts that lie on others (the tear film on the eyeball,
+// under the lid): a fitted template a millimetre off gives their area to the
+// eyeball and the skin as much as to their own counterpart, but of the
+// eyeball's or the skin's area almost none lies nearest to them.
+struct PartVotes {
+  std::vector<std::map<std::uint32_t, double>> target_to_template;  // [target part][template part]
+  std::vector<std::map<std::uint32_t, double>> template_to_target;  // [template part][target part]
+};
 
 // One search structure per distinct set of chosen template parts; per target
 // part the one it searches (null: nothing of the template near it).
@@ -172,19 +196,36 @@ struct PartSurfaces {
   std::vector<const PartSurface*> surface_of_part;
 };
 
+// The template parts target part `part` searches: those whose mutual score
+// (the product of the two fractions) reaches `min_part_vote` of the best
+// one's; where no template part has any of its area nearest to this one (a
+// speck), those with `min_part_vote` of its own area.
+std::vector<std::uint32_t> ChooseTemplateParts(const PartVotes& votes, std::size_t part, float min_part_vote) {
+  std::map<std::uint32_t, double> score;
+  double best = 0.0;
+  for (const auto& [template_part, forward] : votes.target_to_template[part]) {
+    const auto& back = votes.template_to_target[template_part];
+    const auto found = back.find(static_cast<std::uint32_t>(part));
+    score[template_part] = forward * (found == back.end() ? 0.0 : found->second);
+    best = std::max(best, score[template_part]);
+  }
+  std::vector<std::uint32_t> chosen;
+  for (const auto& [template_part, forward] : votes.target_to_template[part]) {
+    const bool mutual = best > 0.0 && score[template_part] >= static_cast<double>(min_part_vote) * best;
+    const bool one_way = best == 0.0 && forward >= static_cast<double>(min_part_vote);
+    if (mutual || one_way) chosen.push_back(template_part);
+  }
+  return chosen;
+}
+
 PartSurfaces BuildPartSurfaces(std::span<const glm::vec3> fitted_template, std::span<const Triangle> template_triangles,
                                std::span<const std::uint32_t> template_part_of_vertex, const PartVotes& votes,
                                float min_part_vote) {
-  const std::size_t target_parts = votes.votes.size();
+  const std::size_t target_parts = votes.target_to_template.size();
   PartSurfaces result;
   result.surface_of_part.assign(target_parts, nullptr);
   for (std::size_t part = 0; part < target_parts; ++part) {
-    std::vector<std::uint32_t> chosen;
-    for (const auto& [template_part, count] : votes.votes[part]) {
-      if (static_cast<float>(count) >= min_part_vote * static_cast<float>(votes.part_size[part])) {
-        chosen.push_back(template_part);
-      }
-    }
+    const std::vector<std::uint32_t> chosen = ChooseTemplateParts(votes, part, min_part_vote);
     if (chosen.empty()) continue;  // nothing of the template near this part: plain nearest, faded out
     auto [it, inserted] = result.surfaces.try_emplace(chosen);
     if (inserted) {
@@ -228,19 +269,21 @@ TargetSearchView MakeTargetSearchView(std::span<const glm::vec3> positions, std:
 
 // Everything the per-vertex mapping reads, in absolute distances.
 struct VertexMapper {
+  const ClosestPointQuery& whole;  // the whole fitted template
   std::span<const glm::vec3> fitted_template;
   std::span<const Triangle> template_triangles;
   const std::vector<TemplateRimEdge>& rim_edges;
   const TargetSearchView& target;
   const TopologyMappingParams& params;
   float rim_snap_distance;
+  float facing_reach;
   float zero;
 
   // The template point of target vertex v: on a template rim edge when it
   // snaps to one, else the nearest facing point of its part's surface, else
-  // `nearest`. Counts snaps and facing fallbacks in `mapping`.
-  ClosestPointHit Map(std::size_t v, ClosestPointHit nearest, const PartSurface* surface, bool& snapped,
-                      TopologyMapping& mapping) const {
+  // the nearest point of the whole template. Counts snaps and facing
+  // fallbacks in `mapping`.
+  ClosestPointHit Map(std::size_t v, const PartSurface* surface, bool& snapped, TopologyMapping& mapping) const {
     const ClosestPointHit on_rim =
         target.on_boundary[v] && !rim_edges.empty()
             ? NearestOnRim(target.positions[v], -target.inward[v], fitted_template, template_triangles, rim_edges,
@@ -252,12 +295,16 @@ struct VertexMapper {
       snapped = true;
       return on_rim;
     }
-    if (!surface) return nearest;
+    if (!surface) return whole.Find(target.positions[v]);
     ClosestPointHit facing =
         surface->query->FindFacing(target.queries[v], target.normals[v], params.min_normal_dot, zero);
-    if (facing.triangle < 0) {
-      facing = surface->query->Find(target.queries[v]);
-      ++mapping.facing_fallbacks;
+    // Within facing_reach of the vertex it is near enough whatever the plain nearest is.
+    if (facing.triangle < 0 || facing.distance > facing_reach) {
+      const ClosestPointHit plain = surface->query->Find(target.queries[v]);
+      if (facing.triangle < 0 || facing.distance > plain.distance + facing_reach) {
+        facing = plain;
+        ++mapping.facing_fallbacks;
+      }
     }
     facing.triangle = static_cast<std::int32_t>(surface->template_triangle[static_cast<std::size_t>(facing.triangle)]);
     return facing;
@@ -297,11 +344,17 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
   const float zero = params.zero_weight_distance * diagonal;
 
   std::vector<std::uint32_t> template_part_of_vertex, target_part_of_vertex;
-  ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
+  const std::size_t template_parts =
+      ConnectedComponents(fitted_template.size(), template_triangles, template_part_of_vertex);
   const std::size_t target_parts =
       ConnectedComponents(target_positions.size(), target_triangles, target_part_of_vertex);
-  const PartVotes votes = CountPartVotes(whole, template_triangles, template_part_of_vertex, target_positions,
-                                         target_part_of_vertex, target_parts, zero);
+  const ClosestPointQuery target_surface(Mesh{.positions = {target_positions.begin(), target_positions.end()},
+                                              .triangles = {target_triangles.begin(), target_triangles.end()}});
+  const PartVotes votes{
+      NearestPartAreas(target_positions, target_triangles, target_part_of_vertex, target_parts, whole,
+                       template_part_of_vertex, zero),
+      NearestPartAreas(fitted_template, template_triangles, template_part_of_vertex, template_parts, target_surface,
+                       target_part_of_vertex, zero)};
   const PartSurfaces surfaces =
       BuildPartSurfaces(fitted_template, template_triangles, template_part_of_vertex, votes, params.min_part_vote);
 
@@ -309,8 +362,8 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
       MakeTargetSearchView(target_positions, target_triangles, params.openings.boundary_inset * diagonal);
   CheckTemplateMargins(template_margins, fitted_template.size());
   const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_margins);
-  const VertexMapper mapper{fitted_template, template_triangles, rim_edges, target, params,
-                            params.openings.rim_snap_distance * diagonal, zero};
+  const VertexMapper mapper{whole, fitted_template, template_triangles, rim_edges, target, params,
+                            params.openings.rim_snap_distance * diagonal, params.facing_reach * diagonal, zero};
 
   const std::size_t n = target_positions.size();
   TopologyMapping mapping;
@@ -322,7 +375,7 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
   for (std::size_t v = 0; v < n; ++v) {
     bool snapped = false;
     const ClosestPointHit hit =
-        mapper.Map(v, votes.nearest[v], surfaces.surface_of_part[target_part_of_vertex[v]], snapped, mapping);
+        mapper.Map(v, surfaces.surface_of_part[target_part_of_vertex[v]], snapped, mapping);
     rim_snapped[v] = snapped ? 1 : 0;
     RecordHit(mapping, v, hit, full, zero, distance_sum);
   }

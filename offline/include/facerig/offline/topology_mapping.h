@@ -6,9 +6,9 @@
 // a hat), so the target's vertex order, UVs and parts stay untouched.
 //
 // Which template surface a target vertex may land on: each connected part of
-// the target votes (its vertices' nearest template parts) for the template
-// parts it matches (skin, eyeballs, teeth...), and only those are searched,
-// so an eyelid vertex does not take the eyeball's deltas. Within them the
+// the target is matched to the template parts (skin, eyeballs, teeth...)
+// that are nearest to it and it to them, by area both ways, and only those
+// are searched, so an eyelid vertex does not take the eyeball's deltas. Within them the
 // nearest triangle facing the same way as the target vertex's normal wins, so
 // lips that touch in the neutral do not swap their motion; and a vertex on the
 // rim of an opening looks from slightly inside its own lip or lid.
@@ -34,13 +34,24 @@ struct TopologyMappingParams {
   // smoothly (smoothstep) to none at zero_weight_distance.
   float full_weight_distance = 0.02f;
   float zero_weight_distance = 0.08f;
-  // A target part searches the template parts that got at least this fraction
-  // of its vertices' votes. An eyeball of a face with ICT's topology gives a
-  // fifth of its votes to the lids in front of it; at 5 % it took their blink.
+  // A target part searches the template parts whose mutual score reaches
+  // this fraction of the best one's: the fraction of the target part's area
+  // nearest to the template part times the fraction of the template part's
+  // area nearest to the target part. An eyeball of a face with ICT's topology
+  // has a fifth of its area nearest to the lids in front of it, and the tear
+  // film of a decimated face a third nearest to the skin and a fifth to the
+  // eyeball (a fit a millimetre off), but of the skin's and the eyeball's
+  // area almost none lies nearest to them. Where no template part has any of
+  // its area nearest to the target part: those with this fraction of its area.
   float min_part_vote = 0.30f;
   // Nearest triangle with face normal . vertex normal >= this (cos 75
   // degrees); when none lies within zero_weight_distance, the plain nearest.
   float min_normal_dot = 0.26f;
+  // A facing triangle is taken only this much farther than the plain nearest
+  // one: a lip resting on the other lies well within it, while a vertex whose
+  // normal is off (a fold of slivers on a decimated mesh) must not jump to
+  // another sheet of its part centimetres away.
+  float facing_reach = 0.005f;
   // The rims of the target's openings: the inset of boundary vertices, their
   // snapping onto the template's margins, smoothing along them and closing
   // (boundary_inset, rim_*; BuildRig sets these from BuildRigParams::openings).
