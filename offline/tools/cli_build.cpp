@@ -203,9 +203,11 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, BuildInputs& inpu
   return found;
 }
 
-// Where each output goes until OutputSet::Commit() (empty: not asked for).
+// Where the outputs without files beside them go until OutputSet::Commit()
+// (empty: not asked for). The rig and --template-topology may bring an OBJ's
+// MTL and images: WriteWithFilesBeside adds them as they are written.
 struct BuildOutputPaths {
-  std::filesystem::path rig, frig, obj_dir, template_topology, report;
+  std::filesystem::path frig, obj_dir, report;
 };
 
 // The outputs as one set (output_set.h): --obj-dir is replaced, not merged,
@@ -215,7 +217,6 @@ BuildOutputPaths AddBuildOutputs(const BuildOptions& options, OutputSet& set) {
     return path.empty() ? std::filesystem::path() : set.Add(path, OutputSet::Kind::kFile);
   };
   BuildOutputPaths paths;
-  paths.rig = add_file(options.output);
   paths.frig = add_file(options.frig);
   if (!options.obj_dir.empty()) {
     // What WriteObjFolder writes: OBJs, their MTL and its images.
@@ -227,17 +228,17 @@ BuildOutputPaths AddBuildOutputs(const BuildOptions& options, OutputSet& set) {
                                        ".obj, .mtl, .png and .jpg files", "--obj-dir"};
     paths.obj_dir = set.Add(options.obj_dir, OutputSet::Kind::kFolder, obj_folder);
   }
-  paths.template_topology = add_file(options.template_topology);
   paths.report = add_file(options.report);
   return paths;
 }
 
 // Writes every output but the report under its temporary name.
 void WriteBuildOutputs(const BuildOptions& options, const BuildOutputPaths& paths, const Rig& rig,
-                       const BuildRigResult& built) {
+                       const BuildRigResult& built, OutputSet& set) {
   const Rig dressed = DressedRig(rig, built.target_mesh);
-  SaveBuiltRig(options.target_path, paths.rig, rig, dressed);
-  CheckAfterWrite("rig", paths.rig);
+  const std::filesystem::path rig_path = WriteWithFilesBeside(
+      set, options.output, [&](const std::filesystem::path& path) { SaveBuiltRig(options.target_path, path, rig, dressed); });
+  CheckAfterWrite("rig", rig_path);
   if (!paths.frig.empty()) {
     SaveRig(paths.frig, dressed);
     CheckAfterWrite("frig", paths.frig);
@@ -246,12 +247,13 @@ void WriteBuildOutputs(const BuildOptions& options, const BuildOutputPaths& path
     WriteObjFolder(paths.obj_dir, dressed);
     CheckAfterWrite("obj-dir", paths.obj_dir);
   }
-  if (!paths.template_topology.empty()) {
+  if (!options.template_topology.empty()) {
     std::string problem;
     const std::optional<Rig> fitted = RigBuilder::Build(built.template_frame_rig, &problem);
     if (!fitted) throw InvalidInputError("the template-topology rig is invalid: " + problem);
-    SaveRig(paths.template_topology, *fitted);
-    CheckAfterWrite("template-topology", paths.template_topology);
+    const std::filesystem::path fitted_path = WriteWithFilesBeside(
+        set, options.template_topology, [&](const std::filesystem::path& path) { SaveRig(path, *fitted); });
+    CheckAfterWrite("template-topology", fitted_path);
   }
 }
 
@@ -329,7 +331,7 @@ void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const
   WriteOutputSet([&](OutputSet& set) {
     const BuildOutputPaths paths = AddBuildOutputs(options, set);
     const auto start = std::chrono::steady_clock::now();
-    WriteBuildOutputs(options, paths, rig, built);
+    WriteBuildOutputs(options, paths, rig, built, set);
     stages.push_back({"write", SecondsSince(start)});
     if (!paths.report.empty()) {
       WriteJsonAtomically(paths.report, BuildReport(options, inputs, landmarks, built, rig, stages));

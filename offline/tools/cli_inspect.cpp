@@ -135,7 +135,12 @@ int RunConvert(const RigFileOptions& options) {
   try {
     const std::string& output = options.paths[1];
     const Rig rig = Load(options.paths[0], options.folder);
-    SaveRig(output, rig);
+    // One set: an OBJ's MTL and images arrive with it, or nothing changes.
+    WriteOutputSet([&](OutputSet& set) {
+      const std::filesystem::path written = WriteWithFilesBeside(
+          set, output, [&](const std::filesystem::path& path) { SaveRig(path, rig); });
+      CheckAfterWrite("rig", written);
+    });
     std::printf("wrote %s (%zu vertices, %zu shapes, %ju bytes)\n", output.c_str(), rig.vertex_count(),
                 rig.shape_count(), static_cast<std::uintmax_t>(std::filesystem::file_size(output)));
     return 0;

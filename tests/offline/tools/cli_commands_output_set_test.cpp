@@ -287,4 +287,23 @@ TEST_CASE("facerig register of the built-in head onto itself: a failed write kee
   CHECK(ReadObj(OutputFolder(command) / "fitted.obj").positions.size() == head.vertex_count());
 }
 
+TEST_CASE("facerig convert to X.obj: the OBJ, its MTL and images arrive as one set, or nothing does",
+          "[cli][output-set]") {
+  const fs::path out = test::FreshOutputFolder("convert_textured_set");
+  const CommandCase command{"convert", {"convert", FACERIG_DEFAULT_HEAD, (out / "head.obj").string()}, {"head.obj"}};
+  const test::CommandOutcome failed = RunWithFailure(command, "fail-rig");
+  CHECK(failed.exit_code == 1);
+  CHECK(test::Names(out).empty());  // no MTL or image left without its OBJ, no temporaries
+
+  const test::CommandOutcome outcome = RunWithFailure(command, "");
+  INFO(outcome.error_output);
+  REQUIRE(outcome.exit_code == 0);
+  const Rig original = LoadRig(FACERIG_DEFAULT_HEAD);
+  std::vector<std::string> expected{"head.mtl", "head.obj"};
+  for (const std::string& name : ImageFileNames(original.images())) expected.push_back(name);
+  std::sort(expected.begin(), expected.end());
+  CHECK(test::Names(out) == expected);
+  CHECK(LoadRig(out / "head.obj").images().size() == original.images().size());
+}
+
 }  // namespace facerig
