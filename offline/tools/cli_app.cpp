@@ -1,10 +1,7 @@
 #include "cli_app.h"
 
-#include "cli_build.h"
-#include "cli_identity.h"
-#include "cli_inspect.h"
+#include "cli_commands.h"
 #include "cli_options.h"
-#include "cli_register.h"
 
 namespace facerig::cli {
 

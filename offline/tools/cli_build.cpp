@@ -1,4 +1,4 @@
-#include "cli_build.h"
+#include "cli_commands.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,4 +1,4 @@
-#include "cli_identity.h"
+#include "cli_commands.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,6 +1,6 @@
 // `facerig inspect`, `facerig convert` and `facerig default-head`: reading,
 // converting and generating rigs.
-#include "cli_inspect.h"
+#include "cli_commands.h"
 
 #include <algorithm>
 #include <chrono>

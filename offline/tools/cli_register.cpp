@@ -1,4 +1,4 @@
-#include "cli_register.h"
+#include "cli_commands.h"
 
 #include <chrono>
 #include <cstdio>
