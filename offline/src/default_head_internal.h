@@ -96,6 +96,8 @@ struct HeadGeometry {
   std::vector<std::uint32_t> upper_lip, lower_lip;
   Range eyeballs;  // both eyeballs (white, iris, pupil); the side is the sign of x
   Range teeth_upper, teeth_lower, mouth_inner, tongue;
+  // UVs of the teeth vertices (upper row, then lower), image rows downwards.
+  std::vector<glm::dvec2> teeth_uvs;
   // Each inner-mouth vertex follows one lip-margin skin vertex, with a weight
   // that fades from 1 at the lips to 0 at the back of the mouth.
   std::vector<std::uint32_t> inner_source;
@@ -108,6 +110,12 @@ struct HeadGeometry {
 HeadGeometry BuildSkin();
 // Appends eyeballs, teeth, inner mouth and tongue (in the rig's part order).
 void AddParts(HeadGeometry& head);
+// Helpers of the parts: a vertex off the jaw, a part of the given triangles.
+std::uint32_t AddVertex(HeadGeometry& head, const glm::dvec3& p);
+void AddPart(HeadGeometry& head, const char* name, const std::vector<Triangle>& triangles);
+// Both rows of teeth, placed just behind the lips' crease (default_head_teeth.cpp);
+// returns the crease's depth (z), which the tongue is placed from too.
+double AddTeeth(HeadGeometry& head);
 // The blend shapes, dense over all vertices of the head.
 std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head);
 // Moves the lip margins of a shape's dense deltas so that at weight 1 the
@@ -128,8 +136,10 @@ std::vector<glm::vec2> HeadUvs(const HeadGeometry& head);
 // square, in pixels.
 inline constexpr int kSkinTextureSize = 1024;
 inline constexpr int kEyeTextureSize = 512;
+inline constexpr int kTeethTextureSize = 512;  // upper row's band on top, the lower's below
 EncodedImage PaintSkinAlbedo(const HeadGeometry& head, const std::vector<glm::vec2>& uvs);
 EncodedImage PaintEyeAlbedo();
+EncodedImage PaintTeethAlbedo();
 // Gives `raw` (the head's rig data, parts in place) its UVs, textures and
 // materials: skin, eye, teeth, tongue, mouth interior.
 void DressHead(RawRig& raw, const HeadGeometry& head);

@@ -1,6 +1,6 @@
 // The default head's materials: painted skin, a painted eye (sclera, iris,
-// pupil on the eyeball's disc UVs), off-white teeth, a pink tongue and a dark
-// mouth interior; and the eye texture, painted in code like the skin.
+// pupil on the eyeball's disc UVs), painted teeth (default_head_teeth.cpp), a
+// pink tongue and a dark mouth interior; and the eye texture, painted in code like the skin.
 #include <cmath>
 #include <numbers>
 
@@ -114,15 +114,15 @@ EncodedImage PaintEyeAlbedo() {
 
 void DressHead(RawRig& raw, const HeadGeometry& head) {
   raw.uvs = HeadUvs(head);
-  raw.images = {PaintSkinAlbedo(head, raw.uvs), PaintEyeAlbedo()};
+  raw.images = {PaintSkinAlbedo(head, raw.uvs), PaintEyeAlbedo(), PaintTeethAlbedo()};
   // Painted with image rows going down; a rig's v goes up (OBJ's convention, rig.h).
   for (glm::vec2& uv : raw.uvs) uv.y = 1.0f - uv.y;
   raw.materials = {
       MakeMaterial("skin", glm::vec4(1.0f), 0, 0.6f),
       MakeMaterial("eye", glm::vec4(1.0f), 1, 0.1f),
-      MakeMaterial("teeth", Linear(236, 228, 208), -1, 0.35f),
-      MakeMaterial("tongue", Linear(196, 96, 102), -1, 0.45f),
-      MakeMaterial("mouth_inner", Linear(92, 34, 38), -1, 0.7f),
+      MakeMaterial("teeth", glm::vec4(1.0f), 2, 0.35f),
+      MakeMaterial("tongue", Linear(150, 66, 72), -1, 0.5f),
+      MakeMaterial("mouth_inner", Linear(62, 22, 26), -1, 0.75f),
   };
   for (RawPart& part : raw.parts) {
     const std::string& n = part.name;
