@@ -64,6 +64,9 @@ std::vector<glm::dvec3> Apply(const Subdivision& s, const std::vector<glm::dvec3
 glm::dvec3 SurfaceOrigin();
 double HeadField(const glm::dvec3& p);
 glm::dvec3 SurfacePoint(const glm::dvec3& direction);
+// How far the hair lifts the scalp at a point (cm; 0 off the hair), from the
+// hairline the painted hair follows too (default_head_hair.cpp).
+double HairThickness(const glm::dvec3& p);
 
 // Anatomy shared by the surface, the parts and the expressions (centimetres).
 struct Anatomy {

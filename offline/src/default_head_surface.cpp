@@ -86,7 +86,7 @@ double HeadField(const glm::dvec3& world) {
   double lips = Ellipsoid(p, {0.0, -5.78, 8.0}, {2.45, 0.58, 1.25});
   lips = SmoothMin(lips, Ellipsoid(p, {0.0, -6.9, 7.9}, {2.15, 0.72, 1.15}), 0.15);
   f = SmoothMin(f, lips, 0.3);
-  return f;
+  return f - HairThickness(world);
 }
 
 glm::dvec3 SurfacePoint(const glm::dvec3& direction) {
