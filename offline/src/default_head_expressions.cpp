@@ -293,10 +293,10 @@ void AddJawAndLipShapes(ShapeList& list) {
   // "oh": the lips protrude and the corners come in; the opening itself is
   // mostly the jaw's, so the upper lip rises little and the teeth stay behind the lips.
   Deltas funnel = FromControl(head, ControlDeltas(control)
-                                           .At("lip_upper_inner", {0.0, 0.16, 0.6})
-                                           .At("lip_lower_inner", {0.0, -0.32, 0.55})
-                                           .Both("lip_upper_inner", {-0.45, 0.14, 0.55})
-                                           .Both("lip_lower_inner", {-0.45, -0.28, 0.5})
+                                           .At("lip_upper_inner", {0.0, 0.2, 0.6})
+                                           .At("lip_lower_inner", {0.0, -0.38, 0.55})
+                                           .Both("lip_upper_inner", {-0.45, 0.18, 0.55})
+                                           .Both("lip_lower_inner", {-0.45, -0.34, 0.5})
                                            .Both("mouth_corner", {-1.3, 0.0, 0.3})
                                            .At("lip_upper_outer", {0.0, 0.05, 0.5})
                                            .At("lip_lower_outer", {0.0, -0.12, 0.45})

@@ -101,6 +101,8 @@ struct HeadGeometry {
   Range teeth_upper, teeth_lower, mouth_inner, tongue;
   // UVs of the teeth vertices (upper row, then lower), image rows downwards.
   std::vector<glm::dvec2> teeth_uvs;
+  // UVs of the inner mouth's vertices: u around the lips, v the depth (0 at the lips).
+  std::vector<glm::dvec2> mouth_uvs;
   // Each inner-mouth vertex follows one lip-margin skin vertex, with a weight
   // that fades from 1 at the lips to 0 at the back of the mouth.
   std::vector<std::uint32_t> inner_source;
@@ -140,9 +142,11 @@ std::vector<glm::vec2> HeadUvs(const HeadGeometry& head);
 inline constexpr int kSkinTextureSize = 1024;
 inline constexpr int kEyeTextureSize = 512;
 inline constexpr int kTeethTextureSize = 512;  // upper row's band on top, the lower's below
+inline constexpr int kMouthTextureSize = 64;
 EncodedImage PaintSkinAlbedo(const HeadGeometry& head, const std::vector<glm::vec2>& uvs);
 EncodedImage PaintEyeAlbedo();
 EncodedImage PaintTeethAlbedo();
+EncodedImage PaintMouthAlbedo();
 // Gives `raw` (the head's rig data, parts in place) its UVs, textures and
 // materials: skin, eye, teeth, tongue, mouth interior.
 void DressHead(RawRig& raw, const HeadGeometry& head);

@@ -131,6 +131,9 @@ void AddInnerMouth(HeadGeometry& head) {
       head.jaw_weight[v] = head.jaw_weight[loop[i]];
       head.inner_source.push_back(loop[i]);
       head.inner_follow.push_back(ring.follow);
+      // The painted interior darkens with depth into the mouth.
+      head.mouth_uvs.push_back({(static_cast<double>(i) + 0.5) / static_cast<double>(loop.size()),
+                                ring.depth / kRings[std::size(kRings) - 1].depth});
       row.push_back(v);
     }
     rows.push_back(std::move(row));

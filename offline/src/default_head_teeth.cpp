@@ -43,7 +43,7 @@ ToothPlace PlaceOnTooth(double u, bool upper) {
   for (double w : widths) {
     if (from_mid <= start + w) {
       const double f = (from_mid - start) / w;
-      return {std::sin(kPi * f), from_mid / total};
+      return {std::max(0.0, std::sin(kPi * f)), from_mid / total};
     }
     start += w;
   }
@@ -60,32 +60,56 @@ struct RowShape {
   double jaw;
 };
 
-// Arc length from one end of the arch, normalised to 0..1, at each sample.
-std::vector<double> ArchFractions(const RowShape& row, int samples) {
-  std::vector<double> u(static_cast<std::size_t>(samples), 0.0);
-  glm::dvec2 previous{-row.half_width, row.front - row.depth};
-  for (int i = 1; i < samples; ++i) {
-    const double s = -1.0 + 2.0 * i / (samples - 1);
-    const glm::dvec2 p{row.half_width * s, row.front - row.depth * s * s};
-    u[static_cast<std::size_t>(i)] = u[static_cast<std::size_t>(i) - 1] + glm::length(p - previous);
-    previous = p;
+// Where the sections of a row fall, as (s, u): u the fraction of the arch's
+// length (0.5 the midline), s the arch parameter there. The front teeth, the
+// ones a viewer sees, get four sections each (their corners, their middle),
+// the back teeth two.
+std::vector<glm::dvec2> SectionPlaces(const RowShape& row) {
+  // Arc length along s, tabulated finely to invert it.
+  constexpr int kTable = 2001;
+  std::vector<double> length(kTable, 0.0);
+  auto arch = [&](double s) { return glm::dvec2(row.half_width * s, row.front - row.depth * s * s); };
+  for (int i = 1; i < kTable; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    length[k] = length[k - 1] + glm::length(arch(-1.0 + 2.0 * i / (kTable - 1)) - arch(-1.0 + 2.0 * (i - 1) / (kTable - 1)));
   }
-  for (double& value : u) value /= u.back();
-  return u;
+  auto s_at = [&](double u) {
+    const double target = u * length.back();
+    const auto hi = std::lower_bound(length.begin(), length.end(), target);
+    if (hi == length.begin()) return -1.0;
+    if (hi == length.end()) return 1.0;
+    const auto i = static_cast<double>(hi - length.begin());
+    const double t = (target - *(hi - 1)) / std::max(*hi - *(hi - 1), 1e-12);
+    return -1.0 + 2.0 * (i - 1.0 + t) / (kTable - 1);
+  };
+  const auto& widths = row.upper ? kUpperWidths : kLowerWidths;
+  double total = 0.0;
+  for (double w : widths) total += w;
+  std::vector<double> half = {0.0};  // distances from the midline, in width units
+  double start = 0.0;
+  for (std::size_t t = 0; t < widths.size(); ++t) {
+    const std::vector<double> steps = t < 3 ? std::vector<double>{0.15, 0.5, 0.85, 1.0} : std::vector<double>{0.5, 1.0};
+    for (double f : steps) half.push_back(start + f * widths[t]);
+    start += widths[t];
+  }
+  std::vector<glm::dvec2> places;
+  for (auto it = half.rbegin(); it != half.rend(); ++it) places.push_back({0.0, 0.5 - 0.5 * *it / total});
+  for (std::size_t i = 1; i < half.size(); ++i) places.push_back({0.0, 0.5 + 0.5 * half[i] / total});
+  for (glm::dvec2& place : places) place.x = s_at(place.y);
+  return places;
 }
 
 // One row: cross-sections (front gum, front edge, back edge, back gum) along
 // the arch, closed into a band with end caps.
 std::vector<Triangle> AddTeethRow(HeadGeometry& head, const RowShape& row) {
-  constexpr int kSamples = 161;
-  const std::vector<double> u = ArchFractions(row, kSamples);
+  const std::vector<glm::dvec2> places = SectionPlaces(row);
   const double band_gum = row.upper ? 0.0 : 1.0, band_edge = row.upper ? kBandEdge : 1.0 - kBandEdge;
   std::vector<std::array<std::uint32_t, 4>> sections;
-  for (int i = 0; i < kSamples; ++i) {
-    const double s = -1.0 + 2.0 * i / (kSamples - 1);
+  for (const glm::dvec2& place_on_arch : places) {
+    const double s = place_on_arch.x, u = place_on_arch.y;
     const glm::dvec3 centre{row.half_width * s, 0.0, row.front - row.depth * s * s};
     const glm::dvec3 outward = glm::normalize(glm::dvec3(2.0 * row.depth * s, 0.0, row.half_width));
-    const ToothPlace place = PlaceOnTooth(u[static_cast<std::size_t>(i)], row.upper);
+    const ToothPlace place = PlaceOnTooth(u, row.upper);
     const double bulge = 0.05 * std::sqrt(place.along);  // each crown convex
     const double towards_gum = row.upper ? 1.0 : -1.0;
     const double y_edge = row.y_edge + towards_gum * EdgeNotch(place.along);
@@ -99,7 +123,7 @@ std::vector<Triangle> AddTeethRow(HeadGeometry& head, const RowShape& row) {
       section[k] = AddVertex(head, corners[k]);
       head.jaw_weight[section[k]] = row.jaw;
       const bool gum = k == 0 || k == 3;
-      head.teeth_uvs.push_back({u[static_cast<std::size_t>(i)], gum ? band_gum : band_edge});
+      head.teeth_uvs.push_back({u, gum ? band_gum : band_edge});
     }
     sections.push_back(section);
   }
@@ -175,7 +199,7 @@ double AddTeeth(HeadGeometry& head) {
   head.teeth_upper.count = static_cast<std::uint32_t>(head.positions.size()) - head.teeth_upper.first;
   head.teeth_lower.first = static_cast<std::uint32_t>(head.positions.size());
   AddPart(head, "teeth_lower",
-          AddTeethRow(head, {teeth_front - 0.5, 1.7, 2.3, lip_y - 1.3, lip_y - 0.4, 0.45, false, 1.0}));
+          AddTeethRow(head, {teeth_front - 0.5, 1.7, 2.3, lip_y - 1.5, lip_y - 0.6, 0.45, false, 1.0}));
   head.teeth_lower.count = static_cast<std::uint32_t>(head.positions.size()) - head.teeth_lower.first;
   return crease_z;
 }

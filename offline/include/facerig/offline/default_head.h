@@ -51,7 +51,7 @@ struct DefaultHeadFeatures {
 // 1024x1024: a seamless disc about the crown, the face upright in its lower
 // half; eyes 512x512: a disc about the gaze axis, iris and pupil in the
 // middle), teeth 512x512 (both rows along the arch: crowns, gaps, gums),
-// untextured tongue and mouth interior.
+// the mouth interior 64x64 (darker with depth); an untextured tongue.
 Rig BuildDefaultHead(DefaultHeadFeatures* features = nullptr);
 
 // The pixels of an encoded image (PNG or JPEG), to check what was painted.
