@@ -16,7 +16,7 @@ namespace facerig::default_head {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kHairThickness = 0.5;  // cm at full volume
+constexpr double kHairThickness = 0.3;  // cm at full volume
 
 // Height (cm) of the hairline by azimuth about the vertical axis (degrees
 // from the front): high on the forehead, down in front of the ears as
