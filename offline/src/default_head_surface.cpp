@@ -52,7 +52,7 @@ double SidedFeatures(double f, const glm::dvec3& p) {
   f = SmoothMin(f, Ellipsoid(p, {7.4, -1.3, -1.2}, {0.8, 2.6, 1.45}), 0.5);
   // Eye socket, then the lid skin over the eyeball.
   f = SmoothMax(f, -Ellipsoid(p, {eye.x, eye.y - 0.15, 8.0}, {1.75, 1.05, 1.6}), 0.9);
-  f = SmoothMin(f, glm::length(p - eye) - (Anatomy::kEyeRadius + Anatomy::kLidOffset), 0.5);
+  f = SmoothMin(f, glm::length(p - eye) - (Anatomy::kEyeRadius + Anatomy::kLidOffset), 0.9);
   return f;
 }
 
