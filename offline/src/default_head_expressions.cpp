@@ -298,10 +298,13 @@ void AddJawAndLipShapes(ShapeList& list) {
                                            .Both("lip_upper_inner", {-0.45, 0.18, 0.55})
                                            .Both("lip_lower_inner", {-0.45, -0.34, 0.5})
                                            .Both("mouth_corner", {-1.3, 0.0, 0.3})
-                                           .At("lip_upper_outer", {0.0, 0.05, 0.5})
-                                           .At("lip_lower_outer", {0.0, -0.12, 0.45})
-                                           .Both("lip_upper_outer", {-0.35, 0.06, 0.45})
-                                           .Both("lip_lower_outer", {-0.35, -0.1, 0.4}));
+                                           .At("lip_upper_outer", {0.0, 0.05, 0.35})
+                                           .At("lip_lower_outer", {0.0, -0.12, 0.3})
+                                           .Both("lip_upper_outer", {-0.35, 0.06, 0.3})
+                                           .Both("lip_lower_outer", {-0.35, -0.1, 0.28})
+                                           // The cheeks follow the corners in, so the skin between does not fold.
+                                           .Both("cheek_low", {-0.4, 0.0, 0.1})
+                                           .At("chin", {0.0, -0.05, 0.1}));
   RoundMouthOpening(head, funnel);
   add("mouthFunnel", std::move(funnel));
   add("mouthPucker", FromControl(head, ControlDeltas(control)

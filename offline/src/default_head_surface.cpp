@@ -47,7 +47,7 @@ double SidedFeatures(double f, const glm::dvec3& p) {
   f = SmoothMin(f, Ellipsoid(p, {4.2, -1.2, 4.7}, {2.4, 1.6, 2.3}), 2.0);
   f = SmoothMin(f, Ellipsoid(p, {3.1, -4.4, 4.8}, {2.3, 2.4, 2.3}), 2.2);  // cheeks
   f = SmoothMin(f, Ellipsoid(p, {4.2, -7.9, 1.6}, {1.3, 1.5, 2.6}), 3.0);  // jaw angle
-  f = SmoothMin(f, Ellipsoid(p, {3.2, 1.9, 7.0}, {2.3, 0.9, 0.95}), 1.5);
+  f = SmoothMin(f, Ellipsoid(p, {3.2, 1.9, 7.0}, {2.3, 0.9, 0.9}), 1.5);
   // Ear: a flattened lobe at the side, enough to read in silhouette.
   f = SmoothMin(f, Ellipsoid(p, {7.4, -1.3, -1.2}, {0.8, 2.6, 1.45}), 0.5);
   // Eye socket, then the lid skin over the eyeball.
