@@ -1,5 +1,5 @@
-// The painted features of the default head's skin texture: a short hair cap
-// with strands, brows of hair-like strokes, lid creases and lash lines, and
+// The painted features of the default head's skin texture (the hair is
+// default_head_hair.cpp's): brows of hair-like strokes, lid creases and lash lines, and
 // the lips with their vermilion border. Each is placed from the head's own
 // geometry (feature points and margin chains) through the skin's UV map.
 #include <algorithm>
@@ -17,51 +17,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 double Radians(double degrees) { return degrees * kPi / 180.0; }
 
-// Height (cm) of the hairline by azimuth about the vertical axis (degrees
-// from the front): high on the forehead, down in front of the ears as
-// sideburns, over the ears, down to the nape.
-double HairlineHeight(double azimuth_degrees) {
-  static constexpr double kLine[][2] = {{0, 7.6},   {20, 7.3},  {40, 6.2},  {55, 4.6},  {68, 3.0},
-                                        {78, 0.5},  {85, -1.2}, {90, 0.8},  {97, 2.0},  {108, 1.2},
-                                        {125, -3.0}, {150, -6.5}, {180, -7.5}};
-  const double a = std::min(std::abs(azimuth_degrees), 180.0);
-  for (std::size_t i = 1; i < std::size(kLine); ++i) {
-    if (a <= kLine[i][0]) {
-      const double t = (a - kLine[i - 1][0]) / (kLine[i][0] - kLine[i - 1][0]);
-      return kLine[i - 1][1] + t * (kLine[i][1] - kLine[i - 1][1]);
-    }
-  }
-  return kLine[std::size(kLine) - 1][1];
-}
-
-// How much hair covers a skin point: 1 above the hairline, 0 below it and on the ears.
-float HairCoverage(const cv::Vec3f& p) {
-  const glm::dvec3 origin = SurfaceOrigin();
-  const double azimuth = std::atan2(static_cast<double>(p[0]), p[2] - origin.z) * 180.0 / kPi;
-  const double above = p[1] - HairlineHeight(azimuth);
-  const glm::dvec3 ear = (glm::dvec3(std::abs(p[0]), p[1], p[2]) - glm::dvec3(7.4, -1.3, -1.2)) / glm::dvec3(1.6, 3.0, 2.0);
-  const double off_ear = std::clamp((glm::length(ear) - 1.0) / 0.3, 0.0, 1.0);
-  return static_cast<float>(std::clamp(0.5 + above / 0.6, 0.0, 1.0) * off_ear);
-}
-
-// Strands: thin lines running away from the crown (the centre of the UV
-// disc), so they comb down the head whichever side they are on.
-cv::Mat HairStrands(int size) {
-  cv::Mat strands(size, size, CV_8U, cv::Scalar::all(110));
-  cv::RNG rng(31);
-  const cv::Point2f centre(0.5f * static_cast<float>(size), 0.5f * static_cast<float>(size));
-  for (int i = 0; i < 14000; ++i) {
-    const double angle = rng.uniform(0.0, 2.0 * kPi);
-    const double from = rng.uniform(0.0, 0.36) * size, length = rng.uniform(0.015, 0.05) * size;
-    const cv::Point2f dir(static_cast<float>(std::sin(angle)), static_cast<float>(std::cos(angle)));
-    const cv::Point2f a = centre + dir * static_cast<float>(from), b = centre + dir * static_cast<float>(from + length);
-    cv::line(strands, a, b, cv::Scalar(rng.uniform(40, 255)), 1, cv::LINE_AA);
-  }
-  cv::Mat result;
-  strands.convertTo(result, CV_32F, 1.0 / 255.0);
-  return result;
-}
-
 // A polyline through skin points, drawn anti-aliased into an 8-bit mask.
 void DrawPolyline(const SkinCanvas& canvas, cv::Mat& mask, const std::vector<glm::dvec3>& points, int thickness) {
   std::vector<cv::Point> pixels;
@@ -78,6 +33,18 @@ cv::Mat SoftMask(const cv::Mat& mask, double blur) {
   return soft;
 }
 
+// Multiplies the canvas by `factor` (B, G, R) where `mask` (0..1) is set.
+void Darken(SkinCanvas& canvas, const cv::Mat& mask, const cv::Vec3f& factor) {
+  for (int y = 0; y < canvas.size; ++y) {
+    const float* m = mask.ptr<float>(y);
+    auto* c = canvas.colour.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < canvas.size; ++x) {
+      const float a = std::clamp(m[x], 0.0f, 1.0f);
+      for (int k = 0; k < 3; ++k) c[x][k] *= 1.0f - a * (1.0f - factor[k]);
+    }
+  }
+}
+
 std::vector<glm::dvec3> Positions(const HeadGeometry& head, std::uint32_t first, const std::vector<std::uint32_t>& chain,
                                   std::uint32_t last) {
   std::vector<glm::dvec3> points = {head.positions[first]};
@@ -87,25 +54,6 @@ std::vector<glm::dvec3> Positions(const HeadGeometry& head, std::uint32_t first,
 }
 
 }  // namespace
-
-void PaintHair(SkinCanvas& canvas) {
-  const cv::Mat strands = HairStrands(canvas.size);
-  const cv::Vec3f dark = Bgr(0.16f, 0.10f, 0.07f), light = Bgr(0.36f, 0.25f, 0.17f);
-  for (int y = 0; y < canvas.size; ++y) {
-    for (int x = 0; x < canvas.size; ++x) {
-      if (!canvas.covered.at<std::uint8_t>(y, x)) continue;
-      const float cover = HairCoverage(canvas.position.at<cv::Vec3f>(y, x));
-      if (cover <= 0.0f) continue;
-      const float strand = strands.at<float>(y, x);
-      // A wispy hairline: near the edge, strands decide.
-      const float edge = 4.0f * cover * (1.0f - cover);
-      const float a = std::clamp(cover + (strand - 0.45f) * 1.2f * edge, 0.0f, 1.0f);
-      const cv::Vec3f hair = dark * (1.0f - strand) + light * strand;
-      cv::Vec3f& c = canvas.colour.at<cv::Vec3f>(y, x);
-      c = c * (1.0f - a) + hair * a;
-    }
-  }
-}
 
 void PaintBrows(SkinCanvas& canvas) {
   const HeadGeometry& head = *canvas.head;
@@ -156,8 +104,9 @@ void PaintLids(SkinCanvas& canvas) {
     DrawPolyline(canvas, lashes, Positions(head, opening.corner_a, head.upper_lid[s], opening.corner_b), 4);
     DrawPolyline(canvas, lower, Positions(head, opening.corner_a, head.lower_lid[s], opening.corner_b), 2);
   }
-  BlendColour(canvas, SoftMask(crease, 3.0), Bgr(0.50f, 0.34f, 0.30f), 0.55f);
-  BlendColour(canvas, SoftMask(lower, 1.0), Bgr(0.62f, 0.38f, 0.36f), 0.5f);
+  // Creases are the skin in shadow, a little darker and browner, never a colour of their own.
+  Darken(canvas, SoftMask(crease, 3.0), cv::Vec3f(0.80f, 0.82f, 0.86f));
+  Darken(canvas, SoftMask(lower, 1.2), cv::Vec3f(0.86f, 0.86f, 0.90f));
   BlendColour(canvas, SoftMask(lashes, 0.8), Bgr(0.08f, 0.06f, 0.05f), 0.95f);
 }
 

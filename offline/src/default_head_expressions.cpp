@@ -290,16 +290,21 @@ void AddJawAndLipShapes(ShapeList& list) {
   const Deltas jaw = JawOpen(head);
   add("jawOpen", jaw);
   add("mouthClose", MouthClose(head, jaw));
+  // "oh": the lips protrude and the corners come in; the opening itself is
+  // mostly the jaw's, so the upper lip rises little and the teeth stay behind the lips.
   Deltas funnel = FromControl(head, ControlDeltas(control)
-                                           .At("lip_upper_inner", {0.0, 0.5, 0.45})
-                                           .At("lip_lower_inner", {0.0, -0.5, 0.4})
-                                           .Both("lip_upper_inner", {-0.3, 0.42, 0.4})
-                                           .Both("lip_lower_inner", {-0.3, -0.44, 0.35})
-                                           .Both("mouth_corner", {-0.75, 0.0, 0.2})
-                                           .At("lip_upper_outer", {0.0, 0.1, 0.4})
-                                           .At("lip_lower_outer", {0.0, -0.08, 0.35})
-                                           .Both("lip_upper_outer", {-0.15, 0.08, 0.35})
-                                           .Both("lip_lower_outer", {-0.15, -0.06, 0.3}));
+                                           .At("lip_upper_inner", {0.0, 0.2, 0.6})
+                                           .At("lip_lower_inner", {0.0, -0.38, 0.55})
+                                           .Both("lip_upper_inner", {-0.45, 0.18, 0.55})
+                                           .Both("lip_lower_inner", {-0.45, -0.34, 0.5})
+                                           .Both("mouth_corner", {-1.3, 0.0, 0.3})
+                                           .At("lip_upper_outer", {0.0, 0.05, 0.35})
+                                           .At("lip_lower_outer", {0.0, -0.12, 0.3})
+                                           .Both("lip_upper_outer", {-0.35, 0.06, 0.3})
+                                           .Both("lip_lower_outer", {-0.35, -0.1, 0.28})
+                                           // The cheeks follow the corners in, so the skin between does not fold.
+                                           .Both("cheek_low", {-0.4, 0.0, 0.1})
+                                           .At("chin", {0.0, -0.05, 0.1}));
   RoundMouthOpening(head, funnel);
   add("mouthFunnel", std::move(funnel));
   add("mouthPucker", FromControl(head, ControlDeltas(control)

@@ -64,6 +64,9 @@ std::vector<glm::dvec3> Apply(const Subdivision& s, const std::vector<glm::dvec3
 glm::dvec3 SurfaceOrigin();
 double HeadField(const glm::dvec3& p);
 glm::dvec3 SurfacePoint(const glm::dvec3& direction);
+// How far the hair lifts the scalp at a point (cm; 0 off the hair), from the
+// hairline the painted hair follows too (default_head_hair.cpp).
+double HairThickness(const glm::dvec3& p);
 
 // Anatomy shared by the surface, the parts and the expressions (centimetres).
 struct Anatomy {
@@ -96,6 +99,10 @@ struct HeadGeometry {
   std::vector<std::uint32_t> upper_lip, lower_lip;
   Range eyeballs;  // both eyeballs (white, iris, pupil); the side is the sign of x
   Range teeth_upper, teeth_lower, mouth_inner, tongue;
+  // UVs of the teeth vertices (upper row, then lower), image rows downwards.
+  std::vector<glm::dvec2> teeth_uvs;
+  // UVs of the inner mouth's vertices: u around the lips, v the depth (0 at the lips).
+  std::vector<glm::dvec2> mouth_uvs;
   // Each inner-mouth vertex follows one lip-margin skin vertex, with a weight
   // that fades from 1 at the lips to 0 at the back of the mouth.
   std::vector<std::uint32_t> inner_source;
@@ -108,6 +115,12 @@ struct HeadGeometry {
 HeadGeometry BuildSkin();
 // Appends eyeballs, teeth, inner mouth and tongue (in the rig's part order).
 void AddParts(HeadGeometry& head);
+// Helpers of the parts: a vertex off the jaw, a part of the given triangles.
+std::uint32_t AddVertex(HeadGeometry& head, const glm::dvec3& p);
+void AddPart(HeadGeometry& head, const char* name, const std::vector<Triangle>& triangles);
+// Both rows of teeth, placed just behind the lips' crease (default_head_teeth.cpp);
+// returns the crease's depth (z), which the tongue is placed from too.
+double AddTeeth(HeadGeometry& head);
 // The blend shapes, dense over all vertices of the head.
 std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head);
 // Moves the lip margins of a shape's dense deltas so that at weight 1 the
@@ -128,8 +141,12 @@ std::vector<glm::vec2> HeadUvs(const HeadGeometry& head);
 // square, in pixels.
 inline constexpr int kSkinTextureSize = 1024;
 inline constexpr int kEyeTextureSize = 512;
+inline constexpr int kTeethTextureSize = 512;  // upper row's band on top, the lower's below
+inline constexpr int kMouthTextureSize = 64;
 EncodedImage PaintSkinAlbedo(const HeadGeometry& head, const std::vector<glm::vec2>& uvs);
 EncodedImage PaintEyeAlbedo();
+EncodedImage PaintTeethAlbedo();
+EncodedImage PaintMouthAlbedo();
 // Gives `raw` (the head's rig data, parts in place) its UVs, textures and
 // materials: skin, eye, teeth, tongue, mouth interior.
 void DressHead(RawRig& raw, const HeadGeometry& head);

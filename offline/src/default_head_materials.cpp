@@ -1,6 +1,7 @@
 // The default head's materials: painted skin, a painted eye (sclera, iris,
-// pupil on the eyeball's disc UVs), off-white teeth, a pink tongue and a dark
-// mouth interior; and the eye texture, painted in code like the skin.
+// pupil on the eyeball's disc UVs), painted teeth (default_head_teeth.cpp), a
+// pink tongue and a mouth interior that darkens from the lips inwards; and the eye texture, painted in code like the skin.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -101,6 +102,21 @@ void PaintIris(cv::Mat& eye, double iris_radius, double pupil_radius) {
 
 }  // namespace
 
+EncodedImage PaintMouthAlbedo() {
+  // Rows are depth into the mouth: the moist red of the inner lips, then the
+  // shadowed cavity, so a crack between closed lips never shows black.
+  const int size = kMouthTextureSize;
+  cv::Mat mouth(size, size, CV_32FC3);
+  const cv::Vec3f lips = Bgr(0.62f, 0.30f, 0.31f), cavity = Bgr(0.26f, 0.09f, 0.10f), back = Bgr(0.10f, 0.03f, 0.04f);
+  for (int y = 0; y < size; ++y) {
+    const float depth = (static_cast<float>(y) + 0.5f) / static_cast<float>(size);
+    const float a = std::clamp(depth / 0.2f, 0.0f, 1.0f), b = std::clamp((depth - 0.2f) / 0.5f, 0.0f, 1.0f);
+    const cv::Vec3f c = (lips * (1.0f - a) + cavity * a) * (1.0f - b) + back * b;
+    for (int x = 0; x < size; ++x) mouth.at<cv::Vec3f>(y, x) = c;
+  }
+  return EncodePng(mouth, "default_head_mouth.png");
+}
+
 EncodedImage PaintEyeAlbedo() {
   const int size = kEyeTextureSize;
   cv::Mat eye(size, size, CV_32FC3);
@@ -114,15 +130,15 @@ EncodedImage PaintEyeAlbedo() {
 
 void DressHead(RawRig& raw, const HeadGeometry& head) {
   raw.uvs = HeadUvs(head);
-  raw.images = {PaintSkinAlbedo(head, raw.uvs), PaintEyeAlbedo()};
+  raw.images = {PaintSkinAlbedo(head, raw.uvs), PaintEyeAlbedo(), PaintTeethAlbedo(), PaintMouthAlbedo()};
   // Painted with image rows going down; a rig's v goes up (OBJ's convention, rig.h).
   for (glm::vec2& uv : raw.uvs) uv.y = 1.0f - uv.y;
   raw.materials = {
       MakeMaterial("skin", glm::vec4(1.0f), 0, 0.6f),
       MakeMaterial("eye", glm::vec4(1.0f), 1, 0.1f),
-      MakeMaterial("teeth", Linear(236, 228, 208), -1, 0.35f),
-      MakeMaterial("tongue", Linear(196, 96, 102), -1, 0.45f),
-      MakeMaterial("mouth_inner", Linear(92, 34, 38), -1, 0.7f),
+      MakeMaterial("teeth", glm::vec4(1.0f), 2, 0.35f),
+      MakeMaterial("tongue", Linear(150, 66, 72), -1, 0.5f),
+      MakeMaterial("mouth_inner", glm::vec4(1.0f), 3, 0.75f),
   };
   for (RawPart& part : raw.parts) {
     const std::string& n = part.name;

@@ -1,6 +1,6 @@
 // The separate parts of the default head, generated procedurally rather than
 // subdivided: eyeballs (white, iris, pupil as UV-sphere zones), the upper and
-// lower rows of teeth (closed arched bands), the inner mouth (a bag hanging
+// lower rows of teeth (default_head_teeth.cpp), the inner mouth (a bag hanging
 // from the lip margins) and the tongue.
 #include <algorithm>
 #include <cmath>
@@ -16,11 +16,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::uint32_t AddVertex(HeadGeometry& head, const glm::dvec3& p) {
-  head.positions.push_back(p);
-  head.jaw_weight.push_back(0.0);
-  return static_cast<std::uint32_t>(head.positions.size() - 1);
-}
 
 // Quads between two rows of equal length (closed around when `wrap`);
 // (a_i, b_i) -> triangles facing the side given by the row order.
@@ -78,60 +73,6 @@ void AddEyeZone(HeadGeometry& head, int side, double from, double to, int rings,
   }
 }
 
-void AddPart(HeadGeometry& head, const char* name, const std::vector<Triangle>& triangles) {
-  head.parts.push_back({name, static_cast<std::uint32_t>(head.triangles.size()),
-                        static_cast<std::uint32_t>(triangles.size())});
-  head.triangles.insert(head.triangles.end(), triangles.begin(), triangles.end());
-}
-
-// A closed arched band: the arch z = front - depth * s^2, x = half_width * s,
-// s in [-1, 1]; cross-section a rectangle `thickness` deep (inwards) from
-// y_bottom to y_top; the bottom (or top) edge scalloped into teeth.
-std::vector<Triangle> AddTeethRow(HeadGeometry& head, double front, double half_width, double depth,
-                                  double y_top, double y_bottom, double thickness, bool upper,
-                                  double jaw) {
-  constexpr int kSamples = 49;
-  constexpr int kTeeth = 12;
-  std::vector<std::vector<std::uint32_t>> sections;
-  for (int i = 0; i < kSamples; ++i) {
-    const double s = -1.0 + 2.0 * i / (kSamples - 1);
-    const glm::dvec3 centre{half_width * s, 0.0, front - depth * s * s};
-    // Horizontal normal of the arch (its tangent is (half_width, 0, -2 depth s)).
-    const glm::dvec3 outward = glm::normalize(glm::dvec3(2.0 * depth * s, 0.0, half_width));
-    // Teeth: the biting edge dips in the middle of each tooth.
-    const double phase = (s + 1.0) * 0.5 * kTeeth;
-    const double bump = 0.12 * std::pow(std::sin(kPi * phase), 2.0);
-    const double edge_top = upper ? y_top : y_top + bump;
-    const double edge_bottom = upper ? y_bottom - bump : y_bottom;
-    const double t = thickness;
-    std::vector<std::uint32_t> section = {
-        AddVertex(head, centre + glm::dvec3(0.0, edge_top, 0.0)),
-        AddVertex(head, centre + glm::dvec3(0.0, edge_bottom, 0.0)),
-        AddVertex(head, centre - t * outward + glm::dvec3(0.0, edge_bottom, 0.0)),
-        AddVertex(head, centre - t * outward + glm::dvec3(0.0, edge_top, 0.0)),
-    };
-    for (std::uint32_t v : section) head.jaw_weight[v] = jaw;
-    sections.push_back(section);
-  }
-  std::vector<Triangle> triangles;
-  for (int i = 0; i + 1 < kSamples; ++i) {
-    const auto& a = sections[static_cast<std::size_t>(i)];
-    const auto& b = sections[static_cast<std::size_t>(i + 1)];
-    for (std::size_t k = 0; k < 4; ++k) {
-      const std::size_t l = (k + 1) % 4;
-      triangles.push_back({a[k], a[l], b[l]});
-      triangles.push_back({a[k], b[l], b[k]});
-    }
-  }
-  // End caps.
-  const auto& first = sections.front();
-  const auto& last = sections.back();
-  triangles.push_back({first[0], first[2], first[1]});
-  triangles.push_back({first[0], first[3], first[2]});
-  triangles.push_back({last[0], last[1], last[2]});
-  triangles.push_back({last[0], last[2], last[3]});
-  return triangles;
-}
 
 }  // namespace
 
@@ -153,24 +94,6 @@ void AddEyeballs(HeadGeometry& head) {
   static const char* const kEyeParts[6] = {"eye_white_L", "eye_white_R", "iris_L", "iris_R", "pupil_L", "pupil_R"};
   for (std::size_t i = 0; i < 6; ++i) AddPart(head, kEyeParts[i], eye_parts[i]);
   head.eyeballs = {eyes_begin, static_cast<std::uint32_t>(head.positions.size()) - eyes_begin};
-}
-
-// Teeth, placed from the lips' actual crease so they sit just behind it.
-// Returns the crease's depth (z), which the tongue is placed from too.
-double AddTeeth(HeadGeometry& head) {
-  double crease_z = 0.0;
-  for (std::uint32_t v : head.upper_lip) crease_z = std::max(crease_z, head.positions[v].z);
-  const double mouth_y = Anatomy::kMouthY;
-  const double teeth_front = crease_z - 0.45;
-  head.teeth_upper.first = static_cast<std::uint32_t>(head.positions.size());
-  AddPart(head, "teeth_upper",
-          AddTeethRow(head, teeth_front, 1.85, 2.5, mouth_y + 0.8, mouth_y - 0.12, 0.5, true, 0.0));
-  head.teeth_upper.count = static_cast<std::uint32_t>(head.positions.size()) - head.teeth_upper.first;
-  head.teeth_lower.first = static_cast<std::uint32_t>(head.positions.size());
-  AddPart(head, "teeth_lower",
-          AddTeethRow(head, teeth_front - 0.55, 1.7, 2.3, mouth_y - 0.05, mouth_y - 0.85, 0.45, false, 1.0));
-  head.teeth_lower.count = static_cast<std::uint32_t>(head.positions.size()) - head.teeth_lower.first;
-  return crease_z;
 }
 
 void AddInnerMouth(HeadGeometry& head) {
@@ -208,6 +131,9 @@ void AddInnerMouth(HeadGeometry& head) {
       head.jaw_weight[v] = head.jaw_weight[loop[i]];
       head.inner_source.push_back(loop[i]);
       head.inner_follow.push_back(ring.follow);
+      // The painted interior darkens with depth into the mouth.
+      head.mouth_uvs.push_back({(static_cast<double>(i) + 0.5) / static_cast<double>(loop.size()),
+                                ring.depth / kRings[std::size(kRings) - 1].depth});
       row.push_back(v);
     }
     rows.push_back(std::move(row));
@@ -260,6 +186,18 @@ void AddTongue(HeadGeometry& head, double crease_z) {
 }
 
 }  // namespace
+
+std::uint32_t AddVertex(HeadGeometry& head, const glm::dvec3& p) {
+  head.positions.push_back(p);
+  head.jaw_weight.push_back(0.0);
+  return static_cast<std::uint32_t>(head.positions.size() - 1);
+}
+
+void AddPart(HeadGeometry& head, const char* name, const std::vector<Triangle>& triangles) {
+  head.parts.push_back({name, static_cast<std::uint32_t>(head.triangles.size()),
+                        static_cast<std::uint32_t>(triangles.size())});
+  head.triangles.insert(head.triangles.end(), triangles.begin(), triangles.end());
+}
 
 void AddParts(HeadGeometry& head) {
   AddEyeballs(head);

@@ -47,12 +47,12 @@ double SidedFeatures(double f, const glm::dvec3& p) {
   f = SmoothMin(f, Ellipsoid(p, {4.2, -1.2, 4.7}, {2.4, 1.6, 2.3}), 2.0);
   f = SmoothMin(f, Ellipsoid(p, {3.1, -4.4, 4.8}, {2.3, 2.4, 2.3}), 2.2);  // cheeks
   f = SmoothMin(f, Ellipsoid(p, {4.2, -7.9, 1.6}, {1.3, 1.5, 2.6}), 3.0);  // jaw angle
-  f = SmoothMin(f, Ellipsoid(p, {3.2, 1.9, 7.0}, {2.3, 0.9, 1.15}), 1.5);
+  f = SmoothMin(f, Ellipsoid(p, {3.2, 1.9, 7.0}, {2.3, 0.9, 0.9}), 1.5);
   // Ear: a flattened lobe at the side, enough to read in silhouette.
   f = SmoothMin(f, Ellipsoid(p, {7.4, -1.3, -1.2}, {0.8, 2.6, 1.45}), 0.5);
   // Eye socket, then the lid skin over the eyeball.
   f = SmoothMax(f, -Ellipsoid(p, {eye.x, eye.y - 0.15, 8.0}, {1.75, 1.05, 1.6}), 0.9);
-  f = SmoothMin(f, glm::length(p - eye) - (Anatomy::kEyeRadius + Anatomy::kLidOffset), 0.5);
+  f = SmoothMin(f, glm::length(p - eye) - (Anatomy::kEyeRadius + Anatomy::kLidOffset), 0.9);
   return f;
 }
 
@@ -86,7 +86,7 @@ double HeadField(const glm::dvec3& world) {
   double lips = Ellipsoid(p, {0.0, -5.78, 8.0}, {2.45, 0.58, 1.25});
   lips = SmoothMin(lips, Ellipsoid(p, {0.0, -6.9, 7.9}, {2.15, 0.72, 1.15}), 0.15);
   f = SmoothMin(f, lips, 0.3);
-  return f;
+  return f - HairThickness(world);
 }
 
 glm::dvec3 SurfacePoint(const glm::dvec3& direction) {

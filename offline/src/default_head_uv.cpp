@@ -62,13 +62,15 @@ glm::dvec2 EyeUv(const glm::dvec3& position, int side) {
 double EyeUvRadius(double polar_angle) { return 0.5 * std::sin(0.5 * polar_angle); }
 
 std::vector<glm::vec2> HeadUvs(const HeadGeometry& head) {
-  // Parts without a texture (teeth, mouth, tongue) get the texture's centre.
+  // Parts without a texture (the tongue) get the texture's centre.
   std::vector<glm::vec2> uvs(head.positions.size(), glm::vec2(0.5f));
   for (std::uint32_t v = 0; v < head.skin_count; ++v) uvs[v] = glm::vec2(SkinUv(head.positions[v]));
   for (std::uint32_t i = 0; i < head.eyeballs.count; ++i) {
     const std::uint32_t v = head.eyeballs.first + i;
     uvs[v] = glm::vec2(EyeUv(head.positions[v], head.positions[v].x > 0.0 ? 0 : 1));
   }
+  for (std::size_t i = 0; i < head.teeth_uvs.size(); ++i) uvs[head.teeth_upper.first + i] = glm::vec2(head.teeth_uvs[i]);
+  for (std::size_t i = 0; i < head.mouth_uvs.size(); ++i) uvs[head.mouth_inner.first + i] = glm::vec2(head.mouth_uvs[i]);
   return uvs;
 }
 

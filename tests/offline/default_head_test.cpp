@@ -214,6 +214,31 @@ TEST_CASE("Default head: jawOpen rotates the jaw about a hinge", "[default_head]
   CHECK(open[upper->first_vertex] == rig.positions()[upper->first_vertex]);
 }
 
+TEST_CASE("Default head: in 'oh' the lips hide the lower teeth and most of the upper ones", "[default_head]") {
+  facerig::DefaultHeadFeatures features;
+  const facerig::Rig& rig = Head(&features);
+  const std::vector<glm::vec3> oh = Pose(rig, {{"jawOpen", 0.35f}, {"mouthFunnel", 0.9f}});
+  const std::size_t mid = features.upper_lip.size() / 2;
+  const float upper_lip = oh[features.upper_lip[mid]].y, lower_lip = oh[features.lower_lip[mid]].y;
+  // The front teeth (near the midline): the upper row's lowest point, the lower row's highest.
+  auto extreme = [&](const char* name, bool highest) {
+    const facerig::Part* part = rig.FindPart(name);
+    REQUIRE(part);
+    float y = highest ? -1e9f : 1e9f;
+    for (std::uint32_t v = part->first_vertex; v < part->first_vertex + part->vertex_count; ++v) {
+      if (std::abs(oh[v].x) > 0.5f) continue;
+      y = highest ? std::max(y, oh[v].y) : std::min(y, oh[v].y);
+    }
+    return y;
+  };
+  const float upper_edge = extreme("teeth_upper", false), lower_edge = extreme("teeth_lower", true);
+  INFO("lips " << upper_lip << " / " << lower_lip << ", teeth edges " << upper_edge << " / " << lower_edge);
+  REQUIRE(upper_lip - lower_lip > 0.8f);  // open
+  CHECK(lower_edge < lower_lip);  // the lower row behind the lower lip
+  CHECK(upper_lip - upper_edge < 0.35f * (upper_lip - lower_lip));  // a strip of the upper row, not a snarl
+  CHECK(upper_lip - upper_edge > 0.0f);  // its edge peeks out
+}
+
 TEST_CASE("Default head: proportions of a person: a short neck, lips sealed at rest, a round 'oh'",
           "[default_head]") {
   facerig::DefaultHeadFeatures features;

@@ -59,7 +59,7 @@ TEST_CASE("Default head: the GLB carries UVs, materials and the painted textures
   facerig::test::RequireValidatorAccepts(path);
   const facerig::Rig glb = facerig::ReadGltf(path);
   REQUIRE(glb.uvs().size() == glb.vertex_count());
-  REQUIRE(glb.images().size() == 2);
+  REQUIRE(glb.images().size() == 4);
   for (const facerig::EncodedImage& image : glb.images()) {
     CHECK(image.format == facerig::ImageFormat::kPng);
     CHECK(image.width == image.height);
@@ -75,11 +75,22 @@ TEST_CASE("Default head: the GLB carries UVs, materials and the painted textures
     CHECK(eye.roughness < 0.3f);
   }
   const facerig::Material& teeth = PartMaterial(glb, "teeth_upper");
-  CHECK(teeth.base_colour_image == -1);
-  CHECK(teeth.base_colour.r > 0.6f);  // off-white
-  CHECK(teeth.base_colour.b < teeth.base_colour.r);
+  CHECK(teeth.base_colour_image >= 0);
+  CHECK(teeth.base_colour_image != skin.base_colour_image);
+  CHECK(&PartMaterial(glb, "teeth_lower") == &teeth);
+  // The mouth interior: red at the lips, dark deep inside, so the teeth do not glow against it.
   const facerig::Material& mouth = PartMaterial(glb, "mouth_inner");
-  CHECK(mouth.base_colour.r < 0.3f * teeth.base_colour.r);  // dark
+  REQUIRE(mouth.base_colour_image >= 0);
+  const facerig::RgbImage inside = facerig::DecodeImage(glb.images()[static_cast<std::size_t>(mouth.base_colour_image)]);
+  const facerig::Part* inner = glb.FindPart("mouth_inner");
+  glm::vec3 at_lips(0.0f), deepest(255.0f);
+  for (std::uint32_t v = inner->first_vertex; v < inner->first_vertex + inner->vertex_count; ++v) {
+    const glm::vec3 c = Texel(inside, glb.uvs()[v]);
+    if (c.r > at_lips.r) at_lips = c;
+    if (c.r < deepest.r) deepest = c;
+  }
+  CHECK(Redness(at_lips) > 1.6f);
+  CHECK(deepest.r < 40.0f);
   // UVs inside the texture everywhere.
   for (const glm::vec2& uv : glb.uvs()) {
     REQUIRE(uv.x >= 0.0f);
@@ -130,6 +141,48 @@ TEST_CASE("Default head: the painted skin has red lips, skin tones, and an iris 
   const glm::vec3 white_colour = Texel(eye_albedo, uvs[white->first_vertex + 24]);  // the second ring
   CHECK(pupil_colour.r + pupil_colour.g + pupil_colour.b < 60.0f);
   CHECK(white_colour.r + white_colour.g + white_colour.b > 600.0f);
+}
+
+TEST_CASE("Default head: the painted teeth are ivory crowns with dark gaps, a gum line, the back in shadow",
+          "[default_head][texture]") {
+  const facerig::Rig glb = facerig::ReadGltf(WriteHeadGlb(facerig::BuildDefaultHead(), "teeth"));
+  const facerig::Material& material = PartMaterial(glb, "teeth_upper");
+  const facerig::RgbImage teeth = facerig::DecodeImage(glb.images()[static_cast<std::size_t>(material.base_colour_image)]);
+  const facerig::Part* upper = glb.FindPart("teeth_upper");
+  // The row's band runs from its gum (highest v) to its biting edge (lowest v).
+  float gum = 0.0f, edge = 1.0f;
+  for (std::uint32_t v = upper->first_vertex; v < upper->first_vertex + upper->vertex_count; ++v) {
+    gum = std::max(gum, glb.uvs()[v].y);
+    edge = std::min(edge, glb.uvs()[v].y);
+  }
+  REQUIRE(gum > edge);
+  // Across the front teeth at crown height: ivory crowns separated by dark gaps.
+  const float crown = gum + 0.65f * (edge - gum);
+  glm::vec3 brightest(0.0f);
+  float darkest = 1e9f;
+  int gaps = 0;
+  bool in_gap = false;
+  for (float u = 0.3f; u <= 0.7f; u += 0.001f) {
+    const glm::vec3 c = Texel(teeth, {u, crown});
+    if (c.r > brightest.r) brightest = c;
+    darkest = std::min(darkest, c.r);
+    const bool dark = c.r < 0.5f * 200.0f;
+    if (dark && !in_gap) ++gaps;
+    in_gap = dark;
+  }
+  INFO("brightest " << brightest.r << " " << brightest.g << " " << brightest.b << ", darkest red " << darkest);
+  CHECK(gaps >= 5);  // between the incisors and canines
+  CHECK(brightest.r > 200.0f);
+  CHECK(brightest.r < 250.0f);                  // not paper white
+  CHECK(brightest.r - brightest.b > 25.0f);     // ivory
+  CHECK(darkest < 0.5f * brightest.r);
+  // Above the crowns, the gum: pink.
+  const glm::vec3 gum_colour = Texel(teeth, {0.5f, gum + 0.08f * (edge - gum)});
+  CHECK(gum_colour.r > gum_colour.g + 50.0f);
+  // The back teeth sit in the mouth's shadow.
+  float back = 0.0f;
+  for (float u = 0.02f; u <= 0.12f; u += 0.001f) back = std::max(back, Texel(teeth, {u, crown}).r);
+  CHECK(back < 0.6f * brightest.r);
 }
 
 TEST_CASE("Default head: the textured GLB is the same bytes on every generation", "[default_head][texture]") {

@@ -50,7 +50,8 @@ struct DefaultHeadFeatures {
 // UVs and materials: skin and eyes with textures painted in code (PNG, skin
 // 1024x1024: a seamless disc about the crown, the face upright in its lower
 // half; eyes 512x512: a disc about the gaze axis, iris and pupil in the
-// middle), untextured teeth, tongue and mouth interior.
+// middle), teeth 512x512 (both rows along the arch: crowns, gaps, gums),
+// the mouth interior 64x64 (darker with depth); an untextured tongue.
 Rig BuildDefaultHead(DefaultHeadFeatures* features = nullptr);
 
 // The pixels of an encoded image (PNG or JPEG), to check what was painted.
