@@ -5,6 +5,7 @@
 // brings in black), then hair, brows, lids and lips are painted from the
 // geometry's UVs. Deterministic: fixed seeds, no threads.
 #include "default_head_albedo.h"
+#include "uv_raster.h"
 #include "facerig/offline/default_head.h"
 
 #include <algorithm>
@@ -64,26 +65,13 @@ void Bake(SkinCanvas& canvas, const std::vector<glm::vec2>& uvs) {
     const Triangle& tri = head.triangles[t];
     glm::dvec2 p[3];
     for (int k = 0; k < 3; ++k) p[k] = glm::dvec2(uvs[tri[k]]) * static_cast<double>(canvas.size) - 0.5;
-    const double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
-    if (std::abs(area) < 1e-12) continue;
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].x, p[1].x, p[2].x}))));
-    const int x1 = std::min(canvas.size - 1, static_cast<int>(std::ceil(std::max({p[0].x, p[1].x, p[2].x}))));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p[0].y, p[1].y, p[2].y}))));
-    const int y1 = std::min(canvas.size - 1, static_cast<int>(std::ceil(std::max({p[0].y, p[1].y, p[2].y}))));
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const glm::dvec2 q{x, y};
-        const double w1 = ((q.x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (q.y - p[0].y)) / area;
-        const double w2 = ((p[1].x - p[0].x) * (q.y - p[0].y) - (q.x - p[0].x) * (p[1].y - p[0].y)) / area;
-        const double w0 = 1.0 - w1 - w2;
-        if (w0 < -1e-9 || w1 < -1e-9 || w2 < -1e-9) continue;
-        const glm::dvec3 point = w0 * head.positions[tri[0]] + w1 * head.positions[tri[1]] + w2 * head.positions[tri[2]];
-        canvas.position.at<cv::Vec3f>(y, x) = cv::Vec3f(glm::vec3(point).x, glm::vec3(point).y, glm::vec3(point).z);
-        canvas.jaw.at<float>(y, x) = static_cast<float>(w0 * head.jaw_weight[tri[0]] + w1 * head.jaw_weight[tri[1]] +
-                                                        w2 * head.jaw_weight[tri[2]]);
-        canvas.covered.at<std::uint8_t>(y, x) = 255;
-      }
-    }
+    ForEachTexelIn(p, canvas.size, [&](int x, int y, double w0, double w1, double w2) {
+      const glm::dvec3 point = w0 * head.positions[tri[0]] + w1 * head.positions[tri[1]] + w2 * head.positions[tri[2]];
+      canvas.position.at<cv::Vec3f>(y, x) = cv::Vec3f(glm::vec3(point).x, glm::vec3(point).y, glm::vec3(point).z);
+      canvas.jaw.at<float>(y, x) = static_cast<float>(w0 * head.jaw_weight[tri[0]] + w1 * head.jaw_weight[tri[1]] +
+                                                      w2 * head.jaw_weight[tri[2]]);
+      canvas.covered.at<std::uint8_t>(y, x) = 255;
+    });
   }
 }
 

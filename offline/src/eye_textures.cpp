@@ -16,6 +16,7 @@
 
 #include "facerig/offline/error.h"
 #include "facerig/runtime/part_roles.h"
+#include "uv_raster.h"
 
 namespace facerig {
 namespace {
@@ -278,34 +279,22 @@ struct Canvas {
 // Each texel centre under the triangle's UVs (OBJ's convention: v up, the
 // tile the triangle lies in) takes the colour of its surface point.
 void PaintTriangle(Canvas& canvas, const Mesh& mesh, std::size_t t, const Painter& paint) {
-  glm::vec2 uv[3];
-  glm::vec3 p[3];
+  glm::dvec2 uv[3];
   glm::vec2 centre(0.0f);
   for (int k = 0; k < 3; ++k) centre += mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] / 3.0f;
   const glm::vec2 tile = glm::floor(centre);
   for (int k = 0; k < 3; ++k) {
     const glm::vec2 local = mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] - tile;
-    uv[k] = glm::vec2(local.x, 1.0f - local.y) * static_cast<float>(canvas.size) - 0.5f;
-    p[k] = mesh.positions[mesh.triangles[t][static_cast<std::size_t>(k)]];
+    uv[k] = glm::dvec2(local.x, 1.0f - local.y) * static_cast<double>(canvas.size) - 0.5;
   }
-  const float area = (uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) - (uv[2].x - uv[0].x) * (uv[1].y - uv[0].y);
-  if (!(std::abs(area) > 1e-8f)) return;
-  const int x0 = std::max(0, static_cast<int>(std::floor(std::min({uv[0].x, uv[1].x, uv[2].x}))));
-  const int x1 = std::min(canvas.size - 1, static_cast<int>(std::ceil(std::max({uv[0].x, uv[1].x, uv[2].x}))));
-  const int y0 = std::max(0, static_cast<int>(std::floor(std::min({uv[0].y, uv[1].y, uv[2].y}))));
-  const int y1 = std::min(canvas.size - 1, static_cast<int>(std::ceil(std::max({uv[0].y, uv[1].y, uv[2].y}))));
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      const glm::vec2 q(static_cast<float>(x), static_cast<float>(y));
-      const float b1 = ((q.x - uv[0].x) * (uv[2].y - uv[0].y) - (uv[2].x - uv[0].x) * (q.y - uv[0].y)) / area;
-      const float b2 = ((uv[1].x - uv[0].x) * (q.y - uv[0].y) - (q.x - uv[0].x) * (uv[1].y - uv[0].y)) / area;
-      const float b0 = 1.0f - b1 - b2;
-      if (b0 < -1e-4f || b1 < -1e-4f || b2 < -1e-4f) continue;
-      const glm::vec4 c = paint(b0 * p[0] + b1 * p[1] + b2 * p[2]);
-      canvas.colour.at<cv::Vec4f>(y, x) = cv::Vec4f(c.r, c.g, c.b, c.a);
-      canvas.covered.at<std::uint8_t>(y, x) = 1;
-    }
-  }
+  const Triangle& tri = mesh.triangles[t];
+  ForEachTexelIn(uv, canvas.size, [&](int x, int y, double w0, double w1, double w2) {
+    const glm::vec3 p = glm::vec3(w0 * glm::dvec3(mesh.positions[tri[0]]) + w1 * glm::dvec3(mesh.positions[tri[1]]) +
+                                  w2 * glm::dvec3(mesh.positions[tri[2]]));
+    const glm::vec4 c = paint(p);
+    canvas.colour.at<cv::Vec4f>(y, x) = cv::Vec4f(c.r, c.g, c.b, c.a);
+    canvas.covered.at<std::uint8_t>(y, x) = 1;
+  });
 }
 
 // Texels next to painted ones take their colour, a few rings out, so that
