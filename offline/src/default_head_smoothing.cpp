@@ -8,6 +8,7 @@
 // here. The openings' margins and the neck rim stay fixed, so lips and lids
 // still meet exactly and the inner mouth still follows its lip vertices.
 #include <algorithm>
+#include <cstddef>
 #include <map>
 #include <utility>
 
