@@ -2,7 +2,9 @@
 //
 // Most shapes are authored as displacements of named control vertices and
 // reach the dense mesh through the subdivision matrix (delta = S * delta_c,
-// as Mattos et al. carry expressions through its subdivision). Motions that are
+// as Mattos et al. carry expressions through its subdivision); the mouth's
+// deltas and the jaw's weights are then smoothed over the skin, or they would
+// crease it along the control edges (default_head_smoothing.cpp). Motions that are
 // rotations are evaluated per dense vertex: the jaw about its hinge with
 // control-authored weights (through S), the lids slid over the eyeball in
 // eye-centred spherical coordinates (so they never cut through it, and close
@@ -24,6 +26,10 @@ namespace {
 using Deltas = std::vector<glm::dvec3>;
 constexpr double kDropThreshold = 1e-4;  // cm: 1 micrometre
 constexpr double kUpperShare = 0.72;     // the upper lid travels most of a blink
+// Umbrella iterations of SkinSmoother for the lower face's deltas and the jaw's
+// weights: their control-edge kinks round over about a centimetre, and a
+// shape still stays on its own side of the face.
+constexpr int kFieldSmoothing = 100;
 
 const char* Suffix(int side) { return side == 0 ? "_L" : "_R"; }
 
@@ -62,11 +68,14 @@ class ControlDeltas {
   Deltas deltas_;
 };
 
-// A control-space scalar field (weights), subdivided to the skin.
-std::vector<double> SkinWeights(const HeadGeometry& head, const std::map<std::string, double>& control_weights) {
+// A control-space scalar field (weights), subdivided and smoothed over the skin.
+std::vector<double> SkinWeights(const HeadGeometry& head, const SkinSmoother& smoother,
+                                const std::map<std::string, double>& control_weights) {
   std::vector<double> w(head.control.names.size(), 0.0);
   for (const auto& [name, value] : control_weights) w[head.control.Find(name)] = value;
-  return Apply(head.subdivision, w);
+  std::vector<double> skin = Apply(head.subdivision, w);
+  smoother.Smooth(skin, kFieldSmoothing);
+  return skin;
 }
 
 // Dense deltas for all vertices from control displacements: the skin through
@@ -78,6 +87,15 @@ Deltas FromControl(const HeadGeometry& head, const ControlDeltas& control) {
   for (std::uint32_t i = 0; i < head.mouth_inner.count; ++i) {
     dense[head.mouth_inner.first + i] = head.inner_follow[i] * skin[head.inner_source[i]];
   }
+  return dense;
+}
+
+// The lower face's shapes move the skin between the mouth corner and the nose
+// wing, the cheek and the jaw: their subdivided deltas are smoothed there. The
+// lip margins stay, so the inner mouth still follows them.
+Deltas FromControlSmoothed(const HeadGeometry& head, const SkinSmoother& smoother, const ControlDeltas& control) {
+  Deltas dense = FromControl(head, control);
+  smoother.Smooth(dense, kFieldSmoothing);
   return dense;
 }
 
@@ -93,11 +111,15 @@ Deltas LowerFace(const HeadGeometry& head, Deltas dense) {
 
 Deltas Zero(const HeadGeometry& head) { return Deltas(head.positions.size(), glm::dvec3(0.0)); }
 
-Deltas JawOpen(const HeadGeometry& head) {
+Deltas JawOpen(const HeadGeometry& head, const SkinSmoother& smoother) {
   constexpr double kAngle = 0.3;  // radians (about 17 degrees) at weight 1
+  // The skin's weights smoothed (the lip margins keep theirs, which the inner
+  // mouth copied); the parts keep their own.
+  std::vector<double> weights = head.jaw_weight;
+  smoother.Smooth(weights, kFieldSmoothing);
   Deltas dense = Zero(head);
   for (std::size_t v = 0; v < head.positions.size(); ++v) {
-    const double w = head.jaw_weight[v];
+    const double w = weights[v];
     if (w == 0.0) continue;
     const glm::dvec3& p = head.positions[v];
     dense[v] = RotateX(p, Anatomy::JawPivot(), w * kAngle) - p;
@@ -252,27 +274,32 @@ Deltas EyeLook(const HeadGeometry& head, int side, bool vertical, double angle) 
 // The expressions in the order they are emitted.
 struct ShapeList {
   const HeadGeometry& head;
+  const SkinSmoother& smoother;
   std::vector<std::pair<std::string, Deltas>> shapes;
 
   void Add(std::string name, Deltas deltas) { shapes.emplace_back(std::move(name), std::move(deltas)); }
   // Only the mouth and cheek shapes touch midline vertices (the middle of the
   // lips moves a little with either side), with about half the motion.
   void Sided(int side, const char* name, const ControlDeltas& deltas) {
-    const bool mouth = std::string(name).starts_with("mouth") || std::string(name).starts_with("cheek");
-    Deltas dense = FromControl(head, deltas);
+    // The mouth shapes' deltas are smoothed; a cheek puff's is not, as it
+    // would spread across the chin to the other cheek.
+    const bool lips = std::string(name).starts_with("mouth");
+    const bool mouth = lips || std::string(name).starts_with("cheek");
+    Deltas dense = lips ? FromControlSmoothed(head, smoother, deltas) : FromControl(head, deltas);
     Add(std::string(name) + Suffix(side), mouth ? LowerFace(head, std::move(dense)) : std::move(dense));
   }
 };
 
 // mouthClose: the lips return to each other while the jaw stays open, so
 // it cancels the jaw's motion on the lips (jawOpen w + mouthClose w = lips shut).
-Deltas MouthClose(const HeadGeometry& head, const Deltas& jaw) {
-  std::vector<double> mask = SkinWeights(head, {{"lip_lower_inner", 1.0}, {"lip_lower_outer", 1.0},
-                                                {"lip_lower_inner_L", 1.0}, {"lip_lower_inner_R", 1.0},
-                                                {"lip_lower_outer_L", 1.0}, {"lip_lower_outer_R", 1.0},
-                                                {"mouth_corner_L", 1.0}, {"mouth_corner_R", 1.0},
-                                                {"lip_upper_inner", 1.0}, {"lip_upper_inner_L", 1.0},
-                                                {"lip_upper_inner_R", 1.0}, {"chin", 0.15}});
+Deltas MouthClose(const HeadGeometry& head, const SkinSmoother& smoother, const Deltas& jaw) {
+  std::vector<double> mask = SkinWeights(head, smoother,
+                                         {{"lip_lower_inner", 1.0}, {"lip_lower_outer", 1.0},
+                                          {"lip_lower_inner_L", 1.0}, {"lip_lower_inner_R", 1.0},
+                                          {"lip_lower_outer_L", 1.0}, {"lip_lower_outer_R", 1.0},
+                                          {"mouth_corner_L", 1.0}, {"mouth_corner_R", 1.0},
+                                          {"lip_upper_inner", 1.0}, {"lip_upper_inner_L", 1.0},
+                                          {"lip_upper_inner_R", 1.0}, {"chin", 0.15}});
   Deltas close = Zero(head);
   for (std::uint32_t v = 0; v < head.skin_count; ++v) close[v] = -mask[v] * jaw[v];
   for (std::uint32_t i = 0; i < head.mouth_inner.count; ++i) {
@@ -287,47 +314,48 @@ void AddJawAndLipShapes(ShapeList& list) {
   const HeadGeometry& head = list.head;
   const ControlMesh& control = head.control;
   auto add = [&](std::string name, Deltas deltas) { list.Add(std::move(name), std::move(deltas)); };
-  const Deltas jaw = JawOpen(head);
+  const SkinSmoother& smoother = list.smoother;
+  const Deltas jaw = JawOpen(head, smoother);
   add("jawOpen", jaw);
-  add("mouthClose", MouthClose(head, jaw));
+  add("mouthClose", MouthClose(head, smoother, jaw));
   // "oh": the lips protrude and the corners come in; the opening itself is
   // mostly the jaw's, so the upper lip rises little and the teeth stay behind the lips.
-  Deltas funnel = FromControl(head, ControlDeltas(control)
-                                           .At("lip_upper_inner", {0.0, 0.2, 0.6})
-                                           .At("lip_lower_inner", {0.0, -0.38, 0.55})
-                                           .Both("lip_upper_inner", {-0.45, 0.18, 0.55})
-                                           .Both("lip_lower_inner", {-0.45, -0.34, 0.5})
-                                           .Both("mouth_corner", {-1.3, 0.0, 0.3})
-                                           .At("lip_upper_outer", {0.0, 0.05, 0.35})
-                                           .At("lip_lower_outer", {0.0, -0.12, 0.3})
-                                           .Both("lip_upper_outer", {-0.35, 0.06, 0.3})
-                                           .Both("lip_lower_outer", {-0.35, -0.1, 0.28})
-                                           // The cheeks follow the corners in, so the skin between does not fold.
-                                           .Both("cheek_low", {-0.4, 0.0, 0.1})
-                                           .At("chin", {0.0, -0.05, 0.1}));
+  Deltas funnel = FromControlSmoothed(head, smoother, ControlDeltas(control)
+      .At("lip_upper_inner", {0.0, 0.2, 0.6})
+      .At("lip_lower_inner", {0.0, -0.38, 0.55})
+      .Both("lip_upper_inner", {-0.45, 0.18, 0.55})
+      .Both("lip_lower_inner", {-0.45, -0.34, 0.5})
+      .Both("mouth_corner", {-1.3, 0.0, 0.3})
+      .At("lip_upper_outer", {0.0, 0.05, 0.35})
+      .At("lip_lower_outer", {0.0, -0.12, 0.3})
+      .Both("lip_upper_outer", {-0.35, 0.06, 0.3})
+      .Both("lip_lower_outer", {-0.35, -0.1, 0.28})
+      // The cheeks follow the corners in, so the skin between does not fold.
+      .Both("cheek_low", {-0.4, 0.0, 0.1})
+      .At("chin", {0.0, -0.05, 0.1}));
   RoundMouthOpening(head, funnel);
   add("mouthFunnel", std::move(funnel));
-  add("mouthPucker", FromControl(head, ControlDeltas(control)
-                                           .At("lip_upper_inner", {0.0, -0.02, 0.6})
-                                           .At("lip_lower_inner", {0.0, 0.02, 0.55})
-                                           .Both("lip_upper_inner", {-0.35, -0.02, 0.55})
-                                           .Both("lip_lower_inner", {-0.35, 0.02, 0.5})
-                                           .Both("mouth_corner", {-0.7, 0.0, 0.35})
-                                           .At("lip_upper_outer", {0.0, -0.05, 0.55})
-                                           .At("lip_lower_outer", {0.0, 0.05, 0.5})
-                                           .Both("lip_upper_outer", {-0.3, -0.05, 0.5})
-                                           .Both("lip_lower_outer", {-0.3, 0.05, 0.45})
-                                           .At("chin", {0.0, 0.0, 0.1})));
-  add("mouthRollLower", FromControl(head, ControlDeltas(control)
-                                              .At("lip_lower_outer", {0.0, 0.3, -0.45})
-                                              .Both("lip_lower_outer", {0.0, 0.25, -0.4})
-                                              .At("lip_lower_inner", {0.0, 0.0, -0.35})
-                                              .Both("lip_lower_inner", {0.0, 0.0, -0.3})));
-  add("mouthRollUpper", FromControl(head, ControlDeltas(control)
-                                              .At("lip_upper_outer", {0.0, -0.3, -0.45})
-                                              .Both("lip_upper_outer", {0.0, -0.25, -0.4})
-                                              .At("lip_upper_inner", {0.0, 0.0, -0.35})
-                                              .Both("lip_upper_inner", {0.0, 0.0, -0.3})));
+  add("mouthPucker", FromControlSmoothed(head, smoother, ControlDeltas(control)
+      .At("lip_upper_inner", {0.0, -0.02, 0.6})
+      .At("lip_lower_inner", {0.0, 0.02, 0.55})
+      .Both("lip_upper_inner", {-0.35, -0.02, 0.55})
+      .Both("lip_lower_inner", {-0.35, 0.02, 0.5})
+      .Both("mouth_corner", {-0.7, 0.0, 0.35})
+      .At("lip_upper_outer", {0.0, -0.05, 0.55})
+      .At("lip_lower_outer", {0.0, 0.05, 0.5})
+      .Both("lip_upper_outer", {-0.3, -0.05, 0.5})
+      .Both("lip_lower_outer", {-0.3, 0.05, 0.45})
+      .At("chin", {0.0, 0.0, 0.1})));
+  add("mouthRollLower", FromControlSmoothed(head, smoother, ControlDeltas(control)
+      .At("lip_lower_outer", {0.0, 0.3, -0.45})
+      .Both("lip_lower_outer", {0.0, 0.25, -0.4})
+      .At("lip_lower_inner", {0.0, 0.0, -0.35})
+      .Both("lip_lower_inner", {0.0, 0.0, -0.3})));
+  add("mouthRollUpper", FromControlSmoothed(head, smoother, ControlDeltas(control)
+      .At("lip_upper_outer", {0.0, -0.3, -0.45})
+      .Both("lip_upper_outer", {0.0, -0.25, -0.4})
+      .At("lip_upper_inner", {0.0, 0.0, -0.35})
+      .Both("lip_upper_inner", {0.0, 0.0, -0.3})));
 }
 
 // Lips pressed, stretched, smiling, frowning.
@@ -434,7 +462,8 @@ void AddSidedEyeShapes(ShapeList& list, int side) {
 }  // namespace
 
 std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head) {
-  ShapeList list{head, {}};
+  const SkinSmoother smoother(head);
+  ShapeList list{head, smoother, {}};
   AddJawAndLipShapes(list);
   for (int side = 0; side < 2; ++side) {
     AddSidedLipShapes(list, side);

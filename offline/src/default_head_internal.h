@@ -123,6 +123,24 @@ void AddPart(HeadGeometry& head, const char* name, const std::vector<Triangle>& 
 double AddTeeth(HeadGeometry& head);
 // The blend shapes, dense over all vertices of the head.
 std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head);
+// Smooths control-authored fields over the skin (its first skin_count
+// entries), the margins of the openings and the neck rim held fixed
+// (default_head_smoothing.cpp): subdivided, such a field keeps a kink along
+// every control edge, which an expression would show as a crease.
+class SkinSmoother {
+ public:
+  explicit SkinSmoother(const HeadGeometry& head);
+  // `iterations` umbrella steps: the kink rounds over about sqrt(iterations)
+  // dense edges.
+  void Smooth(std::vector<double>& field, int iterations) const;
+  void Smooth(std::vector<glm::dvec3>& field, int iterations) const;
+
+ private:
+  template <typename T>
+  void SmoothField(std::vector<T>& field, int iterations) const;
+  std::vector<std::vector<std::uint32_t>> neighbours_;
+  std::vector<std::uint8_t> fixed_;  // 1: on a boundary, kept
+};
 // Moves the lip margins of a shape's dense deltas so that at weight 1 the
 // mouth opening is an ellipse (default_head_round_mouth.cpp).
 void RoundMouthOpening(const HeadGeometry& head, std::vector<glm::dvec3>& deltas);
