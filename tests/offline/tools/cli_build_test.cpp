@@ -369,7 +369,12 @@ TEST_CASE("facerig build: bad command lines and bad input fail clearly and write
                (folder / "sheet_landmarks.json").string()});
     INFO(outcome.error_output);
     CHECK(outcome.exit_code == 1);
-    CHECK(outcome.error_output.find("residual") != std::string::npos);
+    // Registration either ends with a residual too large for a face, or its
+    // sparse Cholesky finds the degenerate fit not positive definite first:
+    // which one depends on rounding (a small change to the template's shape,
+    // another CPU's BLAS kernels). Both are clear refusals.
+    CHECK((outcome.error_output.find("residual") != std::string::npos ||
+           outcome.error_output.find("non-rigid ICP: the solve failed") != std::string::npos));
   }
   CHECK_FALSE(fs::exists(out));
   for (const auto& entry : fs::directory_iterator(folder)) {
