@@ -81,9 +81,10 @@ struct LandmarkParams {
   // parts) landed on the eyeball or tear film seen through the opening: the
   // detector put the lid where the eye is, and pulling the template's lid
   // there drags it across the opening onto the other lid. Its confidence is
-  // multiplied by off_skin_lid_confidence_factor (0: not used).
+  // multiplied by off_skin_lid_confidence_factor: kept a little (0.05), as a
+  // lid with no landmark at all may settle a millimetre off.
   float off_skin_distance_fraction = 0.002f;
-  float off_skin_lid_confidence_factor = 0.0f;
+  float off_skin_lid_confidence_factor = 0.05f;
 };
 
 struct LandmarkResult {
