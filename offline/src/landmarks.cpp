@@ -16,6 +16,7 @@
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/closest_point.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/mesh_components.h"
 #include "facerig/offline/openings.h"
@@ -69,16 +70,33 @@ dlib::array2d<unsigned char> ToDlib(const RgbImage& image) {
 // BuildRigParams::registration_min_part_area).
 constexpr double kSkinPartAreaFraction = 0.1;
 
-// Where an eye is a hole in the mesh, its points follow the hole.
-void FitEyesToMesh(const Mesh& mesh, const LandmarkParams& params, LandmarkResult& result) {
+// Lid points off the skin (on the eyeball or tear film behind the opening)
+// lose their confidence (LandmarkParams::off_skin_lid_confidence_factor).
+void DistrustLidPointsOffSkin(const Mesh& mesh, std::span<const Triangle> skin, float face_height,
+                              const LandmarkParams& params, FaceLandmarks& landmarks) {
+  if (skin.empty() || skin.size() == mesh.triangles.size()) return;  // one part: all of it is skin
+  const ClosestPointQuery skin_surface(
+      Mesh{.positions = mesh.positions, .triangles = {skin.begin(), skin.end()}});
+  const float tolerance = params.off_skin_distance_fraction * face_height;
+  for (const std::size_t k : {37, 38, 40, 41, 43, 44, 46, 47}) {
+    if (skin_surface.Find(landmarks.points[k]).distance > tolerance) {
+      landmarks.confidence[k] *= params.off_skin_lid_confidence_factor;
+    }
+  }
+}
+
+// Where an eye is a hole in the mesh, its points follow the hole; lid points
+// off the skin are distrusted.
+void FitEyesToMesh(const Mesh& mesh, float face_height, const LandmarkParams& params, LandmarkResult& result) {
+  // Holes in the skin only: ICT's eye layers have edges around the eye too.
+  const std::vector<Triangle> skin = LargePartTriangles(mesh.positions, mesh.triangles, kSkinPartAreaFraction);
   if (params.fit_eyes_to_openings) {
-    // Holes in the skin only: ICT's eye layers have edges around the eye too.
-    const std::vector<Triangle> skin = LargePartTriangles(mesh.positions, mesh.triangles, kSkinPartAreaFraction);
     result.eyes_fitted = FitEyesToOpenings(mesh.positions, skin, result.landmarks.points);
   }
   if (params.correct_eye_corners && result.eyes_fitted < 2) {
     result.corrected = CorrectEyeCorners(mesh.positions, mesh.triangles, result.landmarks.points);
   }
+  DistrustLidPointsOffSkin(mesh, skin, face_height, params, result.landmarks);
 }
 
 }  // namespace
@@ -278,7 +296,7 @@ LandmarkResult LandmarkDetector::Detect(const Mesh& mesh) {
   result.view = close_up.view;
   result.image = std::move(close_up.image);
   result.detector_score = best.detection.score;
-  FitEyesToMesh(mesh, params, result);
+  FitEyesToMesh(mesh, close_up.face_height, params, result);
   result.views_tried = impl.views_tried;
   result.seconds = SecondsSince(start);
   return result;

@@ -76,6 +76,15 @@ struct LandmarkParams {
   // replaces correct_eye_corners for that eye. Why: on stylized heads dlib's
   // eyes come out too wide and their lower lids too high.
   bool fit_eyes_to_openings = true;
+  // A lid point (dlib 37, 38, 40, 41, 43, 44, 46, 47) that lies farther than
+  // off_skin_distance_fraction of the face height from the skin (the large
+  // parts) landed on the eyeball or tear film seen through the opening: the
+  // detector put the lid where the eye is, and pulling the template's lid
+  // there drags it across the opening onto the other lid. Its confidence is
+  // multiplied by off_skin_lid_confidence_factor: kept a little (0.05), as a
+  // lid with no landmark at all may settle a millimetre off.
+  float off_skin_distance_fraction = 0.002f;
+  float off_skin_lid_confidence_factor = 0.05f;
 };
 
 struct LandmarkResult {
