@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -37,6 +38,19 @@ glm::vec3 PartCentroid(const Rig& rig, const Part& part) {
     for (std::uint32_t v : rig.triangles()[i]) sum += rig.positions()[v];
   }
   return part.triangle_count > 0 ? sum / (3.0f * static_cast<float>(part.triangle_count)) : sum;
+}
+
+// A per-vertex float that never changes, as attribute `location` of the
+// bound vertex array; returns its buffer.
+unsigned StaticFloatAttribute(unsigned location, std::span<const float> values) {
+  unsigned vbo = 0;
+  glGenBuffers(1, &vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(values.size() * sizeof(float)), values.data(),
+               GL_STATIC_DRAW);
+  glVertexAttribPointer(location, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
+  glEnableVertexAttribArray(location);
+  return vbo;
 }
 
 }  // namespace
@@ -151,18 +165,8 @@ void FaceRenderer::CreateBuffers(const Rig& rig, std::span<const float> radial, 
   glBufferData(GL_ARRAY_BUFFER, vertex_bytes, nullptr, GL_DYNAMIC_DRAW);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
   glEnableVertexAttribArray(1);
-  glGenBuffers(1, &radial_vbo_);
-  glBindBuffer(GL_ARRAY_BUFFER, radial_vbo_);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(radial.size() * sizeof(float)), radial.data(),
-               GL_STATIC_DRAW);
-  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
-  glEnableVertexAttribArray(2);
-  glGenBuffers(1, &mouth_light_vbo_);
-  glBindBuffer(GL_ARRAY_BUFFER, mouth_light_vbo_);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(mouth_light.size() * sizeof(float)), mouth_light.data(),
-               GL_STATIC_DRAW);
-  glVertexAttribPointer(4, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
-  glEnableVertexAttribArray(4);
+  radial_vbo_ = StaticFloatAttribute(2, radial);
+  mouth_light_vbo_ = StaticFloatAttribute(4, mouth_light);
   CreateUvBuffer(rig);
   glGenBuffers(1, &ebo_);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_);

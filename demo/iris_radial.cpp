@@ -12,20 +12,10 @@
 #include <glm/matrix.hpp>
 
 #include "face_renderer.h"
+#include "part_vertices.h"
 
 namespace facerig::player {
 namespace {
-
-// The vertices of the part's triangles, sorted, each once.
-std::vector<std::uint32_t> PartVertices(const Rig& rig, const Part& part) {
-  std::vector<std::uint32_t> vertices;
-  for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
-    for (std::uint32_t v : rig.triangles()[t]) vertices.push_back(v);
-  }
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  return vertices;
-}
 
 // A sclera that carries the iris: the angle from the eyeball's forward axis
 // over the iris's angular radius.
@@ -64,7 +54,7 @@ std::vector<float> IrisRadial(const Rig& rig, const glm::mat4& rig_to_scene, boo
   for (const Part& part : rig.parts()) {
     const Material material = MaterialForPart(part.name);
     if (material != Material::kIris && !(material == Material::kSclera && procedural_pupil)) continue;
-    const std::vector<std::uint32_t> vertices = PartVertices(rig, part);
+    const std::vector<std::uint32_t> vertices = VerticesOfParts(rig, [&](const Part& p) { return &p == &part; });
     if (vertices.empty()) continue;
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (std::uint32_t v : vertices) {

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "face_materials.h"
+#include "part_vertices.h"
 
 namespace facerig::player {
 namespace {
@@ -14,25 +15,12 @@ bool InsideMouth(Material material) {
          material == Material::kMouthInner;
 }
 
-// The vertices of the mouth's parts, each once.
-std::vector<std::uint32_t> MouthVertices(const Rig& rig) {
-  std::vector<std::uint32_t> vertices;
-  for (const Part& part : rig.parts()) {
-    if (!InsideMouth(MaterialForPart(part.name))) continue;
-    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
-      for (std::uint32_t v : rig.triangles()[t]) vertices.push_back(v);
-    }
-  }
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  return vertices;
-}
-
 }  // namespace
 
 std::vector<float> MouthLight(const Rig& rig, const glm::mat4& rig_to_scene) {
   std::vector<float> light(rig.vertex_count(), 1.0f);
-  const std::vector<std::uint32_t> vertices = MouthVertices(rig);
+  const std::vector<std::uint32_t> vertices =
+      VerticesOfParts(rig, [](const Part& part) { return InsideMouth(MaterialForPart(part.name)); });
   if (vertices.empty()) return light;
   float front = -std::numeric_limits<float>::max();
   float left = std::numeric_limits<float>::max(), right = -std::numeric_limits<float>::max();

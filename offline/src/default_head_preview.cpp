@@ -11,6 +11,7 @@
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/rasterizer.h"
 #include "facerig/runtime/blend_job.h"
+#include "srgb.h"
 
 namespace facerig {
 namespace {
@@ -29,10 +30,6 @@ glm::vec3 Sample(const RgbImage& image, glm::vec2 uv) {
   };
   const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
   return (at(x0, y0) * (1.0f - fx) + at(x1, y0) * fx) * (1.0f - fy) + (at(x0, y1) * (1.0f - fx) + at(x1, y1) * fx) * fy;
-}
-
-float ToSrgb(float linear) {
-  return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
 }
 
 // The rig's shading (white albedo) times each pixel's material colour.
@@ -73,7 +70,7 @@ class TexturedPreview {
     const std::int32_t m = triangle_material_[triangle];
     if (m < 0) return glm::vec3(0.8f);
     const Material& material = rig_.materials()[static_cast<std::size_t>(m)];
-    const glm::vec3 factor{ToSrgb(material.base_colour.r), ToSrgb(material.base_colour.g), ToSrgb(material.base_colour.b)};
+    const glm::vec3 factor{LinearToSrgb(material.base_colour.r), LinearToSrgb(material.base_colour.g), LinearToSrgb(material.base_colour.b)};
     if (material.base_colour_image < 0 || rig_.uvs().empty()) return factor;
     const Triangle& t = rig_.triangles()[triangle];
     const glm::vec2 uv = barycentric.x * rig_.uvs()[t[0]] + barycentric.y * rig_.uvs()[t[1]] + barycentric.z * rig_.uvs()[t[2]];

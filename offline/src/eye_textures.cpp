@@ -16,6 +16,7 @@
 
 #include "facerig/offline/error.h"
 #include "facerig/runtime/part_roles.h"
+#include "srgb.h"
 #include "uv_raster.h"
 
 namespace facerig {
@@ -123,8 +124,7 @@ glm::vec3 EyeballForward(const Mesh& mesh, const std::vector<std::uint32_t>& ver
 // Each eye part's frame (EyeballForward). An iris mesh is centred on the
 // eyeball around it (else on itself); one as large as its eyeball (a second
 // ball under the sclera) is painted as an eyeball.
-std::map<std::uint32_t, EyeFrame> EyeFrames(const Mesh& mesh) {
-  const auto vertices = VerticesOfParts(mesh);
+std::map<std::uint32_t, EyeFrame> EyeFrames(const Mesh& mesh, const std::vector<std::vector<std::uint32_t>>& vertices) {
   std::vector<PartRole> roles(mesh.part_names.size());
   std::vector<glm::vec3> centres(mesh.part_names.size());
   std::vector<float> radii(mesh.part_names.size());
@@ -252,7 +252,8 @@ Painter LashPainter(const Mesh& mesh, const std::vector<std::uint32_t>& vertices
 
 // A painter for each eye and lash part (none for lashes without eyeballs).
 std::map<std::uint32_t, Painter> Painters(const Mesh& mesh, const EyeTextureParams& params) {
-  const std::map<std::uint32_t, EyeFrame> frames = EyeFrames(mesh);
+  const auto vertices = VerticesOfParts(mesh);
+  const std::map<std::uint32_t, EyeFrame> frames = EyeFrames(mesh, vertices);
   std::map<std::uint32_t, Painter> painters;
   std::vector<EyeFrame> eyeballs;
   for (const auto& [part, frame] : frames) {
@@ -260,7 +261,6 @@ std::map<std::uint32_t, Painter> Painters(const Mesh& mesh, const EyeTexturePara
     if (RoleOfPart(mesh.part_names[part]) == PartRole::kSclera) eyeballs.push_back(frame);
   }
   if (eyeballs.empty()) return painters;
-  const auto vertices = VerticesOfParts(mesh);
   for (std::uint32_t part = 0; part < mesh.part_names.size(); ++part) {
     if (RoleOfPart(mesh.part_names[part]) == PartRole::kLashes && !vertices[part].empty()) {
       painters[part] = LashPainter(mesh, vertices[part], eyeballs);
@@ -317,11 +317,6 @@ void GrowPainted(Canvas& canvas, int rings) {
   }
 }
 
-float ToSrgb(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
-
 std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
 
 // sRGB colour (and linear alpha, when `with_alpha`) as an 8-bit PNG.
@@ -332,7 +327,7 @@ EncodedImage EncodeCanvas(const Canvas& canvas, const std::string& name, bool wi
     for (int x = 0; x < canvas.size; ++x) {
       const cv::Vec4f c = canvas.colour.at<cv::Vec4f>(y, x);
       std::uint8_t* texel = row + x * bgra.channels();
-      for (int k = 0; k < 3; ++k) texel[2 - k] = ToByte(ToSrgb(c[k]));
+      for (int k = 0; k < 3; ++k) texel[2 - k] = ToByte(LinearToSrgb(std::clamp(c[k], 0.0f, 1.0f)));
       if (with_alpha) texel[3] = ToByte(c[3]);
     }
   }

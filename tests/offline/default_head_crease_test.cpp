@@ -11,29 +11,9 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/default_head.h"
-#include "facerig/runtime/blend_job.h"
+#include "support/default_head_poses.h"
 
 namespace {
-
-const facerig::Rig& Head(facerig::DefaultHeadFeatures* features_out) {
-  static facerig::DefaultHeadFeatures features;
-  static const facerig::Rig rig = facerig::BuildDefaultHead(&features);
-  *features_out = features;
-  return rig;
-}
-
-std::vector<glm::vec3> Pose(const facerig::Rig& rig, const std::vector<std::pair<std::string, float>>& weights) {
-  std::vector<float> w(rig.shape_count(), 0.0f);
-  for (const auto& [name, value] : weights) {
-    const auto index = rig.FindShape(name);
-    REQUIRE(index);
-    w[*index] = value;
-  }
-  std::vector<glm::vec3> positions(rig.vertex_count());
-  facerig::BlendJob job{&rig, w, facerig::NormalMode::kNone, positions, {}};
-  REQUIRE(job.Run() == facerig::BlendJobError::kNone);
-  return positions;
-}
 
 struct Fold {
   double left = 0.0, right = 0.0;  // degrees, the character's left (+X) and right
@@ -91,7 +71,7 @@ Fold CheekFold(const facerig::Rig& rig, const facerig::DefaultHeadFeatures& feat
 
 TEST_CASE("Default head: speech leaves no crease on the cheeks, the same on both sides", "[default_head]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig& rig = Head(&features);
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
   // "oh" as the player speaks it, and the shapes of speech one at a time.
   const std::vector<std::vector<std::pair<std::string, float>>> poses = {
       {{"jawOpen", 0.4f}, {"mouthFunnel", 0.6f}, {"mouthPucker", 0.1f}},
@@ -102,7 +82,7 @@ TEST_CASE("Default head: speech leaves no crease on the cheeks, the same on both
   };
   for (const auto& pose : poses) {
     INFO(pose.front().first << " " << pose.front().second << " (" << pose.size() << " shapes)");
-    const Fold fold = CheekFold(rig, features, Pose(rig, pose));
+    const Fold fold = CheekFold(rig, features, facerig::test::Posed(rig, pose));
     INFO("fold left " << fold.left << " right " << fold.right << " degrees");
     CHECK(fold.left < 12.0);
     // The control face is mirrored exactly, and so is every unsided shape.

@@ -11,19 +11,11 @@
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
-#include "facerig/runtime/blend_job.h"
+#include "support/default_head_poses.h"
 #include "facerig/runtime/io/frig.h"
 #include "facerig/runtime/io/gltf.h"
 
 namespace {
-
-// Built once: the head takes about a second.
-const facerig::Rig& Head(facerig::DefaultHeadFeatures* features_out = nullptr) {
-  static facerig::DefaultHeadFeatures features;
-  static const facerig::Rig rig = facerig::BuildDefaultHead(&features);
-  if (features_out) *features_out = features;
-  return rig;
-}
 
 // Where the build generates the head (`facerig default-head`).
 std::filesystem::path DataDir() { return std::filesystem::path(FACERIG_DEFAULT_HEAD).parent_path(); }
@@ -34,19 +26,6 @@ std::vector<std::byte> ReadBytes(const std::filesystem::path& path) {
   std::vector<std::byte> bytes(chars.size());
   std::transform(chars.begin(), chars.end(), bytes.begin(), [](char c) { return static_cast<std::byte>(c); });
   return bytes;
-}
-
-std::vector<glm::vec3> Pose(const facerig::Rig& rig, const std::vector<std::pair<const char*, float>>& weights) {
-  std::vector<float> w(rig.shape_count(), 0.0f);
-  for (const auto& [name, value] : weights) {
-    const auto index = rig.FindShape(name);
-    REQUIRE(index);
-    w[*index] = value;
-  }
-  std::vector<glm::vec3> positions(rig.vertex_count());
-  facerig::BlendJob job{&rig, w, facerig::NormalMode::kNone, positions, {}};
-  REQUIRE(job.Run() == facerig::BlendJobError::kNone);
-  return positions;
 }
 
 float MaxGap(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& upper,
@@ -72,7 +51,7 @@ const std::vector<std::string> kRequiredShapes = {
 
 TEST_CASE("Default head: structure, units and parts", "[default_head]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig& rig = Head(&features);
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
   CHECK(rig.units() == facerig::Units::kCentimetres);
   CHECK(rig.up_axis() == facerig::UpAxis::kY);
   // 2 linear + 2 Loop subdivisions: 4^4 dense triangles per control triangle.
@@ -94,7 +73,7 @@ TEST_CASE("Default head: structure, units and parts", "[default_head]") {
 }
 
 TEST_CASE("Default head: the files the build generated are the library's head", "[default_head]") {
-  const facerig::Rig& rig = Head();
+  const facerig::Rig& rig = facerig::test::DefaultHead();
   const std::vector<std::byte> generated = ReadBytes(DataDir() / "default_head.frig");
   REQUIRE_FALSE(generated.empty());
   // Byte-identical: the generator is deterministic (`facerig default-head
@@ -121,7 +100,7 @@ TEST_CASE("Default head: the files the build generated are the library's head", 
 
 TEST_CASE("Default head: every shape loads, moves something, and only where it should", "[default_head]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig& rig = Head(&features);
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
   const facerig::Rig loaded = facerig::ReadFrig(DataDir() / "default_head.frig");
   const float nose_y = rig.positions()[features.nose_tip].y;
   const float eye_y = features.eye_centres[0].y;
@@ -161,19 +140,19 @@ TEST_CASE("Default head: every shape loads, moves something, and only where it s
 
 TEST_CASE("Default head: a blink closes the lids over the eyeball", "[default_head]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig& rig = Head(&features);
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
   for (int side = 0; side < 2; ++side) {
     INFO("side " << side);
     const auto s = static_cast<std::size_t>(side);
     const std::vector<glm::vec3> open(rig.positions().begin(), rig.positions().end());
     const float open_gap = MaxGap(open, features.upper_lid[s], features.lower_lid[s]);
     CHECK(open_gap > 0.7f);  // cm: the eye is open at rest
-    const std::vector<glm::vec3> closed = Pose(rig, {{side == 0 ? "eyeBlink_L" : "eyeBlink_R", 1.0f}});
+    const std::vector<glm::vec3> closed = facerig::test::Posed(rig, {{side == 0 ? "eyeBlink_L" : "eyeBlink_R", 1.0f}});
     // The margins meet: every upper margin vertex on its lower partner.
     CHECK(MaxGap(closed, features.upper_lid[s], features.lower_lid[s]) < 0.01f);
     // No skin vertex enters the eyeball, at any weight along the way.
     for (const float w : {0.25f, 0.5f, 0.75f, 1.0f}) {
-      const std::vector<glm::vec3> posed = Pose(rig, {{side == 0 ? "eyeBlink_L" : "eyeBlink_R", w}});
+      const std::vector<glm::vec3> posed = facerig::test::Posed(rig, {{side == 0 ? "eyeBlink_L" : "eyeBlink_R", w}});
       float nearest = 1e9f;
       for (std::uint32_t v = 0; v < features.skin_vertex_count; ++v) {
         nearest = std::min(nearest, glm::length(posed[v] - features.eye_centres[s]));
@@ -187,12 +166,12 @@ TEST_CASE("Default head: a blink closes the lids over the eyeball", "[default_he
 TEST_CASE("Default head: lips closed at rest, and closed by mouthClose with the jaw a little open",
           "[default_head]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig& rig = Head(&features);
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
   const std::vector<glm::vec3> rest(rig.positions().begin(), rig.positions().end());
   CHECK(MaxGap(rest, features.upper_lip, features.lower_lip) < 0.15f);
-  const std::vector<glm::vec3> open = Pose(rig, {{"jawOpen", 0.2f}});
+  const std::vector<glm::vec3> open = facerig::test::Posed(rig, {{"jawOpen", 0.2f}});
   CHECK(MaxGap(open, features.upper_lip, features.lower_lip) > 0.5f);
-  const std::vector<glm::vec3> closed = Pose(rig, {{"jawOpen", 0.2f}, {"mouthClose", 0.2f}});
+  const std::vector<glm::vec3> closed = facerig::test::Posed(rig, {{"jawOpen", 0.2f}, {"mouthClose", 0.2f}});
   CHECK(MaxGap(closed, features.upper_lip, features.lower_lip) < 0.15f);
   // The middle of the lips (the midline vertex pair) meets to well under a millimetre.
   const std::size_t mid = features.upper_lip.size() / 2;
@@ -200,8 +179,8 @@ TEST_CASE("Default head: lips closed at rest, and closed by mouthClose with the 
 }
 
 TEST_CASE("Default head: jawOpen rotates the jaw about a hinge", "[default_head]") {
-  const facerig::Rig& rig = Head();
-  const std::vector<glm::vec3> open = Pose(rig, {{"jawOpen", 1.0f}});
+  const facerig::Rig& rig = facerig::test::DefaultHead();
+  const std::vector<glm::vec3> open = facerig::test::Posed(rig, {{"jawOpen", 1.0f}});
   // Lower teeth move rigidly: distances within the row are kept (a rotation,
   // not a stretch), and they move down.
   const facerig::Part* teeth = rig.FindPart("teeth_lower");
@@ -216,8 +195,8 @@ TEST_CASE("Default head: jawOpen rotates the jaw about a hinge", "[default_head]
 
 TEST_CASE("Default head: in 'oh' the lips hide the lower teeth and most of the upper ones", "[default_head]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig& rig = Head(&features);
-  const std::vector<glm::vec3> oh = Pose(rig, {{"jawOpen", 0.35f}, {"mouthFunnel", 0.9f}});
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
+  const std::vector<glm::vec3> oh = facerig::test::Posed(rig, {{"jawOpen", 0.35f}, {"mouthFunnel", 0.9f}});
   const std::size_t mid = features.upper_lip.size() / 2;
   const float upper_lip = oh[features.upper_lip[mid]].y, lower_lip = oh[features.lower_lip[mid]].y;
   // The front teeth (near the midline): the upper row's lowest point, the lower row's highest.
@@ -242,7 +221,7 @@ TEST_CASE("Default head: in 'oh' the lips hide the lower teeth and most of the u
 TEST_CASE("Default head: proportions of a person: a short neck, lips sealed at rest, a round 'oh'",
           "[default_head]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig& rig = Head(&features);
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
   const std::vector<glm::vec3> rest(rig.positions().begin(), rig.positions().end());
   // The neck ends a neck's length below the chin, not a column below it.
   float chin = 1e9f, lowest = 1e9f;
@@ -257,7 +236,7 @@ TEST_CASE("Default head: proportions of a person: a short neck, lips sealed at r
   CHECK(MaxGap(rest, features.upper_lip, features.lower_lip) < 0.01f);
   // "oh": the opening is round, not a diamond. Half way to the corners an
   // ellipse is sqrt(3)/2 of its middle height; a diamond half.
-  const std::vector<glm::vec3> oh = Pose(rig, {{"mouthFunnel", 1.0f}});
+  const std::vector<glm::vec3> oh = facerig::test::Posed(rig, {{"mouthFunnel", 1.0f}});
   const std::size_t n = features.upper_lip.size(), mid = n / 2;
   const float middle = oh[features.upper_lip[mid]].y - oh[features.lower_lip[mid]].y;
   const float half_width = 0.5f * (oh[features.mouth_corners[0]].x - oh[features.mouth_corners[1]].x);
