@@ -75,13 +75,19 @@ constexpr double kSkinPartAreaFraction = 0.1;
 void DistrustLidPointsOffSkin(const Mesh& mesh, std::span<const Triangle> skin, float face_height,
                               const LandmarkParams& params, FaceLandmarks& landmarks) {
   if (skin.empty() || skin.size() == mesh.triangles.size()) return;  // one part: all of it is skin
-  const ClosestPointQuery skin_surface(
-      Mesh{.positions = mesh.positions, .triangles = {skin.begin(), skin.end()}});
   const float tolerance = params.off_skin_distance_fraction * face_height;
-  for (const std::size_t k : {37, 38, 40, 41, 43, 44, 46, 47}) {
-    if (skin_surface.Find(landmarks.points[k]).distance > tolerance) {
-      landmarks.confidence[k] *= params.off_skin_lid_confidence_factor;
+  // Eight points: a scan of the skin, no search structure.
+  const auto on_skin = [&](const glm::vec3& p) {
+    glm::vec3 barycentrics;
+    for (const Triangle& t : skin) {
+      const glm::vec3 q =
+          ClosestPointOnTriangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]], barycentrics);
+      if (glm::length(q - p) <= tolerance) return true;
     }
+    return false;
+  };
+  for (const std::size_t k : {37, 38, 40, 41, 43, 44, 46, 47}) {
+    if (!on_skin(landmarks.points[k])) landmarks.confidence[k] *= params.off_skin_lid_confidence_factor;
   }
 }
 
