@@ -70,11 +70,14 @@ dlib::array2d<unsigned char> ToDlib(const RgbImage& image) {
 // BuildRigParams::registration_min_part_area).
 constexpr double kSkinPartAreaFraction = 0.1;
 
-// Lid points off the skin (on the eyeball or tear film behind the opening)
-// lose their confidence (LandmarkParams::off_skin_lid_confidence_factor).
-void DistrustLidPointsOffSkin(const Mesh& mesh, std::span<const Triangle> skin, float face_height,
-                              const LandmarkParams& params, FaceLandmarks& landmarks) {
-  if (skin.empty() || skin.size() == mesh.triangles.size()) return;  // one part: all of it is skin
+constexpr std::size_t kLidPoints[] = {37, 38, 40, 41, 43, 44, 46, 47};
+
+// Lid points off the skin: on the eyeball or tear film behind the opening
+// (LandmarkParams::off_skin_distance_fraction).
+LandmarkMask LidPointsOffSkin(const Mesh& mesh, std::span<const Triangle> skin, float face_height,
+                              const LandmarkParams& params, const FaceLandmarks& landmarks) {
+  LandmarkMask off_skin;
+  if (skin.empty() || skin.size() == mesh.triangles.size()) return off_skin;  // one part: all of it is skin
   const float tolerance = params.off_skin_distance_fraction * face_height;
   // Eight points: a scan of the skin, no search structure.
   const auto on_skin = [&](const glm::vec3& p) {
@@ -86,23 +89,32 @@ void DistrustLidPointsOffSkin(const Mesh& mesh, std::span<const Triangle> skin, 
     }
     return false;
   };
-  for (const std::size_t k : {37, 38, 40, 41, 43, 44, 46, 47}) {
-    if (!on_skin(landmarks.points[k])) landmarks.confidence[k] *= params.off_skin_lid_confidence_factor;
-  }
+  for (const std::size_t k : kLidPoints) off_skin[k] = !on_skin(landmarks.points[k]);
+  return off_skin;
 }
 
-// Where an eye is a hole in the mesh, its points follow the hole; lid points
-// off the skin are distrusted.
+// Where an eye is a hole in the mesh, its corners follow the hole, and lid
+// points the detector put inside the hole go onto its margins; lid points off
+// the skin with no margin to go to are distrusted.
 void FitEyesToMesh(const Mesh& mesh, float face_height, const LandmarkParams& params, LandmarkResult& result) {
   // Holes in the skin only: ICT's eye layers have edges around the eye too.
   const std::vector<Triangle> skin = LargePartTriangles(mesh.positions, mesh.triangles, kSkinPartAreaFraction);
+  FaceLandmarks& landmarks = result.landmarks;
+  const LandmarkMask off_skin = LidPointsOffSkin(mesh, skin, face_height, params, landmarks);
+  LandmarkMask on_margin;
   if (params.fit_eyes_to_openings) {
-    result.eyes_fitted = FitEyesToOpenings(mesh.positions, skin, result.landmarks.points);
+    const EyeOpeningFit fit = FitEyesToOpenings(mesh.positions, skin, landmarks.points, off_skin);
+    result.eyes_fitted = fit.eyes;
+    on_margin = fit.moved;
   }
   if (params.correct_eye_corners && result.eyes_fitted < 2) {
-    result.corrected = CorrectEyeCorners(mesh.positions, mesh.triangles, result.landmarks.points);
+    result.corrected = CorrectEyeCorners(mesh.positions, mesh.triangles, landmarks.points);
   }
-  DistrustLidPointsOffSkin(mesh, skin, face_height, params, result.landmarks);
+  for (const std::size_t k : kLidPoints) {
+    if (!off_skin[k]) continue;
+    landmarks.confidence[k] *=
+        on_margin[k] ? params.snapped_confidence_factor : params.off_skin_lid_confidence_factor;
+  }
 }
 
 }  // namespace

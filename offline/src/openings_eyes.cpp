@@ -212,10 +212,10 @@ std::optional<std::array<glm::vec3, 6>> PointsOnOpening(std::span<const glm::vec
 
 }  // namespace
 
-int FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                      std::vector<glm::vec3>& points) {
+EyeOpeningFit FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                std::vector<glm::vec3>& points, const LandmarkMask& inside) {
   const std::vector<std::vector<std::uint32_t>> loops = BoundaryLoops(positions, triangles);
-  int fitted = 0;
+  EyeOpeningFit fit;
   for (const EyePoints eye : kEyes) {
     const std::optional<EyeOpening> opening = FindEyeOpening(positions, loops, points, eye, 0.75f, 0.2f, 0.8f, true);
     if (!opening) continue;
@@ -228,19 +228,22 @@ int FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Tria
       near = near && glm::length(fitted_points[k] - points[eye.first + k]) < 0.75f * opening->width;
     }
     if (!near) continue;
-    // Lid points that lie near the opening are kept: the template's lid
-    // landmarks need not be on its margin (ICT's upper ones lie above it; on
-    // re-meshed ICT faces moving them to the margin doubled their error).
-    // Only an eye the detector missed takes the margin's points.
+    // Lid points near the opening are kept (ICT's upper lid landmarks lie
+    // above its margin; on re-meshed ICT faces moving them there doubled
+    // their error), unless the detector missed the eye or put them inside.
     float lid_move = 0.0f;
     for (std::size_t k : {1, 2, 4, 5}) lid_move += glm::length(fitted_points[k] - points[eye.first + k]) / 4.0f;
     const bool missed = lid_move > kMissedEye * opening->width;
     for (std::size_t k = 0; k < 6; ++k) {
-      if (k == 0 || k == 3 || missed) points[eye.first + k] = fitted_points[k];
+      const std::size_t point = eye.first + k;
+      if (k == 0 || k == 3 || missed || inside[point]) {
+        points[point] = fitted_points[k];
+        fit.moved[point] = true;
+      }
     }
-    ++fitted;
+    ++fit.eyes;
   }
-  return fitted;
+  return fit;
 }
 
 }  // namespace facerig

@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/closest_point.h"
+#include "facerig/offline/rigid_pieces.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/error.h"
 #include "mesh_edges.h"
@@ -423,6 +424,7 @@ RawRig MapRigToTarget(const Rig& fitted_rig, const TopologyMapping& mapping, Raw
   }
   std::vector<glm::vec3> template_deltas(fitted_rig.vertex_count()), target_deltas;
   std::vector<RawBlendShape> shapes;
+  const std::vector<std::vector<std::uint32_t>> rigid_pieces = RigidPieces(target);
   for (std::size_t s = 0; s < fitted_rig.shape_count(); ++s) {
     const BlendShapeView shape = fitted_rig.shape(s);
     std::fill(template_deltas.begin(), template_deltas.end(), glm::vec3(0.0f));
@@ -431,6 +433,7 @@ RawRig MapRigToTarget(const Rig& fitted_rig, const TopologyMapping& mapping, Raw
     }
     MapVertexValues(mapping, fitted_rig.triangles(), template_deltas, target_deltas);
     CloseRims(mapping, target.positions, target_deltas);
+    MoveRigidPiecesRigidly(rigid_pieces, target.positions, target_deltas);
     if (with_normals) {
       expression.resize(n);
       for (std::size_t v = 0; v < n; ++v) expression[v] = target.positions[v] + target_deltas[v];

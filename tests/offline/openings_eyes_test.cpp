@@ -74,7 +74,7 @@ TEST_CASE("Eye openings: an eye the detector missed goes onto the opening's marg
   // Detected too wide and too high (as dlib on a stylized head).
   std::vector<glm::vec3> points = Landmarks({-4.4f, 0.3f, 0.0f}, {-1.6f, 0.3f, 0.0f}, 0.9f, 0.5f);
   const std::vector<glm::vec3> detected = points;
-  CHECK(facerig::FitEyesToOpenings(mesh.positions, mesh.triangles, points) == 1);
+  CHECK(facerig::FitEyesToOpenings(mesh.positions, mesh.triangles, points).eyes == 1);
   // The skin's hole, not the iris ring's: the corners at its ends.
   CHECK(glm::length(points[36] - glm::vec3(-4.0f, 0.0f, 0.0f)) < 1e-4f);
   CHECK(glm::length(points[39] - glm::vec3(-2.0f, 0.0f, 0.0f)) < 1e-4f);
@@ -92,7 +92,7 @@ TEST_CASE("Eye openings: lid points near the margins are kept, the corners move"
   const EyeMesh mesh = MakeEyeMesh();
   std::vector<glm::vec3> points = Landmarks({-3.9f, 0.05f, 0.0f}, {-2.1f, 0.05f, 0.0f}, 0.42f, -0.3f);
   const std::vector<glm::vec3> detected = points;
-  CHECK(facerig::FitEyesToOpenings(mesh.positions, mesh.triangles, points) == 1);
+  CHECK(facerig::FitEyesToOpenings(mesh.positions, mesh.triangles, points).eyes == 1);
   CHECK(glm::length(points[36] - glm::vec3(-4.0f, 0.0f, 0.0f)) < 1e-4f);
   CHECK(glm::length(points[39] - glm::vec3(-2.0f, 0.0f, 0.0f)) < 1e-4f);
   for (std::size_t k : {37, 38, 40, 41}) CHECK(points[k] == detected[k]);
@@ -103,7 +103,7 @@ TEST_CASE("Eye openings: no opening near the eyes changes nothing", "[eye_openin
   for (glm::vec3& p : mesh.positions) p.y += 10.0f;  // the hole far above the detected eyes
   std::vector<glm::vec3> points = Landmarks({-4.0f, 0.0f, 0.0f}, {-2.0f, 0.0f, 0.0f}, 0.4f, -0.4f);
   const std::vector<glm::vec3> detected = points;
-  CHECK(facerig::FitEyesToOpenings(mesh.positions, mesh.triangles, points) == 0);
+  CHECK(facerig::FitEyesToOpenings(mesh.positions, mesh.triangles, points).eyes == 0);
   CHECK(points == detected);
   CHECK(facerig::CorrectEyeCorners(mesh.positions, mesh.triangles, points) == 0);
 }

@@ -80,9 +80,10 @@ struct LandmarkParams {
   // off_skin_distance_fraction of the face height from the skin (the large
   // parts) landed on the eyeball or tear film seen through the opening: the
   // detector put the lid where the eye is, and pulling the template's lid
-  // there drags it across the opening onto the other lid. Its confidence is
-  // multiplied by off_skin_lid_confidence_factor: kept a little (0.05), as a
-  // lid with no landmark at all may settle a millimetre off.
+  // there would drag it across the opening onto the other lid. Where the eye
+  // is a hole in the skin the point goes onto the hole's margin (with
+  // fit_eyes_to_openings, confidence x snapped_confidence_factor); where it
+  // is not, its confidence is multiplied by off_skin_lid_confidence_factor.
   float off_skin_distance_fraction = 0.002f;
   float off_skin_lid_confidence_factor = 0.05f;
 };

@@ -20,6 +20,7 @@
 // template.
 #pragma once
 
+#include <bitset>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -184,16 +185,26 @@ std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3>
 int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
                       std::vector<glm::vec3>& points);
 
-// All six points of each eye (dlib 36-41, 42-47) onto the opening near them:
-// the corners at the ends of its principal axis, the lid points on its upper
-// and lower chains at the detected points' places along that axis. An eye is
-// fitted to the largest opening whose centre lies within 0.75 of the detected
-// eye width of the detected eye's centre and whose size is 0.2 to 0.8 of that
-// width (an iris may be a hole too), unless a point would move farther than
-// 0.75 of the width (the opening is then not this eye). points: the 68
-// landmarks. Returns how many eyes were fitted.
-int FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                      std::vector<glm::vec3>& points);
+// Which of the 68 landmarks (bit k: dlib point k).
+using LandmarkMask = std::bitset<68>;
+
+struct EyeOpeningFit {
+  int eyes = 0;  // eyes fitted to an opening
+  LandmarkMask moved;  // points put on a margin
+};
+
+// Each eye (dlib 36-41, 42-47) onto the opening near them: the corners go to
+// the ends of its principal axis; a lid point goes onto its upper or lower
+// chain, at its place along that axis, when the detector missed the eye (its
+// lid points far from the margins) or when `inside` marks it (it landed on
+// the eyeball or tear film seen through the opening). Other lid points stay:
+// a template's lid landmarks need not lie on its margin. An eye is fitted to
+// the largest opening whose centre lies within 0.75 of the detected eye width
+// of the detected eye's centre and whose size is 0.2 to 0.8 of that width
+// (an iris may be a hole too), unless a point would move farther than 0.75
+// of the width (the opening is then not this eye). points: the 68 landmarks.
+EyeOpeningFit FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
+                                std::vector<glm::vec3>& points, const LandmarkMask& inside = {});
 
 // --- Margins and their alignment onto the target's rims (openings_margins.cpp) ---
 
