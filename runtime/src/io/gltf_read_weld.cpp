@@ -11,23 +11,31 @@
 
 namespace facerig::gltf_internal {
 
-std::vector<std::uint32_t> GltfReader::ReadRigVertices(const MeshVertices& vertices) const {
-  std::vector<std::uint32_t> rig_vertex;
+std::vector<std::vector<std::uint32_t>> BlockRigVertices(const tinygltf::Model& model, const MeshVertices& vertices,
+                                                         const std::string& path, std::uint64_t file_size) {
+  std::vector<std::vector<std::uint32_t>> rig_vertices;
   std::size_t named = 0;
   for (const VertexBlock& block : vertices.blocks) {
     named += Member(Member(block.primitive->extras, "facerig"), "vertices").IsInt() ? 1 : 0;
   }
-  if (named == 0) return rig_vertex;
+  if (named == 0) return rig_vertices;
   if (named != vertices.blocks.size()) {
-    Fail(IoErrorKind::kParse, "some primitives have extras.facerig.vertices and others not");
+    throw IoError(IoErrorKind::kParse, path, "some primitives have extras.facerig.vertices and others not");
   }
-  rig_vertex.reserve(vertices.vertex_count);
+  const GltfAccessors accessors(path, model, file_size);
   for (const VertexBlock& block : vertices.blocks) {
     const int accessor = Member(Member(block.primitive->extras, "facerig"), "vertices").Get<int>();
-    const std::vector<std::uint32_t> mine = Accessors().ReadIntegers(
-        accessor, block.vertex_count, vertices.vertex_count, "extras.facerig.vertices (accessor " +
-                                                                 std::to_string(accessor) + ")");
-    rig_vertex.insert(rig_vertex.end(), mine.begin(), mine.end());
+    rig_vertices.push_back(accessors.ReadIntegers(accessor, block.vertex_count, vertices.vertex_count,
+                                                  "extras.facerig.vertices (accessor " + std::to_string(accessor) +
+                                                      ")"));
+  }
+  return rig_vertices;
+}
+
+std::vector<std::uint32_t> GltfReader::ReadRigVertices(const MeshVertices& vertices) const {
+  std::vector<std::uint32_t> rig_vertex;
+  for (const std::vector<std::uint32_t>& block : BlockRigVertices(model_, vertices, path_, file_size_)) {
+    rig_vertex.insert(rig_vertex.end(), block.begin(), block.end());
   }
   return rig_vertex;
 }

@@ -94,6 +94,13 @@ MeshVertices GroupMeshVertices(const tinygltf::Model& model, const tinygltf::Mes
 // indices), which the reader welds back into the rig's vertices.
 std::vector<std::vector<std::uint32_t>> PartVertexSets(const Rig& rig);
 
+// For each vertex block, which rig vertex each of its vertices is, from
+// extras.facerig.vertices of its primitive (facerig's own files, which write
+// each part on its own vertices); empty when no primitive has one. Throws
+// IoError naming `path` when only some have one or one is malformed.
+std::vector<std::vector<std::uint32_t>> BlockRigVertices(const tinygltf::Model& model, const MeshVertices& vertices,
+                                                         const std::string& path, std::uint64_t file_size);
+
 // Appends data to buffer `buffer` of the model (created when missing), each
 // view starting 4-byte aligned as glTF requires for float and uint32 accessors.
 class BufferBuilder {
