@@ -193,9 +193,10 @@ async function main(argv) {
   const browser = await puppeteer.launch({
     executablePath: options.chromium,
     headless: true,
-    // The sandbox needs user namespaces that containers often lack; no GPU
-    // here, so WebGL runs on SwiftShader.
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--mute-audio'],
+    // The sandbox needs user namespaces and /dev/shm that containers often
+    // lack; no GPU here, so WebGL runs on SwiftShader.
+    args: ['--no-sandbox', '--disable-dev-shm-usage', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+           '--mute-audio'],
   });
   const failures = [];
   try {
