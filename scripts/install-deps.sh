@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages facerig needs that are missing, and the
-# Khronos glTF validator (npm) used by the tests. Safe to run repeatedly.
+# Khronos glTF validator and three.js with puppeteer-core (npm) used by the
+# tests. Safe to run repeatedly.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,6 +21,7 @@ packages=(
   catch2                                           # tests
   libmeshoptimizer-dev                             # tests: decimated targets
   nodejs npm                                       # glTF validator in the tests
+  chromium                                         # tests: written GLBs in three.js, headless (tests/browser)
 )
 
 missing=()
@@ -43,4 +45,10 @@ validator=tests/runtime/io/gltf_validator
 if [[ ! -d $validator/node_modules/gltf-validator ]]; then
   echo "facerig: installing the Khronos glTF validator (npm ci in $validator)"
   npm ci --prefix "$validator" --no-audit --no-fund --loglevel=error
+fi
+
+browser=tests/browser
+if [[ ! -d $browser/node_modules/three || ! -d $browser/node_modules/puppeteer-core ]]; then
+  echo "facerig: installing three.js and puppeteer-core for the browser test (npm ci in $browser)"
+  npm ci --prefix "$browser" --no-audit --no-fund --loglevel=error
 fi

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -116,16 +117,40 @@ void RefuseAnimatedTargetWeights(const tinygltf::Model& model, int mesh_index, c
   }
 }
 
-// The rig's shapes as targets of each of the mesh's vertex blocks.
+// The rig's shapes as targets of each of the mesh's vertex blocks; in
+// facerig's own files, each block's vertices are the rig vertices
+// `rig_vertices` names (ascending), else the blocks follow one another.
 std::vector<Targets> AddBlockTargets(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig,
-                                     const MeshVertices& vertices) {
+                                     const MeshVertices& vertices,
+                                     const std::vector<std::vector<std::uint32_t>>& rig_vertices,
+                                     const std::string& where) {
   std::vector<Targets> block_targets;
-  for (const VertexBlock& block : vertices.blocks) {
+  for (std::size_t b = 0; b < vertices.blocks.size(); ++b) {
+    const VertexBlock& block = vertices.blocks[b];
     const bool with_normals = rig.has_normal_deltas() && block.primitive->attributes.count("NORMAL") > 0;
-    block_targets.push_back(
-        AddMorphTargets(model, buffer, rig, block.first_vertex, block.vertex_count, with_normals));
+    if (rig_vertices.empty()) {
+      block_targets.push_back(
+          AddMorphTargets(model, buffer, rig, block.first_vertex, block.vertex_count, with_normals));
+      continue;
+    }
+    const std::vector<std::uint32_t>& mine = rig_vertices[b];
+    if (std::adjacent_find(mine.begin(), mine.end(), std::greater_equal<>()) != mine.end()) {
+      throw IoError(IoErrorKind::kParse, where, "extras.facerig.vertices of a primitive is not ascending");
+    }
+    block_targets.push_back(AddMorphTargets(model, buffer, rig, mine, with_normals));
   }
   return block_targets;
+}
+
+// The rig vertices the mesh holds: as many as its blocks have, or in
+// facerig's own files as many as extras.facerig.vertices name.
+std::uint64_t RigVertexCount(const MeshVertices& vertices, const std::vector<std::vector<std::uint32_t>>& rig_vertices) {
+  if (rig_vertices.empty()) return vertices.vertex_count;
+  std::uint64_t count = 0;
+  for (const std::vector<std::uint32_t>& block : rig_vertices) {
+    for (std::uint32_t v : block) count = std::max<std::uint64_t>(count, v + std::uint64_t{1});
+  }
+  return count;
 }
 
 // Every primitive's targets: its vertex block's, all-zero ones for a
@@ -179,12 +204,15 @@ MorphTargetsWritten WriteGltfWithMorphTargets(const std::filesystem::path& sourc
   if (mesh_index < 0) throw IoError(IoErrorKind::kEmpty, where, "the file has no mesh");
   tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
   const MeshVertices vertices = GroupMeshVertices(model, mesh, where, file_size);
+  const std::vector<std::vector<std::uint32_t>> rig_vertices =
+      gltf_internal::BlockRigVertices(model, vertices, where, file_size);
   MorphTargetsWritten written;
   written.mesh_name = mesh.name;
   const std::string mesh_label = MeshLabel(mesh_index, written.mesh_name);
-  if (vertices.vertex_count != rig.vertex_count()) {
+  const std::uint64_t vertex_count = RigVertexCount(vertices, rig_vertices);
+  if (vertex_count != rig.vertex_count()) {
     throw IoError(IoErrorKind::kTopologyMismatch, where,
-                  mesh_label + " has " + std::to_string(vertices.vertex_count) + " vertices but the rig has " +
+                  mesh_label + " has " + std::to_string(vertex_count) + " vertices but the rig has " +
                       std::to_string(rig.vertex_count()) + ": the rig was not built on this mesh");
   }
   for (const tinygltf::Primitive& primitive : mesh.primitives) {
@@ -195,7 +223,7 @@ MorphTargetsWritten WriteGltfWithMorphTargets(const std::filesystem::path& sourc
   if (output_format == Format::kBinary) MergeBuffers(&model);
   BufferBuilder buffer(&model, 0);
   written.embedded_images = EmbedImages(&model, &buffer);
-  const std::vector<Targets> block_targets = AddBlockTargets(&model, &buffer, rig, vertices);
+  const std::vector<Targets> block_targets = AddBlockTargets(&model, &buffer, rig, vertices, rig_vertices, where);
   SetPrimitiveTargets(&model, &mesh, vertices, block_targets, rig.shape_count(), mesh_label, where);
   mesh.weights.assign(rig.shape_count(), 0.0);
   mesh.extras = WithTargetNames(mesh.extras, rig);

@@ -196,30 +196,40 @@ std::vector<std::uint32_t> GltfAccessors::ReadIndices(const tinygltf::Primitive&
     indices.resize(block.vertex_count);
     for (std::uint32_t i = 0; i < block.vertex_count; ++i) indices[i] = block.first_vertex + i;
   } else {
-    const tinygltf::Accessor& accessor = GetAccessor(primitive.indices, what);
-    if (accessor.type != TINYGLTF_TYPE_SCALAR || !IsIndexType(accessor.componentType)) {
-      Fail(IoErrorKind::kParse, what + ": indices must be SCALAR UNSIGNED_BYTE, _SHORT or _INT");
-    }
-    if (accessor.bufferView < 0) Fail(IoErrorKind::kParse, what + ": the indices accessor has no bufferView");
-    if (accessor.sparse.isSparse) Fail(IoErrorKind::kParse, what + ": sparse indices are not supported");
-    const Elements elements = ViewElements(accessor.bufferView, accessor.byteOffset, accessor.count,
-                                           ComponentSize(accessor.componentType), false, what + " indices");
-    indices.resize(accessor.count);
-    for (std::size_t i = 0; i < accessor.count; ++i) {
-      const std::uint32_t index = LoadIndex(elements.data + i * elements.stride, accessor.componentType);
-      if (index >= block.vertex_count) {
-        Fail(IoErrorKind::kIndexOutOfRange, what + ": index " + std::to_string(i) + " is " +
-                                                std::to_string(index) + ", but POSITION has " +
-                                                std::to_string(block.vertex_count) + " vertices");
-      }
-      indices[i] = block.first_vertex + index;
-    }
+    indices = ReadIntegers(primitive.indices, GetAccessor(primitive.indices, what).count, block.vertex_count, what);
+    for (std::uint32_t& index : indices) index += block.first_vertex;
   }
   if (indices.size() % 3 != 0) {
     Fail(IoErrorKind::kParse,
          what + ": " + std::to_string(indices.size()) + " indices is not a whole number of triangles");
   }
   return indices;
+}
+
+std::vector<std::uint32_t> GltfAccessors::ReadIntegers(int accessor_index, std::uint64_t expected_count,
+                                                       std::uint64_t bound, const std::string& what) const {
+  const tinygltf::Accessor& accessor = GetAccessor(accessor_index, what);
+  if (accessor.type != TINYGLTF_TYPE_SCALAR || !IsIndexType(accessor.componentType)) {
+    Fail(IoErrorKind::kParse, what + ": indices must be SCALAR UNSIGNED_BYTE, _SHORT or _INT");
+  }
+  if (accessor.bufferView < 0) Fail(IoErrorKind::kParse, what + ": the indices accessor has no bufferView");
+  if (accessor.sparse.isSparse) Fail(IoErrorKind::kParse, what + ": sparse indices are not supported");
+  if (accessor.count != expected_count) {
+    Fail(IoErrorKind::kParse, what + ": " + std::to_string(accessor.count) + " elements, expected " +
+                                  std::to_string(expected_count));
+  }
+  const Elements elements = ViewElements(accessor.bufferView, accessor.byteOffset, accessor.count,
+                                         ComponentSize(accessor.componentType), false, what + " indices");
+  std::vector<std::uint32_t> values(accessor.count);
+  for (std::size_t i = 0; i < accessor.count; ++i) {
+    values[i] = LoadIndex(elements.data + i * elements.stride, accessor.componentType);
+    if (values[i] >= bound) {
+      Fail(IoErrorKind::kIndexOutOfRange, what + ": index " + std::to_string(i) + " is " +
+                                              std::to_string(values[i]) + ", but there are " +
+                                              std::to_string(bound) + " vertices");
+    }
+  }
+  return values;
 }
 
 template VecData<glm::vec2> GltfAccessors::ReadVectors<glm::vec2>(int, std::optional<std::size_t>, bool,

@@ -46,6 +46,10 @@ class GltfAccessors {
                            const std::string& what) const;
   std::vector<std::uint32_t> ReadIndices(const tinygltf::Primitive& primitive, const VertexBlock& block,
                                          const std::string& what) const;
+  // A dense SCALAR accessor of unsigned integers (any index type), each below
+  // `bound`; `expected_count` elements.
+  std::vector<std::uint32_t> ReadIntegers(int accessor_index, std::uint64_t expected_count, std::uint64_t bound,
+                                          const std::string& what) const;
   // The bytes of a whole bufferView (an embedded image).
   std::span<const std::byte> ViewBytes(int view_index, const std::string& what) const;
 

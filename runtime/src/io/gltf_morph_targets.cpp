@@ -2,6 +2,7 @@
 // sparse morph targets, for both glTF writers.
 #include <algorithm>
 #include <limits>
+#include <numeric>
 #include <utility>
 
 #include <glm/common.hpp>
@@ -66,30 +67,37 @@ tinygltf::Value StringArray(const std::vector<std::string>& strings) {
 std::vector<std::map<std::string, int>> AddMorphTargets(tinygltf::Model* model, BufferBuilder* buffer,
                                                         const Rig& rig, std::uint32_t first_vertex,
                                                         std::uint32_t vertex_count, bool with_normals) {
+  std::vector<std::uint32_t> vertices(vertex_count);
+  std::iota(vertices.begin(), vertices.end(), first_vertex);
+  return AddMorphTargets(model, buffer, rig, vertices, with_normals);
+}
+
+std::vector<std::map<std::string, int>> AddMorphTargets(tinygltf::Model* model, BufferBuilder* buffer,
+                                                        const Rig& rig, std::span<const std::uint32_t> vertices,
+                                                        bool with_normals) {
   std::vector<std::map<std::string, int>> targets;
   if (rig.shape_count() == 0) return targets;
 
   // Every shape's entries for these vertices live in three shared views, each
-  // shape's sparse accessor pointing at its own range. Entries are sorted by
-  // vertex, so a block's entries are one run of each shape's.
+  // shape's sparse accessor pointing at its own range. Both the shape's
+  // entries and `vertices` ascend, so one walk finds each entry's local index.
   std::vector<std::uint32_t> indices;
   std::vector<glm::vec3> positions, normals;
   std::vector<ShapeRange> ranges;
-  const std::uint32_t end_vertex = first_vertex + vertex_count;
+  const auto vertex_count = static_cast<std::uint32_t>(vertices.size());
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {
     const BlendShapeView shape = rig.shape(s);
-    const auto begin = std::lower_bound(shape.vertex_indices.begin(), shape.vertex_indices.end(), first_vertex);
-    const auto end = std::lower_bound(begin, shape.vertex_indices.end(), end_vertex);
-    const auto first = static_cast<std::size_t>(begin - shape.vertex_indices.begin());
-    const auto count = static_cast<std::size_t>(end - begin);
-    ranges.push_back({static_cast<std::uint32_t>(indices.size()), static_cast<std::uint32_t>(count)});
-    for (auto it = begin; it != end; ++it) indices.push_back(*it - first_vertex);
-    positions.insert(positions.end(), shape.position_deltas.begin() + static_cast<std::ptrdiff_t>(first),
-                     shape.position_deltas.begin() + static_cast<std::ptrdiff_t>(first + count));
-    if (with_normals) {
-      normals.insert(normals.end(), shape.normal_deltas.begin() + static_cast<std::ptrdiff_t>(first),
-                     shape.normal_deltas.begin() + static_cast<std::ptrdiff_t>(first + count));
+    const auto first = static_cast<std::uint32_t>(indices.size());
+    auto local = vertices.begin();
+    for (std::size_t e = 0; e < shape.vertex_indices.size(); ++e) {
+      local = std::lower_bound(local, vertices.end(), shape.vertex_indices[e]);
+      if (local == vertices.end()) break;
+      if (*local != shape.vertex_indices[e]) continue;
+      indices.push_back(static_cast<std::uint32_t>(local - vertices.begin()));
+      positions.push_back(shape.position_deltas[e]);
+      if (with_normals) normals.push_back(shape.normal_deltas[e]);
     }
+    ranges.push_back({first, static_cast<std::uint32_t>(indices.size()) - first});
   }
   // No views when no shape moves these vertices (a view must not be empty).
   const bool any_entries = !indices.empty();

@@ -171,6 +171,8 @@ GltfReader::Neutral GltfReader::ReadChosenNeutral() const {
   neutral.mesh = &model_.meshes[static_cast<std::size_t>(neutral.mesh_index)];
   neutral.vertices = GroupMeshVertices(model_, *neutral.mesh, path_, file_size_);
   ReadNeutral(*neutral.mesh, neutral.vertices, &neutral.raw, &neutral.part_primitives);
+  neutral.rig_vertex = ReadRigVertices(neutral.vertices);
+  if (!neutral.rig_vertex.empty()) WeldNeutral(neutral.rig_vertex, &neutral.raw);
   return neutral;
 }
 
@@ -196,6 +198,7 @@ Rig GltfReader::Read(Mesh* neutral) {
   }
   if (neutral) *neutral = std::move(mesh);
   ReadShapes(*chosen.mesh, chosen.vertices.blocks, &raw);
+  if (!chosen.rig_vertex.empty()) WeldShapes(chosen.rig_vertex, &raw);
   ReadFrame(*chosen.mesh, &raw);
 
   std::string problem;

@@ -40,6 +40,11 @@ RawRig GltfReader::ReadScenePiece(const gltf_internal::MeshInstance& instance,
   if (instance.skin >= 0) {
     gltf_internal::SkinPose(model_, instance.skin, node_worlds, path_, file_size_).Apply(mesh, vertices, &piece);
   }
+  const std::vector<std::uint32_t> rig_vertex = ReadRigVertices(vertices);
+  if (!rig_vertex.empty()) {
+    WeldNeutral(rig_vertex, &piece);
+    WeldShapes(rig_vertex, &piece);
+  }
   return piece;
 }
 

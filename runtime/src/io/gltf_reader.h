@@ -1,7 +1,8 @@
 // The glTF reader (ReadGltf, ParseGltf, ReadGltfMesh), shared by the files
 // that implement it by topic: gltf_read.cpp (vertices, parts, the chosen
 // mesh), gltf_read_shapes.cpp (morph targets), gltf_read_materials.cpp
-// (materials and images) and gltf_read_scene.cpp (every mesh of the scene).
+// (materials and images), gltf_read_scene.cpp (every mesh of the scene) and
+// gltf_read_weld.cpp (parts written on their own vertices, joined back).
 // Private to facerig::runtime_io.
 #pragma once
 
@@ -51,13 +52,20 @@ class GltfReader {
                  std::vector<std::size_t>* part_primitives) const;
   void ReadNeutral(const tinygltf::Mesh& mesh, const MeshVertices& vertices, RawRig* raw,
                    std::vector<std::size_t>* part_primitives) const;
-  // The chosen mesh read up to its neutral: what both Read and ReadMesh need.
+  // Which rig vertex each vertex read from the blocks is (gltf_read_weld.cpp):
+  // from facerig's extras.facerig.vertices; empty when the primitives have none.
+  std::vector<std::uint32_t> ReadRigVertices(const MeshVertices& vertices) const;
+  // Joins the vertices the blocks repeat, in the rig's order (`rig_vertex` not empty).
+  void WeldNeutral(const std::vector<std::uint32_t>& rig_vertex, RawRig* raw) const;
+  void WeldShapes(const std::vector<std::uint32_t>& rig_vertex, RawRig* raw) const;
+  // The chosen mesh read up to its neutral (welded): what both Read and ReadMesh need.
   struct Neutral {
     int mesh_index = -1;
     const tinygltf::Mesh* mesh = nullptr;
     MeshVertices vertices;
     RawRig raw;
     std::vector<std::size_t> part_primitives;
+    std::vector<std::uint32_t> rig_vertex;  // ReadRigVertices
   };
   Neutral ReadChosenNeutral() const;
   Mesh NeutralMeshOf(int mesh_index, const RawRig& raw, const std::vector<std::size_t>& part_primitives) const;

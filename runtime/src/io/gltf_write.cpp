@@ -1,4 +1,5 @@
-// WriteGltf: a rig as a fresh glTF document (one mesh, one node, one scene).
+// WriteGltf: a rig as a fresh glTF document (one mesh, one node, one scene;
+// a primitive per part on its own vertices).
 #include "facerig/runtime/io/gltf.h"
 
 #include <algorithm>
@@ -30,81 +31,99 @@ using gltf_internal::BufferBuilder;
 using gltf_internal::FloatAccessor;
 using gltf_internal::Format;
 using gltf_internal::FormatFromExtension;
+using gltf_internal::PartVertexSets;
 using gltf_internal::SetMinMax;
 using gltf_internal::StringArray;
 using gltf_internal::WithTargetNames;
 using gltf_internal::WriteModel;
 
-// POSITION, NORMAL and TEXCOORD_0, shared by every part's primitive.
-std::map<std::string, int> AddVertexAttributes(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig) {
-  const std::size_t vertex_count = rig.vertex_count();
+// Values of the rig's vertices `vertices`, in that order.
+template <typename T>
+std::vector<T> Gathered(std::span<const T> values, std::span<const std::uint32_t> vertices) {
+  std::vector<T> gathered;
+  gathered.reserve(vertices.size());
+  for (std::uint32_t v : vertices) gathered.push_back(values[v]);
+  return gathered;
+}
+
+// POSITION, NORMAL and TEXCOORD_0 of one part's vertices.
+std::map<std::string, int> AddVertexAttributes(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig,
+                                               std::span<const std::uint32_t> vertices) {
+  const std::size_t count = vertices.size();
+  auto add_view = [buffer]<typename T>(const std::vector<T>& values) {
+    return buffer->AddView(values.data(), values.size() * sizeof(T), TINYGLTF_TARGET_ARRAY_BUFFER);
+  };
   std::map<std::string, int> attributes;
-  tinygltf::Accessor positions = FloatAccessor(
-      buffer->AddView(rig.positions().data(), rig.positions().size_bytes(), TINYGLTF_TARGET_ARRAY_BUFFER),
-      vertex_count, TINYGLTF_TYPE_VEC3);
-  SetMinMax(rig.positions(), false, &positions);
-  attributes["POSITION"] = AddAccessor(model, std::move(positions));
+  const std::vector<glm::vec3> positions = Gathered(rig.positions(), vertices);
+  tinygltf::Accessor position_accessor = FloatAccessor(add_view(positions), count, TINYGLTF_TYPE_VEC3);
+  SetMinMax(positions, false, &position_accessor);
+  attributes["POSITION"] = AddAccessor(model, std::move(position_accessor));
   attributes["NORMAL"] =
-      AddAccessor(model, FloatAccessor(buffer->AddView(rig.normals().data(), rig.normals().size_bytes(),
-                                                       TINYGLTF_TARGET_ARRAY_BUFFER),
-                                       vertex_count, TINYGLTF_TYPE_VEC3));
+      AddAccessor(model, FloatAccessor(add_view(Gathered(rig.normals(), vertices)), count, TINYGLTF_TYPE_VEC3));
   if (!rig.uvs().empty()) {
     // glTF's UV origin is the top-left corner, OBJ's (and the rig's) bottom-left.
-    std::vector<glm::vec2> flipped(rig.uvs().begin(), rig.uvs().end());
+    std::vector<glm::vec2> flipped = Gathered(rig.uvs(), vertices);
     for (glm::vec2& uv : flipped) uv.y = 1.0f - uv.y;
-    attributes["TEXCOORD_0"] =
-        AddAccessor(model, FloatAccessor(buffer->AddView(flipped.data(), flipped.size() * sizeof(glm::vec2),
-                                                         TINYGLTF_TARGET_ARRAY_BUFFER),
-                                         vertex_count, TINYGLTF_TYPE_VEC2));
+    attributes["TEXCOORD_0"] = AddAccessor(model, FloatAccessor(add_view(flipped), count, TINYGLTF_TYPE_VEC2));
   }
   return attributes;
 }
 
-// All triangles in one bufferView; each part's accessor is a byte range of it.
-struct IndexView {
-  int view = -1;
-  bool short_indices = false;  // 16-bit, else 32-bit
-};
-
-IndexView AddIndexView(BufferBuilder* buffer, const Rig& rig) {
-  IndexView index;
-  index.short_indices = rig.vertex_count() <= 0xFFFF;  // 0xFFFF is the restart value, never used
-  if (index.short_indices) {
-    std::vector<std::uint16_t> indices;
-    indices.reserve(rig.triangle_count() * 3);
-    for (const Triangle& t : rig.triangles()) {
-      for (std::uint32_t v : t) indices.push_back(static_cast<std::uint16_t>(v));
-    }
-    index.view = buffer->AddView(indices.data(), indices.size() * sizeof(std::uint16_t),
-                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+// An index accessor: 16-bit when every value fits (0xFFFF is the restart
+// value, never used), else 32-bit; `target` 0 for data no vertex fetch reads.
+int AddIndexAccessor(tinygltf::Model* model, BufferBuilder* buffer, const std::vector<std::uint32_t>& values,
+                     std::uint32_t bound, int target) {
+  tinygltf::Accessor indices;
+  indices.count = values.size();
+  indices.type = TINYGLTF_TYPE_SCALAR;
+  if (bound <= 0xFFFF) {
+    const std::vector<std::uint16_t> shorts(values.begin(), values.end());
+    indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    indices.bufferView = buffer->AddView(shorts.data(), shorts.size() * sizeof(std::uint16_t), target);
   } else {
-    index.view = buffer->AddView(rig.triangles().data(), rig.triangles().size_bytes(),
-                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    indices.bufferView = buffer->AddView(values.data(), values.size() * sizeof(std::uint32_t), target);
   }
-  return index;
+  return AddAccessor(model, std::move(indices));
 }
 
-// One triangle-list primitive per part, all on the same vertices and targets.
-std::vector<tinygltf::Primitive> PartPrimitives(tinygltf::Model* model, const Rig& rig, const IndexView& index,
-                                                const std::map<std::string, int>& attributes,
-                                                const std::vector<std::map<std::string, int>>& targets) {
-  const std::size_t index_size = index.short_indices ? 2 : 4;
+// A part's triangles as indices into its own vertices.
+int AddPartIndices(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig, const Part& part,
+                   std::span<const std::uint32_t> vertices) {
+  std::vector<std::uint32_t> local;
+  local.reserve(std::size_t{part.triangle_count} * 3);
+  for (const Triangle& t : rig.triangles().subspan(part.first_triangle, part.triangle_count)) {
+    for (std::uint32_t v : t) {
+      local.push_back(static_cast<std::uint32_t>(std::lower_bound(vertices.begin(), vertices.end(), v) -
+                                                 vertices.begin()));
+    }
+  }
+  return AddIndexAccessor(model, buffer, local, static_cast<std::uint32_t>(vertices.size()),
+                          TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+}
+
+// One triangle-list primitive per part on its own vertices, with morph
+// targets for those (all-zero accessors without data for shapes that move
+// none of them: glTF wants the same number of targets on every primitive),
+// and extras.facerig.vertices: which rig vertex each of its vertices is.
+std::vector<tinygltf::Primitive> PartPrimitives(tinygltf::Model* model, BufferBuilder* buffer, const Rig& rig) {
+  const std::vector<std::vector<std::uint32_t>> part_vertices = PartVertexSets(rig);
   std::vector<tinygltf::Primitive> primitives;
-  for (std::size_t p = 0; p < rig.parts().size(); ++p) {
+  for (std::size_t p = 0; p < part_vertices.size(); ++p) {
     const Part& part = rig.parts()[p];
-    tinygltf::Accessor indices;
-    indices.bufferView = index.view;
-    indices.byteOffset = std::size_t{part.first_triangle} * 3 * index_size;
-    indices.componentType =
-        index.short_indices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    indices.count = std::size_t{part.triangle_count} * 3;
-    indices.type = TINYGLTF_TYPE_SCALAR;
+    const std::vector<std::uint32_t>& vertices = part_vertices[p];
     tinygltf::Primitive primitive;
-    primitive.attributes = attributes;
-    primitive.indices = AddAccessor(model, std::move(indices));
+    primitive.attributes = AddVertexAttributes(model, buffer, rig, vertices);
+    primitive.indices = AddPartIndices(model, buffer, rig, part, vertices);
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
-    primitive.targets = targets;
+    primitive.targets = AddMorphTargets(model, buffer, rig, vertices, rig.has_normal_deltas());
     primitive.material = part.material;
+    tinygltf::Value::Object facerig;
+    facerig["vertices"] = tinygltf::Value(
+        AddIndexAccessor(model, buffer, vertices, static_cast<std::uint32_t>(rig.vertex_count()), 0));
+    tinygltf::Value::Object extras;
+    extras["facerig"] = tinygltf::Value(std::move(facerig));
+    primitive.extras = tinygltf::Value(std::move(extras));
     primitives.push_back(std::move(primitive));
   }
   return primitives;
@@ -183,14 +202,9 @@ tinygltf::Model BuildModel(const Rig& rig, const std::string& name) {
   model.asset.version = "2.0";
   model.asset.generator = kGenerator;
   BufferBuilder buffer(&model);
-  const std::map<std::string, int> attributes = AddVertexAttributes(&model, &buffer, rig);
-  const std::vector<std::map<std::string, int>> targets = AddMorphTargets(
-      &model, &buffer, rig, 0, static_cast<std::uint32_t>(rig.vertex_count()), rig.has_normal_deltas());
-  const IndexView index = AddIndexView(&buffer, rig);
-
   tinygltf::Mesh mesh;
   mesh.name = name;
-  mesh.primitives = PartPrimitives(&model, rig, index, attributes, targets);
+  mesh.primitives = PartPrimitives(&model, &buffer, rig);
   AddImages(&model, &buffer, rig.images());
   AddMaterials(&model, rig.materials());
   mesh.extras = MeshExtras(rig);

@@ -1,6 +1,8 @@
 #include "facerig/offline/io/gltf_with_morph_targets.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -171,6 +173,35 @@ TEST_CASE("gltf with morph targets: a skinned character keeps its skin, nodes, m
     CHECK(test::RigsEqual(rig, ReadGltf(again), 0.0f, &difference));
     INFO(difference);
   }
+}
+
+TEST_CASE("gltf with morph targets: onto facerig's own file, whose parts have their own, shared and out-of-order "
+          "vertices",
+          "[gltf]") {
+  // The first part uses the highest vertices; the parts share a column.
+  auto make_rig = [](float scale) {
+    RawRig raw = test::MakeGridRawRig(6, 3, true);
+    const auto half = static_cast<std::uint32_t>(raw.triangles.size() / 2);
+    std::rotate(raw.triangles.begin(), raw.triangles.begin() + half, raw.triangles.end());
+    raw.parts = {{"upper", 0, static_cast<std::uint32_t>(raw.triangles.size()) - half},
+                 {"lower", static_cast<std::uint32_t>(raw.triangles.size()) - half, half}};
+    for (RawBlendShape& shape : raw.shapes) {
+      for (glm::vec3& delta : shape.position_deltas) delta *= scale;
+    }
+    std::string problem;
+    std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+    INFO(problem);
+    REQUIRE(rig);
+    return std::move(*rig);
+  };
+  const fs::path source = test::OutputPath("gltf_morph_own_source.glb");
+  const fs::path output = test::OutputPath("gltf_morph_own_output.glb");
+  WriteGltf(source, make_rig(1.0f));
+  const Rig rig = make_rig(2.0f);
+  WriteGltfWithMorphTargets(source, output, rig);
+  std::string difference;
+  CHECK(test::RigsEqual(rig, ReadGltf(output), 0.0f, &difference));
+  INFO(difference);
 }
 
 TEST_CASE("gltf with morph targets: a rig of another mesh is refused, and nothing is written", "[gltf]") {

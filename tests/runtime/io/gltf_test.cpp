@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,38 @@ std::size_t ElementOffset(const Glb& glb, int accessor, std::size_t element, std
   const json& view = glb.document["bufferViews"][a["bufferView"].get<int>()];
   return glb.bin_start + view.value("byteOffset", std::size_t{0}) + a.value("byteOffset", std::size_t{0}) +
          element * element_size;
+}
+
+// Elements of a SCALAR unsigned accessor (16- or 32-bit) in `buffer`.
+std::vector<std::uint32_t> ReadUnsigned(const json& document, const unsigned char* buffer, int accessor_index) {
+  const json& accessor = document["accessors"][accessor_index];
+  const json& view = document["bufferViews"][accessor["bufferView"].get<int>()];
+  const unsigned char* data =
+      buffer + view.value("byteOffset", std::size_t{0}) + accessor.value("byteOffset", std::size_t{0});
+  const bool short_values = accessor["componentType"] == 5123;
+  std::vector<std::uint32_t> values(accessor["count"].get<std::size_t>());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (short_values) {
+      std::uint16_t value = 0;
+      std::memcpy(&value, data + 2 * i, 2);
+      values[i] = value;
+    } else {
+      std::memcpy(&values[i], data + 4 * i, 4);
+    }
+  }
+  return values;
+}
+
+// Which rig vertex each of a written primitive's vertices is (extras.facerig.vertices).
+std::vector<std::uint32_t> PrimitiveRigVertices(const Glb& glb, const Bytes& bytes, const json& primitive) {
+  return ReadUnsigned(glb.document, reinterpret_cast<const unsigned char*>(bytes.data()) + glb.bin_start,
+                      primitive["extras"]["facerig"]["vertices"].get<int>());
+}
+// Same for a .gltf whose buffer is a data URI.
+std::vector<std::uint32_t> PrimitiveRigVertices(const json& document, const json& primitive) {
+  const std::string uri = document["buffers"][0]["uri"];
+  const std::vector<unsigned char> buffer = test::Base64Decode(std::string_view(uri).substr(uri.find(',') + 1));
+  return ReadUnsigned(document, buffer.data(), primitive["extras"]["facerig"]["vertices"].get<int>());
 }
 
 // The kind of IoError that reading `path` throws (nullopt when it reads), and
@@ -179,6 +212,30 @@ TEST_CASE("gltf: keeps units, up axis, part and shape names, and empty shapes", 
   }
 }
 
+TEST_CASE("gltf: parts on their own vertices read back as the rig: shared, unused and out-of-order vertices",
+          "[gltf]") {
+  RawRig raw = test::MakeGridRawRig(6, 4, true);
+  // The first part uses the highest vertices, the parts share a column, and
+  // one vertex is on no triangle.
+  const auto half = static_cast<std::uint32_t>(raw.triangles.size() / 2);
+  std::rotate(raw.triangles.begin(), raw.triangles.begin() + half, raw.triangles.end());
+  raw.parts = {{"upper", 0, static_cast<std::uint32_t>(raw.triangles.size()) - half},
+               {"lower", static_cast<std::uint32_t>(raw.triangles.size()) - half, half}};
+  raw.positions.emplace_back(9.0f, 9.0f, 9.0f);
+  raw.uvs.emplace_back(0.5f, 0.5f);
+  raw.shapes[0].vertex_indices.push_back(static_cast<std::uint32_t>(raw.positions.size() - 1));
+  raw.shapes[0].position_deltas.emplace_back(0.0f, 1.0f, 0.0f);
+  raw.shapes[0].normal_deltas.emplace_back(0.0f, 0.0f, 0.0f);
+  std::string problem;
+  const std::optional<Rig> rig = RigBuilder::Build(std::move(raw), &problem);
+  INFO(problem);
+  REQUIRE(rig);
+  for (const char* name : {"gltf_parts.glb", "gltf_parts.gltf"}) RequireRoundTrip(*rig, test::OutputPath(name));
+  const Mesh mesh = ReadGltfMesh(test::OutputPath("gltf_parts.glb"));
+  CHECK(mesh.positions.size() == rig->vertex_count());
+  CHECK(mesh.triangles.size() == rig->triangle_count());
+}
+
 TEST_CASE("gltf: file layout: sparse targets, extras, node transform", "[gltf]") {
   const Rig rig = MakeVariedRig();
   const fs::path path = test::OutputPath("gltf_layout.gltf");
@@ -207,30 +264,42 @@ TEST_CASE("gltf: file layout: sparse targets, extras, node transform", "[gltf]")
 
   const json& primitives = mesh["primitives"];
   REQUIRE(primitives.size() == 3);
-  for (const json& primitive : primitives) {
-    // Every primitive shares the vertex and morph target accessors.
-    CHECK(primitive["attributes"] == primitives[0]["attributes"]);
-    CHECK(primitive["targets"] == primitives[0]["targets"]);
+  std::set<int> position_accessors;
+  for (std::size_t p = 0; p < primitives.size(); ++p) {
+    // Each part on its own vertices: those its triangles use, named by rig index.
+    const json& primitive = primitives[p];
     CHECK(primitive["mode"] == 4);
-  }
-  CHECK(primitives[0]["attributes"].contains("TEXCOORD_0"));
-  REQUIRE(primitives[0]["targets"].size() == rig.shape_count());
-  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
-    const json& target = primitives[0]["targets"][s];
-    CHECK_FALSE(target.contains("NORMAL"));
-    const json& accessor = document["accessors"][target["POSITION"].get<int>()];
-    CHECK_FALSE(accessor.contains("bufferView"));
-    CHECK(accessor["count"] == rig.vertex_count());
-    CHECK(accessor.contains("min"));
-    CHECK(accessor.contains("max"));
-    const std::size_t entries = rig.shape(s).vertex_indices.size();
-    if (entries == 0) {
-      CHECK_FALSE(accessor.contains("sparse"));  // all zero, and valid without sparse
-    } else {
-      CHECK(accessor["sparse"]["count"] == entries);
-      CHECK(accessor["sparse"]["indices"]["componentType"] == 5125);
+    CHECK(primitive["attributes"].contains("TEXCOORD_0"));
+    position_accessors.insert(primitive["attributes"]["POSITION"].get<int>());
+    const std::vector<std::uint32_t> rig_vertex = PrimitiveRigVertices(document, primitive);
+    const Part& part = rig.parts()[p];
+    std::set<std::uint32_t> used;
+    for (const Triangle& t : rig.triangles().subspan(part.first_triangle, part.triangle_count)) {
+      used.insert(t.begin(), t.end());
+    }
+    CHECK(rig_vertex == std::vector<std::uint32_t>(used.begin(), used.end()));
+    CHECK(document["accessors"][primitive["attributes"]["POSITION"].get<int>()]["count"] == rig_vertex.size());
+
+    REQUIRE(primitive["targets"].size() == rig.shape_count());
+    for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+      const json& target = primitive["targets"][s];
+      CHECK_FALSE(target.contains("NORMAL"));
+      const json& accessor = document["accessors"][target["POSITION"].get<int>()];
+      CHECK_FALSE(accessor.contains("bufferView"));
+      CHECK(accessor["count"] == rig_vertex.size());
+      CHECK(accessor.contains("min"));
+      CHECK(accessor.contains("max"));
+      std::size_t entries = 0;
+      for (std::uint32_t v : rig.shape(s).vertex_indices) entries += used.count(v);
+      if (entries == 0) {
+        CHECK_FALSE(accessor.contains("sparse"));  // all zero, and valid without sparse
+      } else {
+        CHECK(accessor["sparse"]["count"] == entries);
+        CHECK(accessor["sparse"]["indices"]["componentType"] == 5125);
+      }
     }
   }
+  CHECK(position_accessors.size() == primitives.size());
 
   // With normal deltas, each target also has a sparse NORMAL accessor.
   WriteGltf(path, test::MakeGridRig(4, 2, true));
@@ -249,11 +318,14 @@ TEST_CASE("gltf: stores UVs with V flipped", "[gltf]") {
   WriteGltf(path, rig);
   const Bytes bytes = ReadFileBytes(path);
   const Glb glb = SplitGlb(bytes);
-  const int uv_accessor = glb.document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"];
-  for (std::size_t v = 0; v < rig.vertex_count(); ++v) {
-    float stored_v = 0.0f;
-    std::memcpy(&stored_v, bytes.data() + ElementOffset(glb, uv_accessor, v, 8) + 4, 4);
-    CHECK(stored_v == Approx(1.0f - rig.uvs()[v].y));
+  for (const json& primitive : glb.document["meshes"][0]["primitives"]) {
+    const int uv_accessor = primitive["attributes"]["TEXCOORD_0"];
+    const std::vector<std::uint32_t> rig_vertex = PrimitiveRigVertices(glb, bytes, primitive);
+    for (std::size_t i = 0; i < rig_vertex.size(); ++i) {
+      float stored_v = 0.0f;
+      std::memcpy(&stored_v, bytes.data() + ElementOffset(glb, uv_accessor, i, 8) + 4, 4);
+      CHECK(stored_v == Approx(1.0f - rig.uvs()[rig_vertex[i]].y));
+    }
   }
 }
 
@@ -445,8 +517,24 @@ TEST_CASE("gltf: reader refuses malformed files with the right error", "[gltf]")
     bad["accessors"][position]["componentType"] = 5130;  // DOUBLE: not glTF 2.0
     REQUIRE_READ_ERROR(WriteCorpusFile("position_double.gltf", bad), IoErrorKind::kParse);
     bad = gltf;
-    bad["meshes"][0]["primitives"][0]["targets"][0]["POSITION"] = position;  // wrong count
-    REQUIRE_READ_ERROR(WriteCorpusFile("target_not_shared.gltf", bad), IoErrorKind::kParse);
+    json shorter = bad["accessors"][position];
+    shorter["count"] = shorter["count"].get<int>() - 1;
+    bad["accessors"].push_back(shorter);
+    bad["meshes"][0]["primitives"][0]["targets"][0]["POSITION"] = bad["accessors"].size() - 1;  // wrong count
+    REQUIRE_READ_ERROR(WriteCorpusFile("target_count.gltf", bad), IoErrorKind::kParse);
+    bad = gltf;
+    bad["meshes"][0]["primitives"][1]["extras"].erase("facerig");  // a vertex map on some primitives only
+    REQUIRE_READ_ERROR(WriteCorpusFile("vertex_map_partial.gltf", bad), IoErrorKind::kParse);
+    bad = gltf;
+    json short_map = bad["accessors"][bad["meshes"][0]["primitives"][1]["extras"]["facerig"]["vertices"].get<int>()];
+    short_map["count"] = short_map["count"].get<int>() - 1;
+    bad["accessors"].push_back(short_map);
+    bad["meshes"][0]["primitives"][1]["extras"]["facerig"]["vertices"] = bad["accessors"].size() - 1;
+    REQUIRE_READ_ERROR(WriteCorpusFile("vertex_map_count.gltf", bad), IoErrorKind::kParse);
+    bad = gltf;
+    bad["meshes"][0]["primitives"][1]["extras"]["facerig"]["vertices"] =
+        bad["meshes"][0]["primitives"][1]["attributes"]["POSITION"];  // floats, not vertex numbers
+    REQUIRE_READ_ERROR(WriteCorpusFile("vertex_map_type.gltf", bad), IoErrorKind::kParse);
     bad = gltf;
     bad["meshes"][0]["extras"]["facerig"]["units"] = "furlongs";
     REQUIRE_READ_ERROR(WriteCorpusFile("bad_units.gltf", bad), IoErrorKind::kParse);

@@ -1,14 +1,20 @@
 // glTF 2.0 reading and writing (.glb binary and .gltf text with an embedded
 // buffer), through tinygltf.
 //
-// Writing: one mesh, one primitive per rig part (sharing the vertex accessors),
+// Writing: one mesh, one primitive per rig part on its own vertices (those its
+// triangles use, so that a viewer such as three.js, which packs each
+// primitive's targets into its own texture, holds each vertex's deltas once),
 // one morph target per blend shape with POSITION (and NORMAL, when the rig has
-// normal deltas) deltas stored as sparse accessors, target names in
+// normal deltas) deltas stored as sparse accessors (all zero, without data,
+// where a shape moves none of the part), target names in
 // mesh.extras.targetNames (read by Blender and three.js), default weights 0.
-// The node carries the scale to metres and, for Z-up rigs, the rotation to
-// glTF's +Y up; units and up axis are also kept in mesh.extras.facerig.
-// Reading accepts dense or sparse target accessors, any primitive layout whose
-// primitives share one vertex set, and triangle-list primitives.
+// Each primitive's extras.facerig.vertices (an accessor) says which rig vertex
+// each of its vertices is, so that reading joins the parts' vertices back
+// into the rig's exactly. The node carries the scale to metres and, for Z-up
+// rigs, the rotation to glTF's +Y up; units and up axis are also kept in
+// mesh.extras.facerig.
+// Reading accepts dense or sparse target accessors, primitives that share a
+// vertex set or have their own, and triangle-list primitives.
 // To add a rig's shapes to an artist's glTF and keep the rest of it (skin,
 // nodes, materials, animations), see gltf_with_morph_targets.h.
 #pragma once

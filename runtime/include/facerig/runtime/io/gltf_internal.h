@@ -87,6 +87,20 @@ struct MeshVertices {
 MeshVertices GroupMeshVertices(const tinygltf::Model& model, const tinygltf::Mesh& mesh, const std::string& path,
                                std::uint64_t file_size);
 
+// The rig vertices each part's primitive carries in a fresh document, in
+// ascending order: those its triangles use (a vertex two parts share is in
+// both), and for the first part also the vertices no triangle uses. The
+// primitive names them in extras.facerig.vertices (an accessor of rig vertex
+// indices), which the reader welds back into the rig's vertices.
+std::vector<std::vector<std::uint32_t>> PartVertexSets(const Rig& rig);
+
+// For each vertex block, which rig vertex each of its vertices is, from
+// extras.facerig.vertices of its primitive (facerig's own files, which write
+// each part on its own vertices); empty when no primitive has one. Throws
+// IoError naming `path` when only some have one or one is malformed.
+std::vector<std::vector<std::uint32_t>> BlockRigVertices(const tinygltf::Model& model, const MeshVertices& vertices,
+                                                         const std::string& path, std::uint64_t file_size);
+
 // Appends data to buffer `buffer` of the model (created when missing), each
 // view starting 4-byte aligned as glTF requires for float and uint32 accessors.
 class BufferBuilder {
@@ -113,6 +127,11 @@ tinygltf::Value StringArray(const std::vector<std::string>& strings);
 std::vector<std::map<std::string, int>> AddMorphTargets(tinygltf::Model* model, BufferBuilder* buffer,
                                                         const Rig& rig, std::uint32_t first_vertex,
                                                         std::uint32_t vertex_count, bool with_normals);
+// Same for primitives whose vertex i is the rig's vertex vertices[i]
+// (ascending rig indices).
+std::vector<std::map<std::string, int>> AddMorphTargets(tinygltf::Model* model, BufferBuilder* buffer,
+                                                        const Rig& rig, std::span<const std::uint32_t> vertices,
+                                                        bool with_normals);
 
 // mesh.extras with "targetNames" set to the rig's shape names (none when it has no
 // shapes); other members kept.
