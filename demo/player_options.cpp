@@ -141,8 +141,9 @@ PlayerOptions ParseOptions(const std::vector<std::string>& args) {
 std::filesystem::path DefaultRigPath(const std::filesystem::path& executable) {
   std::error_code error;
   if (!executable.empty()) {
-    const std::filesystem::path installed = executable.parent_path() / FACERIG_INSTALLED_HEAD_FROM_BINDIR;
-    if (std::filesystem::exists(installed, error)) return installed.lexically_normal();
+    const std::filesystem::path installed =
+        (executable.parent_path() / FACERIG_INSTALLED_HEAD_FROM_BINDIR).lexically_normal();
+    if (std::filesystem::exists(installed, error)) return installed;
   }
   const std::filesystem::path build_tree_head = FACERIG_DEFAULT_HEAD;
   if (std::filesystem::exists(build_tree_head, error)) return build_tree_head;
