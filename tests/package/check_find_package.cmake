@@ -4,7 +4,7 @@
 # runtime, with tinygltf and nlohmann_json unfindable) against it with
 # find_package(facerig); then runs the installed player, when there is one,
 # headless from another folder on its default rig: the built-in head
-# installed beside it.
+# installed beside it; and checks facerig-bench's help texts.
 # -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=... -D RIG=... [-D PLAYER=ON]
 file(REMOVE_RECURSE ${WORK_DIR})
 function(run)
@@ -37,6 +37,24 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/runtime_only -B ${WORK_DIR}/
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release)
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build_runtime_only)
 run(${WORK_DIR}/build_runtime_only/runtime_only ${RIG})
+
+# The installed benchmark tool's help texts speak to users, not of the project's issues.
+if(EXISTS ${prefix}/bin/facerig-bench)
+  run(${prefix}/bin/facerig-bench --help)
+  string(REGEX MATCHALL "\n  [a-z]+" benchmarks "${run_output}")  # the listed subcommands
+  if(NOT benchmarks)
+    message(FATAL_ERROR "facerig-bench --help lists no benchmarks:\n${run_output}")
+  endif()
+  set(help "${run_output}")
+  foreach(benchmark ${benchmarks})
+    string(STRIP "${benchmark}" benchmark)
+    run(${prefix}/bin/facerig-bench ${benchmark} --help)
+    string(APPEND help "${run_output}")
+  endforeach()
+  if(help MATCHES "[Ii]ssue")
+    message(FATAL_ERROR "facerig-bench's help mentions issues:\n${help}")
+  endif()
+endif()
 
 if(PLAYER)
   # From a folder of its own (the run's working directory), a few frames.
