@@ -6,8 +6,8 @@
 namespace facerig::cli {
 namespace {
 
-nlohmann::json FileList(const std::vector<ReportFile>& files) {
-  nlohmann::json list = nlohmann::json::array();
+nlohmann::ordered_json FileList(const std::vector<ReportFile>& files) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const ReportFile& file : files) {
     if (!file.path.empty()) list.push_back({{"role", file.role}, {"path", file.path}});
   }
@@ -16,12 +16,12 @@ nlohmann::json FileList(const std::vector<ReportFile>& files) {
 
 }  // namespace
 
-nlohmann::json ToJson(const CommandReport& report) {
-  nlohmann::json warnings = nlohmann::json::array();
+nlohmann::ordered_json ToJson(const CommandReport& report) {
+  nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
   for (const RigWarning& warning : report.warnings) {
     warnings.push_back({{"code", warning.code}, {"message", warning.message}});
   }
-  nlohmann::json timings = nlohmann::json::object();
+  nlohmann::ordered_json timings = nlohmann::ordered_json::object();  // in the command's order
   for (const auto& [stage, seconds] : report.timings) timings[stage] = seconds;
   return {{"schema", kReportSchema},
           {"command", report.command},
@@ -30,7 +30,7 @@ nlohmann::json ToJson(const CommandReport& report) {
           {"outputs", FileList(report.outputs)},
           {"warnings", warnings},
           {"timings", timings},
-          {"result", report.result}};
+          {"result", nlohmann::ordered_json::parse(report.result.dump())}};
 }
 
 void WriteCommandReport(const std::filesystem::path& path, const CommandReport& report) {

@@ -44,7 +44,8 @@ struct CommandReport {
   nlohmann::json result = nlohmann::json::object();
 };
 
-nlohmann::json ToJson(const CommandReport& report);
+// The report with its keys in the order above (the result's sorted).
+nlohmann::ordered_json ToJson(const CommandReport& report);
 
 // The report in `path`, written atomically (never a partial file).
 // \throw IoError naming the file.

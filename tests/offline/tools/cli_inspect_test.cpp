@@ -89,13 +89,14 @@ TEST_CASE("facerig report: one schema, files not given left out", "[cli]") {
   report.warnings.push_back({"cannot_blink", "no blinks"});
   report.timings = {{"load", 0.25}, {"total", 0.5}};
   report.result["vertices"] = 16;
-  const nlohmann::json json = cli::ToJson(report);
+  const nlohmann::json json = nlohmann::json::parse(cli::ToJson(report).dump());
   test::CheckCommandReport(json, "convert");
   CHECK(json["inputs"] == nlohmann::json::array({{{"role", "rig"}, {"path", "in.frig"}}}));
   CHECK(json["warnings"][0]["message"] == "no blinks");
   CHECK(json["timings"]["load"] == 0.25);
   CHECK(json["result"]["vertices"] == 16);
   CHECK(json.size() == 8);  // schema, command, version, inputs, outputs, warnings, timings, result
+  CHECK(cli::ToJson(report).begin().key() == "schema");  // written in the documented order
 }
 
 }  // namespace facerig
