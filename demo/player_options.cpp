@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <optional>
+#include <system_error>
 
 #include <CLI/CLI.hpp>
 
@@ -32,7 +33,8 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
        facerig-player --version
 
   --rig FILE       .glb, .gltf, .frig or an OBJ template folder
-                   (default: the built-in head the build generates, else ../shared/data/ict-facekit)
+                   (default: the built-in head installed with the player in
+                   ../share/facerig/, or the build's, else ../shared/data/ict-facekit)
   --say TEXT       speak TEXT at start
   --voice V        espeak-ng voice / language (default en-us)
   --emotion E[:I]  joy, sadness, fear, anger, surprise or disgust at intensity I (default 0.7)
@@ -136,11 +138,23 @@ PlayerOptions ParseOptions(const std::vector<std::string>& args) {
   return options;
 }
 
-std::filesystem::path DefaultRigPath() {
-  const std::filesystem::path default_head = FACERIG_DEFAULT_HEAD;
+std::filesystem::path DefaultRigPath(const std::filesystem::path& executable) {
   std::error_code error;
-  if (std::filesystem::exists(default_head, error)) return default_head;
+  if (!executable.empty()) {
+    const std::filesystem::path installed =
+        (executable.parent_path() / FACERIG_INSTALLED_HEAD_FROM_BINDIR).lexically_normal();
+    if (std::filesystem::exists(installed, error)) return installed;
+  }
+  const std::filesystem::path build_tree_head = FACERIG_DEFAULT_HEAD;
+  if (std::filesystem::exists(build_tree_head, error)) return build_tree_head;
   return std::filesystem::path(FACERIG_SHARED_DATA_DIR) / "ict-facekit";
+}
+
+std::filesystem::path DefaultRigPath() {
+  std::error_code error;
+  // Linux: the running executable, wherever it was installed or copied.
+  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
+  return DefaultRigPath(error ? std::filesystem::path() : executable);
 }
 
 std::filesystem::path RigPath(const PlayerOptions& options) {

@@ -53,9 +53,13 @@ struct PlayerOptions {
 PlayerOptions ParseOptions(const std::vector<std::string>& args);
 std::string UsageText();
 
-// the built-in head the build generates (build/data/default_head.frig) when it exists, else the
+// The built-in head installed beside the player (BINDIR/../share/facerig/default_head.frig, found
+// from the running executable, so an installed tree works from any folder), else the one the build
+// generates (build/data/default_head.frig) for a player run from the build tree, else the
 // ICT-FaceKit folder under the shared data directory.
 std::filesystem::path DefaultRigPath();
+// DefaultRigPath() for the player at `executable` (empty: not known).
+std::filesystem::path DefaultRigPath(const std::filesystem::path& executable);
 // options.rig, else DefaultRigPath().
 std::filesystem::path RigPath(const PlayerOptions& options);
 

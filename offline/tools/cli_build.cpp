@@ -283,16 +283,22 @@ nlohmann::json StagesReport(std::span<const BuildStage> stages) {
   return list;
 }
 
-nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
-                           const BuildRigResult& built, const Rig& rig, std::span<const BuildStage> stages) {
-  nlohmann::json report;
-  report["template"] = options.template_path;
-  report["target"] = options.target_path;
+CommandReport BuildReport(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
+                          const BuildRigResult& built, const Rig& rig, std::span<const BuildStage> stages) {
+  CommandReport envelope{"build",
+                         {{"template", options.template_path},
+                          {"template_info", options.template_info},
+                          {"target", options.target_path},
+                          {"landmarks", options.landmarks},
+                          {"shape_predictor", options.shape_predictor}},
+                         {{"rig", options.output},
+                          {"frig", options.frig},
+                          {"obj_dir", options.obj_dir},
+                          {"template_topology", options.template_topology}},
+                         // A rig that cannot speak or blink (its template had no such shapes) says so here.
+                         SpeechAndBlinkWarnings(rig)};
+  nlohmann::json& report = envelope.result;
   report["mode"] = ToString(options.mode);
-  report["outputs"] = {{"glb", options.output},
-                       {"frig", options.frig},
-                       {"obj_dir", options.obj_dir},
-                       {"template_topology", options.template_topology}};
   report["template_info"] = TemplateInfoReport(inputs.template_info);
   report["target_vertices"] = inputs.target_vertices;
   report["shapes"] = rig.shape_count();
@@ -308,19 +314,14 @@ nlohmann::json BuildReport(const BuildOptions& options, const BuildInputs& input
                                 {"mean_move", built.margin_mean_correction}};
   report["mapping"] = MappingReport(built.mapping);
   report["stages"] = StagesReport(stages);
-  // A rig that cannot speak or blink (its template had no such shapes) says so here.
-  report["warnings"] = nlohmann::json::array();
-  for (const RigWarning& warning : SpeechAndBlinkWarnings(rig)) {
-    report["warnings"].push_back({{"code", warning.code}, {"message", warning.message}});
-  }
-  report["seconds"] = {{"load", StageSeconds(stages, "load")},
-                       {"landmarks", StageSeconds(stages, "landmarks")},
-                       {"register", built.timings.registration_seconds},
-                       {"transfer", built.timings.transfer_seconds},
-                       {"map", built.timings.mapping_seconds},
-                       {"write", StageSeconds(stages, "write")},
-                       {"total", TotalSeconds(stages)}};
-  return report;
+  envelope.timings = {{"load", StageSeconds(stages, "load")},
+                      {"landmarks", StageSeconds(stages, "landmarks")},
+                      {"register", built.timings.registration_seconds},
+                      {"transfer", built.timings.transfer_seconds},
+                      {"map", built.timings.mapping_seconds},
+                      {"write", StageSeconds(stages, "write")},
+                      {"total", TotalSeconds(stages)}};
+  return envelope;
 }
 
 // Writes the outputs under temporary names (the "write" stage, then the report)
@@ -334,7 +335,7 @@ void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const
     WriteBuildOutputs(options, paths, rig, built, set);
     stages.push_back({"write", SecondsSince(start)});
     if (!paths.report.empty()) {
-      WriteJsonAtomically(paths.report, BuildReport(options, inputs, landmarks, built, rig, stages));
+      WriteCommandReport(paths.report, BuildReport(options, inputs, landmarks, built, rig, stages));
       CheckAfterWrite("report", paths.report);
     }
   });

@@ -1,7 +1,8 @@
 // The `facerig` subcommands, each defined in its own cli_<topic>.cpp and
 // added to the app by cli_app.cpp. Each run returns 0 ok, 1 failure (message
 // on stderr, the previous outputs unchanged), 2 for a bad command line, 128 +
-// the signal for a run stopped by SIGINT / SIGTERM.
+// the signal for a run stopped by SIGINT / SIGTERM. Every --json REPORT has
+// the one schema of cli_report.h.
 #pragma once
 
 #include "cli_options.h"
@@ -38,11 +39,11 @@ void AddCaricatureCommand(CLI::App& facerig, CommandBody& body);
 void AddMorphCommand(CLI::App& facerig, CommandBody& body);
 
 // --- cli_inspect.cpp ---
-// `inspect`: FILE|DIR [folder options].
+// `inspect`: FILE|DIR [--json REPORT] [folder options].
 void AddInspectCommand(CLI::App& facerig, CommandBody& body);
-// `convert`: IN OUT [folder options]; formats by extension.
+// `convert`: IN OUT [--json REPORT] [folder options]; formats by extension.
 void AddConvertCommand(CLI::App& facerig, CommandBody& body);
-// `default-head`: OUT_DIR [--preview DIR [--preview-size PX]].
+// `default-head`: OUT_DIR [--preview DIR [--preview-size PX]] [--json REPORT].
 void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body);
 
 }  // namespace facerig::cli

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
 #include "facerig/offline/io/template_folder.h"
 
 namespace facerig::cli {
@@ -31,10 +30,6 @@ RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units) {
   RawRig raw = RigBuilder::ToRaw(LoadRigOrTemplateFolder(path, options));
   if (units != Units::kUnknown) raw.units = units;
   return raw;
-}
-
-void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json& json) {
-  WriteFileAtomically(path, json.dump(2) + "\n");
 }
 
 void WriteOutputSet(const std::function<void(OutputSet& set)>& write) {
@@ -114,10 +109,10 @@ std::filesystem::path WriteWithFilesBeside(OutputSet& set, const std::filesystem
   return main_temporary;
 }
 
-void WriteReport(OutputSet& set, const std::string& path, const nlohmann::json& report) {
+void WriteReport(OutputSet& set, const std::string& path, const CommandReport& report) {
   if (path.empty()) return;
   const std::filesystem::path temporary = set.Add(path, OutputSet::Kind::kFile);
-  WriteJsonAtomically(temporary, report);
+  WriteCommandReport(temporary, report);
   CheckAfterWrite("report", temporary);
 }
 

@@ -1,6 +1,6 @@
 // Helpers shared by the `facerig` subcommands (tools/cli_*.cpp): adding a
 // subcommand and its common options, mesh loading for targets, outputs
-// written as one set with their JSON report, a progress bar on stderr, timing.
+// written as one set with their JSON report (cli_report.h), a progress bar on stderr, timing.
 #pragma once
 
 #include <chrono>
@@ -12,9 +12,8 @@
 #include <memory>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "cli_options.h"  // SecondsSince
+#include "cli_report.h"
 #include "facerig/offline/landmarks.h"
 #include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/rig_builder.h"
@@ -51,10 +50,6 @@ CLI::Option* AddShapePredictorOption(CLI::App& app, LandmarkParams& params);
 // `units` overrides the file's units when not kUnknown.
 RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units = Units::kUnknown);
 
-// Writes `json` (indented) to a temporary file and renames it into place:
-// never a partial report. \throw IoError naming the file.
-void WriteJsonAtomically(const std::filesystem::path& path, const nlohmann::json& json);
-
 // Writes a command's outputs as one set (output_set.h): `write` adds each to
 // `set` and writes it under the temporary name Add() returns; then all are
 // renamed into place together. On any error, or SIGINT / SIGTERM between
@@ -73,9 +68,9 @@ std::filesystem::path AddOptionalFile(OutputSet& set, const std::string& path);
 std::filesystem::path WriteWithFilesBeside(OutputSet& set, const std::filesystem::path& final_path,
                                            const std::function<void(const std::filesystem::path& path)>& write);
 
-// The report as the set's last output (the injection step "report"); nothing
-// when `path` is empty.
-void WriteReport(OutputSet& set, const std::string& path, const nlohmann::json& report);
+// The --json report (cli_report.h) as the set's last output (the injection
+// step "report"); nothing when `path` is empty.
+void WriteReport(OutputSet& set, const std::string& path, const CommandReport& report);
 
 // "\r<label> [=====     ] done/total" on stderr; a newline when done == total.
 void ProgressBar(const char* label, std::size_t done, std::size_t total);

@@ -25,6 +25,7 @@
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "facerig/runtime/rig_warnings.h"
 
 namespace facerig::cli {
 namespace {
@@ -97,7 +98,7 @@ Rig BuildOrThrow(RawRig raw, const std::string& what) {
 // The rig (or OBJ with its MTL and images, by `output`'s extension) and the
 // report, as one set.
 void WriteRigSet(const std::string& output, const Rig& rig, const std::string& report_path,
-                 const nlohmann::json& report) {
+                 const CommandReport& report) {
   WriteOutputSet([&](OutputSet& set) {
     const std::filesystem::path temporary =
         WriteWithFilesBeside(set, output, [&rig](const std::filesystem::path& path) { SaveRig(path, rig); });
@@ -143,13 +144,14 @@ int RunAverage(const AverageOptions& options) {
     const Rig rig = BuildOrThrow(std::move(raw), "average");
     float spread = 0.0f;
     for (const auto& face : faces) spread = std::max(spread, MaxDistance(face, average));
-    const nlohmann::json report = {{"faces", face_paths},
-                                   {"output", output},
-                                   {"vertices", rig.vertex_count()},
-                                   {"aligned", align},
-                                   {"largest_distance_from_average", spread},
-                                   {"units", ToString(rig.units())},
-                                   {"seconds", SecondsSince(start)}};
+    CommandReport report{"average", {}, {{"rig", output}}};
+    for (const std::string& path : face_paths) report.inputs.push_back({"face", path});
+    report.timings = {{"total", SecondsSince(start)}};
+    report.result = {{"faces", face_paths.size()},
+                     {"vertices", rig.vertex_count()},
+                     {"aligned", align},
+                     {"largest_distance_from_average", spread},
+                     {"units", ToString(rig.units())}};
     WriteRigSet(output, rig, report_path, report);
     std::printf("wrote %s: average of %zu faces (%zu vertices%s); largest vertex distance from it %g%s\n",
                 output.c_str(), faces.size(), rig.vertex_count(), align ? ", rigidly aligned" : "",
@@ -186,18 +188,18 @@ int RunCaricature(const CaricatureOptions& options) {
     const Rig result = BuildOrThrow(CaricatureRig(rig, average, params), "caricature");
     const double caricature_seconds = SecondsSince(caricature_start);
     const float moved = MaxDistance(result.positions(), rig.positions());
-    const nlohmann::json report = {
-        {"rig", rig_path},
-        {"average", average_path},
-        {"output", output},
-        {"factor", factor},
-        {"expressions", keep_deltas ? "keep-deltas" : "deformation-transfer"},
-        {"aligned", align},
-        {"alignment_rms", alignment_rms},
-        {"largest_neutral_displacement", moved},
-        {"vertices", result.vertex_count()},
-        {"shapes", result.shape_count()},
-        {"seconds", {{"load", load_seconds}, {"caricature", caricature_seconds}, {"total", SecondsSince(start)}}}};
+    CommandReport report{"caricature",
+                         {{"rig", rig_path}, {"average", average_path}},
+                         {{"rig", output}},
+                         SpeechAndBlinkWarnings(result)};
+    report.timings = {{"load", load_seconds}, {"caricature", caricature_seconds}, {"total", SecondsSince(start)}};
+    report.result = {{"factor", factor},
+                     {"expressions", keep_deltas ? "keep-deltas" : "deformation-transfer"},
+                     {"aligned", align},
+                     {"alignment_rms", alignment_rms},
+                     {"largest_neutral_displacement", moved},
+                     {"vertices", result.vertex_count()},
+                     {"shapes", result.shape_count()}};
     WriteRigSet(output, result, report_path, report);
     std::printf(
         "wrote %s: caricature factor %g of %s (%zu vertices, %zu shapes, expressions %s); neutral moved "
@@ -223,14 +225,15 @@ int RunMorph(const MorphOptions& options) {
     }
     const Rig result = BuildOrThrow(IdentityMorphRig(template_rig, target_rig), "identity morph");
     const float morph = MaxDistance(template_rig.positions(), target_rig.positions());
-    const nlohmann::json report = {{"template", template_path},
-                                   {"target", target_path},
-                                   {"output", output},
-                                   {"vertices", result.vertex_count()},
-                                   {"shapes", result.shape_count()},
-                                   {"identity_shape", kIdentityMorphShape},
-                                   {"largest_identity_displacement", morph},
-                                   {"seconds", SecondsSince(start)}};
+    CommandReport report{"morph",
+                         {{"template", template_path}, {"target", target_path}},
+                         {{"rig", output}},
+                         SpeechAndBlinkWarnings(result)};
+    report.timings = {{"total", SecondsSince(start)}};
+    report.result = {{"vertices", result.vertex_count()},
+                     {"shapes", result.shape_count()},
+                     {"identity_shape", kIdentityMorphShape},
+                     {"largest_identity_displacement", morph}};
     WriteRigSet(output, result, report_path, report);
     std::printf("wrote %s: %zu vertices, %zu shapes (the target's %zu + %s, moving vertices up to %g%s); %.2f s\n",
                 output.c_str(), result.vertex_count(), result.shape_count(), target_rig.shape_count(),

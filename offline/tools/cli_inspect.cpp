@@ -28,11 +28,11 @@ namespace {
 struct RigFileOptions {
   std::vector<std::string> paths;  // inspect: FILE|DIR; convert: IN OUT
   TemplateImportOptions folder;
-  std::string report;  // inspect --json
+  std::string report;  // --json
 };
 
 struct DefaultHeadOptions {
-  std::string out_dir, preview_dir;
+  std::string out_dir, preview_dir, report;
   int preview_size = 256;
 };
 
@@ -100,31 +100,37 @@ void Inspect(const Rig& rig) {
               dense * static_cast<double>(entry_bytes - 4) / 1e6);
 }
 
-// inspect --json: the counts, the shape names and the rig's warnings.
-nlohmann::json InspectReport(const std::string& path, const Rig& rig, const std::vector<RigWarning>& warnings) {
+// inspect --json: the counts and the shape names.
+nlohmann::json InspectResult(const Rig& rig) {
   nlohmann::json shapes = nlohmann::json::array();
   for (std::size_t s = 0; s < rig.shape_count(); ++s) shapes.push_back(std::string(rig.shape_name(s)));
-  nlohmann::json listed = nlohmann::json::array();
-  for (const RigWarning& warning : warnings) listed.push_back({{"code", warning.code}, {"message", warning.message}});
-  return {{"rig", path},
-          {"vertices", rig.vertex_count()},
+  return {{"vertices", rig.vertex_count()},
           {"triangles", rig.triangle_count()},
           {"units", ToString(rig.units())},
           {"parts", rig.parts().size()},
-          {"shapes", shapes},
-          {"warnings", listed}};
+          {"materials", rig.materials().size()},
+          {"images", rig.images().size()},
+          {"shape_entries", rig.total_shape_entries()},
+          {"shapes", shapes}};
 }
 
 int RunInspect(const RigFileOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     const Rig rig = Load(options.paths[0], options.folder);
-    std::printf("%s (loaded in %.3f s)\n", options.paths[0].c_str(), SecondsSince(start));
+    const double load_seconds = SecondsSince(start);
+    std::printf("%s (loaded in %.3f s)\n", options.paths[0].c_str(), load_seconds);
     Inspect(rig);
-    const std::vector<RigWarning> warnings = SpeechAndBlinkWarnings(rig);
+    CommandReport report{"inspect", {{"rig", options.paths[0]}}, {}, SpeechAndBlinkWarnings(rig)};
     std::fflush(stdout);
-    for (const RigWarning& warning : warnings) std::fprintf(stderr, "facerig: warning: %s\n", warning.message.c_str());
-    if (!options.report.empty()) WriteJsonAtomically(options.report, InspectReport(options.paths[0], rig, warnings));
+    for (const RigWarning& warning : report.warnings) {
+      std::fprintf(stderr, "facerig: warning: %s\n", warning.message.c_str());
+    }
+    if (!options.report.empty()) {
+      report.timings = {{"load", load_seconds}, {"total", SecondsSince(start)}};
+      report.result = InspectResult(rig);
+      WriteCommandReport(options.report, report);
+    }
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -133,16 +139,27 @@ int RunInspect(const RigFileOptions& options) {
 
 int RunConvert(const RigFileOptions& options) {
   try {
+    const auto start = std::chrono::steady_clock::now();
     const std::string& output = options.paths[1];
     const Rig rig = Load(options.paths[0], options.folder);
-    // One set: an OBJ's MTL and images arrive with it, or nothing changes.
+    const double load_seconds = SecondsSince(start);
+    CommandReport report{"convert", {{"rig", options.paths[0]}}, {{"rig", output}}, SpeechAndBlinkWarnings(rig)};
+    std::uintmax_t bytes = 0;
+    // One set: an OBJ's MTL and images (and the report) arrive with it, or nothing changes.
     WriteOutputSet([&](OutputSet& set) {
       const std::filesystem::path written = WriteWithFilesBeside(
           set, output, [&](const std::filesystem::path& path) { SaveRig(path, rig); });
       CheckAfterWrite("rig", written);
+      bytes = std::filesystem::file_size(written);
+      report.timings = {{"load", load_seconds}, {"total", SecondsSince(start)}};
+      report.result = {{"vertices", rig.vertex_count()},
+                       {"triangles", rig.triangle_count()},
+                       {"shapes", rig.shape_count()},
+                       {"bytes", bytes}};
+      WriteReport(set, options.report, report);
     });
     std::printf("wrote %s (%zu vertices, %zu shapes, %ju bytes)\n", output.c_str(), rig.vertex_count(),
-                rig.shape_count(), static_cast<std::uintmax_t>(std::filesystem::file_size(output)));
+                rig.shape_count(), bytes);
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -182,17 +199,42 @@ std::string WriteDefaultHeadFiles(const Rig& rig, const DefaultHeadOptions& opti
   return written;
 }
 
+CommandReport DefaultHeadReport(const DefaultHeadOptions& options, const Rig& rig,
+                                const DefaultHeadFeatures& features) {
+  const std::filesystem::path dir = options.out_dir;
+  CommandReport report{"default-head",
+                       {},
+                       {{"rig", (dir / "default_head.glb").string()},
+                        {"frig", (dir / "default_head.frig").string()},
+                        {"template_info", (dir / "default_head.template.json").string()},
+                        {"previews", options.preview_dir}},
+                       SpeechAndBlinkWarnings(rig)};
+  report.result = {{"control_vertices", features.control_vertex_count},
+                   {"control_triangles", features.control_triangle_count},
+                   {"vertices", rig.vertex_count()},
+                   {"triangles", rig.triangle_count()},
+                   {"shapes", rig.shape_count()}};
+  return report;
+}
+
 // Writes default_head.{glb,frig} and its descriptor (the build runs it into
-// build/data) and previews, as one set (output_set.h).
+// build/data), previews and the report, as one set (output_set.h).
 int MakeDefaultHead(const DefaultHeadOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
   DefaultHeadFeatures features;
   const Rig rig = BuildDefaultHead(&features);
+  const double build_seconds = SecondsSince(start);
   std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
               features.control_vertex_count, features.control_triangle_count,
               features.skin_vertex_count);
   std::filesystem::create_directories(options.out_dir);
   std::string written;
-  WriteOutputSet([&](OutputSet& set) { written = WriteDefaultHeadFiles(rig, options, set); });
+  WriteOutputSet([&](OutputSet& set) {
+    written = WriteDefaultHeadFiles(rig, options, set);
+    CommandReport report = DefaultHeadReport(options, rig, features);
+    report.timings = {{"build", build_seconds}, {"total", SecondsSince(start)}};
+    WriteReport(set, options.report, report);
+  });
   std::fputs(written.c_str(), stdout);
   return 0;
 }
@@ -215,6 +257,7 @@ void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
   const auto [convert, options] =
       AddSubcommand(facerig, body, "convert", "convert a rig between formats", "", RunConvert);
   convert->add_option("files", options->paths, "IN OUT")->required()->expected(2);
+  convert->add_option("--json", options->report, "also write a JSON report");
   AddFolderOptions(*convert, options->folder);
 }
 
@@ -225,6 +268,7 @@ void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body) {
   head->add_option("--preview", options->preview_dir, "also render previews into DIR");
   head->add_option("--preview-size", options->preview_size, "preview size in pixels (64-4096, default 256)")
       ->transform(CLI::Bound(64, 4096));
+  head->add_option("--json", options->report, "also write a JSON report");
 }
 
 }  // namespace facerig::cli

@@ -40,20 +40,26 @@ struct RegisterOptions {
   std::string template_info_path;
 };
 
-nlohmann::json LandmarksReport(const LandmarksOptions& options, const RawRig& mesh, const LandmarkResult& result,
-                               double load_seconds, double model_seconds) {
-  return {{"mesh", options.mesh_path},
-          {"vertices", mesh.positions.size()},
-          {"views_tried", result.views_tried},
-          {"eyes_fitted_to_openings", result.eyes_fitted},
-          {"snapped", result.snapped},
-          {"detector_score", result.detector_score},
-          {"seconds", {{"load_mesh", load_seconds}, {"load_model", model_seconds}, {"detect", result.seconds}}}};
+CommandReport LandmarksReport(const LandmarksOptions& options, const RawRig& mesh, const LandmarkResult& result,
+                              double load_seconds, double model_seconds) {
+  CommandReport report{"landmarks",
+                       {{"mesh", options.mesh_path}, {"shape_predictor", options.params.shape_predictor.string()}},
+                       {{"landmarks", options.output}, {"debug_png", options.debug_png}}};
+  report.timings = {{"load_mesh", load_seconds},
+                    {"load_model", model_seconds},
+                    {"detect", result.seconds},
+                    {"total", load_seconds + model_seconds + result.seconds}};
+  report.result = {{"vertices", mesh.positions.size()},
+                   {"views_tried", result.views_tried},
+                   {"eyes_fitted_to_openings", result.eyes_fitted},
+                   {"snapped", result.snapped},
+                   {"detector_score", result.detector_score}};
+  return report;
 }
 
 // The landmarks JSON, the debug PNG (under a temporary name that keeps its
 // extension, which picks the image format) and the report, as one set.
-void WriteLandmarksSet(const LandmarksOptions& options, const LandmarkResult& result, const nlohmann::json& report) {
+void WriteLandmarksSet(const LandmarksOptions& options, const LandmarkResult& result, const CommandReport& report) {
   WriteOutputSet([&](OutputSet& set) {
     const std::filesystem::path landmarks = set.Add(options.output, OutputSet::Kind::kFile);
     WriteLandmarksJson(landmarks, result.landmarks);
@@ -112,28 +118,32 @@ RegistrationLandmarks FindRegisterLandmarks(const RegisterOptions& options, cons
   return PairLandmarks(template_vertex_of, target_landmarks);
 }
 
-nlohmann::json RegisterReport(const RegisterOptions& options, const FaceTemplateInfo& template_info,
-                              const NonrigidIcpResult& fit) {
+CommandReport RegisterReport(const RegisterOptions& options, const FaceTemplateInfo& template_info,
+                             const NonrigidIcpResult& fit) {
   const ResidualStats& residual = fit.residual;
-  return {{"template", options.template_path},
-          {"target", options.target_path},
-          {"output", options.output},
-          {"landmarks", options.landmarks_path.empty() ? "detected" : options.landmarks_path},
-          {"template_info", TemplateInfoReport(template_info)},
-          {"residual_percent_of_diagonal",
-           {{"mean", residual.mean_percent}, {"p95", residual.p95_percent}, {"max", residual.max_percent}}},
-          {"target_diagonal", residual.target_diagonal},
-          {"measured_vertices", residual.vertex_count},
-          {"rejected_vertices", residual.rejected_count},
-          {"landmark_rms", fit.landmark_rms},
-          {"rigid_scale", fit.rigid.scale},
-          {"iterations_per_stage", fit.iterations_per_stage},
-          {"factorizations", fit.factorizations}};
+  CommandReport report{"register",
+                       {{"template", options.template_path},
+                        {"template_info", options.template_info_path},
+                        {"target", options.target_path},
+                        {"landmarks", options.landmarks_path}},
+                       {{"fitted", options.output}}};
+  report.result = {{"landmarks", options.landmarks_path.empty() ? "detected" : options.landmarks_path},
+                   {"template_info", TemplateInfoReport(template_info)},
+                   {"residual_percent_of_diagonal",
+                    {{"mean", residual.mean_percent}, {"p95", residual.p95_percent}, {"max", residual.max_percent}}},
+                   {"target_diagonal", residual.target_diagonal},
+                   {"measured_vertices", residual.vertex_count},
+                   {"rejected_vertices", residual.rejected_count},
+                   {"landmark_rms", fit.landmark_rms},
+                   {"rigid_scale", fit.rigid.scale},
+                   {"iterations_per_stage", fit.iterations_per_stage},
+                   {"factorizations", fit.factorizations}};
+  return report;
 }
 
 // The fitted OBJ and the report, as one set.
 void WriteRegisterSet(const RegisterOptions& options, const Rig& rig, const NonrigidIcpResult& fit,
-                      const nlohmann::json& report) {
+                      const CommandReport& report) {
   std::vector<glm::vec3> normals(fit.positions.size());
   ComputeVertexNormals(fit.positions, rig.triangles(), normals);
   WriteOutputSet([&](OutputSet& set) {
@@ -166,9 +176,9 @@ int RunRegister(const RegisterOptions& options) {
     params.progress = [](std::size_t done, std::size_t total) { ProgressBar("non-rigid ICP", done, total); };
     const NonrigidIcpResult fit = NonrigidIcp(NeutralMesh(rig), NeutralMesh(target), landmarks, params);
 
-    nlohmann::json report = RegisterReport(options, template_info, fit);
+    CommandReport report = RegisterReport(options, template_info, fit);
     const NonrigidIcpTimings& timings = fit.timings;
-    report["seconds"] = {{"load", load_seconds},
+    report.timings = {{"load", load_seconds},
                          {"landmarks", landmark_seconds},
                          {"rigid", timings.rigid_seconds},
                          {"setup", timings.setup_seconds},

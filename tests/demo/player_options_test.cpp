@@ -5,9 +5,13 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <catch2/catch.hpp>
+
+#include "support/test_meshes.h"
 
 namespace {
 
@@ -82,4 +86,21 @@ TEST_CASE("Player: options keep their defaults and take every value form", "[dem
   CHECK_THROWS_AS(ParseOptions({"--duration", "-1"}), UsageError);
   CHECK_THROWS_AS(ParseOptions({"--quit-after", "-1"}), UsageError);
   CHECK_THROWS_AS(ParseOptions({"--fps", "nan"}), UsageError);
+}
+
+TEST_CASE("Player: the default rig is the head installed beside the executable, else the build tree's", "[demo]") {
+  namespace fs = std::filesystem;
+  using facerig::player::DefaultRigPath;
+  const fs::path prefix = facerig::test::FreshOutputFolder("player_installed_prefix");
+  const fs::path executable = prefix / "bin" / "facerig-player";
+  const fs::path installed_head = (executable.parent_path() / FACERIG_INSTALLED_HEAD_FROM_BINDIR).lexically_normal();
+  CHECK(installed_head.string().rfind(prefix.string(), 0) == 0);  // inside the prefix, not an absolute path
+  // Nothing installed: the head the build generated.
+  CHECK(DefaultRigPath(executable) == fs::path(FACERIG_DEFAULT_HEAD));
+  CHECK(DefaultRigPath(fs::path()) == fs::path(FACERIG_DEFAULT_HEAD));
+  fs::create_directories(installed_head.parent_path());
+  std::ofstream(installed_head) << "a head";
+  CHECK(DefaultRigPath(executable) == installed_head);
+  // Run from the build tree (this test binary), nothing is installed beside it.
+  CHECK(DefaultRigPath() == fs::path(FACERIG_DEFAULT_HEAD));
 }

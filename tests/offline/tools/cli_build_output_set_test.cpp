@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_app.h"
+#include "command_report_check.h"
 #include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "support/command_runner.h"
@@ -94,7 +95,7 @@ test::CommandOutcome BuildWithFailure(const fs::path& out, const std::string& fa
 void CheckNewSet(const fs::path& out) {
   const Rig frig = LoadRig(out / "face.frig");
   CHECK(LoadRig(out / "face.glb").vertex_count() == frig.vertex_count());
-  CHECK(nlohmann::json::parse(ReadText(out / "report.json"))["shapes"] == frig.shape_count());
+  CHECK(nlohmann::json::parse(ReadText(out / "report.json"))["result"]["shapes"] == frig.shape_count());
   // Replaced, not merged: the older run's shape is gone.
   CHECK(!fs::exists(out / "objs" / "from_an_older_run.obj"));
   // neutral.obj, one OBJ per shape, and the head's materials.mtl with its skin and eye images.
@@ -187,8 +188,15 @@ TEST_CASE("facerig default-head: its files are one set", "[cli][output-set]") {
   }
   CHECK(Temporaries(out).empty());
 
-  const test::CommandOutcome done = test::RunCommand(cli::RunFacerig, {"default-head", out.string()});
+  const fs::path report = out / "report.json";
+  const test::CommandOutcome done =
+      test::RunCommand(cli::RunFacerig, {"default-head", out.string(), "--json", report.string()});
   REQUIRE(done.exit_code == 0);
+  const nlohmann::json report_json = nlohmann::json::parse(ReadText(report));
+  test::CheckCommandReport(report_json, "default-head");
+  CHECK(report_json["outputs"].size() == 3);  // no --preview
+  CHECK(report_json["outputs"][0]["path"] == (out / "default_head.glb").string());
+  CHECK(report_json["result"]["shapes"] == LoadRig(out / "default_head.frig").shape_count());
   CHECK(LoadRig(out / "default_head.glb").vertex_count() == LoadRig(out / "default_head.frig").vertex_count());
   CHECK(ReadText(out / "default_head.template.json") == ReadText(fs::path(FACERIG_SOURCE_DIR) / "data" /
                                                                  "templates" / "default_head.template.json"));

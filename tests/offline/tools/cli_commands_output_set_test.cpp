@@ -25,6 +25,7 @@
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "command_report_check.h"
 #include "output_set_files.h"
 #include "support/command_runner.h"
 #include "support/test_meshes.h"
@@ -173,7 +174,8 @@ void CheckReplaced(const CommandCase& command) {
   CHECK(test::Names(out) == command.outputs);
   for (const std::string& name : command.outputs) CHECK(test::ReadText(out / name).rfind("old ", 0) != 0);
   const nlohmann::json report = nlohmann::json::parse(test::ReadText(out / "report.json"));
-  if (command.name != "landmarks") CHECK(report["output"] == (out / command.outputs[0]).string());
+  test::CheckCommandReport(report, command.name);
+  CHECK(report["outputs"][0]["path"] == (out / command.outputs[0]).string());
 }
 
 // `average` of the textured built-in head with itself, as an OBJ.
@@ -274,7 +276,7 @@ TEST_CASE("facerig landmarks on the built-in head: a failed write keeps the prev
   CHECK(ReadLandmarksJson(out / "landmarks.json").points.size() == kDlibLandmarkCount);
   // Written under a temporary name that kept ".png": a PNG, not another format.
   CHECK(test::ReadText(out / "landmarks.png").rfind("\x89PNG\r\n\x1a\n", 0) == 0);
-  CHECK(nlohmann::json::parse(test::ReadText(out / "report.json"))["views_tried"].get<int>() >= 1);
+  CHECK(nlohmann::json::parse(test::ReadText(out / "report.json"))["result"]["views_tried"].get<int>() >= 1);
 }
 
 TEST_CASE("facerig register of the built-in head onto itself: a failed write keeps the previous OBJ and report",

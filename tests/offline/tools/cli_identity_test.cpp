@@ -88,8 +88,9 @@ TEST_CASE("facerig average: the mean of rigs and OBJs, aligned or not", "[cli]")
   CHECK(MaxDistance(LoadRig(aligned_moved).positions(), LoadRig(aligned).positions()) < 1e-4f);
   CHECK(MaxDistance(LoadRig(aligned).positions(), expected) < 0.2f);  // a and b differ in shape, not in pose
   const nlohmann::json json = nlohmann::json::parse(ReadFileText(report));
-  CHECK(json["faces"].size() == 2);
-  CHECK(json["aligned"] == true);
+  CHECK(json["inputs"].size() == 2);
+  CHECK(json["result"]["faces"] == 2);
+  CHECK(json["result"]["aligned"] == true);
 }
 
 TEST_CASE("facerig caricature: factor 0 reproduces the rig, factor 1 doubles its difference", "[cli]") {
@@ -135,9 +136,9 @@ TEST_CASE("facerig caricature: factor 0 reproduces the rig, factor 1 doubles its
     CHECK(MaxDistance(DenseDeltas(result, s), DenseDeltas(rig, s)) < 1e-6f);
   }
   const nlohmann::json json = nlohmann::json::parse(ReadFileText(report));
-  CHECK(json["factor"] == 1.0);
-  CHECK(json["expressions"] == "keep-deltas");
-  CHECK(json["shapes"] == rig.shape_count());
+  CHECK(json["result"]["factor"] == 1.0);
+  CHECK(json["result"]["expressions"] == "keep-deltas");
+  CHECK(json["result"]["shapes"] == rig.shape_count());
 
   // By default the average is rigidly aligned onto the rig first: moving it changes nothing.
   std::vector<glm::vec3> moved(average.positions().begin(), average.positions().end());

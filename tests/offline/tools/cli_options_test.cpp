@@ -52,6 +52,7 @@ TEST_CASE("facerig --help and COMMAND --help print the usage on stdout and exit 
     const Outcome help = RunWithStdout({command, "--help"});
     CHECK(help.exit_code == 0);
     CHECK(Contains(help.output, std::string("Usage: facerig ") + command));
+    CHECK(Contains(help.output, "--json"));  // every command reports in one schema (cli_report.h)
     CHECK(help.errors.empty());
   }
   const Outcome build = RunWithStdout({"build", "--help"});
