@@ -1,0 +1,183 @@
+// The rough (audio-only) mouth against espeak-ng's own phoneme events: the
+// events say exactly when the mouth is open, so espeak speech gives a truth.
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "facerig/espeak/espeak_phoneme_source.h"
+#include "facerig/runtime/speech/audio_mouth.h"
+#include "facerig/runtime/speech/phoneme_visemes.h"
+
+namespace facerig {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kHop = 0.010;
+
+std::vector<std::string> Corpus(const std::string& voice) {
+  const std::string file = voice == "en-us" || voice == "en" ? "en" : voice;
+  std::ifstream in(fs::path(FACERIG_SOURCE_DIR) / "data" / "corpus" / (file + ".txt"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) lines.push_back(line);
+  }
+  return lines;
+}
+
+// The viseme shown at the centre of each 10 ms frame of a track (sil where no key).
+std::vector<Viseme> FrameVisemes(const std::vector<Phoneme>& phonemes, double duration) {
+  const std::vector<VisemeKey> keys = PhonemesToVisemeKeys(phonemes);
+  const auto count = static_cast<std::size_t>(duration / kHop);
+  std::vector<Viseme> frames(count, Viseme::kSil);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double t = double(i) * kHop;
+    while (k < keys.size() && keys[k].end.count() <= t) ++k;
+    if (k < keys.size() && keys[k].start.count() <= t) frames[i] = keys[k].viseme;
+  }
+  return frames;
+}
+
+bool IsClosed(Viseme v) { return v == Viseme::kSil || v == Viseme::kPP; }
+
+bool IsPause(const Phoneme& p) { return p.symbol.view().front() == '_' || p.symbol.view() == "||"; }
+
+struct Agreement {
+  std::size_t frames = 0;
+  std::size_t agree = 0;
+  std::size_t pauses = 0;        // espeak pauses longer than kLongPause
+  std::size_t pauses_open = 0;   // of which the rough track opens inside
+  double fraction() const { return frames ? double(agree) / double(frames) : 0.0; }
+};
+
+constexpr double kLongPause = 0.150;
+// Pause edges may move by the smoothing (median and minimum segment).
+constexpr double kPauseEdge = 0.040;
+
+void Compare(const SpeechLine& line, const std::vector<Phoneme>& rough, Agreement& total) {
+  const double duration = line.audio_duration().count();
+  const std::vector<Viseme> truth = FrameVisemes(line.phonemes, duration);
+  const std::vector<Viseme> guess = FrameVisemes(rough, duration);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    ++total.frames;
+    total.agree += IsClosed(truth[i]) == IsClosed(guess[i]);
+  }
+  for (const Phoneme& p : line.phonemes) {
+    if (!IsPause(p) || p.duration.count() <= kLongPause) continue;
+    ++total.pauses;
+    const auto first = static_cast<std::size_t>((p.start.count() + kPauseEdge) / kHop) + 1;
+    const auto end = static_cast<std::size_t>((p.start.count() + p.duration.count() - kPauseEdge) / kHop);
+    bool open = false;
+    for (std::size_t i = first; i < end && i < guess.size(); ++i) open = open || !IsClosed(guess[i]);
+    if (open) {
+      ++total.pauses_open;
+      UNSCOPED_INFO("open inside the pause at " << p.start.count() << " s of: " << line.text);
+    }
+  }
+}
+
+// A quieter recording with a noise floor: the audio scaled by `gain`, plus
+// white noise of `noise_rms` (full scale 1), deterministic.
+std::vector<float> Degraded(const std::vector<std::int16_t>& audio, float gain, float noise_rms) {
+  std::vector<float> out(audio.size());
+  std::uint32_t state = 12345;
+  for (std::size_t i = 0; i < audio.size(); ++i) {
+    state = state * 1664525u + 1013904223u;
+    const float uniform = float(state >> 8) / float(1u << 24) - 0.5f;  // variance 1/12
+    out[i] = gain * float(audio[i]) / 32768.0f + noise_rms * 3.4641f * uniform;
+  }
+  return out;
+}
+
+// `lines` lines of `sentences` consecutive corpus sentences each (sentence
+// ends are pauses).
+Agreement Measure(EspeakPhonemeSource& source, const std::string& voice, std::size_t sentences,
+                  std::size_t lines, float gain = 1.0f, float noise_rms = 0.0f) {
+  Agreement total;
+  const std::vector<std::string> corpus = Corpus(voice);
+  for (std::size_t i = 0; i + sentences <= corpus.size() && i < lines * sentences; i += sentences) {
+    std::string text;
+    for (std::size_t j = i; j < i + sentences; ++j) text += corpus[j] + ". ";
+    const SpeechLine line = source.Synthesize(text, voice);
+    const std::optional<SpeechLine> rough =
+        noise_rms > 0.0f || gain != 1.0f
+            ? RoughMouthFromAudio(Degraded(line.audio, gain, noise_rms), line.sample_rate)
+            : RoughMouthFromAudio(line.audio, line.sample_rate);
+    REQUIRE(rough);
+    Compare(line, rough->phonemes, total);
+  }
+  return total;
+}
+
+TEST_CASE("audio mouth: open/closed agrees with espeak-ng's phonemes, long pauses closed",
+          "[espeak][audio_mouth]") {
+  EspeakPhonemeSource source;
+  const Agreement en = Measure(source, "en-us", 3, 12);
+  std::printf("audio mouth en-us: %zu frames, open/closed agreement %.3f, %zu long pauses, %zu open\n",
+              en.frames, en.fraction(), en.pauses, en.pauses_open);
+  CHECK(en.fraction() > 0.85);
+  CHECK(en.pauses_open == 0);
+
+  // 12 dB quieter, with white noise at -64 dBFS (some 35 dB below the vowels).
+  const Agreement noisy = Measure(source, "en-us", 3, 12, 0.25f, 0.0006f);
+  std::printf("audio mouth en-us, -12 dB and noise: agreement %.3f, %zu long pauses, %zu open\n",
+              noisy.fraction(), noisy.pauses, noisy.pauses_open);
+  CHECK(noisy.fraction() > 0.85);
+  CHECK(noisy.pauses_open == 0);
+}
+
+// Feature and class statistics per true viseme, for tuning the thresholds.
+TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][.measure]") {
+  EspeakPhonemeSource source;
+  const std::vector<std::string> corpus = Corpus("en-us");
+  std::array<std::vector<std::array<float, 4>>, kVisemeCount> stats;
+  std::array<std::array<std::size_t, 6>, kVisemeCount> confusion{};
+  for (std::size_t i = 0; i < corpus.size(); i += 2) {
+    const SpeechLine line = source.Synthesize(corpus[i], "en-us");
+    const std::vector<MouthFrameFeatures> frames = AnalyzeMouthFrames(line.audio, line.sample_rate);
+    const std::vector<MouthShape> shapes = ClassifyMouthFrames(frames);
+    const std::vector<Viseme> truth = FrameVisemes(line.phonemes, line.audio_duration().count());
+    for (std::size_t f = 0; f < truth.size() && f < frames.size(); ++f) {
+      const MouthFrameFeatures& x = frames[f];
+      const float low = x.band(MouthBand::kLowFormant), high = x.band(MouthBand::kHighFormant);
+      const float back = x.band(MouthBand::kBackFormant), front = x.band(MouthBand::kFrontFormant);
+      const float fric = x.band(MouthBand::kFrication) - std::max({low, high, back, front});
+      stats[std::size_t(truth[f])].push_back({high - low, front - std::max(high, back), back - high,
+                                               low - std::max({high, back, front})});
+      (void)fric;
+      ++confusion[std::size_t(truth[f])][std::size_t(shapes[f])];
+    }
+  }
+  std::printf("viseme   n   open(p10 p50 p90)  front-hb(p10 p50 p90)  front-low(p10 p50 p90)  murmur(p10 p50 p90)"
+              "  | rest closed open front round fric\n");
+  for (std::size_t v = 0; v < kVisemeCount; ++v) {
+    auto& s = stats[v];
+    if (s.empty()) continue;
+    std::printf("%-5s %6zu", std::string(ToString(Viseme(v))).c_str(), s.size());
+    for (std::size_t c = 0; c < 4; ++c) {
+      std::vector<float> values;
+      for (const auto& row : s) values.push_back(row[c]);
+      std::sort(values.begin(), values.end());
+      std::printf("  %6.1f %6.1f %6.1f", values[values.size() / 10], values[values.size() / 2],
+                  values[values.size() * 9 / 10]);
+    }
+    std::printf("  |");
+    for (std::size_t c = 0; c < 6; ++c) std::printf(" %5zu", confusion[v][c]);
+    std::printf("\n");
+  }
+  for (const std::string voice : {"en-us", "en", "de", "fr", "es", "ru", "cmn"}) {
+    const Agreement a = Measure(source, voice, 3, 20);
+    std::printf("%-6s %6zu frames, open/closed agreement %.3f, long pauses %zu, open in %zu\n",
+                voice.c_str(), a.frames, a.fraction(), a.pauses, a.pauses_open);
+  }
+}
+
+}  // namespace
+}  // namespace facerig
