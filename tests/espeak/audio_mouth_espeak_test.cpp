@@ -149,13 +149,11 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
       const float low = x.band(MouthBand::kLowFormant), high = x.band(MouthBand::kHighFormant);
       const float back = x.band(MouthBand::kBackFormant), front = x.band(MouthBand::kFrontFormant);
       const float fric = x.band(MouthBand::kFrication) - std::max({low, high, back, front});
-      stats[std::size_t(truth[f])].push_back({high - low, front - std::max(high, back), back - high,
-                                               low - std::max({high, back, front})});
-      (void)fric;
+      stats[std::size_t(truth[f])].push_back({high - low, front - back, front - high, fric});
       ++confusion[std::size_t(truth[f])][std::size_t(shapes[f])];
     }
   }
-  std::printf("viseme   n   open(p10 p50 p90)  front-hb(p10 p50 p90)  front-low(p10 p50 p90)  murmur(p10 p50 p90)"
+  std::printf("viseme   n   high-low(p10 p50 p90)  front-back(p10 p50 p90)  front-high(p10 p50 p90)  fric(p10 p50 p90)"
               "  | rest closed open front round fric\n");
   for (std::size_t v = 0; v < kVisemeCount; ++v) {
     auto& s = stats[v];

@@ -70,7 +70,7 @@ MouthShape VoicedShape(const MouthFrameFeatures& f, const AudioMouthParams& para
   if (f.band(MouthBand::kFrication) - strongest_formant > params.fricative_db) {
     return MouthShape::kFricative;
   }
-  if (front - std::max(high, back) > params.front_db) return MouthShape::kFront;
+  if (front - back > params.front_over_back_db && front - high > params.front_over_high_db) return MouthShape::kFront;
   if (high - low > params.open_db) return MouthShape::kOpen;
   return MouthShape::kRounded;
 }
@@ -109,7 +109,7 @@ void Coalesce(std::vector<Run>& runs) {
 }
 
 // Gives every run shorter than min_frames the shape of its longer neighbour,
-// shortest first in each pass, until none is left (or one run remains).
+// the shortest run first, until none is left (or one run remains).
 void MergeShortRuns(std::vector<Run>& runs, std::size_t min_frames) {
   while (runs.size() > 1) {
     std::size_t shortest = runs.size();

@@ -57,10 +57,12 @@ struct AudioMouthParams {
 
   // Classes of voiced frames, tried in this order:
   // fricative: frication band minus the strongest formant band > fricative_db;
-  // front: front-formant band minus the stronger of the high and back ones > front_db;
+  // front: front-formant band minus back-formant band > front_over_back_db and
+  //   minus high-formant band > front_over_high_db (a weak back band alone is a u);
   // open: high-formant band minus low-formant band > open_db; else rounded.
   float fricative_db = 0.0f;
-  float front_db = 5.0f;
+  float front_over_back_db = 8.0f;
+  float front_over_high_db = -3.0f;
   float open_db = -8.0f;
 
   // Shorter segments are merged into their longer neighbour.
