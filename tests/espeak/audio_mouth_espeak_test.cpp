@@ -2,6 +2,7 @@
 // events say exactly when the mouth is open, so espeak speech gives a truth.
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -175,6 +176,32 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
     std::printf("%-6s %6zu frames, open/closed agreement %.3f, long pauses %zu, open in %zu\n",
                 voice.c_str(), a.frames, a.fraction(), a.pauses, a.pauses_open);
   }
+}
+
+}  // namespace
+}  // namespace facerig
+
+namespace facerig {
+namespace {
+
+TEST_CASE("audio mouth: analysis time per second of audio (measurement)", "[espeak][.measure]") {
+  EspeakPhonemeSource source;
+  const std::vector<std::string> corpus = Corpus("en-us");
+  std::vector<std::int16_t> audio;
+  for (std::size_t i = 0; i < 60; ++i) {
+    const SpeechLine line = source.Synthesize(corpus[i], "en-us");
+    audio.insert(audio.end(), line.audio.begin(), line.audio.end());
+  }
+  // About ten minutes: the same speech four times over.
+  const std::size_t once = audio.size();
+  for (int copy = 0; copy < 3; ++copy) audio.insert(audio.end(), audio.begin(), audio.begin() + std::ptrdiff_t(once));
+  const auto start = std::chrono::steady_clock::now();
+  const std::optional<SpeechLine> rough = RoughMouthFromAudio(audio, EspeakPhonemeSource::kSampleRate);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  REQUIRE(rough);
+  const double audio_seconds = double(audio.size()) / EspeakPhonemeSource::kSampleRate;
+  std::printf("audio mouth: %.1f s of audio in %.3f s (%.2f ms per second), %zu phonemes\n", audio_seconds,
+              seconds, 1000.0 * seconds / audio_seconds, rough->phonemes.size());
 }
 
 }  // namespace
