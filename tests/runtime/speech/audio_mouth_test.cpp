@@ -140,7 +140,18 @@ TEST_CASE("audio mouth: short gaps close the lips, long ones rest, blips vanish"
   std::copy(blip.begin(), blip.end(), click.begin() + kRate / 2);
   CHECK(Symbols(Rough(click)) == "_ ");
   // Speech from the first sample: no leading rest.
-  CHECK(Symbols(Rough(Join({Buzz(0.3, kFrontVowel), Hiss(0.2), Buzz(0.3, kOpenVowel)}))) == "i s a ");
+  CHECK(Symbols(Rough(Join({Buzz(0.3, kFrontVowel), Hiss(0.2), Buzz(0.3, kOpenVowel), Silence(0.3)}))) ==
+        "i s a _ ");
+}
+
+TEST_CASE("audio mouth: steady noise alone keeps the mouth at rest", "[audio_mouth]") {
+  std::vector<float> noise(kRate);
+  std::uint32_t state = 5;
+  for (float& x : noise) {
+    state = state * 1664525u + 1013904223u;
+    x = 0.03f * (float(state >> 8) / float(1u << 24) - 0.5f);  // about -40 dBFS
+  }
+  CHECK(Symbols(Rough(noise)) == "_ ");
 }
 
 TEST_CASE("audio mouth: the classes survive a quiet recording with a noise floor", "[audio_mouth]") {

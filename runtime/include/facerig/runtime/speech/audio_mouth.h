@@ -44,16 +44,22 @@ struct AudioMouthParams {
   // classification.
   int median_frames = 5;
 
-  // Voice activity. The loud level is the 95th percentile of frame levels,
-  // the floor the 10th. A frame turns voiced above the "on" threshold and
-  // back to silence below on - hysteresis_db, where
+  // Voice activity on the smoothed frame levels. A frame turns voiced above
+  // the "on" threshold and back to silence below on - hysteresis_db, where
   //   on = clamp(floor + above_floor_db, loud - max_below_loud_db, loud - min_below_loud_db)
-  // and never below min_voice_db (so silence, digital or not, stays closed).
+  // but never below floor + min_above_floor_db (noise alone stays silent) nor
+  // min_voice_db. Whole buffer: the floor is the 2nd percentile of the
+  // levels, the loud level the 95th. Streaming: the floor follows the level
+  // down at once and rises by floor_rise_db_per_second; the loud level
+  // follows it up at once and falls by loud_fall_db_per_second.
   float above_floor_db = 12.0f;
+  float min_above_floor_db = 6.0f;
   float min_below_loud_db = 15.0f;
   float max_below_loud_db = 30.0f;
   float hysteresis_db = 4.0f;
   float min_voice_db = -60.0f;
+  float floor_rise_db_per_second = 2.0f;
+  float loud_fall_db_per_second = 2.0f;
 
   // Classes of voiced frames, tried in this order:
   // fricative: frication band minus the strongest formant band > fricative_db;
