@@ -88,7 +88,8 @@ std::vector<Phoneme> MouthShapesToPhonemes(std::span<const MouthShape> shapes, d
   std::vector<Phoneme> phonemes;
   if (shapes.empty() || !std::isfinite(hop_seconds) || hop_seconds <= 0.0) return phonemes;
   if (!std::isfinite(duration) || duration < 0.0) duration = 0.0;
-  std::vector<MouthRun> runs = MouthRunsOf(shapes);
+  std::vector<MouthRun> runs;
+  AppendMouthRuns(shapes, 0, runs);
   MergeShortMouthRuns(runs, MouthFramesFor(params.min_segment, hop_seconds));
   phonemes.reserve(runs.size());
   for (std::size_t i = 0; i < runs.size(); ++i) {

@@ -54,8 +54,8 @@ MouthShape VoicedMouthShape(const MouthFrameFeatures& f, const AudioMouthParams&
   return MouthShape::kRounded;
 }
 
-std::vector<MouthRun> MouthRunsOf(std::span<const MouthShape> shapes, std::size_t first_frame) {
-  std::vector<MouthRun> runs;
+void AppendMouthRuns(std::span<const MouthShape> shapes, std::size_t first_frame,
+                     std::vector<MouthRun>& runs) {
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     if (!runs.empty() && runs.back().shape == shapes[i]) {
       ++runs.back().count;
@@ -63,7 +63,6 @@ std::vector<MouthRun> MouthRunsOf(std::span<const MouthShape> shapes, std::size_
       runs.push_back({shapes[i], first_frame + i, 1});
     }
   }
-  return runs;
 }
 
 namespace {

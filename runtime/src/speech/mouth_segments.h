@@ -41,8 +41,10 @@ struct MouthRun {
   std::size_t count = 0;
 };
 
-// Runs of equal shapes; frame indices start at `first_frame`.
-std::vector<MouthRun> MouthRunsOf(std::span<const MouthShape> shapes, std::size_t first_frame = 0);
+// Appends the runs of equal shapes to `runs` (joining the last run there if
+// its shape continues); frame indices start at `first_frame`.
+void AppendMouthRuns(std::span<const MouthShape> shapes, std::size_t first_frame,
+                     std::vector<MouthRun>& runs);
 
 // Gives every run shorter than min_frames the shape of its longer neighbour
 // (the earlier one on a tie), the shortest run first, until none is left or
