@@ -13,6 +13,7 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/runtime/speech/audio_mouth.h"
+#include "facerig/runtime/speech/audio_mouth_stream.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 
 namespace facerig {
@@ -84,35 +85,49 @@ void Compare(const SpeechLine& line, const std::vector<Phoneme>& rough, Agreemen
   }
 }
 
-// A quieter recording with a noise floor: the audio scaled by `gain`, plus
-// white noise of `noise_rms` (full scale 1), deterministic.
+// The audio as floats, scaled by `gain`, plus white noise of `noise_rms`
+// (full scale 1; deterministic): a quieter recording with a noise floor.
 std::vector<float> Degraded(const std::vector<std::int16_t>& audio, float gain, float noise_rms) {
   std::vector<float> out(audio.size());
   std::uint32_t state = 12345;
   for (std::size_t i = 0; i < audio.size(); ++i) {
     state = state * 1664525u + 1013904223u;
     const float uniform = float(state >> 8) / float(1u << 24) - 0.5f;  // variance 1/12
-    out[i] = gain * float(audio[i]) / 32768.0f + noise_rms * 3.4641f * uniform;
+    out[i] = gain * float(audio[i]) / 32768.0f + (noise_rms > 0.0f ? noise_rms * 3.4641f * uniform : 0.0f);
   }
   return out;
 }
 
 // `lines` lines of `sentences` consecutive corpus sentences each (sentence
 // ends are pauses).
+// The whole-buffer rough mode, or the stream fed 20 ms chunks.
+enum class Mode { kWhole, kStream };
+
+std::vector<Phoneme> RoughPhonemes(std::span<const float> audio, int sample_rate, Mode mode) {
+  if (mode == Mode::kWhole) {
+    const std::optional<SpeechLine> rough = RoughMouthFromAudio(audio, sample_rate);
+    REQUIRE(rough);
+    return rough->phonemes;
+  }
+  RoughMouthStream stream(sample_rate);
+  std::vector<Phoneme> out;
+  const std::size_t chunk = static_cast<std::size_t>(sample_rate / 50);
+  for (std::size_t at = 0; at < audio.size(); at += chunk) {
+    stream.Push(audio.subspan(at, std::min(chunk, audio.size() - at)), out);
+  }
+  stream.Finish(out);
+  return out;
+}
+
 Agreement Measure(EspeakPhonemeSource& source, const std::string& voice, std::size_t sentences,
-                  std::size_t lines, float gain = 1.0f, float noise_rms = 0.0f) {
+                  std::size_t lines, float gain = 1.0f, float noise_rms = 0.0f, Mode mode = Mode::kWhole) {
   Agreement total;
   const std::vector<std::string> corpus = Corpus(voice);
   for (std::size_t i = 0; i + sentences <= corpus.size() && i < lines * sentences; i += sentences) {
     std::string text;
     for (std::size_t j = i; j < i + sentences; ++j) text += corpus[j] + ". ";
     const SpeechLine line = source.Synthesize(text, voice);
-    const std::optional<SpeechLine> rough =
-        noise_rms > 0.0f || gain != 1.0f
-            ? RoughMouthFromAudio(Degraded(line.audio, gain, noise_rms), line.sample_rate)
-            : RoughMouthFromAudio(line.audio, line.sample_rate);
-    REQUIRE(rough);
-    Compare(line, rough->phonemes, total);
+    Compare(line, RoughPhonemes(Degraded(line.audio, gain, noise_rms), line.sample_rate, mode), total);
   }
   return total;
 }
@@ -132,6 +147,12 @@ TEST_CASE("audio mouth: open/closed agrees with espeak-ng's phonemes, long pause
               noisy.fraction(), noisy.pauses, noisy.pauses_open);
   CHECK(noisy.fraction() > 0.85);
   CHECK(noisy.pauses_open == 0);
+
+  const Agreement streamed = Measure(source, "en-us", 3, 12, 1.0f, 0.0f, Mode::kStream);
+  std::printf("audio mouth en-us, streamed: agreement %.3f, %zu long pauses, %zu open\n",
+              streamed.fraction(), streamed.pauses, streamed.pauses_open);
+  CHECK(streamed.fraction() > 0.85);
+  CHECK(streamed.pauses_open == 0);
 }
 
 // Feature and class statistics per true viseme, for tuning the thresholds.
@@ -172,9 +193,12 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
     std::printf("\n");
   }
   for (const std::string voice : {"en-us", "en", "de", "fr", "es", "ru", "cmn"}) {
-    const Agreement a = Measure(source, voice, 3, 20);
-    std::printf("%-6s %6zu frames, open/closed agreement %.3f, long pauses %zu, open in %zu\n",
-                voice.c_str(), a.frames, a.fraction(), a.pauses, a.pauses_open);
+    for (const Mode mode : {Mode::kWhole, Mode::kStream}) {
+      const Agreement a = Measure(source, voice, 3, 20, 1.0f, 0.0f, mode);
+      std::printf("%-6s %-6s %6zu frames, open/closed agreement %.3f, long pauses %zu, open in %zu\n",
+                  voice.c_str(), mode == Mode::kWhole ? "whole" : "stream", a.frames, a.fraction(), a.pauses,
+                  a.pauses_open);
+    }
   }
 }
 
