@@ -192,6 +192,26 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
     for (std::size_t c = 0; c < 6; ++c) std::printf(" %5zu", confusion[v][c]);
     std::printf("\n");
   }
+  // Vowels classed as a shape of theirs (E is half open, front; oh open, rounded).
+  using S = MouthShape;
+  const std::pair<Viseme, std::vector<S>> vowel_classes[] = {
+      {Viseme::kAA, {S::kOpen}},          {Viseme::kE, {S::kOpen, S::kFront}},
+      {Viseme::kIH, {S::kFront}},         {Viseme::kOH, {S::kOpen, S::kRounded}},
+      {Viseme::kOU, {S::kRounded}}};
+  std::size_t vowel_frames = 0, vowel_right = 0;
+  for (const auto& [viseme, right] : vowel_classes) {
+    std::size_t frames = 0, hits = 0;
+    for (std::size_t c = 0; c < 6; ++c) {
+      frames += confusion[std::size_t(viseme)][c];
+      if (std::find(right.begin(), right.end(), S(c)) != right.end()) hits += confusion[std::size_t(viseme)][c];
+    }
+    std::printf("vowel %-3s: %zu frames, %.2f in its class\n", std::string(ToString(viseme)).c_str(), frames,
+                frames ? double(hits) / double(frames) : 0.0);
+    vowel_frames += frames;
+    vowel_right += hits;
+  }
+  std::printf("vowels: %.2f of %zu frames in their class\n", double(vowel_right) / double(vowel_frames),
+              vowel_frames);
   for (const std::string voice : {"en-us", "en", "de", "fr", "es", "ru", "cmn"}) {
     for (const Mode mode : {Mode::kWhole, Mode::kStream}) {
       const Agreement a = Measure(source, voice, 3, 20, 1.0f, 0.0f, mode);
