@@ -155,35 +155,20 @@ TEST_CASE("audio mouth: open/closed agrees with espeak-ng's phonemes, long pause
   CHECK(streamed.pauses_open == 0);
 }
 
-// Feature and class statistics per true viseme, for tuning the thresholds.
-TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][.measure]") {
-  EspeakPhonemeSource source;
-  const std::vector<std::string> corpus = Corpus("en-us");
-  std::array<std::vector<std::array<float, 4>>, kVisemeCount> stats;
-  std::array<std::array<std::size_t, 6>, kVisemeCount> confusion{};
-  for (std::size_t i = 0; i < corpus.size(); i += 2) {
-    const SpeechLine line = source.Synthesize(corpus[i], "en-us");
-    const std::vector<MouthFrameFeatures> frames = AnalyzeMouthFrames(line.audio, line.sample_rate);
-    const std::vector<MouthShape> shapes = ClassifyMouthFrames(frames);
-    const std::vector<Viseme> truth = FrameVisemes(line.phonemes, line.audio_duration().count());
-    for (std::size_t f = 0; f < truth.size() && f < frames.size(); ++f) {
-      const MouthFrameFeatures& x = frames[f];
-      const float low = x.band(MouthBand::kLowFormant), high = x.band(MouthBand::kHighFormant);
-      const float back = x.band(MouthBand::kBackFormant), front = x.band(MouthBand::kFrontFormant);
-      const float fric = x.band(MouthBand::kFrication) - std::max({low, high, back, front});
-      stats[std::size_t(truth[f])].push_back({high - low, front - back, front - high, fric});
-      ++confusion[std::size_t(truth[f])][std::size_t(shapes[f])];
-    }
-  }
-  std::printf("viseme   n   high-low(p10 p50 p90)  front-back(p10 p50 p90)  front-high(p10 p50 p90)  fric(p10 p50 p90)"
-              "  | rest closed open front round fric\n");
+// Per true viseme: the class features (p10, p50, p90) and the shapes chosen.
+using FeatureRows = std::array<std::vector<std::array<float, 4>>, kVisemeCount>;
+using Confusion = std::array<std::array<std::size_t, 6>, kVisemeCount>;
+
+void PrintFeatureTable(const FeatureRows& stats, const Confusion& confusion) {
+  std::printf("viseme   n   high-low(p10 p50 p90)  front-back(p10 p50 p90)  front-high(p10 p50 p90)"
+              "  fric(p10 p50 p90)  | rest closed open front round fric\n");
   for (std::size_t v = 0; v < kVisemeCount; ++v) {
-    auto& s = stats[v];
-    if (s.empty()) continue;
-    std::printf("%-5s %6zu", std::string(ToString(Viseme(v))).c_str(), s.size());
+    const auto& rows = stats[v];
+    if (rows.empty()) continue;
+    std::printf("%-5s %6zu", std::string(ToString(Viseme(v))).c_str(), rows.size());
     for (std::size_t c = 0; c < 4; ++c) {
       std::vector<float> values;
-      for (const auto& row : s) values.push_back(row[c]);
+      for (const auto& row : rows) values.push_back(row[c]);
       std::sort(values.begin(), values.end());
       std::printf("  %6.1f %6.1f %6.1f", values[values.size() / 10], values[values.size() / 2],
                   values[values.size() * 9 / 10]);
@@ -192,12 +177,14 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
     for (std::size_t c = 0; c < 6; ++c) std::printf(" %5zu", confusion[v][c]);
     std::printf("\n");
   }
-  // Vowels classed as a shape of theirs (E is half open, front; oh open, rounded).
+}
+
+// Vowel frames given a shape of theirs (E is half open and front; oh open and rounded).
+void PrintVowelClasses(const Confusion& confusion) {
   using S = MouthShape;
   const std::pair<Viseme, std::vector<S>> vowel_classes[] = {
-      {Viseme::kAA, {S::kOpen}},          {Viseme::kE, {S::kOpen, S::kFront}},
-      {Viseme::kIH, {S::kFront}},         {Viseme::kOH, {S::kOpen, S::kRounded}},
-      {Viseme::kOU, {S::kRounded}}};
+      {Viseme::kAA, {S::kOpen}},  {Viseme::kE, {S::kOpen, S::kFront}}, {Viseme::kIH, {S::kFront}},
+      {Viseme::kOH, {S::kOpen, S::kRounded}}, {Viseme::kOU, {S::kRounded}}};
   std::size_t vowel_frames = 0, vowel_right = 0;
   for (const auto& [viseme, right] : vowel_classes) {
     std::size_t frames = 0, hits = 0;
@@ -212,6 +199,31 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
   }
   std::printf("vowels: %.2f of %zu frames in their class\n", double(vowel_right) / double(vowel_frames),
               vowel_frames);
+}
+
+// Feature and class statistics per true viseme, for tuning the thresholds,
+// and the open/closed agreement per voice.
+TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][.measure]") {
+  EspeakPhonemeSource source;
+  const std::vector<std::string> corpus = Corpus("en-us");
+  FeatureRows stats;
+  Confusion confusion{};
+  for (std::size_t i = 0; i < corpus.size(); i += 2) {
+    const SpeechLine line = source.Synthesize(corpus[i], "en-us");
+    const std::vector<MouthFrameFeatures> frames = AnalyzeMouthFrames(line.audio, line.sample_rate);
+    const std::vector<MouthShape> shapes = ClassifyMouthFrames(frames);
+    const std::vector<Viseme> truth = FrameVisemes(line.phonemes, line.audio_duration().count());
+    for (std::size_t f = 0; f < truth.size() && f < frames.size(); ++f) {
+      const MouthFrameFeatures& x = frames[f];
+      const float low = x.band(MouthBand::kLowFormant), high = x.band(MouthBand::kHighFormant);
+      const float back = x.band(MouthBand::kBackFormant), front = x.band(MouthBand::kFrontFormant);
+      const float fric = x.band(MouthBand::kFrication) - std::max({low, high, back, front});
+      stats[std::size_t(truth[f])].push_back({high - low, front - back, front - high, fric});
+      ++confusion[std::size_t(truth[f])][std::size_t(shapes[f])];
+    }
+  }
+  PrintFeatureTable(stats, confusion);
+  PrintVowelClasses(confusion);
   for (const std::string voice : {"en-us", "en", "de", "fr", "es", "ru", "cmn"}) {
     for (const Mode mode : {Mode::kWhole, Mode::kStream}) {
       const Agreement a = Measure(source, voice, 3, 20, 1.0f, 0.0f, mode);
@@ -221,12 +233,6 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
     }
   }
 }
-
-}  // namespace
-}  // namespace facerig
-
-namespace facerig {
-namespace {
 
 TEST_CASE("audio mouth: analysis time per second of audio (measurement)", "[espeak][.measure]") {
   EspeakPhonemeSource source;

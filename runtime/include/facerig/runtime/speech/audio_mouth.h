@@ -1,14 +1,20 @@
 // The rough mode: a coarse mouth track from audio alone, for recordings
 // without a transcript. Loudness says open or closed; the spectral shape
 // picks one of a few classes: open vowel, front vowel, rounded vowel,
-// fricative. It does not recognise phonemes: no bilabial is told from a t or
-// k closure, nasals count as rounded vowels, and class boundaries follow the
-// acoustics, not the lips (which lead the sound). Use a transcript-aligned
-// track whenever there is a transcript.
+// fricative. It does not recognise phonemes, and it shows:
+// - the lips close only where the sound stops: a silent stop closure (p, t, k
+//   alike) closes them, a voiced m or b keeps them open;
+// - nasals and r count as rounded or front vowels, mid vowels (o in "go")
+//   as open ones;
+// - class boundaries follow the acoustics, not the lips, which lead the sound;
+// - at 8 kHz (telephone audio) the frication band (4-8 kHz) is gone: no fricatives.
+// The thresholds were set on espeak-ng speech (tests/espeak/audio_mouth_espeak_test.cpp
+// measures them). Use a transcript-aligned track whenever there is a transcript.
 //
 // A pure chain over a whole buffer (offline, not per-frame code):
 //   AnalyzeMouthFrames (audio_mouth_features.h) -> ClassifyMouthFrames
-//   -> MouthShapesToPhonemes, or all three in RoughMouthFromAudio.
+//   -> MouthShapesToPhonemes, or all three in RoughMouthFromAudio;
+// RoughMouthStream (audio_mouth_stream.h) does the same for audio in chunks.
 // The result is an ordinary phoneme track: each shape becomes one phoneme
 // symbol that the phoneme -> viseme tables map in every language (see
 // RoughMouthSymbol), so it goes through coarticulation like any other track.

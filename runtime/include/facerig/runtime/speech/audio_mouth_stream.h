@@ -7,7 +7,8 @@
 // (AudioMouthParams::floor_rise_db_per_second, loud_fall_db_per_second)
 // instead of taken from the whole buffer, short segments are merged within a
 // look-ahead window, and a long segment comes out in pieces of at most
-// 100 ms (consecutive phonemes with the same symbol).
+// 100 ms (consecutive phonemes with the same symbol). Not for a real-time
+// thread: Push may allocate (its buffers grow to the largest chunk, and `out`).
 #pragma once
 
 #include <cstddef>
