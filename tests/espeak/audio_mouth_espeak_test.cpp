@@ -60,8 +60,7 @@ struct Agreement {
 };
 
 constexpr double kLongPause = 0.150;
-// Pause edges may move by the smoothing (median and minimum segment): by up
-// to 10 ms on the corpus.
+// Pause edges may move by the smoothing (median and minimum segment).
 constexpr double kPauseEdge = 0.020;
 
 void Compare(const SpeechLine& line, const std::vector<Phoneme>& rough, Agreement& total) {
