@@ -232,6 +232,17 @@ TEST_CASE("audio mouth: feature statistics per viseme (measurement)", "[espeak][
                   a.pauses_open);
     }
   }
+  // Faster speech has closures shorter than the minimum segment.
+  for (const int wpm : {120, 250, 350}) {
+    EspeakOptions options;
+    options.rate_wpm = wpm;
+    EspeakPhonemeSource at_rate(options);
+    for (const Mode mode : {Mode::kWhole, Mode::kStream}) {
+      const Agreement a = Measure(at_rate, "en-us", 3, 20, 1.0f, 0.0f, mode);
+      std::printf("en-us at %d wpm, %-6s: open/closed agreement %.3f, long pauses %zu, open in %zu\n", wpm,
+                  mode == Mode::kWhole ? "whole" : "stream", a.fraction(), a.pauses, a.pauses_open);
+    }
+  }
 }
 
 TEST_CASE("audio mouth: analysis time per second of audio (measurement)", "[espeak][.measure]") {
