@@ -451,7 +451,7 @@ TEST_CASE("espeak: a missing data folder is a clear error, never an exit", "[esp
   const fs::path missing = test::OutputPath("no_such_espeak_data");
   fs::remove_all(missing);
   try {
-    EspeakPhonemeSource source(EspeakOptions{missing.string(), 175});
+    EspeakPhonemeSource source(EspeakOptions{missing.string(), 175, 50, {}});
     FAIL("no error");
   } catch (const SpeechError& e) {
     CHECK_THAT(e.what(), Contains(missing.string()));
@@ -461,7 +461,7 @@ TEST_CASE("espeak: a missing data folder is a clear error, never an exit", "[esp
   const fs::path empty = test::OutputPath("empty_espeak_data");
   fs::create_directories(empty / "espeak-ng-data");
   try {
-    EspeakPhonemeSource source(EspeakOptions{empty.string(), 175});
+    EspeakPhonemeSource source(EspeakOptions{empty.string(), 175, 50, {}});
     FAIL("no error");
   } catch (const SpeechError& e) {
     CHECK_THAT(e.what(), Contains(empty.string()));
