@@ -327,6 +327,27 @@ TEST_CASE("espeak: unknown voice error lists the available voices", "[espeak]") 
   CHECK_FALSE(source.Synthesize("hello", "EN_US").phonemes.empty());
 }
 
+TEST_CASE("espeak: a voice variant and pitch change the sound, not the phonemes", "[espeak]") {
+  const std::string text = "My mother made maple muffins.";
+  const SpeechLine plain = EspeakPhonemeSource().Synthesize(text, "en-us");
+  EspeakOptions options;
+  options.pitch = 80;
+  options.variant = "f3";
+  EspeakPhonemeSource female(options);
+  const SpeechLine other = female.Synthesize(text, "en-us");
+  CheckLine(other);
+  CHECK(Symbols(other) == Symbols(plain));
+  CHECK(other.audio != plain.audio);
+  options.variant = "no-such-variant";
+  EspeakPhonemeSource missing(options);
+  CHECK_THROWS_WITH(missing.Synthesize(text, "en-us"), Contains("en-us+no-such-variant"));
+  options.variant = "../f3";
+  EspeakPhonemeSource escaping(options);
+  CHECK_THROWS_AS(escaping.Synthesize(text, "en-us"), SpeechError);
+  // The engine is left usable with the plain voice.
+  CHECK(Symbols(EspeakPhonemeSource().Synthesize(text, "en-us")) == Symbols(plain));
+}
+
 TEST_CASE("espeak: bad input is safe", "[espeak]") {
   EspeakPhonemeSource source;
   SECTION("empty and blank text give an empty line") {

@@ -208,12 +208,18 @@ class Engine {
     initialized_ = true;
   }
 
-  // Worker thread only. A voice "xx" with a variant is loaded as "xx+variant".
-  static void SetVoice(const std::string& voice, const std::string& variant) {
+  // Worker thread only. A voice "xx" with a variant is loaded as "xx+variant";
+  // espeak-ng silently ignores a variant it cannot find, so its file is checked first.
+  void SetVoice(const std::string& voice, const std::string& variant) {
     if (!variant.empty()) {
       const std::string name = voice + "+" + variant;
-      if (variant.find_first_of("+/\\") != std::string::npos || espeak_SetVoiceByName(name.c_str()) != EE_OK) {
-        throw SpeechError("espeak-ng could not load the voice variant \"" + name + "\"");
+      std::error_code error;
+      const bool exists = variant.find_first_of("+/\\") == std::string::npos && variant != ".." &&
+                          std::filesystem::is_regular_file(
+                              std::filesystem::path(data_path_) / "voices" / "!v" / variant, error);
+      if (!exists || espeak_SetVoiceByName(name.c_str()) != EE_OK) {
+        throw SpeechError("espeak-ng has no voice variant \"" + variant + "\" (in " + data_path_ +
+                          "/voices/!v) for \"" + name + "\"");
       }
       return;
     }
