@@ -17,15 +17,15 @@ namespace {
 // The file's bytes as libsndfile's virtual I/O: decoding from memory keeps
 // every open on ReadInputFile's checks (no FIFOs, size known first).
 struct MemoryFile {
-  const std::vector<std::byte>* bytes;
+  std::span<const std::byte> bytes;
   sf_count_t position = 0;
 };
 
-sf_count_t Length(void* user) { return static_cast<sf_count_t>(static_cast<MemoryFile*>(user)->bytes->size()); }
+sf_count_t Length(void* user) { return static_cast<sf_count_t>(static_cast<MemoryFile*>(user)->bytes.size()); }
 
 sf_count_t Seek(sf_count_t offset, int whence, void* user) {
   auto* file = static_cast<MemoryFile*>(user);
-  const auto size = static_cast<sf_count_t>(file->bytes->size());
+  const auto size = static_cast<sf_count_t>(file->bytes.size());
   const sf_count_t base = whence == SEEK_CUR ? file->position : whence == SEEK_END ? size : 0;
   if (offset > size - base || base + offset < 0) return -1;
   file->position = base + offset;
@@ -34,9 +34,9 @@ sf_count_t Seek(sf_count_t offset, int whence, void* user) {
 
 sf_count_t Read(void* destination, sf_count_t count, void* user) {
   auto* file = static_cast<MemoryFile*>(user);
-  const auto size = static_cast<sf_count_t>(file->bytes->size());
+  const auto size = static_cast<sf_count_t>(file->bytes.size());
   const sf_count_t n = std::clamp<sf_count_t>(size - file->position, 0, std::max<sf_count_t>(count, 0));
-  if (n > 0) std::memcpy(destination, file->bytes->data() + file->position, static_cast<std::size_t>(n));
+  if (n > 0) std::memcpy(destination, file->bytes.data() + file->position, static_cast<std::size_t>(n));
   file->position += n;
   return n;
 }
@@ -95,10 +95,13 @@ std::vector<float> DecodeMono(SNDFILE* file, const SF_INFO& info, const std::str
 }  // namespace
 
 AudioClip ReadAudioFile(const std::filesystem::path& path) {
-  const std::string name = path.string();
   const std::vector<std::byte> bytes = ReadInputFile(path, kMaxAudioFileBytes);
+  return DecodeAudio(bytes, path.string());
+}
+
+AudioClip DecodeAudio(std::span<const std::byte> bytes, const std::string& name) {
   if (bytes.empty()) throw IoError(IoErrorKind::kEmpty, name, "the file is empty");
-  MemoryFile memory{&bytes};
+  MemoryFile memory{bytes};
   SF_VIRTUAL_IO io{&Length, &Seek, &Read, &Write, &Tell};
   SF_INFO info{};
   std::unique_ptr<SNDFILE, SndfileCloser> file(sf_open_virtual(&io, SFM_READ, &info, &memory));

@@ -3,9 +3,11 @@
 // recordings that phoneme_alignment.h aligns to their transcripts.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace facerig {
@@ -35,6 +37,8 @@ struct AudioClip {
 // limits above, or a rate or channel count out of range), kTruncated (fewer
 // samples than the header declares), kNonFinite (NaN or Inf samples).
 AudioClip ReadAudioFile(const std::filesystem::path& path);
+// Same, from the bytes of a file; `name` is only used in error messages.
+AudioClip DecodeAudio(std::span<const std::byte> bytes, const std::string& name);
 
 // `samples` at `from_rate` Hz resampled to `to_rate` Hz (band-limited sinc
 // interpolation); the same samples when the rates are equal.
