@@ -4,6 +4,7 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/recording_alignment.h"
+#include "facerig/runtime/error.h"
 #include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/io/input_file.h"
 #include "facerig/runtime/speech/phoneme_track_file.h"
@@ -18,7 +19,11 @@ SpeechLine TrackLine(const PlayerOptions& options, std::filesystem::path* audio)
     if (track.audio_path.empty()) {
       throw std::runtime_error(options.track.string() + ": the track names no audio file; give --audio FILE");
     }
-    *audio = ResolveInsideFolder(options.track, track.audio_path, "/audio");
+    try {
+      *audio = ResolveInsideFolder(options.track, track.audio_path, "/audio");
+    } catch (const IoError& e) {
+      throw IoError(e.kind(), e.path(), e.message() + "; give the recording with --audio FILE");
+    }
   }
   return std::move(track.line);
 }

@@ -24,13 +24,16 @@ struct AlignOptions {
   std::string audio_path, text, text_file, voice = "en-us", output, report_path;
 };
 
-// The audio as the track names it: relative to the track's folder when it can be.
+// The audio as the track names it: relative to the track's folder when it is
+// inside it (readers refuse paths that leave a file's folder), else absolute
+// (for people; the player then needs --audio).
 std::string AudioPathForTrack(const std::string& audio, const std::string& track) {
   std::error_code error;
-  const std::filesystem::path absolute_audio = std::filesystem::absolute(audio, error);
-  const std::filesystem::path folder = std::filesystem::absolute(track, error).parent_path();
+  const std::filesystem::path absolute_audio = std::filesystem::weakly_canonical(audio, error);
+  const std::filesystem::path folder = std::filesystem::weakly_canonical(track, error).parent_path();
   const std::filesystem::path relative = std::filesystem::relative(absolute_audio, folder, error);
-  return error || relative.empty() ? absolute_audio.string() : relative.generic_string();
+  const bool inside = !error && !relative.empty() && *relative.begin() != "..";
+  return inside ? relative.generic_string() : absolute_audio.string();
 }
 
 nlohmann::json AlignReport(const AlignOptions& options, const AudioClip& clip, const RecordingAlignment& result) {

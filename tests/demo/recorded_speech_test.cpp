@@ -150,6 +150,10 @@ TEST_CASE("Player: a bad recording is an error naming it, and nothing is written
   options.text.clear();
   options.track = track;
   CHECK_THROWS_WITH(player::RunHeadless(rig, options, log), Catch::Matchers::Contains("names no audio"));
+  // A track naming audio outside its folder: refused, pointing to --audio.
+  WritePhonemeTrack(track, line, "../elsewhere.wav");
+  CHECK_THROWS_WITH(player::RunHeadless(rig, options, log), Catch::Matchers::Contains("--audio"));
+  CHECK_FALSE(fs::exists(options.frames_dir));
 }
 
 }  // namespace

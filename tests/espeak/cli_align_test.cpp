@@ -71,6 +71,11 @@ TEST_CASE("facerig align: writes a phoneme track of the recording, naming it", "
   const double duration = static_cast<double>(fs::file_size(wav) - 44) / 2.0 / 44100.0;
   CHECK(read.line.phonemes.back().start.count() <= duration + 1e-6);
   CHECK(read.line.phonemes.back().start.count() > 0.5 * duration);
+  // A track in another folder names the recording by its absolute path.
+  const fs::path elsewhere = test::OutputPath("align_elsewhere") / "track.json";
+  fs::create_directories(elsewhere.parent_path());
+  REQUIRE(Align({wav.string(), "--text", kSentence, "-o", elsewhere.string()}).exit_code == 0);
+  CHECK(fs::path(ReadPhonemeTrack(elsewhere).audio_path) == fs::weakly_canonical(wav));
   const nlohmann::json json = nlohmann::json::parse(ReadInputText(report));
   CHECK(json["sample_rate"] == 44100);
   CHECK(json["phonemes"] == read.line.phonemes.size());

@@ -22,9 +22,10 @@ struct PhonemeAlignmentParams {
   double band_radius_seconds = 0.6;
   double band_radius_fraction = 0.25;  // of the recording's duration
   double max_band_radius_seconds = 8.0;
-  // Memory bound: one byte per band cell (about 1e4 cells per second of audio
-  // at the defaults; a minute of audio needs ~30e6).
-  std::size_t max_cells = std::size_t{400} << 20;
+  // Memory bound: one byte per band cell. At the defaults 10 s of audio need
+  // ~0.5e6 cells, a minute ~10e6, and past 32 s (the band at its cap) each
+  // further second ~0.16e6: the default admits about 20 minutes (200 MB).
+  std::size_t max_cells = std::size_t{200} << 20;
 };
 
 struct PhonemeAlignment {
