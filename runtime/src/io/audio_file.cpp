@@ -58,9 +58,11 @@ void CheckHeader(const SF_INFO& info, const std::string& name) {
                                                        std::to_string(kMaxAudioChannels) + ")");
   }
   if (info.frames <= 0) throw IoError(IoErrorKind::kEmpty, name, "the file holds no audio samples");
-  if (static_cast<double>(info.frames) > kMaxAudioSeconds * info.samplerate) {
-    throw IoError(IoErrorKind::kAbsurdCount, name, "declares " + std::to_string(info.frames) + " samples, more than " +
-                                                       std::to_string(static_cast<int>(kMaxAudioSeconds)) + " s");
+  if (static_cast<double>(info.frames) > kMaxAudioSeconds * info.samplerate || info.frames > kMaxAudioSamples) {
+    throw IoError(IoErrorKind::kAbsurdCount, name,
+                  "declares " + std::to_string(info.frames) + " samples per channel, more than " +
+                      std::to_string(static_cast<int>(kMaxAudioSeconds)) + " s or " +
+                      std::to_string(kMaxAudioSamples) + " samples");
   }
 }
 

@@ -83,6 +83,17 @@ TEST_CASE("ReadAudioFile: bad files are IoErrors naming the file, never a crash"
   const fs::path no_samples = test::OutputPath("audio_no_samples.wav");
   test::WriteWav(no_samples, std::vector<std::int16_t>{}, 22050);
   CHECK(ReadErrorKind(no_samples) == IoErrorKind::kEmpty);
+  // A data chunk that claims 4 GB in a file of a few bytes.
+  std::string lying = test::WavBytes(std::vector<std::int16_t>(10, 3), 8000);
+  lying[40] = lying[41] = lying[42] = lying[43] = '\xF0';
+  const fs::path lying_path = test::OutputPath("audio_lying.wav");
+  WriteBytes(lying_path, lying);
+  try {
+    const std::size_t read = ReadAudioFile(lying_path).samples.size();
+    CHECK(read <= 10);
+  } catch (const IoError& e) {
+    CHECK_THAT(e.what(), Contains(lying_path.string()));
+  }
   // Every prefix of a valid file: an error or fewer samples, never a crash.
   const std::string whole = test::WavBytes(std::vector<std::int16_t>(100, 7), 8000);
   const fs::path cut = test::OutputPath("audio_cut.wav");

@@ -12,10 +12,13 @@
 
 namespace facerig {
 
-// Longest recording read, and the largest file: beyond these the file is
-// refused (IoErrorKind::kAbsurdCount) before its samples are decoded.
-inline constexpr double kMaxAudioSeconds = 3.0 * 3600.0;
-inline constexpr std::uint64_t kMaxAudioFileBytes = std::uint64_t{2} << 30;
+// Longest recording read (an hour; alignment itself stops near 20 minutes),
+// most samples per channel (an hour at 48 kHz: 700 MB as floats) and the
+// largest file: beyond these the file is refused (IoErrorKind::kAbsurdCount)
+// before its samples are decoded.
+inline constexpr double kMaxAudioSeconds = 3600.0;
+inline constexpr std::int64_t kMaxAudioSamples = std::int64_t{3600} * 48'000;
+inline constexpr std::uint64_t kMaxAudioFileBytes = std::uint64_t{1} << 30;
 inline constexpr int kMaxAudioSampleRate = 768'000;
 inline constexpr int kMaxAudioChannels = 256;
 
