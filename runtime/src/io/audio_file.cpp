@@ -67,12 +67,14 @@ void CheckHeader(const SF_INFO& info, const std::string& name) {
 }
 
 // Decodes block by block and averages the channels.
-std::vector<float> DecodeMono(SNDFILE* file, const SF_INFO& info, const std::string& name) {
+std::vector<float> DecodeMono(SNDFILE* file, const SF_INFO& info, std::size_t file_bytes, const std::string& name) {
   constexpr sf_count_t kBlockFrames = 4096;
   const auto channels = static_cast<std::size_t>(info.channels);
   std::vector<float> block(static_cast<std::size_t>(kBlockFrames) * channels);
   std::vector<float> mono;
-  mono.reserve(static_cast<std::size_t>(info.frames));
+  // Reserved by what the file's size can hold, not what its header claims;
+  // compressed audio grows the vector as it decodes.
+  mono.reserve(std::min(static_cast<std::size_t>(info.frames), file_bytes));
   while (static_cast<sf_count_t>(mono.size()) < info.frames) {
     const sf_count_t wanted = std::min(kBlockFrames, info.frames - static_cast<sf_count_t>(mono.size()));
     const sf_count_t got = sf_readf_float(file, block.data(), wanted);
@@ -117,7 +119,7 @@ AudioClip DecodeAudio(std::span<const std::byte> bytes, const std::string& name)
   AudioClip clip;
   clip.sample_rate = info.samplerate;
   clip.channels_in_file = info.channels;
-  clip.samples = DecodeMono(file.get(), info, name);
+  clip.samples = DecodeMono(file.get(), info, bytes.size(), name);
   return clip;
 }
 
