@@ -13,6 +13,7 @@
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "hud.h"
 #include "output_set.h"
+#include "recorded_speech.h"
 
 namespace facerig::player {
 namespace {
@@ -180,7 +181,9 @@ void RenderAndWrite(const Rig& rig, const PlayerOptions& options, const Temporar
 
 HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::ostream& log) {
   HeadlessResult result;
-  if (!options.say.empty()) {
+  if (WantsRecordedSpeech(options)) {
+    result.speech = LoadRecordedSpeech(options, 0);  // the WAV keeps the recording's rate
+  } else if (!options.say.empty()) {
     EspeakPhonemeSource source;
     result.speech = source.Synthesize(options.say, options.voice);
   }

@@ -23,7 +23,7 @@ namespace facerig::player {
 struct HeadlessResult {
   std::string gl_description;
   std::vector<std::filesystem::path> frames;  // frame i at time i / fps
-  SpeechLine speech;                          // what was said (audio and phonemes); empty without --say
+  SpeechLine speech;                          // what was said (audio and phonemes); empty without --say or --audio
   double speech_start = 0.0;                  // animation time of the speech's first sample (lead-in)
   std::vector<float> lip_aperture;            // per frame, rig units (FaceAnimator::LipAperture)
   bool has_mouth = false;
@@ -39,7 +39,8 @@ struct HeadlessResult {
 using facerig::InstallStopSignalHandlers;
 using facerig::Interrupted;
 
-// Synthesizes options.say (espeak-ng; SpeechError on a bad voice), renders
+// Synthesizes options.say (espeak-ng; SpeechError on a bad voice), or reads
+// the recording of --audio / --track (recorded_speech.h), renders
 // the frames into options.frames_dir, writes options.wav / .mp4 / .timing_json.
 // The outputs are one set (OutputSet): written under temporary names and put in
 // place together at the end (the frames folder is replaced, not merged); on any

@@ -27,6 +27,7 @@ std::string UsageText() {
 
 usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]... [--still]
                       [--timing FILE.json]
+       facerig-player --audio FILE --text TEXT [--voice V] ... | --track FILE.json [--audio FILE] ...
        facerig-player [--quit-after S] [--screenshot FILE.png]
        facerig-player --headless --frames DIR [--wav FILE] [--mp4 FILE] [--fps 30]
                       [--size WxH] [--duration S] [--lead-in S] [--say TEXT] [--hud] ...
@@ -37,6 +38,10 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
                    ../share/facerig/, or the build's, else ../shared/data/ict-facekit)
   --say TEXT       speak TEXT at start
   --voice V        espeak-ng voice / language (default en-us)
+  --audio FILE     speak a recording (WAV, FLAC, Ogg, ...) instead of synthesized text, with
+                   --text TEXT, its transcript (aligned at start; --voice: its language), or
+                   --track FILE.json, its phoneme track (e.g. from `facerig align`; the
+                   track's "audio" is used when --audio is not given)
   --emotion E[:I]  joy, sadness, fear, anger, surprise or disgust at intensity I (default 0.7)
   --still          no idle head motion or eye saccades (blinks stay)
   --msaa N         anti-aliasing samples: 0, 2, 4 (default) or 8
@@ -93,6 +98,9 @@ void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::st
   app.add_option("--rig", options.rig);
   app.add_option("--say", options.say);
   app.add_option("--voice", options.voice);
+  app.add_option("--audio", options.audio);
+  app.add_option("--text", options.text);
+  app.add_option("--track", options.track);
   app.add_option("--emotion", emotions)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_flag("--still", options.still);
   app.add_flag("--hud", options.hud);
@@ -108,6 +116,17 @@ void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::st
   app.add_option("--screenshot", options.screenshot);
   app.add_option("--lead-in", options.lead_in)->check(CLI::Range(0.0, 60.0));
   app.add_option("--size", size);
+}
+
+// --audio, --text and --track: a recording with its transcript or its track.
+void CheckRecordingOptions(const PlayerOptions& options) {
+  const bool recording = !options.audio.empty() || !options.track.empty();
+  if (recording && !options.say.empty()) throw UsageError("--say speaks synthesized text: not with --audio or --track");
+  if (!options.text.empty() && options.audio.empty()) throw UsageError("--text is the transcript of --audio FILE");
+  if (!options.text.empty() && !options.track.empty()) throw UsageError("--text and --track: give one of them");
+  if (!options.audio.empty() && options.text.empty() && options.track.empty()) {
+    throw UsageError("--audio needs its transcript (--text TEXT) or its phoneme track (--track FILE)");
+  }
 }
 
 }  // namespace
@@ -132,6 +151,7 @@ PlayerOptions ParseOptions(const std::vector<std::string>& args) {
   if (options.headless && options.frames_dir.empty() && !options.help) {
     throw UsageError("--headless needs --frames DIR");
   }
+  CheckRecordingOptions(options);
   if (!options.headless && (!options.frames_dir.empty() || !options.wav.empty() || !options.mp4.empty())) {
     throw UsageError("--frames, --wav and --mp4 need --headless");
   }

@@ -22,6 +22,12 @@ struct PlayerOptions {
   std::filesystem::path rig;  // empty: DefaultRigPath()
   std::string say;            // spoken at start
   std::string voice = "en-us";
+  // A recording to speak instead of synthesized text: --audio with its
+  // transcript (--text, aligned at start) or with --track (a phoneme track;
+  // --audio may then be left out when the track names its audio).
+  std::filesystem::path audio;
+  std::string text;
+  std::filesystem::path track;
   std::vector<std::pair<Emotion, float>> emotions;  // --emotion joy[:0.8]
   bool still = false;         // no idle head motion or saccades (blinks stay)
   bool hud = false;           // headless: draw the HUD into the frames (always on in the window)

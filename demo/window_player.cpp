@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include <SDL.h>
 #include <epoxy/gl.h>
@@ -18,6 +20,7 @@
 #include "frame_timing.h"
 #include "hud.h"
 #include "media_writer.h"
+#include "recorded_speech.h"
 #include "speech_worker.h"
 
 namespace facerig::player {
@@ -197,6 +200,9 @@ class WindowLoop {
   // Until the window closes, Esc or --quit-after; the last frame drawn is the screenshot.
   void Run();
 
+  // Plays `line` (a recording with its phonemes) once the loop runs.
+  void SpeakRecording(SpeechLine line);
+
   const FrameTimer& timer() const { return timer_; }
   // Read back only with --screenshot (width 0 otherwise).
   const Image& screenshot() const { return screenshot_; }
@@ -223,6 +229,7 @@ class WindowLoop {
   Hud hud_;
   FrameTimer timer_;
   SpeechWorker worker_;
+  std::optional<SpeechResult> recorded_;  // --audio / --track: played on the first frame
   TextLine line_;
   std::string message_;
   bool paused_ = false, dragging_ = false, swallow_text_ = false, running_ = true;
@@ -249,6 +256,10 @@ WindowLoop::WindowLoop(const Rig& rig, const PlayerOptions& options, SDL_Window*
                ": type a line, Enter speaks it. Empty line: 1-6 emotions, +/- intensity, space pause") {
   for (const std::string& problem : renderer_.problems()) std::cerr << "warning: " << problem << '\n';
   if (!options.say.empty()) worker_.Request(options.say, options.voice);
+}
+
+void WindowLoop::SpeakRecording(SpeechLine line) {
+  recorded_ = SpeechResult{line.text, std::move(line), {}};
 }
 
 void WindowLoop::Run() {
@@ -357,7 +368,7 @@ void WindowLoop::TogglePause() {
 
 // A synthesized line: play it and schedule the mouth at the time its first sample is heard.
 void WindowLoop::PlayFinishedSpeech() {
-  std::optional<SpeechResult> result = worker_.Poll();
+  std::optional<SpeechResult> result = recorded_ ? std::exchange(recorded_, std::nullopt) : worker_.Poll();
   if (!result) return;
   if (!result->error.empty()) {
     message_ = "speech error: " + result->error;
@@ -430,12 +441,16 @@ std::string WindowFailedMessage(const std::string& reason) {
 }
 
 int RunWindow(const Rig& rig, const std::string& rig_name, const PlayerOptions& options) {
+  // Before the window: a bad recording or track fails at once.
+  std::optional<SpeechLine> recording;
+  if (WantsRecordedSpeech(options)) recording = LoadRecordedSpeech(options, EspeakPhonemeSource::kSampleRate);
   SdlWindow sdl;  // SDL_Quit on every return
   if (!OpenWindow(rig_name, options, &sdl)) return 1;
   AudioClock clock;
   AudioOutput audio;
   OpenAudioOrWallClock(&audio, &clock);
   WindowLoop loop(rig, options, sdl.window, audio, clock);
+  if (recording) loop.SpeakRecording(std::move(*recording));
   loop.Run();
   WriteScreenshot(options, loop.screenshot());
   ReportTiming(loop.timer(), rig, rig_name, options);

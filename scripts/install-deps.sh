@@ -14,6 +14,10 @@ packages=(
   libcli11-dev                                     # tools: one option parser (facerig, facerig-bench, player)
   libopencv-dev libdlib-dev libdlib-data           # offline: rasterizer PNGs, default-head face test
   libespeak-ng-dev espeak-ng-data                  # facerig::espeak (phoneme source)
+  # runtime_io: recordings to align (WAV/FLAC/Ogg... via libsndfile, LGPL-2.1)
+  # brought to the reference's sample rate (libsamplerate, BSD-2)
+  libsndfile1-dev libsamplerate0-dev
+  pocketsphinx-testdata                            # facerig-bench align: recorded English with transcripts
   # facerig-player: SDL2 window + audio; libepoxy loads GL for GLX/SDL and EGL
   # contexts alike, so the windowed and headless paths share one loader;
   # EGL + Mesa (llvmpipe) render headless without a display or GPU.

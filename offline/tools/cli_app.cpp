@@ -18,6 +18,9 @@ int RunFacerig(int argc, char** argv) {
   AddCaricatureCommand(app, body);
   AddMorphCommand(app, body);
   AddDefaultHeadCommand(app, body);
+#ifdef FACERIG_CLI_ALIGN
+  AddAlignCommand(app, body);
+#endif
   app.footer("Run 'facerig COMMAND --help' for a command's options. Exit codes: 0 ok, 1 failure, 2 bad command line.");
   if (const std::optional<int> exit_code = ParseSubcommandLine(app, argc, argv)) return *exit_code;
   return body();

@@ -46,4 +46,9 @@ void AddConvertCommand(CLI::App& facerig, CommandBody& body);
 // `default-head`: OUT_DIR [--preview DIR [--preview-size PX]] [--json REPORT].
 void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body);
 
+// --- cli_align.cpp (only with facerig::espeak: FACERIG_CLI_ALIGN) ---
+// `align`: AUDIO (--text "..." | --text-file F) [--voice V] -o TRACK.json
+// [--json REPORT]: the transcript's phonemes timed on the recording.
+void AddAlignCommand(CLI::App& facerig, CommandBody& body);
+
 }  // namespace facerig::cli

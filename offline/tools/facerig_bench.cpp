@@ -12,6 +12,7 @@
 #include "bench_transfer.h"
 #include "cli_options.h"
 #if FACERIG_BENCH_LIPSYNC
+#include "bench_align.h"
 #include "bench_crowd.h"
 #include "bench_lipsync.h"
 #endif
@@ -37,6 +38,8 @@ const std::vector<Entry>& Benchmarks() {
 #if FACERIG_BENCH_LIPSYNC
       {"lipsync", "closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)", RunLipsyncBenchmark},
       {"crowd", "N characters' update + blend per 60 fps frame on one core (needs espeak-ng)", RunCrowdBenchmark},
+      {"align", "recording-to-transcript alignment against exact truth, per voice (needs espeak-ng)",
+       RunAlignBenchmark},
 #endif
   };
   return benchmarks;

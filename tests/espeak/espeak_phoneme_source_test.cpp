@@ -327,6 +327,27 @@ TEST_CASE("espeak: unknown voice error lists the available voices", "[espeak]") 
   CHECK_FALSE(source.Synthesize("hello", "EN_US").phonemes.empty());
 }
 
+TEST_CASE("espeak: a voice variant and pitch change the sound, not the phonemes", "[espeak]") {
+  const std::string text = "My mother made maple muffins.";
+  const SpeechLine plain = EspeakPhonemeSource().Synthesize(text, "en-us");
+  EspeakOptions options;
+  options.pitch = 80;
+  options.variant = "f3";
+  EspeakPhonemeSource female(options);
+  const SpeechLine other = female.Synthesize(text, "en-us");
+  CheckLine(other);
+  CHECK(Symbols(other) == Symbols(plain));
+  CHECK(other.audio != plain.audio);
+  options.variant = "no-such-variant";
+  EspeakPhonemeSource missing(options);
+  CHECK_THROWS_WITH(missing.Synthesize(text, "en-us"), Contains("en-us+no-such-variant"));
+  options.variant = "../f3";
+  EspeakPhonemeSource escaping(options);
+  CHECK_THROWS_AS(escaping.Synthesize(text, "en-us"), SpeechError);
+  // The engine is left usable with the plain voice.
+  CHECK(Symbols(EspeakPhonemeSource().Synthesize(text, "en-us")) == Symbols(plain));
+}
+
 TEST_CASE("espeak: bad input is safe", "[espeak]") {
   EspeakPhonemeSource source;
   SECTION("empty and blank text give an empty line") {
@@ -451,7 +472,7 @@ TEST_CASE("espeak: a missing data folder is a clear error, never an exit", "[esp
   const fs::path missing = test::OutputPath("no_such_espeak_data");
   fs::remove_all(missing);
   try {
-    EspeakPhonemeSource source(EspeakOptions{missing.string(), 175});
+    EspeakPhonemeSource source(EspeakOptions{missing.string(), 175, 50, {}});
     FAIL("no error");
   } catch (const SpeechError& e) {
     CHECK_THAT(e.what(), Contains(missing.string()));
@@ -461,7 +482,7 @@ TEST_CASE("espeak: a missing data folder is a clear error, never an exit", "[esp
   const fs::path empty = test::OutputPath("empty_espeak_data");
   fs::create_directories(empty / "espeak-ng-data");
   try {
-    EspeakPhonemeSource source(EspeakOptions{empty.string(), 175});
+    EspeakPhonemeSource source(EspeakOptions{empty.string(), 175, 50, {}});
     FAIL("no error");
   } catch (const SpeechError& e) {
     CHECK_THAT(e.what(), Contains(empty.string()));

@@ -208,9 +208,21 @@ class Engine {
     initialized_ = true;
   }
 
-  // Worker thread only; after Initialize.
-  void Synthesize(const std::string& text, const std::string& voice, int rate_wpm,
-                  SpeechStreamReceiver& receiver) {
+  // Worker thread only. A voice "xx" with a variant is loaded as "xx+variant";
+  // espeak-ng silently ignores a variant it cannot find, so its file is checked first.
+  void SetVoice(const std::string& voice, const std::string& variant) {
+    if (!variant.empty()) {
+      const std::string name = voice + "+" + variant;
+      std::error_code error;
+      const bool exists = variant.find_first_of("+/\\") == std::string::npos && variant != ".." &&
+                          std::filesystem::is_regular_file(
+                              std::filesystem::path(data_path_) / "voices" / "!v" / variant, error);
+      if (!exists || espeak_SetVoiceByName(name.c_str()) != EE_OK) {
+        throw SpeechError("espeak-ng has no voice variant \"" + variant + "\" (in " + data_path_ +
+                          "/voices/!v) for \"" + name + "\"");
+      }
+      return;
+    }
     if (espeak_SetVoiceByName(voice.c_str()) != EE_OK) {
       espeak_VOICE spec{};
       spec.languages = voice.c_str();
@@ -218,8 +230,15 @@ class Engine {
         throw SpeechError("espeak-ng could not load the voice \"" + voice + "\"");
       }
     }
-    espeak_SetParameter(espeakRATE, std::clamp(rate_wpm, espeakRATE_MINIMUM, espeakRATE_MAXIMUM),
+  }
+
+  // Worker thread only; after Initialize.
+  void Synthesize(const std::string& text, const std::string& voice, const EspeakOptions& options,
+                  SpeechStreamReceiver& receiver) {
+    SetVoice(voice, options.variant);
+    espeak_SetParameter(espeakRATE, std::clamp(options.rate_wpm, espeakRATE_MINIMUM, espeakRATE_MAXIMUM),
                         0);
+    espeak_SetParameter(espeakPITCH, std::clamp(options.pitch, 0, 100), 0);
     receiver.OnStart(EspeakPhonemeSource::kSampleRate);
     if (text.find_first_not_of(" \t\n") == std::string::npos) {
       receiver.OnEnd();
@@ -411,7 +430,7 @@ SpeechLine EspeakPhonemeSource::Synthesize(std::string_view text, std::string_vi
   line.text = std::string(text);
   line.language.assign(name);
   LineBuilder builder(line);
-  engine.Run([&] { engine.Synthesize(sanitized, name, options_.rate_wpm, builder); });
+  engine.Run([&] { engine.Synthesize(sanitized, name, options_, builder); });
   return line;
 }
 
@@ -420,7 +439,7 @@ void EspeakPhonemeSource::SynthesizeStreaming(std::string_view text, std::string
   Engine& engine = Engine::Instance();
   const std::string name = CheckVoice(voice, voices_);
   std::string sanitized = CheckText(text);
-  engine.Run([&] { engine.Synthesize(sanitized, name, options_.rate_wpm, receiver); });
+  engine.Run([&] { engine.Synthesize(sanitized, name, options_, receiver); });
 }
 
 std::vector<std::string> EspeakPhonemeSource::Voices() const { return voices_; }

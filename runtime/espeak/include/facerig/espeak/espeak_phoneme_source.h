@@ -33,6 +33,12 @@ struct EspeakOptions {
   std::string data_path;
   // Speaking rate in words per minute (espeak-ng accepts 80..450).
   int rate_wpm = 175;
+  // Base pitch, 0..100 (espeak-ng's default 50).
+  int pitch = 50;
+  // An espeak-ng voice variant (a file in espeak-ng-data/voices/!v, e.g. "f3",
+  // "m2", "klatt"): another speaker for the same language and phonemes. Empty:
+  // the language's own voice. An unknown variant gives a SpeechError.
+  std::string variant;
 };
 
 class EspeakPhonemeSource final : public PhonemeSource {

@@ -1,0 +1,264 @@
+#include "bench_align.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench_common.h"
+#include "bench_json.h"
+#include "facerig/espeak/espeak_phoneme_source.h"
+#include "facerig/offline/recording_alignment.h"
+#include "facerig/runtime/io/audio_file.h"
+#include "facerig/runtime/io/input_file.h"
+#include "facerig/runtime/speech/phoneme_visemes.h"
+#include "support/alignment_scoring.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct AlignBenchOptions {
+  std::string corpus_dir = FACERIG_DEFAULT_CORPUS_DIR;
+  std::vector<std::string> voices = {"en-us", "en", "pt-br", "pt", "es", "fr", "de",
+                                     "it",    "fi", "nl",    "pl", "ru", "hi", "cmn"};
+  std::size_t max_lines = 200;
+  int recording_rate = 175, recording_pitch = 50;
+  std::string recording_variant;
+  int reference_rate = 140, reference_pitch = 75;
+  std::string reference_variant = "f3";
+  std::string json_path;
+  // Real speech with transcripts (Debian pocketsphinx-testdata): `transcription` lines
+  // "<s> words </s> (id)" beside id.wav.
+  std::string recordings_dir = "/usr/share/pocketsphinx/test/data/librivox";
+};
+
+void AddAlignBenchOptions(CLI::App& app, AlignBenchOptions& o) {
+  app.add_option("--corpus", o.corpus_dir, "folder of <voice>.txt, a sentence per line (en.txt for en-us and en)");
+  facerig::cli::AddCommaListOption(app, "--voices", o.voices, "espeak-ng voices (default: the 14 supported)");
+  app.add_option("--lines", o.max_lines, "at most N sentences per voice (default 200)");
+  app.add_option("--recording-rate", o.recording_rate, "words per minute of the 'recording' (default 175)");
+  app.add_option("--recording-pitch", o.recording_pitch, "its pitch 0..100 (default 50)");
+  app.add_option("--recording-variant", o.recording_variant, "its espeak-ng variant (default none)");
+  app.add_option("--reference-rate", o.reference_rate, "words per minute of the aligned reference (default 140)");
+  app.add_option("--reference-pitch", o.reference_pitch, "its pitch (default 75)");
+  app.add_option("--reference-variant", o.reference_variant, "its variant (default f3)");
+  app.add_option("--json", o.json_path, "write the results as JSON");
+  app.add_option("--recordings", o.recordings_dir,
+                 "folder of real recordings: a 'transcription' file (pocketsphinx format) beside ID.wav "
+                 "(default: pocketsphinx-testdata's librivox; skipped when missing)");
+}
+
+std::vector<std::string> CorpusLines(const AlignBenchOptions& options, const std::string& voice) {
+  fs::path file = fs::path(options.corpus_dir) / (voice + ".txt");
+  if (!fs::exists(file)) file = fs::path(options.corpus_dir) / "en.txt";
+  std::istringstream in(facerig::ReadInputText(file, std::uint64_t{16} << 20));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line) && lines.size() < options.max_lines;) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty()) lines.push_back(line);
+  }
+  return lines;
+}
+
+facerig::EspeakOptions SourceOptions(int rate, int pitch, const std::string& variant) {
+  facerig::EspeakOptions options;
+  options.rate_wpm = rate;
+  options.pitch = pitch;
+  options.variant = variant;
+  return options;
+}
+
+struct VoiceResult {
+  std::size_t sentences = 0, mismatched = 0, bilabials = 0, bilabials_kept = 0;
+  std::vector<double> errors;
+  double audio_seconds = 0.0, align_seconds = 0.0;
+};
+
+VoiceResult MeasureVoice(const AlignBenchOptions& options, const std::string& voice,
+                         facerig::PhonemeSource& recorder, facerig::PhonemeSource& aligner) {
+  VoiceResult result;
+  for (const std::string& sentence : CorpusLines(options, voice)) {
+    const facerig::SpeechLine truth = recorder.Synthesize(sentence, voice);
+    facerig::AudioClip clip;
+    clip.sample_rate = truth.sample_rate;
+    clip.samples = facerig::PcmToFloat(truth.audio);
+    const facerig::RecordingAlignment aligned = facerig::AlignRecording(aligner, clip, sentence, voice);
+    const facerig::test::AlignmentScore score = facerig::test::ScoreAlignment(truth, aligned.alignment.line);
+    ++result.sentences;
+    if (!score.same_phonemes) {
+      ++result.mismatched;  // the two renditions chose different phonemes: no exact truth
+      continue;
+    }
+    result.errors.insert(result.errors.end(), score.boundary_errors.begin(), score.boundary_errors.end());
+    result.bilabials += score.bilabials;
+    result.bilabials_kept += score.bilabials_kept;
+    result.audio_seconds += truth.audio_duration().count();
+    result.align_seconds += aligned.seconds;
+  }
+  return result;
+}
+
+nlohmann::json VoiceJson(const VoiceResult& r) {
+  using facerig::test::Quantile;
+  return {{"sentences", r.sentences},
+          {"mismatched_sentences", r.mismatched},
+          {"boundaries", r.errors.size()},
+          {"median_ms", 1000.0 * Quantile(r.errors, 0.5)},
+          {"p90_ms", 1000.0 * Quantile(r.errors, 0.9)},
+          {"max_ms", 1000.0 * Quantile(r.errors, 1.0)},
+          {"bilabials", r.bilabials},
+          {"bilabials_kept", r.bilabials_kept},
+          {"audio_seconds", r.audio_seconds},
+          {"ms_per_audio_second", r.audio_seconds > 0.0 ? 1000.0 * r.align_seconds / r.audio_seconds : 0.0}};
+}
+
+// --- real speech: no exact truth; the time per second of audio and whether
+// each /p b m/ mouth closure overlaps the quietest 30 ms around it ---
+
+struct Recording {
+  std::string text;
+  fs::path wav;
+};
+
+std::vector<Recording> ReadTranscription(const fs::path& folder) {
+  std::vector<Recording> recordings;
+  std::istringstream in(facerig::ReadInputText(folder / "transcription", std::uint64_t{1} << 20));
+  for (std::string line; std::getline(in, line);) {
+    const std::size_t open = line.rfind('('), close = line.rfind(')');
+    if (open == std::string::npos || close == std::string::npos || close < open) continue;
+    std::string text = line.substr(0, open);
+    for (const char* tag : {"<s>", "</s>"}) {
+      for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag)) text.erase(at, std::string(tag).size());
+    }
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    recordings.push_back({text, folder / (line.substr(open + 1, close - open - 1) + ".wav")});
+  }
+  return recordings;
+}
+
+// Log energy of 30 ms windows every 5 ms.
+std::vector<double> EnergyEnvelope(const facerig::AudioClip& clip, double* hop_seconds) {
+  *hop_seconds = 0.005;
+  const auto hop = static_cast<std::size_t>(clip.sample_rate * *hop_seconds);
+  const auto window = 6 * hop;
+  std::vector<double> energy;
+  for (std::size_t start = 0; start + window <= clip.samples.size(); start += hop) {
+    double sum = 0.0;
+    for (std::size_t i = start; i < start + window; ++i) sum += static_cast<double>(clip.samples[i]) * clip.samples[i];
+    energy.push_back(std::log(sum / static_cast<double>(window) + 1e-12));
+  }
+  return energy;
+}
+
+// Whether the mouth's closure for `p` (shifted by `shift` seconds) overlaps
+// the quietest 30 ms within 120 ms of the phoneme's start.
+bool ClosureOverlaps(const facerig::Phoneme& p, const facerig::PhonemeVisemes& visemes,
+                     const std::vector<double>& energy, double hop, double shift) {
+  const double start = p.start.count() + shift;
+  const double mouth_start = start - (visemes.has(facerig::PhonemeVisemes::kUnvoicedStop) ? 0.045 : 0.0);
+  const double mouth_end = start + std::max(p.duration.count(), 0.030);
+  const auto first = static_cast<std::ptrdiff_t>(std::floor((start - 0.120) / hop));
+  const auto last = static_cast<std::ptrdiff_t>(std::ceil((start + 0.120) / hop));
+  std::ptrdiff_t quietest = -1;
+  for (std::ptrdiff_t i = std::max<std::ptrdiff_t>(first, 0); i <= last && i < static_cast<std::ptrdiff_t>(energy.size()); ++i) {
+    if (quietest < 0 || energy[static_cast<std::size_t>(i)] < energy[static_cast<std::size_t>(quietest)]) quietest = i;
+  }
+  if (quietest < 0) return false;
+  const double gap_start = static_cast<double>(quietest) * hop, gap_end = gap_start + 0.030;
+  return mouth_start < gap_end && gap_start < mouth_end;
+}
+
+nlohmann::json MeasureRecordings(const AlignBenchOptions& options) {
+  if (!fs::exists(fs::path(options.recordings_dir) / "transcription")) return nullptr;
+  facerig::EspeakPhonemeSource source;  // the default voice and rate
+  std::size_t bilabials = 0, overlapping = 0, overlapping_shifted = 0;
+  double audio_seconds = 0.0, align_seconds = 0.0;
+  const std::vector<Recording> recordings = ReadTranscription(options.recordings_dir);
+  for (const Recording& recording : recordings) {
+    const facerig::AudioClip clip = facerig::ReadAudioFile(recording.wav);
+    const facerig::RecordingAlignment result = facerig::AlignRecording(source, clip, recording.text, "en-us");
+    audio_seconds += clip.duration_seconds();
+    align_seconds += result.seconds;
+    double hop = 0.0;
+    const std::vector<double> energy = EnergyEnvelope(clip, &hop);
+    for (const facerig::Phoneme& p : result.alignment.line.phonemes) {
+      const auto visemes = facerig::LookupPhonemeVisemes("en-us", p.symbol.view());
+      if (!visemes || visemes->count == 0 || visemes->visemes[0] != facerig::Viseme::kPP) continue;
+      ++bilabials;
+      overlapping += ClosureOverlaps(p, *visemes, energy, hop, 0.0);
+      overlapping_shifted += ClosureOverlaps(p, *visemes, energy, hop, 0.150);
+    }
+  }
+  const double ms_per_second = audio_seconds > 0.0 ? 1000.0 * align_seconds / audio_seconds : 0.0;
+  const auto share = [&](std::size_t n) { return bilabials > 0 ? static_cast<double>(n) / static_cast<double>(bilabials) : 0.0; };
+  std::printf("\nreal speech (%s): %zu recordings, %.1f s, %.1f ms per second of audio; /p b m/ closure over the "
+              "quietest 30 ms near it: %zu / %zu (%.0f%%; the same track 150 ms late: %.0f%%)\n",
+              options.recordings_dir.c_str(), recordings.size(), audio_seconds, ms_per_second, overlapping, bilabials,
+              100.0 * share(overlapping), 100.0 * share(overlapping_shifted));
+  return {{"folder", options.recordings_dir},      {"recordings", recordings.size()},
+          {"audio_seconds", audio_seconds},        {"ms_per_audio_second", ms_per_second},
+          {"bilabials", bilabials},                {"closure_overlap_share", share(overlapping)},
+          {"closure_overlap_share_150ms_late", share(overlapping_shifted)}};
+}
+
+int RunAlign(const AlignBenchOptions& options) {
+  try {
+    facerig::EspeakPhonemeSource recorder(
+        SourceOptions(options.recording_rate, options.recording_pitch, options.recording_variant));
+    facerig::EspeakPhonemeSource aligner(
+        SourceOptions(options.reference_rate, options.reference_pitch, options.reference_variant));
+    std::printf("align: recording %d wpm pitch %d variant '%s'; reference %d wpm pitch %d variant '%s'\n\n",
+                options.recording_rate, options.recording_pitch, options.recording_variant.c_str(),
+                options.reference_rate, options.reference_pitch, options.reference_variant.c_str());
+    std::printf("| voice | sentences | boundaries | median | p90 | max | /p b m/ kept | ms per s of audio |\n");
+    std::printf("|---|---|---|---|---|---|---|---|\n");
+    nlohmann::json voices = nlohmann::json::object();
+    VoiceResult all;
+    for (const std::string& voice : options.voices) {
+      const VoiceResult r = MeasureVoice(options, voice, recorder, aligner);
+      const nlohmann::json j = VoiceJson(r);
+      std::printf("| %s | %zu (%zu mismatched) | %zu | %.1f ms | %.1f ms | %.0f ms | %zu / %zu | %.1f |\n",
+                  voice.c_str(), r.sentences, r.mismatched, r.errors.size(), j["median_ms"].get<double>(),
+                  j["p90_ms"].get<double>(), j["max_ms"].get<double>(), r.bilabials_kept, r.bilabials,
+                  j["ms_per_audio_second"].get<double>());
+      voices[voice] = j;
+      all.sentences += r.sentences;
+      all.mismatched += r.mismatched;
+      all.bilabials += r.bilabials;
+      all.bilabials_kept += r.bilabials_kept;
+      all.errors.insert(all.errors.end(), r.errors.begin(), r.errors.end());
+      all.audio_seconds += r.audio_seconds;
+      all.align_seconds += r.align_seconds;
+    }
+    const nlohmann::json total = VoiceJson(all);
+    std::printf("| all | %zu (%zu mismatched) | %zu | %.1f ms | %.1f ms | %.0f ms | %zu / %zu | %.1f |\n",
+                all.sentences, all.mismatched, all.errors.size(), total["median_ms"].get<double>(),
+                total["p90_ms"].get<double>(), total["max_ms"].get<double>(), all.bilabials_kept, all.bilabials,
+                total["ms_per_audio_second"].get<double>());
+    const nlohmann::json report = {
+        {"recording", {{"rate_wpm", options.recording_rate}, {"pitch", options.recording_pitch},
+                       {"variant", options.recording_variant}}},
+        {"reference", {{"rate_wpm", options.reference_rate}, {"pitch", options.reference_pitch},
+                       {"variant", options.reference_variant}}},
+        {"note", "ms_per_audio_second includes synthesizing the reference"},
+        {"voices", voices},
+        {"all", total},
+        {"real_speech", MeasureRecordings(options)}};
+    return WriteBenchJson(options.json_path, report);
+  } catch (const std::exception& error) {
+    return ReportBenchFailure(error);
+  }
+}
+
+}  // namespace
+
+int RunAlignBenchmark(int argc, char** argv) {
+  return ParseAndRunBench<AlignBenchOptions>(argc, argv, "alignment of recordings to transcripts against exact truth",
+                                             "facerig-bench align", AddAlignBenchOptions, RunAlign);
+}

@@ -1,0 +1,13 @@
+// In-place radix-2 FFT for the audio features (audio_features.cpp): the
+// runtime core has no FFT library, and a few hundred points per frame need no more.
+#pragma once
+
+#include <complex>
+#include <span>
+
+namespace facerig::detail {
+
+// Forward transform of `values`, whose size must be a power of two.
+void FftInPlace(std::span<std::complex<float>> values);
+
+}  // namespace facerig::detail
