@@ -8,9 +8,9 @@
 #include <string>
 #include <system_error>
 
-#include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "cli_report.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/recording_alignment.h"
 #include "facerig/runtime/io/audio_file.h"
@@ -36,18 +36,21 @@ std::string AudioPathForTrack(const std::string& audio, const std::string& track
   return inside ? relative.generic_string() : absolute_audio.string();
 }
 
-nlohmann::json AlignReport(const AlignOptions& options, const AudioClip& clip, const RecordingAlignment& result) {
+CommandReport AlignReport(const AlignOptions& options, const AudioClip& clip, const RecordingAlignment& result) {
   const double audio_seconds = clip.duration_seconds();
-  return {{"audio", options.audio_path},
-          {"audio_seconds", audio_seconds},
-          {"sample_rate", clip.sample_rate},
-          {"channels", clip.channels_in_file},
-          {"voice", options.voice},
-          {"phonemes", result.alignment.line.phonemes.size()},
-          {"reference_seconds", result.reference.audio_duration().count()},
-          {"path_cost", result.alignment.cost},
-          {"seconds", result.seconds},
-          {"ms_per_audio_second", audio_seconds > 0.0 ? 1000.0 * result.seconds / audio_seconds : 0.0}};
+  CommandReport report{"align",
+                       {{"audio", options.audio_path}, {"text_file", options.text_file}},
+                       {{"track", options.output}}};
+  report.timings = {{"align", result.seconds}, {"total", result.seconds}};
+  report.result = {{"audio_seconds", audio_seconds},
+                   {"sample_rate", clip.sample_rate},
+                   {"channels", clip.channels_in_file},
+                   {"voice", options.voice},
+                   {"phonemes", result.alignment.line.phonemes.size()},
+                   {"reference_seconds", result.reference.audio_duration().count()},
+                   {"path_cost", result.alignment.cost},
+                   {"ms_per_audio_second", audio_seconds > 0.0 ? 1000.0 * result.seconds / audio_seconds : 0.0}};
+  return report;
 }
 
 int RunAlign(const AlignOptions& options) {
@@ -59,7 +62,7 @@ int RunAlign(const AlignOptions& options) {
     const AudioClip clip = ReadAudioFile(options.audio_path);
     EspeakPhonemeSource source;
     const RecordingAlignment result = AlignRecording(source, clip, text, options.voice);
-    const nlohmann::json report = AlignReport(options, clip, result);
+    const CommandReport report = AlignReport(options, clip, result);
     WriteOutputSet([&](OutputSet& set) {
       const std::filesystem::path track = set.Add(options.output, OutputSet::Kind::kFile);
       WritePhonemeTrack(track, result.alignment.line, AudioPathForTrack(options.audio_path, options.output));
