@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "cli_common.h"
+#include "cli_names.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/io/template_folder.h"
@@ -29,11 +30,13 @@ struct RigFileOptions {
   std::vector<std::string> paths;  // inspect: FILE|DIR; convert: IN OUT
   TemplateImportOptions folder;
   std::string report;  // inspect --json
+  StandardShapesOptions naming;  // convert
 };
 
 struct DefaultHeadOptions {
   std::string out_dir, preview_dir;
   int preview_size = 256;
+  StandardShapesOptions naming;
 };
 
 // The options for template folders and .obj input.
@@ -112,6 +115,7 @@ nlohmann::json InspectReport(const std::string& path, const Rig& rig, const std:
           {"units", ToString(rig.units())},
           {"parts", rig.parts().size()},
           {"shapes", shapes},
+          {"shape_names", ShapeMatchesJson(rig)},
           {"warnings", listed}};
 }
 
@@ -121,6 +125,7 @@ int RunInspect(const RigFileOptions& options) {
     const Rig rig = Load(options.paths[0], options.folder);
     std::printf("%s (loaded in %.3f s)\n", options.paths[0].c_str(), SecondsSince(start));
     Inspect(rig);
+    PrintShapeMatches(rig);
     const std::vector<RigWarning> warnings = SpeechAndBlinkWarnings(rig);
     std::fflush(stdout);
     for (const RigWarning& warning : warnings) std::fprintf(stderr, "facerig: warning: %s\n", warning.message.c_str());
@@ -134,7 +139,7 @@ int RunInspect(const RigFileOptions& options) {
 int RunConvert(const RigFileOptions& options) {
   try {
     const std::string& output = options.paths[1];
-    const Rig rig = Load(options.paths[0], options.folder);
+    const Rig rig = NameShapesForWriting(Load(options.paths[0], options.folder), options.naming);
     // One set: an OBJ's MTL and images arrive with it, or nothing changes.
     WriteOutputSet([&](OutputSet& set) {
       const std::filesystem::path written = WriteWithFilesBeside(
@@ -186,10 +191,11 @@ std::string WriteDefaultHeadFiles(const Rig& rig, const DefaultHeadOptions& opti
 // build/data) and previews, as one set (output_set.h).
 int MakeDefaultHead(const DefaultHeadOptions& options) {
   DefaultHeadFeatures features;
-  const Rig rig = BuildDefaultHead(&features);
+  const Rig head = BuildDefaultHead(&features);
   std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
               features.control_vertex_count, features.control_triangle_count,
               features.skin_vertex_count);
+  const Rig rig = NameShapesForWriting(head, options.naming);
   std::filesystem::create_directories(options.out_dir);
   std::string written;
   WriteOutputSet([&](OutputSet& set) { written = WriteDefaultHeadFiles(rig, options, set); });
@@ -215,6 +221,7 @@ void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
   const auto [convert, options] =
       AddSubcommand(facerig, body, "convert", "convert a rig between formats", "", RunConvert);
   convert->add_option("files", options->paths, "IN OUT")->required()->expected(2);
+  AddShapeNamingOptions(*convert, options->naming);
   AddFolderOptions(*convert, options->folder);
 }
 
@@ -225,6 +232,7 @@ void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body) {
   head->add_option("--preview", options->preview_dir, "also render previews into DIR");
   head->add_option("--preview-size", options->preview_size, "preview size in pixels (64-4096, default 256)")
       ->transform(CLI::Bound(64, 4096));
+  AddShapeNamingOptions(*head, options->naming);
 }
 
 }  // namespace facerig::cli
