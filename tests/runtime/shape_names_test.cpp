@@ -43,7 +43,7 @@ TEST_CASE("Shape names: Apple's 52 ARKit names, and their ICT spelling", "[shape
 
 TEST_CASE("Shape names: the reader maps every common spelling to the ARKit name", "[shape_names]") {
   // One spelling per rig, each answering eyeBlinkLeft, and its side kept apart.
-  for (const std::string& spelling : {"eyeBlinkLeft", "eyeBlink_L", "eyeBlink.L", "EYEBLINK_l", "eyeblinkleft",
+  for (const char* spelling : {"eyeBlinkLeft", "eyeBlink_L", "eyeBlink.L", "EYEBLINK_l", "eyeblinkleft",
                                       "blendShape1.eyeBlinkLeft", "Head:eyeBlink_L", "mesh|eyeBlink.L",
                                       "eyeBlink_Left"}) {
     INFO(spelling);
@@ -53,7 +53,7 @@ TEST_CASE("Shape names: the reader maps every common spelling to the ARKit name"
     const ShapeNameReport report = MatchShapeNames(rig);
     const ArkitShapeMatch* match = MatchOf(report, "eyeBlinkLeft");
     REQUIRE(match);
-    CHECK(match->kind == (spelling == "eyeBlinkLeft" ? ShapeMatchKind::kExact : ShapeMatchKind::kSpelling));
+    CHECK(match->kind == (std::string_view(spelling) == "eyeBlinkLeft" ? ShapeMatchKind::kExact : ShapeMatchKind::kSpelling));
   }
 }
 
