@@ -115,7 +115,7 @@ nlohmann::json InspectReport(const std::string& path, const Rig& rig, const std:
           {"units", ToString(rig.units())},
           {"parts", rig.parts().size()},
           {"shapes", shapes},
-          {"shape_names", ShapeMatchesJson(rig)},
+          {"arkit_match", ShapeMatchesJson(rig)},
           {"warnings", listed}};
 }
 
