@@ -38,7 +38,10 @@ void FaceAnimator::FindMouth() {
   // upper and lower lip vertices for the aperture.
   std::optional<std::size_t> shape;
   for (const char* name : {"mouthFunnel", "mouthPucker", "jawOpen"}) {
-    if ((shape = rig_->FindShape(name))) break;
+    if (const std::vector<std::size_t> found = FindShapesByArkitName(*rig_, name); !found.empty()) {
+      shape = found.front();
+      break;
+    }
   }
   if (!shape) return;
   const BlendShapeView view = rig_->shape(*shape);

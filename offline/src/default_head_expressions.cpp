@@ -111,12 +111,17 @@ Deltas LowerFace(const HeadGeometry& head, Deltas dense) {
 
 Deltas Zero(const HeadGeometry& head) { return Deltas(head.positions.size(), glm::dvec3(0.0)); }
 
-Deltas JawOpen(const HeadGeometry& head, const SkinSmoother& smoother) {
-  constexpr double kAngle = 0.3;  // radians (about 17 degrees) at weight 1
-  // The skin's weights smoothed (the lip margins keep theirs, which the inner
-  // mouth copied); the parts keep their own.
+// How much each vertex rides on the jaw: the skin's weights smoothed (the lip
+// margins keep theirs, which the inner mouth copied); the parts keep their own.
+std::vector<double> JawWeights(const HeadGeometry& head, const SkinSmoother& smoother) {
   std::vector<double> weights = head.jaw_weight;
   smoother.Smooth(weights, kFieldSmoothing);
+  return weights;
+}
+
+Deltas JawOpen(const HeadGeometry& head, const SkinSmoother& smoother) {
+  constexpr double kAngle = 0.3;  // radians (about 17 degrees) at weight 1
+  const std::vector<double> weights = JawWeights(head, smoother);
   Deltas dense = Zero(head);
   for (std::size_t v = 0; v < head.positions.size(); ++v) {
     const double w = weights[v];
@@ -459,6 +464,89 @@ void AddSidedEyeShapes(ShapeList& list, int side) {
   add("eyeLookOut" + s, EyeLook(head, side, false, -in * 0.52));
 }
 
+// The jaw slid by `offset` (cm at weight 1): jawForward, jawLeft, jawRight.
+Deltas JawSlide(const HeadGeometry& head, const std::vector<double>& jaw_weights, const glm::dvec3& offset) {
+  Deltas dense = Zero(head);
+  for (std::size_t v = 0; v < head.positions.size(); ++v) dense[v] = jaw_weights[v] * offset;
+  return dense;
+}
+
+// The lips and corners shifted sideways together (towards +X for the
+// character's left): mouthLeft, mouthRight.
+ControlDeltas MouthShift(const ControlMesh& control, double dx) {
+  ControlDeltas deltas(control);
+  for (const char* lip : {"lip_upper_inner", "lip_lower_inner", "lip_upper_outer", "lip_lower_outer"}) {
+    deltas.At(lip, {dx, 0.0, 0.0}).At(std::string(lip) + "_L", {dx, 0.0, 0.0}).At(std::string(lip) + "_R", {dx, 0.0, 0.0});
+  }
+  deltas.At("mouth_corner_L", {dx, 0.0, 0.0}).At("mouth_corner_R", {dx, 0.0, 0.0});
+  deltas.At("cheek_low_L", {0.3 * dx, 0.0, 0.0}).At("cheek_low_R", {0.3 * dx, 0.0, 0.0});
+  return deltas;
+}
+
+// tongueOut: the tongue stretched forward over the lower teeth, its root in
+// place, with the jaw a little open so that it passes the lips.
+Deltas TongueOut(const HeadGeometry& head, const Deltas& jaw_open) {
+  constexpr double kJawShare = 0.3, kReach = 2.6, kLift = 0.55;  // cm at the tip
+  Deltas dense = Zero(head);
+  for (std::size_t v = 0; v < head.positions.size(); ++v) dense[v] = kJawShare * jaw_open[v];
+  double back = head.positions[head.tongue.first].z, front = back;
+  for (std::uint32_t i = 0; i < head.tongue.count; ++i) {
+    back = std::min(back, head.positions[head.tongue.first + i].z);
+    front = std::max(front, head.positions[head.tongue.first + i].z);
+  }
+  for (std::uint32_t i = 0; i < head.tongue.count; ++i) {
+    const std::uint32_t v = head.tongue.first + i;
+    const double along = (head.positions[v].z - back) / std::max(front - back, 1e-9);  // 0 root, 1 tip
+    dense[v] += glm::dvec3(0.0, kLift * along * (1.0 - 0.5 * along), kReach * along * along);
+  }
+  return dense;
+}
+
+// The ARKit shapes beyond the core set: the jaw's slides, the mouth's shift,
+// shrugs and the tongue.
+void AddJawSlideAndShrugShapes(ShapeList& list) {
+  const HeadGeometry& head = list.head;
+  const ControlMesh& control = head.control;
+  const SkinSmoother& smoother = list.smoother;
+  const std::vector<double> jaw_weights = JawWeights(head, smoother);
+  // Unlike a rotation a slide moves the jaw's small weights near the ear as
+  // much as the chin: it fades out below the eyes as the mouth shapes do.
+  list.Add("jawForward", LowerFace(head, JawSlide(head, jaw_weights, {0.0, 0.0, 0.45})));
+  list.Add("jawLeft", LowerFace(head, JawSlide(head, jaw_weights, {0.5, 0.0, 0.0})));
+  list.Add("jawRight", LowerFace(head, JawSlide(head, jaw_weights, {-0.5, 0.0, 0.0})));
+  list.Add("mouthLeft", LowerFace(head, FromControlSmoothed(head, smoother, MouthShift(control, 0.45))));
+  list.Add("mouthRight", LowerFace(head, FromControlSmoothed(head, smoother, MouthShift(control, -0.45))));
+  // The chin raiser pushes the lower lip up against the upper one and out.
+  list.Add("mouthShrugLower", LowerFace(head, FromControlSmoothed(head, smoother, ControlDeltas(control)
+      .At("lip_lower_outer", {0.0, 0.12, 0.2})
+      .Both("lip_lower_outer", {0.0, 0.1, 0.15})
+      .At("lip_lower_inner", {0.0, 0.0, 0.12})
+      .Both("lip_lower_inner", {0.0, 0.0, 0.1})
+      .At("chin", {0.0, 0.3, 0.2}))));
+  list.Add("mouthShrugUpper", LowerFace(head, FromControlSmoothed(head, smoother, ControlDeltas(control)
+      .At("lip_upper_outer", {0.0, 0.12, 0.15})
+      .Both("lip_upper_outer", {0.0, 0.1, 0.12})
+      .At("lip_upper_inner", {0.0, 0.0, 0.1})
+      .Both("lip_upper_inner", {0.0, 0.0, 0.08}))));
+  list.Add("tongueOut", TongueOut(head, JawOpen(head, smoother)));
+}
+
+// Dimples (the corner pulled back) and the cheek raised under the eye.
+void AddSidedCheekShapes(ShapeList& list, int side) {
+  const ControlMesh& control = list.head.control;
+  auto sided = [&](const char* shape, const ControlDeltas& deltas) { list.Sided(side, shape, deltas); };
+  sided("mouthDimple", ControlDeltas(control)
+                           .Side("mouth_corner", side, {0.2, 0.0, -0.3})
+                           .Side("lip_upper_inner", side, {0.06, 0.0, -0.08})
+                           .Side("lip_lower_inner", side, {0.06, 0.0, -0.08})
+                           .Side("cheek_low", side, {0.05, 0.0, -0.08}));
+  sided("cheekSquint", ControlDeltas(control)
+                           .Side("cheek_inner", side, {0.0, 0.3, 0.1})
+                           .Side("cheek_bone", side, {0.0, 0.22, 0.06})
+                           .Side("cheek_low", side, {0.0, 0.1, 0.04})
+                           .Side("lid_below", side, {0.0, 0.1, 0.04}));
+}
+
 }  // namespace
 
 std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head) {
@@ -471,6 +559,8 @@ std::vector<RawBlendShape> BuildExpressions(const HeadGeometry& head) {
     AddSidedBrowShapes(list, side);
     AddSidedEyeShapes(list, side);
   }
+  AddJawSlideAndShrugShapes(list);
+  for (int side = 0; side < 2; ++side) AddSidedCheekShapes(list, side);
   const auto& shapes = list.shapes;
   std::vector<RawBlendShape> result;
   result.reserve(shapes.size());

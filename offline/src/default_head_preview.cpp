@@ -11,6 +11,7 @@
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/rasterizer.h"
 #include "facerig/runtime/blend_job.h"
+#include "facerig/runtime/shape_names.h"
 #include "srgb.h"
 
 namespace facerig {
@@ -109,7 +110,7 @@ std::vector<std::filesystem::path> WriteDefaultHeadPreviews(const Rig& rig,
   for (const Pose& pose : poses) {
     std::fill(weights.begin(), weights.end(), 0.0f);
     for (const auto& [name, weight] : pose.weights) {
-      if (const auto index = rig.FindShape(name)) weights[*index] = weight;
+      for (std::size_t index : FindShapesByArkitName(rig, name)) weights[index] = weight;
     }
     BlendJob job{&rig, weights, NormalMode::kRecompute, positions, normals};
     if (job.Run() != BlendJobError::kNone) throw std::logic_error("preview: blend failed");

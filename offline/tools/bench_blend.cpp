@@ -16,6 +16,7 @@
 #include "facerig/offline/dense_blend.h"
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/shape_names.h"
 #include "facerig/offline/io/template_folder.h"
 #include "support/allocation_counter.h"
 
@@ -52,14 +53,15 @@ std::vector<Workload> MakeWorkloads(const facerig::Rig& rig) {
   const std::size_t n = rig.shape_count();
   std::vector<Workload> workloads;
   Workload one{"one", std::vector<float>(n, 0.0f)};
-  one.weights[rig.FindShape("jawOpen").value_or(0)] = 0.7f;
+  const std::vector<std::size_t> jaw = facerig::FindShapesByArkitName(rig, "jawOpen");
+  one.weights[jaw.empty() ? 0 : jaw.front()] = 0.7f;
   workloads.push_back(one);
 
   Workload speech{"speech12", std::vector<float>(n, 0.0f)};
   std::size_t active = 0;
   for (const char* name : kSpeechShapes) {
-    if (auto s = rig.FindShape(name)) {
-      speech.weights[*s] = 0.1f + 0.07f * static_cast<float>(active++);
+    for (std::size_t s : facerig::FindShapesByArkitName(rig, name)) {
+      speech.weights[s] = 0.1f + 0.07f * static_cast<float>(active++);
     }
   }
   // Rigs without ARKit names: the first 12 shapes.

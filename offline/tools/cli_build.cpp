@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "cli_names.h"
 #include "cli_options.h"
 #include "cli_template_info.h"
 #include "facerig/offline/eye_textures.h"
@@ -50,6 +51,7 @@ struct BuildOptions {
   Units units = Units::kUnknown;
   bool contacts = true;  // DeformationTransferParams::contact_weight left at its default, else 0
   bool fit_eyes_to_openings = true;  // LandmarkParams::fit_eyes_to_openings
+  StandardShapesOptions naming;
 };
 
 void AddBuildOptions(CLI::App& build, BuildOptions& options) {
@@ -72,6 +74,7 @@ void AddBuildOptions(CLI::App& build, BuildOptions& options) {
                  "transfer without contacts (where a template expression closes an opening, the target's closes too)");
   build.add_flag("!--no-eye-fit", options.fit_eyes_to_openings,
                  "keep the detector's eye landmarks instead of fitting them to the mesh's eye openings");
+  AddShapeNamingOptions(build, options.naming);
 }
 
 bool IsGltf(const std::filesystem::path& path) {
@@ -155,6 +158,8 @@ BuildInputs LoadBuildInputs(const BuildOptions& options) {
   if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
   BuildInputs inputs;
   inputs.template_rig = LoadRigOrTemplateFolder(options.template_path);
+  // Baked visemes are made again from the built shapes: no need to transfer them.
+  if (options.naming.visemes == VisemeTargets::kOculus) inputs.template_rig = WithoutBakedVisemes(inputs.template_rig);
   inputs.template_info = ResolveFaceTemplateInfo(inputs.template_rig, options.template_path, options.template_info);
   inputs.target = LoadBuildTarget(options.target_path, options.units);
   inputs.target_vertices = inputs.target.rig.positions.size();
@@ -251,8 +256,9 @@ void WriteBuildOutputs(const BuildOptions& options, const BuildOutputPaths& path
     std::string problem;
     const std::optional<Rig> fitted = RigBuilder::Build(built.template_frame_rig, &problem);
     if (!fitted) throw InvalidInputError("the template-topology rig is invalid: " + problem);
+    const Rig named = StandardizeShapes(*fitted, options.naming).rig;
     const std::filesystem::path fitted_path = WriteWithFilesBeside(
-        set, options.template_topology, [&](const std::filesystem::path& path) { SaveRig(path, *fitted); });
+        set, options.template_topology, [&](const std::filesystem::path& path) { SaveRig(path, named); });
     CheckAfterWrite("template-topology", fitted_path);
   }
 }
@@ -284,7 +290,8 @@ nlohmann::json StagesReport(std::span<const BuildStage> stages) {
 }
 
 CommandReport BuildReport(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
-                          const BuildRigResult& built, const Rig& rig, std::span<const BuildStage> stages) {
+                          const BuildRigResult& built, const Rig& rig, const StandardShapesReport& names,
+                          std::span<const BuildStage> stages) {
   CommandReport envelope{"build",
                          {{"template", options.template_path},
                           {"template_info", options.template_info},
@@ -298,10 +305,12 @@ CommandReport BuildReport(const BuildOptions& options, const BuildInputs& inputs
                          // A rig that cannot speak or blink (its template had no such shapes) says so here.
                          SpeechAndBlinkWarnings(rig)};
   nlohmann::json& report = envelope.result;
+  report["shape_names"] = ShapeNamesJson(options.naming, names);
   report["mode"] = ToString(options.mode);
   report["template_info"] = TemplateInfoReport(inputs.template_info);
   report["target_vertices"] = inputs.target_vertices;
   report["shapes"] = rig.shape_count();
+  report["shape_names"] = ShapeNamesJson(options.naming, names);
   report["units"] = ToString(rig.units());
   report["landmarks"] = landmarks.source;
   report["options"] = {{"contacts", options.contacts}, {"eye_fit", options.fit_eyes_to_openings}};
@@ -328,14 +337,15 @@ CommandReport BuildReport(const BuildOptions& options, const BuildInputs& inputs
 // and puts them in place as one set; on any error or SIGINT / SIGTERM the
 // temporaries go and the previous set stays.
 void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const BuildLandmarks& landmarks,
-                   const BuildRigResult& built, const Rig& rig, std::vector<BuildStage>& stages) {
+                   const BuildRigResult& built, const Rig& rig, const StandardShapesReport& names,
+                   std::vector<BuildStage>& stages) {
   WriteOutputSet([&](OutputSet& set) {
     const BuildOutputPaths paths = AddBuildOutputs(options, set);
     const auto start = std::chrono::steady_clock::now();
     WriteBuildOutputs(options, paths, rig, built, set);
     stages.push_back({"write", SecondsSince(start)});
     if (!paths.report.empty()) {
-      WriteCommandReport(paths.report, BuildReport(options, inputs, landmarks, built, rig, stages));
+      WriteCommandReport(paths.report, BuildReport(options, inputs, landmarks, built, rig, names, stages));
       CheckAfterWrite("report", paths.report);
     }
   });
@@ -363,9 +373,11 @@ int BuildAndWrite(const BuildOptions& options) {
       BuildRig(inputs.template_rig, inputs.template_info, std::move(inputs.target), landmarks.pairs, params);
   stages.insert(stages.end(), built.stages.begin(), built.stages.end());
   std::string problem;
-  const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
-  if (!rig) throw InvalidInputError("the built rig is invalid: " + problem);
-  WriteBuildSet(options, inputs, landmarks, built, *rig, stages);
+  const std::optional<Rig> unnamed = RigBuilder::Build(built.rig, &problem);
+  if (!unnamed) throw InvalidInputError("the built rig is invalid: " + problem);
+  StandardShapesReport names;
+  const std::optional<Rig> rig = NameShapesForWriting(*unnamed, options.naming, &names);
+  WriteBuildSet(options, inputs, landmarks, built, *rig, names, stages);
 
   const ResidualStats& residual = built.registration.residual;
   std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "

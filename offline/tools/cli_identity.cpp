@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli_common.h"
+#include "cli_names.h"
 #include "cli_options.h"
 #include "facerig/offline/caricature.h"
 #include "facerig/offline/displacement_transfer.h"
@@ -41,10 +42,12 @@ struct CaricatureOptions {
   float factor = 0.0f;
   bool keep_deltas = false;
   bool align = true;
+  StandardShapesOptions naming;
 };
 
 struct MorphOptions {
   std::string template_path, target_path, output, report_path;
+  StandardShapesOptions naming;
 };
 
 std::string LowerExtension(const std::string& path) {
@@ -163,7 +166,7 @@ int RunAverage(const AverageOptions& options) {
 }
 
 int RunCaricature(const CaricatureOptions& options) {
-  const auto& [rig_path, average_path, output, report_path, factor, keep_deltas, align] = options;
+  const auto& [rig_path, average_path, output, report_path, factor, keep_deltas, align, naming] = options;
   if (!(factor >= kMinCaricatureFactor && factor <= kMaxCaricatureFactor)) {
     std::fprintf(stderr, "facerig: --factor %g is outside [-1, 3]\n", static_cast<double>(factor));
     return 1;
@@ -185,7 +188,13 @@ int RunCaricature(const CaricatureOptions& options) {
     params.expressions =
         keep_deltas ? CaricatureExpressions::kKeepDeltas : CaricatureExpressions::kDeformationTransfer;
     const auto caricature_start = std::chrono::steady_clock::now();
-    const Rig result = BuildOrThrow(CaricatureRig(rig, average, params), "caricature");
+    // Baked visemes are made again from the caricature's shapes, not transferred.
+    std::optional<Rig> without_visemes;
+    if (naming.visemes == VisemeTargets::kOculus) without_visemes = WithoutBakedVisemes(rig);
+    const Rig& source = without_visemes ? *without_visemes : rig;
+    StandardShapesReport names;
+    const Rig result =
+        NameShapesForWriting(BuildOrThrow(CaricatureRig(source, average, params), "caricature"), naming, &names);
     const double caricature_seconds = SecondsSince(caricature_start);
     const float moved = MaxDistance(result.positions(), rig.positions());
     CommandReport report{"caricature",
@@ -199,7 +208,8 @@ int RunCaricature(const CaricatureOptions& options) {
                      {"alignment_rms", alignment_rms},
                      {"largest_neutral_displacement", moved},
                      {"vertices", result.vertex_count()},
-                     {"shapes", result.shape_count()}};
+                     {"shapes", result.shape_count()},
+                     {"shape_names", ShapeNamesJson(naming, names)}};
     WriteRigSet(output, result, report_path, report);
     std::printf(
         "wrote %s: caricature factor %g of %s (%zu vertices, %zu shapes, expressions %s); neutral moved "
@@ -214,7 +224,7 @@ int RunCaricature(const CaricatureOptions& options) {
 }
 
 int RunMorph(const MorphOptions& options) {
-  const auto& [template_path, target_path, output, report_path] = options;
+  const auto& [template_path, target_path, output, report_path, naming] = options;
   if (!CheckOutputExtension(output, false)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -223,7 +233,9 @@ int RunMorph(const MorphOptions& options) {
     if (target_rig.FindShape(kIdentityMorphShape)) {
       throw std::runtime_error(target_path + " already has a shape called " + kIdentityMorphShape);
     }
-    const Rig result = BuildOrThrow(IdentityMorphRig(template_rig, target_rig), "identity morph");
+    StandardShapesReport names;
+    const Rig result =
+        NameShapesForWriting(BuildOrThrow(IdentityMorphRig(template_rig, target_rig), "identity morph"), naming, &names);
     const float morph = MaxDistance(template_rig.positions(), target_rig.positions());
     CommandReport report{"morph",
                          {{"template", template_path}, {"target", target_path}},
@@ -233,6 +245,7 @@ int RunMorph(const MorphOptions& options) {
     report.result = {{"vertices", result.vertex_count()},
                      {"shapes", result.shape_count()},
                      {"identity_shape", kIdentityMorphShape},
+                     {"shape_names", ShapeNamesJson(naming, names)},
                      {"largest_identity_displacement", morph}};
     WriteRigSet(output, result, report_path, report);
     std::printf("wrote %s: %zu vertices, %zu shapes (the target's %zu + %s, moving vertices up to %g%s); %.2f s\n",
@@ -269,6 +282,7 @@ void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
   caricature->add_flag("--keep-deltas", options->keep_deltas, "keep the expressions' deltas");
   caricature->add_flag("!--no-align", options->align, "do not align the average rigidly first");
   AddOutputOptions(*caricature, options->output, options->report_path, "output rig (.glb, .gltf or .frig)");
+  AddShapeNamingOptions(*caricature, options->naming);
 }
 
 void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
@@ -280,6 +294,7 @@ void AddMorphCommand(CLI::App& facerig, CommandBody& body) {
   morph->add_option("--template", options->template_path, "the template rig")->required();
   morph->add_option("--target", options->target_path, "the target rig, on the template's topology")->required();
   AddOutputOptions(*morph, options->output, options->report_path, "output rig (.glb, .gltf or .frig)");
+  AddShapeNamingOptions(*morph, options->naming);
 }
 
 }  // namespace facerig::cli

@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "cli_common.h"
+#include "cli_names.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/io/template_folder.h"
@@ -29,11 +30,13 @@ struct RigFileOptions {
   std::vector<std::string> paths;  // inspect: FILE|DIR; convert: IN OUT
   TemplateImportOptions folder;
   std::string report;  // --json
+  StandardShapesOptions naming;  // convert
 };
 
 struct DefaultHeadOptions {
   std::string out_dir, preview_dir, report;
   int preview_size = 256;
+  StandardShapesOptions naming;
 };
 
 // The options for template folders and .obj input.
@@ -111,7 +114,8 @@ nlohmann::json InspectResult(const Rig& rig) {
           {"materials", rig.materials().size()},
           {"images", rig.images().size()},
           {"shape_entries", rig.total_shape_entries()},
-          {"shapes", shapes}};
+          {"shapes", shapes},
+          {"arkit_match", ShapeMatchesJson(rig)}};
 }
 
 int RunInspect(const RigFileOptions& options) {
@@ -121,6 +125,7 @@ int RunInspect(const RigFileOptions& options) {
     const double load_seconds = SecondsSince(start);
     std::printf("%s (loaded in %.3f s)\n", options.paths[0].c_str(), load_seconds);
     Inspect(rig);
+    PrintShapeMatches(rig);
     CommandReport report{"inspect", {{"rig", options.paths[0]}}, {}, SpeechAndBlinkWarnings(rig)};
     std::fflush(stdout);
     for (const RigWarning& warning : report.warnings) {
@@ -141,7 +146,8 @@ int RunConvert(const RigFileOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     const std::string& output = options.paths[1];
-    const Rig rig = Load(options.paths[0], options.folder);
+    StandardShapesReport names;
+    const Rig rig = NameShapesForWriting(Load(options.paths[0], options.folder), options.naming, &names);
     const double load_seconds = SecondsSince(start);
     CommandReport report{"convert", {{"rig", options.paths[0]}}, {{"rig", output}}, SpeechAndBlinkWarnings(rig)};
     std::uintmax_t bytes = 0;
@@ -155,6 +161,7 @@ int RunConvert(const RigFileOptions& options) {
       report.result = {{"vertices", rig.vertex_count()},
                        {"triangles", rig.triangle_count()},
                        {"shapes", rig.shape_count()},
+                       {"shape_names", ShapeNamesJson(options.naming, names)},
                        {"bytes", bytes}};
       WriteReport(set, options.report, report);
     });
@@ -222,16 +229,19 @@ CommandReport DefaultHeadReport(const DefaultHeadOptions& options, const Rig& ri
 int MakeDefaultHead(const DefaultHeadOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   DefaultHeadFeatures features;
-  const Rig rig = BuildDefaultHead(&features);
+  const Rig head = BuildDefaultHead(&features);
   const double build_seconds = SecondsSince(start);
   std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
               features.control_vertex_count, features.control_triangle_count,
               features.skin_vertex_count);
+  StandardShapesReport names;
+  const Rig rig = NameShapesForWriting(head, options.naming, &names);
   std::filesystem::create_directories(options.out_dir);
   std::string written;
   WriteOutputSet([&](OutputSet& set) {
     written = WriteDefaultHeadFiles(rig, options, set);
     CommandReport report = DefaultHeadReport(options, rig, features);
+    report.result["shape_names"] = ShapeNamesJson(options.naming, names);
     report.timings = {{"build", build_seconds}, {"total", SecondsSince(start)}};
     WriteReport(set, options.report, report);
   });
@@ -258,6 +268,7 @@ void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
       AddSubcommand(facerig, body, "convert", "convert a rig between formats", "", RunConvert);
   convert->add_option("files", options->paths, "IN OUT")->required()->expected(2);
   convert->add_option("--json", options->report, "also write a JSON report");
+  AddShapeNamingOptions(*convert, options->naming);
   AddFolderOptions(*convert, options->folder);
 }
 
@@ -269,6 +280,7 @@ void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body) {
   head->add_option("--preview-size", options->preview_size, "preview size in pixels (64-4096, default 256)")
       ->transform(CLI::Bound(64, 4096));
   head->add_option("--json", options->report, "also write a JSON report");
+  AddShapeNamingOptions(*head, options->naming);
 }
 
 }  // namespace facerig::cli

@@ -47,7 +47,7 @@ CharacterRig CharacterRig::Build(const Rig& rig, const CharacterRigOptions& opti
   std::array<std::uint32_t, kGazeShapeCount> gaze{};
   bool all_gaze_shapes = true;
   for (std::size_t i = 0; i < kGazeShapeCount; ++i) {
-    const std::optional<std::size_t> shape = rig.FindShape(kGazeShapeNames[i]);
+    const std::optional<std::size_t> shape = FirstShape(rig, kGazeShapeNames[i]);
     all_gaze_shapes = all_gaze_shapes && shape.has_value();
     if (shape) gaze[i] = static_cast<std::uint32_t>(*shape);
   }

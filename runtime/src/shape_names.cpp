@@ -5,7 +5,35 @@
 #include <optional>
 #include <utility>
 
+#include "facerig/runtime/speech/viseme.h"
+
 namespace facerig {
+
+const std::array<std::string_view, kArkitShapeCount> kArkitShapeNames = {
+    "eyeBlinkLeft",      "eyeLookDownLeft",    "eyeLookInLeft",    "eyeLookOutLeft",     "eyeLookUpLeft",
+    "eyeSquintLeft",     "eyeWideLeft",        "eyeBlinkRight",    "eyeLookDownRight",   "eyeLookInRight",
+    "eyeLookOutRight",   "eyeLookUpRight",     "eyeSquintRight",   "eyeWideRight",       "jawForward",
+    "jawLeft",           "jawRight",           "jawOpen",          "mouthClose",         "mouthFunnel",
+    "mouthPucker",       "mouthLeft",          "mouthRight",       "mouthSmileLeft",     "mouthSmileRight",
+    "mouthFrownLeft",    "mouthFrownRight",    "mouthDimpleLeft",  "mouthDimpleRight",   "mouthStretchLeft",
+    "mouthStretchRight", "mouthRollLower",     "mouthRollUpper",   "mouthShrugLower",    "mouthShrugUpper",
+    "mouthPressLeft",    "mouthPressRight",    "mouthLowerDownLeft", "mouthLowerDownRight", "mouthUpperUpLeft",
+    "mouthUpperUpRight", "browDownLeft",       "browDownRight",    "browInnerUp",        "browOuterUpLeft",
+    "browOuterUpRight",  "cheekPuff",          "cheekSquintLeft",  "cheekSquintRight",   "noseSneerLeft",
+    "noseSneerRight",    "tongueOut"};
+
+std::string IctShapeName(std::string_view arkit_name) {
+  // Whole-face motions whose name ends in a side word.
+  for (std::string_view motion : {"jawLeft", "jawRight", "mouthLeft", "mouthRight"}) {
+    if (arkit_name == motion) return std::string(arkit_name);
+  }
+  for (const auto& [word, suffix] : {std::pair<std::string_view, std::string_view>{"Left", "_L"}, {"Right", "_R"}}) {
+    if (arkit_name.size() > word.size() && arkit_name.ends_with(word)) {
+      return std::string(arkit_name.substr(0, arkit_name.size() - word.size())) + std::string(suffix);
+    }
+  }
+  return std::string(arkit_name);
+}
 
 std::string LowerAscii(std::string_view text) {
   std::string out(text);
@@ -25,7 +53,7 @@ CanonicalShapeName CanonicalShapeNameOf(std::string_view name) {
       break;
     }
   }
-  if (const std::size_t dot = s.rfind('.'); dot != std::string::npos) s.erase(0, dot + 1);
+  if (const std::size_t prefix = s.find_last_of(".:|"); prefix != std::string::npos) s.erase(0, prefix + 1);
   out.base = std::move(s);
   return out;
 }
@@ -67,6 +95,45 @@ std::vector<std::size_t> FindShapesNotingMissing(const Rig& rig, const std::stri
   std::vector<std::size_t> found = FindShapesByArkitName(rig, name);
   if (found.empty() && std::find(missing.begin(), missing.end(), name) == missing.end()) missing.push_back(name);
   return found;
+}
+
+const char* ToString(ShapeMatchKind kind) {
+  switch (kind) {
+    case ShapeMatchKind::kExact: return "exact";
+    case ShapeMatchKind::kSpelling: return "spelling";
+    case ShapeMatchKind::kBothSides: return "both-sides";
+    case ShapeMatchKind::kUnsided: return "unsided";
+  }
+  return "unknown";
+}
+
+ShapeNameReport MatchShapeNames(const Rig& rig) {
+  ShapeNameReport report;
+  std::vector<bool> used(rig.shape_count(), false);
+  for (std::string_view arkit : kArkitShapeNames) {
+    std::vector<std::size_t> shapes = FindShapesByArkitName(rig, arkit);
+    if (shapes.empty()) {
+      report.missing.push_back(arkit);
+      continue;
+    }
+    const CanonicalShapeName want = CanonicalShapeNameOf(arkit);
+    const CanonicalShapeName got = CanonicalShapeNameOf(rig.shape_name(shapes.front()));
+    ShapeMatchKind kind = ShapeMatchKind::kSpelling;
+    if (shapes.size() > 1) {
+      kind = ShapeMatchKind::kBothSides;
+    } else if (rig.shape_name(shapes.front()) == arkit) {
+      kind = ShapeMatchKind::kExact;
+    } else if (got.side != want.side) {
+      kind = ShapeMatchKind::kUnsided;
+    }
+    for (std::size_t s : shapes) used[s] = true;
+    report.matched.push_back({arkit, std::move(shapes), kind});
+  }
+  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
+    if (used[s]) continue;
+    (VisemeOfTargetName(rig.shape_name(s)) ? report.viseme_targets : report.other).push_back(s);
+  }
+  return report;
 }
 
 }  // namespace facerig

@@ -70,32 +70,12 @@ constexpr ArkitEntry kArkitMapping[] = {
 };
 
 
-// The per-viseme target names a rig may use for viseme v (lower case, no prefix).
-bool MatchesVisemeTarget(std::string_view canonical, Viseme v) {
-  const std::string own = LowerAscii(ToString(v));
-  if (canonical == own) return true;
-  switch (v) {
-    case Viseme::kIH: return canonical == "i";
-    case Viseme::kOH: return canonical == "o";
-    case Viseme::kOU: return canonical == "u";
-    default: return false;
-  }
-}
-
 std::optional<std::size_t> FindVisemeTarget(const Rig& rig, Viseme v) {
   for (std::size_t s = 0; s < rig.shape_count(); ++s) {
-    std::string name = LowerAscii(rig.shape_name(s));
-    if (const std::size_t dot = name.rfind('.'); dot != std::string::npos) name.erase(0, dot + 1);
-    if (name.rfind("viseme_", 0) == 0) {
-      name.erase(0, 7);
-    } else if (name.rfind("viseme", 0) == 0 && name.size() > 6) {
-      name.erase(0, 6);
-    }
-    if (MatchesVisemeTarget(name, v)) return s;
+    if (VisemeOfTargetName(rig.shape_name(s)) == v) return s;
   }
   return std::nullopt;
 }
-
 
 }  // namespace
 

@@ -19,6 +19,7 @@
 #include "facerig/runtime/io/gltf.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/shape_names.h"
 #include "support/command_runner.h"
 #include "support/gltf_validator.h"
 #include "support/registration_targets.h"
@@ -115,8 +116,21 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   const Rig& ict = test::IctRig();
   REQUIRE(frig.vertex_count() == target.positions.size());
   CHECK(frig.units() == Units::kMillimetres);  // inferred from the registration's scale
-  CHECK(frig.shape_count() == ict.shape_count());
-  for (std::size_t s = 0; s < ict.shape_count(); ++s) CHECK(frig.FindShape(ict.shape_name(s)).has_value());
+  // Every ICT shape under its ARKit name (the default --names arkit), ICT's
+  // left and right browInnerUp and cheekPuff as one each, and the 15 Oculus
+  // visemes (the default --visemes oculus).
+  CHECK(frig.shape_count() == ict.shape_count() - 2 + 15);
+  for (std::size_t s = 0; s < ict.shape_count(); ++s) {
+    INFO(ict.shape_name(s));
+    CHECK_FALSE(FindShapesByArkitName(frig, ict.shape_name(s)).empty());
+  }
+  for (const char* name : {"eyeBlinkLeft", "mouthSmileRight", "browInnerUp", "cheekPuff", "viseme_PP", "viseme_U"}) {
+    CHECK(frig.FindShape(name).has_value());
+  }
+  const nlohmann::json names = nlohmann::json::parse(std::ifstream(folder / "report.json"))["shape_names"];
+  CHECK(names["arkit_present"] == 51);
+  CHECK(names["arkit_missing"] == nlohmann::json::array({"tongueOut"}));
+  CHECK(names["visemes_baked"] == 15);
   for (std::size_t v = 0; v < target.positions.size(); v += 97) {
     REQUIRE(frig.positions()[v].x == Approx(target.positions[v].x).margin(1e-3));
   }
@@ -128,7 +142,7 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   // One OBJ per shape plus the neutral, each on the target's vertices, and
   // the MTL of the skin material the bare scan was given.
   CHECK(std::distance(fs::directory_iterator(folder / "shapes"), fs::directory_iterator{}) ==
-        static_cast<std::ptrdiff_t>(ict.shape_count() + 2));
+        static_cast<std::ptrdiff_t>(frig.shape_count() + 2));
   CHECK(fs::exists(folder / "shapes" / "materials.mtl"));
   const Mesh neutral = ReadObj(folder / "shapes" / "neutral.obj");
   CHECK(neutral.positions.size() == target.positions.size());
@@ -144,7 +158,7 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   const Rig fit = LoadRig(folder / "fit.frig");
   REQUIRE(fit.vertex_count() == ict.vertex_count());
   CHECK(fit.units() == ict.units());
-  CHECK(fit.shape_count() == ict.shape_count());
+  CHECK(fit.shape_count() == frig.shape_count());
   double offset = 0.0;
   const std::uint32_t face = test::IctFaces().face_vertex_count();
   for (std::size_t v = 0; v < face; ++v) offset += glm::length(fit.positions()[v] - ict.positions()[v]);
@@ -210,8 +224,10 @@ TEST_CASE("(shared data) facerig build: a skinned glTF target keeps its skin, no
 
   const Rig rig = LoadRig(folder / "character_rig.glb");
   CHECK(rig.vertex_count() == target.positions.size());
-  CHECK(rig.shape_count() == test::IctRig().shape_count());
+  CHECK(rig.shape_count() == test::IctRig().shape_count() - 2 + 15);  // ARKit names, Oculus visemes
   CHECK(rig.FindShape("jawOpen").has_value());
+  CHECK(rig.FindShape("eyeBlinkLeft").has_value());
+  CHECK(rig.FindShape("viseme_aa").has_value());
 }
 
 TEST_CASE("facerig build: --no-contacts and --no-eye-fit turn off contacts and eyes fitted to openings",

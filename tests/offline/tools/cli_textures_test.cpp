@@ -344,9 +344,12 @@ TEST_CASE("(shared data) facerig convert and build keep a textured ICT face's im
   REQUIRE(neutral.images.size() == 6);
   CHECK(std::count_if(neutral.images.begin(), neutral.images.end(),
                       [&](const EncodedImage& image) { return image.bytes == albedo; }) == 1);
-  const Mesh blink = ReadObj(folder / "objs" / "eyeBlink_L.obj");
+  // Shapes under their ARKit names (the default --names arkit), the baked visemes among them.
+  const Mesh blink = ReadObj(folder / "objs" / "eyeBlinkLeft.obj");
   REQUIRE(blink.images.size() == 6);
   CHECK(blink.corner_uvs == neutral.corner_uvs);
+  const Mesh viseme = ReadObj(folder / "objs" / "viseme_PP.obj");
+  CHECK(viseme.positions.size() == neutral.positions.size());
 }
 
 }  // namespace facerig

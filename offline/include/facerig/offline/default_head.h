@@ -10,7 +10,9 @@
 // (white, iris, pupil), teeth, tongue and the inner mouth are separate parts.
 //
 // Units: centimetres, +Y up, the face looks along +Z, the character's left is
-// +X; shape names and _L/_R as ICT-FaceKit (ARKit names).
+// +X; shape names and _L/_R as ICT-FaceKit, all 52 ARKit shapes (browInnerUp
+// and cheekPuff per side). `facerig default-head` writes them under Apple's
+// names with the Oculus visemes baked (standard_shapes.h).
 #pragma once
 
 #include <array>

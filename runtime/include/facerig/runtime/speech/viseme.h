@@ -34,6 +34,15 @@ inline constexpr std::size_t kVisemeCount = 15;
 std::string_view ToString(Viseme viseme);
 std::optional<Viseme> ParseViseme(std::string_view name);
 
+// The Oculus / Meta viseme morph-target name: "viseme_sil", "viseme_PP", ...,
+// "viseme_aa", "viseme_E", "viseme_I", "viseme_O", "viseme_U".
+std::string_view OculusTargetName(Viseme viseme);
+
+// The viseme a per-viseme target's name stands for: "viseme_PP", "PP",
+// "visemePP", "viseme_ih" or Oculus' "viseme_I", in any case and behind a
+// namespace ("blendShape1.viseme_aa"); nullopt for any other name.
+std::optional<Viseme> VisemeOfTargetName(std::string_view name);
+
 }  // namespace facerig
 
 namespace facerig {
