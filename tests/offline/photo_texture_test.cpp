@@ -1,0 +1,230 @@
+#include "facerig/offline/photo_texture.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/default_head.h"
+#include "facerig/offline/error.h"
+#include "facerig/runtime/part_roles.h"
+#include "support/default_head_poses.h"
+#include "support/test_meshes.h"
+
+namespace facerig {
+namespace {
+
+constexpr float kDegree = std::numbers::pi_v<float> / 180.0f;
+
+glm::vec3 Texel(const RgbImage& image, int x, int y) {
+  x = std::clamp(x, 0, image.width - 1), y = std::clamp(y, 0, image.height - 1);
+  const std::uint8_t* c = &image.pixels[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x))];
+  return {c[0], c[1], c[2]};
+}
+
+// The texture at `uv` (OBJ's v up), bilinear, in levels.
+glm::vec3 SampleUv(const RgbImage& image, glm::vec2 uv) {
+  const float x = uv.x * static_cast<float>(image.width) - 0.5f, y = (1.0f - uv.y) * static_cast<float>(image.height) - 0.5f;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const float ax = x - std::floor(x), ay = y - std::floor(y);
+  return glm::mix(glm::mix(Texel(image, x0, y0), Texel(image, x0 + 1, y0), ax),
+                  glm::mix(Texel(image, x0, y0 + 1), Texel(image, x0 + 1, y0 + 1), ax), ay);
+}
+
+float ToSrgbLevel(float linear) {
+  const float s = linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+  return 255.0f * std::clamp(s, 0.0f, 1.0f);
+}
+
+// The mesh as a camera sees it with its textures, unlit: a photo with known albedo.
+RgbImage RenderTextured(const Mesh& mesh, const RasterView& view) {
+  const RasterBuffers buffers = Rasterize(mesh, view);
+  std::map<std::int32_t, RgbImage> decoded;
+  for (const Material& m : mesh.materials) {
+    if (m.base_colour_image >= 0 && !decoded.count(m.base_colour_image)) {
+      decoded[m.base_colour_image] = DecodeImage(mesh.images[static_cast<std::size_t>(m.base_colour_image)]);
+    }
+  }
+  RgbImage photo{view.width, view.height, std::vector<std::uint8_t>(3 * static_cast<std::size_t>(view.width) * static_cast<std::size_t>(view.height), 40)};
+  for (std::size_t i = 0; i < buffers.triangle_ids.size(); ++i) {
+    const std::int32_t id = buffers.triangle_ids[i];
+    if (id == kNoTriangle) continue;
+    const auto t = static_cast<std::size_t>(id);
+    const Material& m = mesh.materials[mesh.triangle_materials[t]];
+    glm::vec3 colour(ToSrgbLevel(m.base_colour.r), ToSrgbLevel(m.base_colour.g), ToSrgbLevel(m.base_colour.b));
+    if (m.base_colour_image >= 0) {
+      const glm::vec3 b = buffers.barycentrics[i];
+      const glm::vec2 uv = b.x * mesh.corner_uvs[3 * t] + b.y * mesh.corner_uvs[3 * t + 1] + b.z * mesh.corner_uvs[3 * t + 2];
+      colour = SampleUv(decoded.at(m.base_colour_image), uv);
+    }
+    for (int k = 0; k < 3; ++k) photo.pixels[3 * i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(colour[k]));
+  }
+  return photo;
+}
+
+const Mesh& HeadMesh() {
+  static const Mesh mesh = NeutralMesh(test::DefaultHead());
+  return mesh;
+}
+
+// The portrait camera: the whole head, orthographic, turned by `yaw` (positive: towards the character's left).
+RasterView Portrait(float yaw, int size = 768) { return RasterView::Orbit({0.0f, -1.5f, 0.0f}, 14.0f, size, size, yaw * kDegree); }
+
+RgbImage SkinAlbedo(const Mesh& mesh) {
+  for (const Material& m : mesh.materials) {
+    if (m.name == "skin") return DecodeImage(mesh.images[static_cast<std::size_t>(m.base_colour_image)]);
+  }
+  FAIL("the head has no skin material");
+  return {};
+}
+
+// Mean absolute difference (levels, over channels) between the bake and the
+// source albedo over the texels `use` picks; and how many it picked.
+std::pair<double, std::size_t> MeanError(const PhotoTexture& bake, const RgbImage& source,
+                                         const std::function<bool(std::size_t)>& use) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < bake.direct_weight.size(); ++i) {
+    if (!use(i)) continue;
+    for (int k = 0; k < 3; ++k) sum += std::abs(int{bake.texture.pixels[3 * i + static_cast<std::size_t>(k)]} - int{source.pixels[3 * i + static_cast<std::size_t>(k)]});
+    ++count;
+  }
+  return {count > 0 ? sum / (3.0 * static_cast<double>(count)) : 0.0, count};
+}
+
+bool IsSkinPart(const Mesh& mesh, std::size_t t) { return RoleOfPart(mesh.part_names[mesh.triangle_parts[t]]) == PartRole::kSkin; }
+
+}  // namespace
+
+TEST_CASE("photo texture: a front render of the built-in head bakes back to its own albedo", "[photo_texture]") {
+  const Mesh& mesh = HeadMesh();
+  const RgbImage source = SkinAlbedo(mesh);
+  const RasterView camera = Portrait(0.0f);
+  const PhotoTexture bake = BakePhotoTexture(mesh, camera, RenderTextured(mesh, camera), {.size = source.width});
+  REQUIRE(bake.texture.width == source.width);
+  const auto [error, count] = MeanError(bake, source, [&](std::size_t i) { return bake.direct_weight[i] >= 0.99f; });
+  WARN("front texels: " << count << ", mean error " << error << " levels");
+  CHECK(count > bake.direct_weight.size() / 20);
+  CHECK(error < 4.0);
+  // The head is symmetric: its mirror partners lie close to the reflected vertices (cm).
+  CHECK(bake.stats.mirror_pairs > 1000);
+  CHECK(bake.stats.mirror_partner_error < 0.05);
+  // The cheeks' colour, measured where the head's cheek vertices are.
+  DefaultHeadFeatures features;
+  test::DefaultHead(&features);
+  const Rig& rig = test::DefaultHead();
+  for (std::uint32_t cheek : features.cheeks) {
+    const glm::vec3 truth = SampleUv(source, rig.uvs()[cheek]) / 255.0f;
+    WARN("skin colour " << bake.skin_colour.r << " " << bake.skin_colour.g << " " << bake.skin_colour.b);
+    CHECK(glm::length(bake.skin_colour - truth) < 0.08f);
+  }
+  WritePng(test::OutputPath("photo_texture_source.png"), source);
+  WritePng(test::OutputPath("photo_texture_front.png"), bake.texture);
+  WritePng(test::OutputPath("photo_texture_front_coverage.png"), bake.coverage);
+}
+
+TEST_CASE("photo texture: at 30 degrees the hidden side is filled from its mirror image, nothing left empty",
+          "[photo_texture]") {
+  const Mesh& mesh = HeadMesh();
+  const RgbImage source = SkinAlbedo(mesh);
+  const RasterView camera = Portrait(30.0f);
+  const RgbImage photo = RenderTextured(mesh, camera);
+  const PhotoTexture bake = BakePhotoTexture(mesh, camera, photo, {.size = source.width});
+  const auto [seen_error, seen] = MeanError(bake, source, [&](std::size_t i) { return bake.direct_weight[i] >= 0.99f; });
+  const auto [mirror_error, mirrored] = MeanError(bake, source, [&](std::size_t i) {
+    return bake.direct_weight[i] == 0.0f && bake.mirror_weight[i] >= 0.99f;
+  });
+  WARN("seen " << seen << " texels, error " << seen_error << "; mirrored " << mirrored << ", error " << mirror_error);
+  CHECK(seen_error < 4.0);
+  CHECK(mirrored > bake.direct_weight.size() / 200);
+  CHECK(mirror_error < 8.0);
+  CHECK(bake.stats.mirrored_fraction > 0.0);
+  // What neither side shows (the back of the head) takes about the skin
+  // colour, and no texel is left unset (black).
+  glm::dvec3 filled_sum(0.0);
+  std::size_t filled = 0, black = 0;
+  for (std::size_t i = 0; i < bake.direct_weight.size(); ++i) {
+    const glm::vec3 c = Texel(bake.texture, static_cast<int>(i % static_cast<std::size_t>(bake.texture.width)),
+                              static_cast<int>(i / static_cast<std::size_t>(bake.texture.width)));
+    black += c == glm::vec3(0.0f) ? 1 : 0;
+    if (bake.direct_weight[i] > 0.0f || bake.mirror_weight[i] > 0.0f) continue;
+    filled_sum += glm::dvec3(c) / 255.0;
+    ++filled;
+  }
+  CHECK(black == 0);
+  REQUIRE(filled > 0);
+  const glm::vec3 filled_mean(filled_sum / static_cast<double>(filled));
+  WARN("filled texels' mean " << filled_mean.r << " " << filled_mean.g << " " << filled_mean.b);
+  CHECK(glm::length(filled_mean - bake.skin_colour) < 0.1f);
+  WritePng(test::OutputPath("photo_texture_yaw30_photo.png"), photo);
+  WritePng(test::OutputPath("photo_texture_yaw30.png"), bake.texture);
+  WritePng(test::OutputPath("photo_texture_yaw30_coverage.png"), bake.coverage);
+}
+
+TEST_CASE("photo texture: applied, the skin shows the photo and eyes, teeth and mouth keep their materials",
+          "[photo_texture]") {
+  Mesh mesh = HeadMesh();
+  const RasterView camera = Portrait(0.0f, 256);
+  const PhotoTexture bake = BakePhotoTexture(mesh, camera, RenderTextured(mesh, camera), {.size = 128});
+  const Mesh before = mesh;
+  ApplyPhotoTexture(mesh, bake);
+  std::string problem;
+  REQUIRE(mesh.Validate(&problem));
+  REQUIRE(ValidateMaterials(mesh.materials, mesh.images, &problem));
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const Material& now = mesh.materials[mesh.triangle_materials[t]];
+    if (IsSkinPart(mesh, t)) {
+      REQUIRE(now.name == "photo_skin");
+      REQUIRE(mesh.images[static_cast<std::size_t>(now.base_colour_image)].bytes == bake.image.bytes);
+      continue;
+    }
+    const Material& was = before.materials[before.triangle_materials[t]];
+    REQUIRE(now.name == was.name);
+    REQUIRE(now.base_colour == was.base_colour);
+    REQUIRE((now.base_colour_image < 0) == (was.base_colour_image < 0));
+    if (was.base_colour_image >= 0) {
+      REQUIRE(mesh.images[static_cast<std::size_t>(now.base_colour_image)].bytes ==
+              before.images[static_cast<std::size_t>(was.base_colour_image)].bytes);
+    }
+  }
+  // The old skin image is gone with the material that used it.
+  CHECK(mesh.images.size() == before.images.size());
+}
+
+TEST_CASE("photo texture: invalid inputs are refused", "[photo_texture]") {
+  const Mesh& head = HeadMesh();
+  const RasterView camera = Portrait(0.0f, 64);
+  const RgbImage photo{64, 64, std::vector<std::uint8_t>(64 * 64 * 3, 128)};
+  Mesh no_uvs = head;
+  no_uvs.corner_uvs.clear();
+  CHECK_THROWS_AS(BakePhotoTexture(no_uvs, camera, photo), InvalidInputError);
+  CHECK_THROWS_AS(BakePhotoTexture(head, Portrait(0.0f, 32), photo), InvalidInputError);
+  CHECK_THROWS_AS(BakePhotoTexture(head, camera, RgbImage{64, 64, {}}), InvalidInputError);
+  CHECK_THROWS_AS(BakePhotoTexture(head, camera, photo, {.size = 4}), InvalidInputError);
+  CHECK_THROWS_AS(BakePhotoTexture(head, camera, photo, {.grazing_cos = 0.6f, .full_cos = 0.5f}), InvalidInputError);
+  // A photo that shows no face still gives a full texture, of the default skin colour.
+  const PhotoTexture blank = BakePhotoTexture(head, Portrait(180.0f, 64), photo, {.size = 64});
+  CHECK(blank.texture.pixels.size() == 64u * 64u * 3u);
+}
+
+TEST_CASE("photo texture: timing of a 1024 texture from a 1024 px photo", "[photo_texture][.measure]") {
+  const Mesh& mesh = HeadMesh();
+  const RasterView camera = Portrait(15.0f, 1024);
+  const RgbImage photo = RenderTextured(mesh, camera);
+  const auto start = std::chrono::steady_clock::now();
+  const PhotoTexture bake = BakePhotoTexture(mesh, camera, photo);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  WARN("bake 1024^2 from 1024 px: " << seconds << " s; seen " << bake.stats.seen_fraction << ", mirrored "
+                                     << bake.stats.mirrored_fraction << ", filled " << bake.stats.filled_fraction
+                                     << ", partner error " << bake.stats.mirror_partner_error);
+  CHECK(seconds < 1.0);
+}
+
+}  // namespace facerig
