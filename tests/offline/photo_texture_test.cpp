@@ -14,9 +14,11 @@
 
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/error.h"
+#include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/part_roles.h"
 #include "support/default_head_poses.h"
 #include "support/test_meshes.h"
+#include "support/textured_assets.h"
 
 namespace facerig {
 namespace {
@@ -43,8 +45,21 @@ float ToSrgbLevel(float linear) {
   return 255.0f * std::clamp(s, 0.0f, 1.0f);
 }
 
-// The mesh as a camera sees it with its textures, unlit: a photo with known albedo.
-RgbImage RenderTextured(const Mesh& mesh, const RasterView& view) {
+bool IsSkinPart(const Mesh& mesh, std::size_t t) { return RoleOfPart(mesh.part_names[mesh.triangle_parts[t]]) == PartRole::kSkin; }
+
+// The mesh as a camera sees it with its textures (repeated), unlit, without
+// the transparent layers over the eyes and the lashes: a photo with known albedo.
+RgbImage RenderTextured(const Mesh& full, const RasterView& view) {
+  Mesh mesh = full;
+  mesh.triangles.clear(), mesh.corner_uvs.clear(), mesh.triangle_parts.clear(), mesh.triangle_materials.clear();
+  for (std::size_t t = 0; t < full.triangle_count(); ++t) {
+    const PartRole role = RoleOfPart(full.part_names[full.triangle_parts[t]]);
+    if (role == PartRole::kEyeLayer || role == PartRole::kLashes) continue;
+    mesh.triangles.push_back(full.triangles[t]);
+    for (int k = 0; k < 3; ++k) mesh.corner_uvs.push_back(full.corner_uvs[3 * t + static_cast<std::size_t>(k)]);
+    mesh.triangle_parts.push_back(full.triangle_parts[t]);
+    mesh.triangle_materials.push_back(full.triangle_materials[t]);
+  }
   const RasterBuffers buffers = Rasterize(mesh, view);
   std::map<std::int32_t, RgbImage> decoded;
   for (const Material& m : mesh.materials) {
@@ -62,7 +77,7 @@ RgbImage RenderTextured(const Mesh& mesh, const RasterView& view) {
     if (m.base_colour_image >= 0) {
       const glm::vec3 b = buffers.barycentrics[i];
       const glm::vec2 uv = b.x * mesh.corner_uvs[3 * t] + b.y * mesh.corner_uvs[3 * t + 1] + b.z * mesh.corner_uvs[3 * t + 2];
-      colour = SampleUv(decoded.at(m.base_colour_image), uv);
+      colour = SampleUv(decoded.at(m.base_colour_image), uv - glm::floor(uv));
     }
     for (int k = 0; k < 3; ++k) photo.pixels[3 * i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(colour[k]));
   }
@@ -99,8 +114,6 @@ std::pair<double, std::size_t> MeanError(const PhotoTexture& bake, const RgbImag
   return {count > 0 ? sum / (3.0 * static_cast<double>(count)) : 0.0, count};
 }
 
-bool IsSkinPart(const Mesh& mesh, std::size_t t) { return RoleOfPart(mesh.part_names[mesh.triangle_parts[t]]) == PartRole::kSkin; }
-
 }  // namespace
 
 TEST_CASE("photo texture: a front render of the built-in head bakes back to its own albedo", "[photo_texture]") {
@@ -110,9 +123,9 @@ TEST_CASE("photo texture: a front render of the built-in head bakes back to its 
   const PhotoTexture bake = BakePhotoTexture(mesh, camera, RenderTextured(mesh, camera), {.size = source.width});
   REQUIRE(bake.texture.width == source.width);
   const auto [error, count] = MeanError(bake, source, [&](std::size_t i) { return bake.direct_weight[i] >= 0.99f; });
-  WARN("front texels: " << count << ", mean error " << error << " levels");
+  INFO("front texels: " << count << ", mean error " << error << " levels");
   CHECK(count > bake.direct_weight.size() / 20);
-  CHECK(error < 4.0);
+  CHECK(error < 2.0);
   // The head is symmetric: its mirror partners lie close to the reflected vertices (cm).
   CHECK(bake.stats.mirror_pairs > 1000);
   CHECK(bake.stats.mirror_partner_error < 0.05);
@@ -122,7 +135,7 @@ TEST_CASE("photo texture: a front render of the built-in head bakes back to its 
   const Rig& rig = test::DefaultHead();
   for (std::uint32_t cheek : features.cheeks) {
     const glm::vec3 truth = SampleUv(source, rig.uvs()[cheek]) / 255.0f;
-    WARN("skin colour " << bake.skin_colour.r << " " << bake.skin_colour.g << " " << bake.skin_colour.b);
+    INFO("skin colour " << bake.skin_colour.r << " " << bake.skin_colour.g << " " << bake.skin_colour.b);
     CHECK(glm::length(bake.skin_colour - truth) < 0.08f);
   }
   WritePng(test::OutputPath("photo_texture_source.png"), source);
@@ -141,10 +154,11 @@ TEST_CASE("photo texture: at 30 degrees the hidden side is filled from its mirro
   const auto [mirror_error, mirrored] = MeanError(bake, source, [&](std::size_t i) {
     return bake.direct_weight[i] == 0.0f && bake.mirror_weight[i] >= 0.99f;
   });
-  WARN("seen " << seen << " texels, error " << seen_error << "; mirrored " << mirrored << ", error " << mirror_error);
-  CHECK(seen_error < 4.0);
+  INFO("seen " << seen << " texels, error " << seen_error << "; mirrored " << mirrored << ", error " << mirror_error);
+  CHECK(seen_error < 2.0);
+  // The painted albedo is symmetric but for its fine noise.
   CHECK(mirrored > bake.direct_weight.size() / 200);
-  CHECK(mirror_error < 8.0);
+  CHECK(mirror_error < 6.0);
   CHECK(bake.stats.mirrored_fraction > 0.0);
   // What neither side shows (the back of the head) takes about the skin
   // colour, and no texel is left unset (black).
@@ -161,8 +175,8 @@ TEST_CASE("photo texture: at 30 degrees the hidden side is filled from its mirro
   CHECK(black == 0);
   REQUIRE(filled > 0);
   const glm::vec3 filled_mean(filled_sum / static_cast<double>(filled));
-  WARN("filled texels' mean " << filled_mean.r << " " << filled_mean.g << " " << filled_mean.b);
-  CHECK(glm::length(filled_mean - bake.skin_colour) < 0.1f);
+  INFO("filled texels' mean " << filled_mean.r << " " << filled_mean.g << " " << filled_mean.b);
+  CHECK(glm::length(filled_mean - bake.skin_colour) < 0.06f);
   WritePng(test::OutputPath("photo_texture_yaw30_photo.png"), photo);
   WritePng(test::OutputPath("photo_texture_yaw30.png"), bake.texture);
   WritePng(test::OutputPath("photo_texture_yaw30_coverage.png"), bake.coverage);
@@ -225,6 +239,53 @@ TEST_CASE("photo texture: timing of a 1024 texture from a 1024 px photo", "[phot
                                      << bake.stats.mirrored_fraction << ", filled " << bake.stats.filled_fraction
                                      << ", partner error " << bake.stats.mirror_partner_error);
   CHECK(seconds < 1.0);
+}
+
+}  // namespace facerig
+
+namespace facerig {
+
+TEST_CASE("(shared data) photo texture: ICT-FaceKit wearing a UV-coded albedo bakes back to that albedo",
+          "[shared-data][photo_texture]") {
+  Mesh ict = ReadObj(test::WriteTexturedIctIdentity(test::FreshOutputFolder("photo_texture_ict")));
+  // The back of the head shares the face's UV space: it wears the albedo too.
+  std::int32_t albedo = -1;
+  for (const Material& m : ict.materials) albedo = m.name == "M_Face" ? m.base_colour_image : albedo;
+  REQUIRE(albedo >= 0);
+  for (Material& m : ict.materials) {
+    if (m.name == "M_BackHead") m.base_colour_image = albedo, m.base_colour = glm::vec4(1.0f);
+  }
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (std::size_t t = 0; t < ict.triangle_count(); ++t) {
+    if (ict.part_names[ict.triangle_parts[t]] != "M_Face") continue;
+    for (std::uint32_t v : ict.triangles[t]) lo = glm::min(lo, ict.positions[v]), hi = glm::max(hi, ict.positions[v]);
+  }
+  for (float yaw : {0.0f, 30.0f}) {
+    const RasterView camera = RasterView::Orbit(0.5f * (lo + hi), 0.7f * (hi.y - lo.y), 768, 768, yaw * kDegree);
+    const PhotoTexture bake = BakePhotoTexture(ict, camera, RenderTextured(ict, camera), {.size = 512});
+    double error = 0.0;
+    std::size_t count = 0;
+    RgbImage diff{512, 512, std::vector<std::uint8_t>(512 * 512 * 3, 0)};
+    for (std::size_t i = 0; i < bake.direct_weight.size(); ++i) {
+      if (bake.direct_weight[i] < 0.99f) continue;
+      const int x = static_cast<int>(i % 512), y = static_cast<int>(i / 512);
+      const glm::u8vec4 truth = test::UvCodedColour({(static_cast<float>(x) + 0.5f) / 512.0f, 1.0f - (static_cast<float>(y) + 0.5f) / 512.0f});
+      const glm::vec3 baked = Texel(bake.texture, x, y);
+      error += (std::abs(baked.r - truth.r) + std::abs(baked.g - truth.g)) / 2.0;
+      for (int k = 0; k < 3; ++k) diff.pixels[3 * i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::min(255.0f, 8.0f * std::abs(baked[k] - truth[k])));
+      ++count;
+    }
+    error /= static_cast<double>(std::max<std::size_t>(count, 1));
+    INFO("ICT yaw " << yaw << ": " << count << " seen texels, mean error " << error << " levels; partners "
+                    << bake.stats.mirror_pairs << ", partner error " << bake.stats.mirror_partner_error << "; seen "
+                    << bake.stats.seen_fraction << ", mirrored " << bake.stats.mirrored_fraction << ", filled "
+                    << bake.stats.filled_fraction);
+    CHECK(count > 5000);
+    CHECK(error < 1.5);
+    WritePng(test::OutputPath("photo_texture_ict_yaw" + std::to_string(static_cast<int>(yaw)) + ".png"), bake.texture);
+    WritePng(test::OutputPath("photo_texture_ict_diff" + std::to_string(static_cast<int>(yaw)) + ".png"), diff);
+    WritePng(test::OutputPath("photo_texture_ict_yaw" + std::to_string(static_cast<int>(yaw)) + "_coverage.png"), bake.coverage);
+  }
 }
 
 }  // namespace facerig
