@@ -1,6 +1,7 @@
 #include "facerig/offline/photo_texture.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -15,6 +16,20 @@ namespace facerig {
 namespace {
 
 using photo_texture::TexelLayers;
+
+class Stopwatch {
+ public:
+  // Seconds since the last lap (or the start).
+  double Lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return seconds;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 void CheckInputs(const Mesh& mesh, const RasterView& camera, const RgbImage& photo, const PhotoTextureParams& params) {
   std::string problem;
@@ -117,9 +132,12 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
     if (skin_triangle[t]) for (std::uint32_t v : mesh.triangles[t]) skin_vertex[v] = 1;
   }
+  Stopwatch clock;
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
+  const double partner_seconds = clock.Lap();
   TexelLayers layers = EmptyLayers(params.size);
   photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mirror, photo_texture::FindCheeks(mesh), params, layers);
+  const double project_seconds = clock.Lap();
   PhotoTexture result;
   result.skin_colour = photo_texture::EstimateSkinColour(layers);
   result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, params.fill_radius));
@@ -127,7 +145,11 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   result.stats = Measure(layers, mirror);
   result.direct_weight = std::move(layers.direct_weight);
   result.mirror_weight = std::move(layers.mirror_weight);
+  result.stats.fill_seconds = clock.Lap();
   result.image = EncodePng(result.texture, params.png_compression);
+  result.stats.encode_seconds = clock.Lap();
+  result.stats.partner_seconds = partner_seconds;
+  result.stats.project_seconds = project_seconds;
   result.material = Material{.name = "photo_skin", .base_colour = glm::vec4(1.0f), .roughness = 0.6f};
   return result;
 }

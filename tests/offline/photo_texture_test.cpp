@@ -237,7 +237,10 @@ TEST_CASE("photo texture: timing of a 1024 texture from a 1024 px photo", "[phot
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   WARN("bake 1024^2 from 1024 px: " << seconds << " s; seen " << bake.stats.seen_fraction << ", mirrored "
                                      << bake.stats.mirrored_fraction << ", filled " << bake.stats.filled_fraction
-                                     << ", partner error " << bake.stats.mirror_partner_error);
+                                     << ", partner error " << bake.stats.mirror_partner_error << "; partners "
+                                     << bake.stats.partner_seconds << " s, projection " << bake.stats.project_seconds
+                                     << " s, fill " << bake.stats.fill_seconds << " s, PNG " << bake.stats.encode_seconds
+                                     << " s (" << bake.image.bytes.size() << " bytes)");
   CHECK(seconds < 1.0);
 }
 

@@ -53,6 +53,9 @@ struct PhotoTextureStats {
   double filled_fraction = 0.0;    // neither: diffusion and skin colour only
   std::size_t mirror_pairs = 0;    // skin vertices with a mirror partner
   double mirror_partner_error = 0.0;  // mean distance (mesh units) from a reflected vertex to its partner
+  // Wall-clock seconds of the steps: mirror partners, z-buffer and texel walk,
+  // skin colour and fill, PNG encoding.
+  double partner_seconds = 0.0, project_seconds = 0.0, fill_seconds = 0.0, encode_seconds = 0.0;
 };
 
 struct PhotoTexture {
