@@ -31,8 +31,9 @@
 namespace facerig {
 
 struct PhotoTextureParams {
-  // Texels a side. 1024 holds the face of a 1024-pixel portrait at about the
-  // photo's own resolution (the face covers about a third of the skin UVs).
+  // Texels a side. At 1024 the face's UV island (ICT-FaceKit's, the built-in
+  // head's) is about as many texels across as a 1024-pixel portrait shows the
+  // face in pixels: more adds no detail, less loses some.
   int size = 1024;
   // Cosine between the surface normal and the direction to the camera at
   // which the photo starts to count, and from which it counts fully.
