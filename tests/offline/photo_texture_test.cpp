@@ -215,6 +215,25 @@ TEST_CASE("photo texture: applied, the skin shows the photo and eyes, teeth and 
   CHECK(mesh.images.size() == before.images.size());
 }
 
+TEST_CASE("photo texture: a mesh wound the other way round bakes the same", "[photo_texture]") {
+  const Mesh& head = HeadMesh();
+  Mesh flipped = head;
+  for (std::size_t t = 0; t < flipped.triangle_count(); ++t) {
+    std::swap(flipped.triangles[t][1], flipped.triangles[t][2]);
+    std::swap(flipped.corner_uvs[3 * t + 1], flipped.corner_uvs[3 * t + 2]);
+    std::swap(flipped.corner_normals[3 * t + 1], flipped.corner_normals[3 * t + 2]);
+  }
+  const RasterView camera = Portrait(20.0f, 256);
+  const RgbImage photo = RenderTextured(head, camera);
+  const PhotoTexture a = BakePhotoTexture(head, camera, photo, {.size = 128});
+  const PhotoTexture b = BakePhotoTexture(flipped, camera, photo, {.size = 128});
+  REQUIRE(a.stats.seen_fraction > 0.2);
+  CHECK(std::abs(a.stats.seen_fraction - b.stats.seen_fraction) < 1e-3);
+  double difference = 0.0;
+  for (std::size_t i = 0; i < a.texture.pixels.size(); ++i) difference += std::abs(int{a.texture.pixels[i]} - int{b.texture.pixels[i]});
+  CHECK(difference / static_cast<double>(a.texture.pixels.size()) < 0.1);
+}
+
 TEST_CASE("photo texture: invalid inputs are refused", "[photo_texture]") {
   const Mesh& head = HeadMesh();
   const RasterView camera = Portrait(0.0f, 64);
@@ -226,9 +245,12 @@ TEST_CASE("photo texture: invalid inputs are refused", "[photo_texture]") {
   CHECK_THROWS_AS(BakePhotoTexture(head, camera, RgbImage{64, 64, {}}), InvalidInputError);
   CHECK_THROWS_AS(BakePhotoTexture(head, camera, photo, {.size = 4}), InvalidInputError);
   CHECK_THROWS_AS(BakePhotoTexture(head, camera, photo, {.grazing_cos = 0.6f, .full_cos = 0.5f}), InvalidInputError);
-  // A photo that shows no face still gives a full texture, of the default skin colour.
+  // A photo of the back of the head (no cheeks seen) still gives a full
+  // texture, its skin colour what the photo shows.
   const PhotoTexture blank = BakePhotoTexture(head, Portrait(180.0f, 64), photo, {.size = 64});
   CHECK(blank.texture.pixels.size() == 64u * 64u * 3u);
+  CHECK(glm::length(blank.skin_colour - glm::vec3(128.0f / 255.0f)) < 0.01f);
+  CHECK(blank.stats.seen_fraction > 0.0);
 }
 
 TEST_CASE("photo texture: timing of a 1024 texture from a 1024 px photo", "[photo_texture][.measure]") {
