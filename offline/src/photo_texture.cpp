@@ -66,7 +66,8 @@ std::vector<std::uint8_t> SkinTriangles(const Mesh& mesh) {
 TexelLayers EmptyLayers(int size) {
   const std::size_t count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
-          std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0)};
+          std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0),
+          std::vector<std::uint8_t>(count, 0)};
 }
 
 std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
@@ -138,6 +139,7 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   TexelLayers layers = EmptyLayers(params.size);
   photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mirror, photo_texture::FindCheeks(mesh), params, layers);
   const double project_seconds = clock.Lap();
+  photo_texture::BalanceMirrorLight(layers);
   PhotoTexture result;
   result.skin_colour = photo_texture::EstimateSkinColour(layers);
   result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, params.fill_radius));

@@ -112,6 +112,28 @@ CheekRegion FindCheeks(const Mesh& mesh) {
   return cheeks;
 }
 
+void BalanceMirrorLight(TexelLayers& layers) {
+  glm::dvec3 direct[2] = {glm::dvec3(0.0), glm::dvec3(0.0)}, mirrored[2] = {glm::dvec3(0.0), glm::dvec3(0.0)};
+  for (std::size_t i = 0; i < layers.skin.size(); ++i) {
+    if (!layers.skin[i] || layers.direct_weight[i] < 0.5f || layers.mirror_weight[i] < 0.5f) continue;
+    const double w = layers.direct_weight[i] * layers.mirror_weight[i];
+    direct[layers.side[i]] += w * glm::dvec3(layers.direct_colour[i]);
+    mirrored[layers.side[i]] += w * glm::dvec3(layers.mirror_colour[i]);
+  }
+  glm::vec3 gain[2] = {glm::vec3(1.0f), glm::vec3(1.0f)};
+  for (int side = 0; side < 2; ++side) {
+    for (int k = 0; k < 3; ++k) {
+      // Too little overlap says nothing; a gain far from 1 is a different surface, not light.
+      if (mirrored[side][k] > 1.0 && direct[side][k] > 1.0) {
+        gain[side][k] = std::clamp(static_cast<float>(direct[side][k] / mirrored[side][k]), 0.5f, 2.0f);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < layers.skin.size(); ++i) {
+    if (layers.skin[i]) layers.mirror_colour[i] = glm::min(layers.mirror_colour[i] * gain[layers.side[i]], glm::vec3(1.0f));
+  }
+}
+
 glm::vec3 EstimateSkinColour(const TexelLayers& layers) {
   const auto median = [&](bool cheeks_only) {
     std::vector<float> channels[3];

@@ -18,12 +18,15 @@ struct TexelLayers {
   std::vector<float> direct_weight, mirror_weight;
   std::vector<std::uint8_t> skin;   // 1: inside a skin triangle's UVs
   std::vector<std::uint8_t> cheek;  // 1: its surface point lies on a cheek
+  std::vector<std::uint8_t> side;   // 1: its surface point lies behind the symmetry plane
 };
 
 // Each vertex's mirror partner across the face's symmetry plane (-1: none);
 // only vertices of skin triangles are paired.
 struct MirrorPartners {
   std::vector<std::int32_t> partner;
+  glm::vec3 plane_normal{1.0f, 0.0f, 0.0f};  // the symmetry plane: dot(normal, p) = offset
+  float plane_offset = 0.0f;
   std::size_t pairs = 0;
   double mean_error = 0.0;  // |reflected vertex - its partner|, mesh units
 };
@@ -46,6 +49,11 @@ std::vector<glm::vec3> VertexNormals(const Mesh& mesh);
 void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
                   const RgbImage& photo, const MirrorPartners& mirror, const CheekRegion& cheeks,
                   const PhotoTextureParams& params, TexelLayers& layers);
+
+// Scales each side's mirror colours so that, where a texel is seen both
+// directly and in its mirror, the two agree on average: one side of a face
+// is often lit more than the other.
+void BalanceMirrorLight(TexelLayers& layers);
 
 // Median colour of the squarely seen cheek texels (else of all squarely seen
 // skin texels; else RoleMaterial's skin), sRGB in [0, 1].

@@ -171,7 +171,7 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       glm::vec3 direct(0.0f), reflected(0.0f);
       const float wd = view.Sample(point.position, point.normal, direct);
       float wm = 0.0f;
-      if (mirrored && wd < 1.0f) {
+      if (mirrored) {
         const SurfacePoint partner = Interpolate(mesh.positions, normals, m, w0, w1, w2);
         wm = view.Sample(partner.position, partner.normal, reflected);
       }
@@ -185,6 +185,7 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       layers.direct_colour[i] = direct, layers.direct_weight[i] = wd;
       layers.mirror_colour[i] = reflected, layers.mirror_weight[i] = wm;
       layers.cheek[i] = cheeks.Contains(point.position) ? 1 : 0;
+      layers.side[i] = glm::dot(mirror.plane_normal, point.position) < mirror.plane_offset ? 1 : 0;
     });
   }
 }

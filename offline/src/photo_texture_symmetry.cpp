@@ -120,6 +120,8 @@ MirrorPartners FindMirrorPartners(const Mesh& mesh, const std::vector<std::uint8
   std::nth_element(xs.begin(), xs.begin() + static_cast<std::ptrdiff_t>(xs.size() / 2), xs.end());
   Plane plane{glm::vec3(1.0f, 0.0f, 0.0f), xs[xs.size() / 2]};  // the character's left is +X
   for (int pass = 0; pass < 3; ++pass) plane = RefinedPlane(plane, mesh.positions, ids, grid);
+  mirror.plane_normal = plane.normal;
+  mirror.plane_offset = plane.offset;
   double error = 0.0;
   for (std::uint32_t v : ids) {
     const glm::vec3 reflected = plane.Reflect(mesh.positions[v]);

@@ -48,9 +48,10 @@ float ToSrgbLevel(float linear) {
 
 bool IsSkinPart(const Mesh& mesh, std::size_t t) { return RoleOfPart(mesh.part_names[mesh.triangle_parts[t]]) == PartRole::kSkin; }
 
-// The mesh as a camera sees it with its textures (repeated), unlit, without
-// the transparent layers over the eyes and the lashes: a photo with known albedo.
-RgbImage RenderTextured(const Mesh& full, const RasterView& view) {
+// The mesh as a camera sees it with its textures (repeated), without the
+// transparent layers over the eyes and the lashes: a photo with known albedo.
+// Unlit, or lit by `light` (a factor at each surface point).
+RgbImage RenderTextured(const Mesh& full, const RasterView& view, const std::function<float(glm::vec3)>& light = {}) {
   Mesh mesh = full;
   mesh.triangles.clear(), mesh.corner_uvs.clear(), mesh.triangle_parts.clear(), mesh.triangle_materials.clear();
   for (std::size_t t = 0; t < full.triangle_count(); ++t) {
@@ -79,6 +80,11 @@ RgbImage RenderTextured(const Mesh& full, const RasterView& view) {
       const glm::vec3 b = buffers.barycentrics[i];
       const glm::vec2 uv = b.x * mesh.corner_uvs[3 * t] + b.y * mesh.corner_uvs[3 * t + 1] + b.z * mesh.corner_uvs[3 * t + 2];
       colour = SampleUv(decoded.at(m.base_colour_image), uv - glm::floor(uv));
+    }
+    glm::vec3 p(0.0f);
+    if (light && buffers.SurfacePoint(static_cast<int>(i % static_cast<std::size_t>(view.width)),
+                                      static_cast<int>(i / static_cast<std::size_t>(view.width)), mesh, p)) {
+      colour = glm::min(colour * light(p), glm::vec3(255.0f));
     }
     for (int k = 0; k < 3; ++k) photo.pixels[3 * i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(colour[k]));
   }
@@ -183,6 +189,28 @@ TEST_CASE("photo texture: at 30 degrees the hidden side is filled from its mirro
   CHECK(glm::length(filled_mean - bake.skin_colour) < 0.06f);
   WriteBytes(test::OutputPath("photo_texture_yaw30.png"), bake.image.bytes);
   WritePng(test::OutputPath("photo_texture_yaw30_coverage.png"), bake.coverage);
+}
+
+TEST_CASE("photo texture: a side lit brighter than the other does not brighten the mirrored texels",
+          "[photo_texture]") {
+  const Mesh& mesh = HeadMesh();
+  const RgbImage source = SkinAlbedo(mesh);
+  // The character's left (+X, towards the camera) lit 1.2, the right 0.8.
+  const auto light = [](glm::vec3 p) { return 1.0f + 0.2f * std::tanh(p.x / 0.5f); };
+  const RasterView camera = Portrait(30.0f, 512);
+  const PhotoTexture bake = BakePhotoTexture(mesh, camera, RenderTextured(mesh, camera, light), {.size = source.width});
+  // Hidden texels (all on the right) should show the right side's light.
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < bake.direct_weight.size(); ++i) {
+    if (bake.direct_weight[i] > 0.0f || bake.mirror_weight[i] < 0.99f) continue;
+    for (std::size_t k = 0; k < 3; ++k) sum += std::abs(bake.texture.pixels[3 * i + k] - 0.8 * source.pixels[3 * i + k]);
+    ++count;
+  }
+  REQUIRE(count > 1000);
+  const double error = sum / (3.0 * static_cast<double>(count));
+  INFO("mirrored texels: " << count << ", mean error against the right side's light " << error << " levels");
+  CHECK(error < 8.0);
 }
 
 TEST_CASE("photo texture: applied, the skin shows the photo and eyes, teeth and mouth keep their materials",

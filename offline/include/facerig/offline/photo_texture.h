@@ -11,7 +11,8 @@
 //      grazing angles);
 //   2. the photo at its mirror point (the same barycentrics on the mirror
 //      partners of its triangle's vertices, across the face's symmetry plane),
-//      where the photo sees that side instead;
+//      where the photo sees that side instead, scaled per side and channel so
+//      that texels seen both ways agree (one side is often lit more);
 //   3. what remains: the seen colours diffused outwards (push-pull), turning
 //      into a skin colour estimated from the cheeks over `fill_radius` texels.
 // Each layer is blended over the next by its weight, so seams stay soft.
@@ -64,8 +65,9 @@ struct PhotoTexture {
   // texel set, also outside the skin's UV islands (so filtering across a
   // seam does not bring in a background).
   RgbImage texture;
-  // Per texel, row-major: the direct photo weight and the mirror weight in
-  // [0, 1] (0 outside the skin's UV islands).
+  // Per texel, row-major: the direct photo weight and the mirror point's
+  // photo weight in [0, 1] (0 outside the skin's UV islands); the mirror
+  // counts for what the direct weight leaves.
   std::vector<float> direct_weight;
   std::vector<float> mirror_weight;
   // For looking at: red = direct weight, green = mirror weight, blue = the
