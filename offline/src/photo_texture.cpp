@@ -1,0 +1,159 @@
+#include "facerig/offline/photo_texture.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "facerig/offline/error.h"
+#include "facerig/runtime/part_roles.h"
+#include "photo_texture_internal.h"
+
+namespace facerig {
+namespace {
+
+using photo_texture::TexelLayers;
+
+class Stopwatch {
+ public:
+  // Seconds since the last lap (or the start).
+  double Lap() {
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return seconds;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+void CheckInputs(const Mesh& mesh, const RasterView& camera, const RgbImage& photo, const PhotoTextureParams& params) {
+  std::string problem;
+  if (!mesh.Validate(&problem)) throw InvalidInputError("photo texture: " + problem, "mesh");
+  if (mesh.corner_uvs.empty()) throw InvalidInputError("photo texture: the mesh has no UVs", "mesh");
+  if (photo.width <= 0 || photo.height <= 0 ||
+      photo.pixels.size() != 3 * static_cast<std::size_t>(photo.width) * static_cast<std::size_t>(photo.height)) {
+    throw InvalidInputError("photo texture: the photo's pixels do not match its size", "photo");
+  }
+  if (photo.width != camera.width || photo.height != camera.height) {
+    throw InvalidInputError("photo texture: the camera's image size differs from the photo's", "camera");
+  }
+  if (params.size < 16 || params.size > 8192) throw InvalidInputError("photo texture: size out of [16, 8192]", "size");
+  if (!(params.grazing_cos >= 0.0f && params.grazing_cos < params.full_cos && params.full_cos <= 1.0f)) {
+    throw InvalidInputError("photo texture: need 0 <= grazing_cos < full_cos <= 1", "grazing_cos");
+  }
+  if (!(params.depth_tolerance_pixels >= 0.0f) || !(params.fill_radius >= 1.0f)) {
+    throw InvalidInputError("photo texture: depth tolerance must be >= 0 and fill radius >= 1", "params");
+  }
+  if (params.png_compression < 0 || params.png_compression > 9) {
+    throw InvalidInputError("photo texture: png_compression out of [0, 9]", "png_compression");
+  }
+}
+
+std::vector<std::uint8_t> SkinTriangles(const Mesh& mesh) {
+  std::vector<std::uint8_t> skin(mesh.triangle_count(), 1);
+  if (mesh.triangle_parts.empty()) return skin;
+  for (std::size_t t = 0; t < skin.size(); ++t) {
+    skin[t] = RoleOfPart(mesh.part_names[mesh.triangle_parts[t]]) == PartRole::kSkin ? 1 : 0;
+  }
+  return skin;
+}
+
+TexelLayers EmptyLayers(int size) {
+  const std::size_t count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+  return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
+          std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0),
+          std::vector<std::uint8_t>(count, 0)};
+}
+
+std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
+
+RgbImage ToImage(int size, const std::vector<glm::vec3>& colours) {
+  RgbImage image{size, size, std::vector<std::uint8_t>(3 * colours.size())};
+  for (std::size_t i = 0; i < colours.size(); ++i) {
+    for (int k = 0; k < 3; ++k) image.pixels[3 * i + static_cast<std::size_t>(k)] = ToByte(colours[i][k]);
+  }
+  return image;
+}
+
+RgbImage CoverageImage(const TexelLayers& layers) {
+  std::vector<glm::vec3> colours(layers.skin.size());
+  for (std::size_t i = 0; i < colours.size(); ++i) {
+    colours[i] = {layers.direct_weight[i], layers.mirror_weight[i], layers.skin[i] ? 1.0f : 0.0f};
+  }
+  return ToImage(layers.size, colours);
+}
+
+EncodedImage EncodePng(const RgbImage& image, int compression) {
+  cv::Mat bgr(image.height, image.width, CV_8UC3);
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* from = &image.pixels[3 * static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width)];
+    std::uint8_t* to = bgr.ptr<std::uint8_t>(y);
+    for (int x = 0; x < 3 * image.width; x += 3) to[x] = from[x + 2], to[x + 1] = from[x + 1], to[x + 2] = from[x];
+  }
+  EncodedImage encoded{.name = "photo_skin.png", .format = ImageFormat::kPng,
+                       .width = static_cast<std::uint32_t>(image.width), .height = static_cast<std::uint32_t>(image.height)};
+  if (!cv::imencode(".png", bgr, encoded.bytes, {cv::IMWRITE_PNG_COMPRESSION, compression})) {
+    throw InvalidInputError("photo texture: PNG encoding failed", "texture");
+  }
+  return encoded;
+}
+
+PhotoTextureStats Measure(const TexelLayers& layers, const photo_texture::MirrorPartners& mirror) {
+  PhotoTextureStats stats{.mirror_pairs = mirror.pairs, .mirror_partner_error = mirror.mean_error};
+  std::size_t skin = 0, seen = 0, mirrored = 0;
+  for (std::size_t i = 0; i < layers.skin.size(); ++i) {
+    if (!layers.skin[i]) continue;
+    ++skin;
+    if (layers.direct_weight[i] > 0.0f) ++seen;
+    if (layers.direct_weight[i] < 1.0f && layers.mirror_weight[i] > 0.0f) ++mirrored;
+  }
+  const double total = std::max<double>(1.0, static_cast<double>(skin));
+  stats.seen_fraction = static_cast<double>(seen) / total;
+  stats.mirrored_fraction = static_cast<double>(mirrored) / total;
+  std::size_t filled = 0;
+  for (std::size_t i = 0; i < layers.skin.size(); ++i) {
+    filled += layers.skin[i] && layers.direct_weight[i] == 0.0f && layers.mirror_weight[i] == 0.0f ? 1 : 0;
+  }
+  stats.filled_fraction = static_cast<double>(filled) / total;
+  return stats;
+}
+
+}  // namespace
+
+PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
+                              const PhotoTextureParams& params) {
+  CheckInputs(mesh, camera, photo, params);
+  const std::vector<std::uint8_t> skin_triangle = SkinTriangles(mesh);
+  std::vector<std::uint8_t> skin_vertex(mesh.vertex_count(), 0);
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    if (skin_triangle[t]) for (std::uint32_t v : mesh.triangles[t]) skin_vertex[v] = 1;
+  }
+  Stopwatch clock;
+  const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
+  const double partner_seconds = clock.Lap();
+  TexelLayers layers = EmptyLayers(params.size);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mirror, photo_texture::FindCheeks(mesh), params, layers);
+  const double project_seconds = clock.Lap();
+  photo_texture::BalanceMirrorLight(layers);
+  PhotoTexture result;
+  result.skin_colour = photo_texture::EstimateSkinColour(layers);
+  result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, params.fill_radius));
+  result.coverage = CoverageImage(layers);
+  result.stats = Measure(layers, mirror);
+  result.direct_weight = std::move(layers.direct_weight);
+  result.mirror_weight = std::move(layers.mirror_weight);
+  result.stats.fill_seconds = clock.Lap();
+  result.image = EncodePng(result.texture, params.png_compression);
+  result.stats.encode_seconds = clock.Lap();
+  result.stats.partner_seconds = partner_seconds;
+  result.stats.project_seconds = project_seconds;
+  result.material = Material{.name = "photo_skin", .base_colour = glm::vec4(1.0f), .roughness = 0.6f};
+  return result;
+}
+
+}  // namespace facerig
