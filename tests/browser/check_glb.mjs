@@ -2,7 +2,8 @@
 // avatar player would, and checks what it sees (page.mjs does the rendering):
 //   - every mesh has the file's morph targets, by name (extras.targetNames);
 //   - jawOpen, the left eye blink (eyeBlinkLeft or eyeBlink_L) and, when the
-//     rig has it, viseme_PP are there and change the pixels where the mouth
+//     rig has them, viseme_aa (opens) and viseme_PP (lips closed, near rest)
+//     are there and change the pixels where the mouth
 //     and the left eye are;
 //   - three.js made every material of the file and decoded every texture.
 // Writes LABEL-rest.png, LABEL-jawOpen.png, ... and LABEL.json (what three.js
@@ -130,10 +131,18 @@ function check(label, document, report, changes) {
     expect(blink.centroid[0] > 0.5 && blink.centroid[1] < jaw.centroid[1] - 0.1,
            `the left blink changes pixels away from the left eye: ${blink.centroid}`);
   }
-  if (changes.viseme_PP && jaw.centroid) {
+  // Baked visemes: "aa" opens the mouth where jawOpen does; "PP" presses
+  // the lips together, so it stays near the rest face (whose lips meet or
+  // nearly meet) and changes far less than "aa".
+  const aa = changes.viseme_aa;
+  if (aa && jaw.centroid) {
+    expect(aa.changedShareOfBox > 0.002 && aa.centroid && Math.abs(aa.centroid[1] - jaw.centroid[1]) < 0.2 &&
+           Math.abs(aa.centroid[0] - 0.5) < 0.15, `viseme_aa does not open the mouth: ${JSON.stringify(aa)}`);
+  }
+  if (changes.viseme_PP && aa) {
     const pp = changes.viseme_PP;
-    expect(pp.changedShareOfBox > 0.0005 && pp.centroid && Math.abs(pp.centroid[1] - jaw.centroid[1]) < 0.2 &&
-           Math.abs(pp.centroid[0] - 0.5) < 0.15, `viseme_PP does not change the mouth: ${JSON.stringify(pp)}`);
+    expect(pp.changedShareOfBox < 0.5 * aa.changedShareOfBox,
+           `viseme_PP changes as much as viseme_aa (lips not closed): ${JSON.stringify(pp)}`);
   }
   return failures;
 }
@@ -150,8 +159,8 @@ async function runOne(browser, base, index, glb, out) {
   const report = await page.evaluate((url) => window.load(url), `/glb/${index}`);
   const canvas = await page.$('canvas');
   const names = document.meshes?.[0]?.extras?.targetNames ?? [];
-  const poses = { rest: [], jawOpen: ['jawOpen'], blinkLeft: BLINK_NAMES, viseme_PP: ['viseme_PP'] };
-  if (!names.includes('viseme_PP')) delete poses.viseme_PP;
+  const poses = { rest: [], jawOpen: ['jawOpen'], blinkLeft: BLINK_NAMES, viseme_aa: ['viseme_aa'], viseme_PP: ['viseme_PP'] };
+  for (const viseme of ['viseme_aa', 'viseme_PP']) if (!names.includes(viseme)) delete poses[viseme];
   const changes = {};
   for (const [pose, shapeNames] of Object.entries(poses)) {
     await page.evaluate((n) => window.pose(n), shapeNames);
@@ -168,6 +177,7 @@ async function runOne(browser, base, index, glb, out) {
               `WebGL: morph textures ${mb(report.uploaded.arrayTextureBytes)} MB (dense deltas ${mb(report.denseMorphBytes)} MB), images ${mb(report.uploaded.textureBytes)} MB, ` +
               `buffers ${mb(report.uploaded.bufferBytes)} MB; changed share of the model's box: jawOpen ${changes.jawOpen.changedShareOfBox.toFixed(4)}, ` +
               `blink ${changes.blinkLeft.changedShareOfBox.toFixed(4)}` +
+              (changes.viseme_aa ? `, viseme_aa ${changes.viseme_aa.changedShareOfBox.toFixed(4)}` : ', no viseme_aa') +
               (changes.viseme_PP ? `, viseme_PP ${changes.viseme_PP.changedShareOfBox.toFixed(4)}` : ', no viseme_PP'));
   return failures;
 }

@@ -77,8 +77,9 @@ TEST_CASE("facerig align: writes a phoneme track of the recording, naming it", "
   REQUIRE(Align({wav.string(), "--text", kSentence, "-o", elsewhere.string()}).exit_code == 0);
   CHECK(fs::path(ReadPhonemeTrack(elsewhere).audio_path) == fs::weakly_canonical(wav));
   const nlohmann::json json = nlohmann::json::parse(ReadInputText(report));
-  CHECK(json["sample_rate"] == 44100);
-  CHECK(json["phonemes"] == read.line.phonemes.size());
+  CHECK(json["command"] == "align");
+  CHECK(json["result"]["sample_rate"] == 44100);
+  CHECK(json["result"]["phonemes"] == read.line.phonemes.size());
 }
 
 TEST_CASE("facerig align: a bad recording is a clear error and nothing is written", "[espeak][cli_align]") {

@@ -127,7 +127,7 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   for (const char* name : {"eyeBlinkLeft", "mouthSmileRight", "browInnerUp", "cheekPuff", "viseme_PP", "viseme_U"}) {
     CHECK(frig.FindShape(name).has_value());
   }
-  const nlohmann::json names = nlohmann::json::parse(std::ifstream(folder / "report.json"))["shape_names"];
+  const nlohmann::json names = nlohmann::json::parse(std::ifstream(folder / "report.json"))["result"]["shape_names"];
   CHECK(names["arkit_present"] == 51);
   CHECK(names["arkit_missing"] == nlohmann::json::array({"tongueOut"}));
   CHECK(names["visemes_baked"] == 15);

@@ -32,7 +32,7 @@ TEST_CASE("facerig inspect: the built-in head answers all 52 ARKit names and has
   const test::CommandOutcome outcome =
       test::RunCommand(cli::RunFacerig, {"inspect", FACERIG_DEFAULT_HEAD, "--json", (folder / "head.json").string()});
   REQUIRE(outcome.exit_code == 0);
-  const nlohmann::json names = nlohmann::json::parse(std::ifstream(folder / "head.json"))["arkit_match"];
+  const nlohmann::json names = nlohmann::json::parse(std::ifstream(folder / "head.json"))["result"]["arkit_match"];
   CHECK(names["arkit_matched"].size() == 52);
   CHECK(names["arkit_missing"].empty());
   for (const nlohmann::json& match : names["arkit_matched"]) CHECK(match["match"] == "exact");
