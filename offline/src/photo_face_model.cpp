@@ -1,0 +1,104 @@
+// The linear face model a photo is fitted with: the template's neutral,
+// identity modes (identity mesh - neutral) and a few of its expressions.
+#include <algorithm>
+#include <string>
+#include <system_error>
+
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/error.h"
+#include "facerig/offline/photo_fit.h"
+#include "facerig/runtime/io/obj.h"
+
+namespace facerig {
+
+namespace {
+
+std::vector<glm::vec3> DenseDeltas(const Rig& rig, std::size_t shape) {
+  std::vector<glm::vec3> dense(rig.vertex_count(), glm::vec3(0.0f));
+  const BlendShapeView view = rig.shape(shape);
+  for (std::size_t i = 0; i < view.vertex_indices.size(); ++i) dense[view.vertex_indices[i]] = view.position_deltas[i];
+  return dense;
+}
+
+// The lower face between the chin and the level of the jaw line's top points
+// (dlib 0 and 16), measured along the face's own up axis (chin -> brows), so
+// the template may lie in any orientation.
+std::vector<std::uint32_t> ContourCandidates(std::span<const glm::vec3> neutral, VertexRange face,
+                                             std::span<const std::uint32_t> landmarks) {
+  const glm::vec3 chin = neutral[landmarks[8]];
+  const glm::vec3 brows = 0.5f * (neutral[landmarks[19]] + neutral[landmarks[24]]);
+  const glm::vec3 up = glm::normalize(brows - chin);
+  const float top = std::max(glm::dot(neutral[landmarks[0]] - chin, up), glm::dot(neutral[landmarks[16]] - chin, up));
+  const float bottom = -0.15f * glm::length(brows - chin);
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t v = face.first; v <= face.last && v < neutral.size(); ++v) {
+    const float height = glm::dot(neutral[v] - chin, up);
+    if (height >= bottom && height <= top) candidates.push_back(v);
+  }
+  return candidates;
+}
+
+std::vector<Triangle> RegionTriangles(std::span<const Triangle> triangles, VertexRange region) {
+  std::vector<Triangle> inside;
+  for (const Triangle& t : triangles) {
+    if (t[0] <= region.last && t[1] <= region.last && t[2] <= region.last) inside.push_back(t);
+  }
+  return inside;
+}
+
+}  // namespace
+
+PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
+                                   std::span<const std::vector<glm::vec3>> identities,
+                                   const PhotoModelParams& params) {
+  if (info.landmark_vertices.size() != kDlibLandmarkCount) {
+    throw InvalidInputError("photo model: the template descriptor has no 68 landmark vertices", "landmarks");
+  }
+  PhotoFaceModel model;
+  model.neutral.assign(rig.positions().begin(), rig.positions().end());
+  for (std::size_t i = 0; i < identities.size(); ++i) {
+    if (identities[i].size() != model.neutral.size()) {
+      throw InvalidInputError("photo model: identity mesh " + std::to_string(i) + " has " +
+                                  std::to_string(identities[i].size()) + " vertices, the template " +
+                                  std::to_string(model.neutral.size()),
+                              "identity", std::to_string(i));
+    }
+    std::vector<glm::vec3> mode(model.neutral.size());
+    for (std::size_t v = 0; v < mode.size(); ++v) mode[v] = identities[i][v] - model.neutral[v];
+    model.identity_modes.push_back(std::move(mode));
+  }
+  for (const std::string& name : params.expressions) {
+    const std::optional<std::size_t> shape = rig.FindShape(name);
+    if (!shape) continue;
+    model.expression_names.push_back(name);
+    model.expression_deltas.push_back(DenseDeltas(rig, *shape));
+  }
+  model.landmark_vertices = info.landmark_vertices;
+  model.region = info.region;
+  model.contour_candidates = ContourCandidates(model.neutral, info.Group("face"), model.landmark_vertices);
+  model.region_triangles = RegionTriangles(rig.triangles(), info.region);
+  return model;
+}
+
+std::vector<std::vector<glm::vec3>> LoadIdentityMeshes(const std::filesystem::path& folder, std::size_t vertex_count,
+                                                       std::size_t max_count) {
+  std::vector<std::vector<glm::vec3>> identities;
+  for (std::size_t i = 0; i < max_count; ++i) {
+    std::string number = std::to_string(i);
+    if (number.size() < 3) number.insert(0, 3 - number.size(), '0');
+    const std::filesystem::path path = folder / ("identity" + number + ".obj");
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) break;
+    Mesh mesh = ReadObj(path);
+    if (mesh.positions.size() != vertex_count) {
+      throw InvalidInputError("photo model: " + path.string() + " has " + std::to_string(mesh.positions.size()) +
+                                  " vertices, the template " + std::to_string(vertex_count),
+                              path.string());
+    }
+    identities.push_back(std::move(mesh.positions));
+  }
+  return identities;
+}
+
+}  // namespace facerig
