@@ -1,6 +1,7 @@
 // The linear face model a photo is fitted with: the template's neutral,
 // identity modes (identity mesh - neutral) and a few of its expressions.
 #include <algorithm>
+#include <limits>
 #include <string>
 #include <system_error>
 
@@ -47,11 +48,35 @@ std::vector<Triangle> RegionTriangles(std::span<const Triangle> triangles, Verte
   return inside;
 }
 
+// Where dlib puts each landmark on a render of the neutral, against where the
+// landmark vertex projects; jaw points other than the chin's are left alone
+// (they follow the contour, not their vertex).
+std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, std::span<const std::uint32_t> landmarks,
+                                              LandmarkDetector& detector) {
+  const Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()},
+                  .triangles = {rig.triangles().begin(), rig.triangles().end()}};
+  const LandmarkResult detected = detector.Detect(mesh);
+  std::vector<glm::vec2> projected;
+  glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
+  for (const glm::vec2 p : detected.detected_pixels) {
+    low = glm::min(low, p);
+    high = glm::max(high, p);
+  }
+  const float size = std::max(1.0f, std::max(high.x - low.x, high.y - low.y));
+  std::vector<glm::vec2> offsets(kDlibLandmarkCount, glm::vec2(0.0f));
+  for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
+    if (k < 17 && (k < 7 || k > 9)) continue;
+    const glm::vec2 vertex(ProjectToImage(detected.view, mesh.positions[landmarks[k]]));
+    offsets[k] = (vertex - detected.detected_pixels[k]) / size;
+  }
+  return offsets;
+}
+
 }  // namespace
 
 PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
                                    std::span<const std::vector<glm::vec3>> identities,
-                                   const PhotoModelParams& params) {
+                                   const PhotoModelParams& params, LandmarkDetector* detector) {
   if (info.landmark_vertices.size() != kDlibLandmarkCount) {
     throw InvalidInputError("photo model: the template descriptor has no 68 landmark vertices", "landmarks");
   }
@@ -78,6 +103,8 @@ PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
   model.region = info.region;
   model.contour_candidates = ContourCandidates(model.neutral, info.Group("face"), model.landmark_vertices);
   model.region_triangles = RegionTriangles(rig.triangles(), info.region);
+  model.landmark_offsets = detector != nullptr ? MeasureLandmarkOffsets(rig, model.landmark_vertices, *detector)
+                                               : std::vector<glm::vec2>(kDlibLandmarkCount, glm::vec2(0.0f));
   return model;
 }
 

@@ -206,12 +206,19 @@ void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std
 
 }  // namespace
 
-PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks, int width, int height,
+PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detected, int width, int height,
                   const PhotoFitParams& params) {
   const auto start = std::chrono::steady_clock::now();
-  CheckInput(landmarks, width, height);
+  CheckInput(detected, width, height);
   const std::vector<float> landmark_weights = LandmarkWeights(params);
-  const double sigma_pixels = params.landmark_sigma_fraction * FaceSize(landmarks);
+  const double face_size = FaceSize(detected);
+  const double sigma_pixels = params.landmark_sigma_fraction * face_size;
+  std::vector<glm::vec2> landmarks(detected.begin(), detected.end());
+  if (params.remove_landmark_offsets && model.landmark_offsets.size() == landmarks.size()) {
+    for (std::size_t k = 0; k < landmarks.size(); ++k) {
+      landmarks[k] += static_cast<float>(face_size) * model.landmark_offsets[k];
+    }
+  }
   Eigen::VectorXd weights = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.unknown_count()));
   PhotoFit fit;
   fit.landmark_vertices = model.landmark_vertices;

@@ -69,17 +69,24 @@ struct PhotoFaceModel {
   std::vector<std::uint32_t> contour_candidates;
   std::vector<Triangle> region_triangles;  // triangles of the face region (contour normals)
   VertexRange region;
+  // dlib's systematic offset from each landmark vertex (image x right, y down,
+  // fractions of the 68 points' box size), measured on the template's own
+  // neutral; zero when not calibrated. The fit moves each detected point by
+  // it: the model's landmark vertices are not exactly where dlib puts them.
+  std::vector<glm::vec2> landmark_offsets;
 
   std::size_t unknown_count() const { return identity_modes.size() + expression_deltas.size(); }
 };
 
 // `identities`: whole meshes with the rig's vertex count (may be empty: the
-// model then has expressions only).
+// model then has expressions only). With a detector, landmark_offsets are
+// measured on a render of the rig's neutral (LandmarkDetector::Detect).
 // \throw InvalidInputError when the descriptor has no 68 landmark vertices or
-//        an identity mesh has the wrong vertex count.
+//        an identity mesh has the wrong vertex count; LandmarkDetectionError
+//        when the detector finds no face on the neutral.
 PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
                                    std::span<const std::vector<glm::vec3>> identities,
-                                   const PhotoModelParams& params = {});
+                                   const PhotoModelParams& params = {}, LandmarkDetector* detector = nullptr);
 
 // identity000.obj, identity001.obj, ... from `folder` while they exist (at most
 // max_count), read through ReadObj (input_file.h checks).
@@ -114,13 +121,16 @@ struct PhotoFitParams {
   int iterations = 5;
   // Landmark noise as a fraction of the face size (the box of the 68 points):
   // with the N(0, 1) prior on identity weights this sets the regularisation.
-  double landmark_sigma_fraction = 0.03;
+  // 0.02: best of 0.01..0.08 on renders of random ICT identities.
+  double landmark_sigma_fraction = 0.02;
   // Prior on the expression weights (N(0, expression_sigma^2), clamped to [0, 1]).
   double expression_sigma = 0.5;
   // The jaw line is less precise than the inner points (dlib, silhouettes).
   float jaw_weight = 0.5f;
   // Jaw landmarks 0..16 except the chin's (7..9) follow the model's contour.
   bool moving_contour = true;
+  // Move the detected points by the model's landmark_offsets.
+  bool remove_landmark_offsets = true;
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;
 };
