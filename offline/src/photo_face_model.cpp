@@ -48,13 +48,29 @@ std::vector<Triangle> RegionTriangles(std::span<const Triangle> triangles, Verte
   return inside;
 }
 
+// The skin and the rigid parts (eyeballs, teeth): what a photo shows. Films
+// over the eyes (ICT's occlusion and tear layers) are transparent in a render
+// that knows their materials but would hide the eyes from the detector here.
+Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info) {
+  Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()}};
+  std::vector<VertexRange> shown{info.region};
+  for (const std::string& name : info.rigid_parts) {
+    if (const TemplatePart* part = info.FindPart(name)) shown.push_back(part->vertices);
+  }
+  for (const Triangle& t : rig.triangles()) {
+    const bool visible = std::any_of(shown.begin(), shown.end(),
+                                     [&](const VertexRange& r) { return t[0] >= r.first && t[0] <= r.last; });
+    if (visible) mesh.triangles.push_back(t);
+  }
+  return mesh;
+}
+
 // Where dlib puts each landmark on a render of the neutral, against where the
 // landmark vertex projects; jaw points other than the chin's are left alone
 // (they follow the contour, not their vertex).
-std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, std::span<const std::uint32_t> landmarks,
-                                              LandmarkDetector& detector) {
-  const Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()},
-                  .triangles = {rig.triangles().begin(), rig.triangles().end()}};
+std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, const FaceTemplateInfo& info,
+                                              std::span<const std::uint32_t> landmarks, LandmarkDetector& detector) {
+  const Mesh mesh = VisibleNeutral(rig, info);
   const LandmarkResult detected = detector.Detect(mesh);
   std::vector<glm::vec2> projected;
   glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
@@ -103,7 +119,7 @@ PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
   model.region = info.region;
   model.contour_candidates = ContourCandidates(model.neutral, info.Group("face"), model.landmark_vertices);
   model.region_triangles = RegionTriangles(rig.triangles(), info.region);
-  model.landmark_offsets = detector != nullptr ? MeasureLandmarkOffsets(rig, model.landmark_vertices, *detector)
+  model.landmark_offsets = detector != nullptr ? MeasureLandmarkOffsets(rig, info, model.landmark_vertices, *detector)
                                                : std::vector<glm::vec2>(kDlibLandmarkCount, glm::vec2(0.0f));
   return model;
 }

@@ -163,6 +163,8 @@ Eigen::VectorXd SolveBounded(const LinearSystem& system, std::size_t identity_co
 std::vector<float> LandmarkWeights(const PhotoFitParams& params) {
   std::vector<float> weights(kDlibLandmarkCount, 1.0f);
   for (std::size_t k = 0; k < kJawCount; ++k) weights[k] = params.jaw_weight;
+  for (std::size_t k = 17; k <= 26; ++k) weights[k] = params.brow_weight;
+  for (std::size_t k = 36; k <= 47; ++k) weights[k] = params.eye_weight;
   return weights;
 }
 

@@ -121,12 +121,16 @@ struct PhotoFitParams {
   int iterations = 5;
   // Landmark noise as a fraction of the face size (the box of the 68 points):
   // with the N(0, 1) prior on identity weights this sets the regularisation.
-  // 0.02: best of 0.01..0.08 on renders of random ICT identities.
-  double landmark_sigma_fraction = 0.02;
+  // 0.015: about the best of 0.01..0.08 on renders of random ICT identities.
+  double landmark_sigma_fraction = 0.015;
   // Prior on the expression weights (N(0, expression_sigma^2), clamped to [0, 1]).
   double expression_sigma = 0.5;
   // The jaw line is less precise than the inner points (dlib, silhouettes).
   float jaw_weight = 0.5f;
+  // dlib's brows (17..26) and eyes (36..47) scatter two to four times as far
+  // as its nose and mouth points on renders of random faces.
+  float brow_weight = 0.5f;
+  float eye_weight = 0.3f;
   // Jaw landmarks 0..16 except the chin's (7..9) follow the model's contour.
   bool moving_contour = true;
   // Move the detected points by the model's landmark_offsets.
