@@ -48,19 +48,26 @@ std::vector<Triangle> RegionTriangles(std::span<const Triangle> triangles, Verte
   return inside;
 }
 
-// The skin and the rigid parts (eyeballs, teeth): what a photo shows. Films
-// over the eyes (ICT's occlusion and tear layers) are transparent in a render
-// that knows their materials but would hide the eyes from the detector here.
+// Transparent layers (ICT-FaceKit's eye occlusion, tear film and blend
+// meshes) would hide the eyes from the detector in an opaque render.
+bool IsTransparentLayer(const std::string& part_name) {
+  for (const char* layer : {"occlusion", "lacrimal", "eye_blend"}) {
+    if (part_name.find(layer) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// The neutral as a photo would show it: every part but the transparent layers.
 Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info) {
   Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()}};
-  std::vector<VertexRange> shown{info.region};
-  for (const std::string& name : info.rigid_parts) {
-    if (const TemplatePart* part = info.FindPart(name)) shown.push_back(part->vertices);
+  std::vector<VertexRange> hidden;
+  for (const TemplatePart& part : info.parts) {
+    if (IsTransparentLayer(part.name)) hidden.push_back(part.vertices);
   }
   for (const Triangle& t : rig.triangles()) {
-    const bool visible = std::any_of(shown.begin(), shown.end(),
-                                     [&](const VertexRange& r) { return t[0] >= r.first && t[0] <= r.last; });
-    if (visible) mesh.triangles.push_back(t);
+    const bool transparent = std::any_of(hidden.begin(), hidden.end(),
+                                         [&](const VertexRange& r) { return t[0] >= r.first && t[0] <= r.last; });
+    if (!transparent) mesh.triangles.push_back(t);
   }
   return mesh;
 }
