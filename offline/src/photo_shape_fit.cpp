@@ -184,6 +184,8 @@ std::vector<glm::vec3> PointsAt(const PhotoFaceModel& model, const Eigen::Vector
   return points;
 }
 
+void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit);
+
 void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
                 int width, int height, PhotoFit& fit) {
   const std::size_t identities = model.identity_modes.size();
@@ -194,6 +196,12 @@ void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std
   fit.expression_names = model.expression_names;
   fit.rest_positions = ShapeOf(model, weights, 0, model.neutral.size(), identities);
   fit.posed_positions = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
+  RefreshProjection(landmarks, width, height, fit);
+}
+
+// model_pixels, rms_pixels and the view from the posed positions.
+void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit) {
+  fit.model_pixels.clear();
   double squared = 0.0;
   for (std::size_t k = 0; k < landmarks.size(); ++k) {
     fit.model_pixels.push_back(ProjectPixel(fit.camera, fit.posed_positions[fit.landmark_vertices[k]], width, height));
@@ -237,7 +245,19 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detect
   }
   fit.camera =
       FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights, width, height);
-  FillResult(model, weights, landmarks, width, height, fit);
+  if (params.deform_without_identity && model.identity_modes.empty()) {
+    // Expressions stay as fitted: the deformation moves rest and posed alike.
+    std::vector<glm::vec3> posed = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
+    const std::vector<glm::vec3> before = posed;
+    RbfDeformToLandmarks(posed, fit.landmark_vertices, landmarks, fit.camera, width, height);
+    FillResult(model, weights, landmarks, width, height, fit);
+    for (std::size_t v = 0; v < posed.size(); ++v) fit.rest_positions[v] += posed[v] - before[v];
+    fit.posed_positions = std::move(posed);
+    fit.deformed = true;
+    RefreshProjection(landmarks, width, height, fit);
+  } else {
+    FillResult(model, weights, landmarks, width, height, fit);
+  }
   fit.seconds = SecondsSince(start);
   return fit;
 }

@@ -208,6 +208,30 @@ TEST_CASE("Photo fit of an open mouth gives the rest face (shared data)", "[phot
   CHECK(e.fit < e.mean_face);
 }
 
+TEST_CASE("Photo fit without identity modes deforms the head onto the landmarks (shared data)",
+          "[photo_fit][shared-data]") {
+  const IctPhotoSetup& setup = Setup();
+  PhotoFaceModel model = setup.model;
+  model.identity_modes.clear();
+  facerig::LandmarkDetector detector;
+  Pcg32 rng(3);
+  std::vector<double> weights(setup.model.identity_modes.size());
+  for (double& w : weights) w = rng.NextNormal();
+  const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
+  const RgbImage photo = RenderFace(setup.info, truth, 0.0f, 512);
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
+  const facerig::PhotoFit fit = facerig::FitPhoto(model, landmarks.pixels, photo.width, photo.height);
+  CHECK(fit.deformed);
+  CHECK(fit.rms_pixels < 0.5);
+  CheckCameraMatchesRasterView(fit);
+  const facerig::VertexRange face = setup.info.Group("face");
+  const double error = FaceErrorMm(fit.rest_positions, truth, face);
+  const double mean_face = FaceErrorMm(model.neutral, truth, face);
+  std::printf("photo deform without identity modes: %.2f mm (mean face %.2f mm), %.1f ms\n", error, mean_face,
+              1e3 * fit.seconds);
+  CHECK(error < 1.2 * mean_face);
+}
+
 TEST_CASE("Photo landmarks refuse an image without a face (shared data)", "[photo_fit][shared-data]") {
   facerig::LandmarkDetector detector;
   RgbImage blank{.width = 200, .height = 150, .pixels = std::vector<std::uint8_t>(200 * 150 * 3, 90)};

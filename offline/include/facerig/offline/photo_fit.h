@@ -135,6 +135,9 @@ struct PhotoFitParams {
   bool moving_contour = true;
   // Move the detected points by the model's landmark_offsets.
   bool remove_landmark_offsets = true;
+  // A model without identity modes (the built-in head) is then deformed
+  // smoothly onto the landmarks (RbfDeformToLandmarks).
+  bool deform_without_identity = true;
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;
 };
@@ -150,6 +153,7 @@ struct PhotoFit {
   std::vector<std::uint32_t> landmark_vertices;  // the 68 vertices used last (jaw on the contour)
   std::vector<glm::vec2> model_pixels;  // those vertices projected into the photo
   double rms_pixels = 0.0;  // landmark residual
+  bool deformed = false;  // the RBF fallback moved the face (no identity modes)
   double seconds = 0.0;
 };
 
@@ -157,6 +161,17 @@ struct PhotoFit {
 //        or the image size is not positive.
 PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks, int width, int height,
                   const PhotoFitParams& params = {});
+
+// --- the fallback without identity modes (photo_rbf_fit.cpp) ---
+
+// Moves `positions` so that each landmark vertex projects onto its pixel:
+// the image-plane offsets at the landmark vertices (depth unchanged, from the
+// head itself) interpolated over every vertex by a biharmonic radial basis
+// function (phi(r) = r) with an affine part, the smoothest such deformation.
+// \pre vertices.size() == pixels.size() >= 4, each vertex in range.
+// \throw InvalidInputError on mismatched sizes or an index out of range.
+void RbfDeformToLandmarks(std::span<glm::vec3> positions, std::span<const std::uint32_t> vertices,
+                          std::span<const glm::vec2> pixels, const ScaledOrthoCamera& camera, int width, int height);
 
 // --- debug picture (photo_debug.cpp) ---
 
