@@ -10,6 +10,7 @@
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo_fit.h"
 #include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
 
@@ -72,16 +73,30 @@ Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info) {
   return mesh;
 }
 
-// Where dlib puts each landmark on a render of the neutral, against where the
-// landmark vertex projects; jaw points other than the chin's are left alone
-// (they follow the contour, not their vertex).
+// A skin tone for the calibration render: dlib places some points (lids,
+// brows) differently on a grey render than on skin.
+constexpr glm::vec3 kSkinTone{0.86f, 0.66f, 0.55f};
+constexpr int kCalibrationImageSize = 512;
+
+// Where dlib puts each landmark on a skin-coloured render of the neutral,
+// against where the landmark vertex projects; jaw points other than the
+// chin's are left alone (they follow the contour, not their vertex).
 std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, const FaceTemplateInfo& info,
                                               std::span<const std::uint32_t> landmarks, LandmarkDetector& detector) {
-  const Mesh mesh = VisibleNeutral(rig, info);
-  const LandmarkResult detected = detector.Detect(mesh);
-  std::vector<glm::vec2> projected;
+  Mesh mesh = VisibleNeutral(rig, info);
+  RasterView view = detector.Detect(mesh).view;  // the front view, the face filling half of it
+  view.width = kCalibrationImageSize;
+  view.height = kCalibrationImageSize;
+  std::vector<glm::vec3> normals(mesh.positions.size());
+  ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
+  for (const Triangle& t : mesh.triangles) {
+    for (const std::uint32_t v : t) mesh.corner_normals.push_back(normals[v]);
+  }
+  const std::vector<glm::vec3> albedo(mesh.triangles.size(), kSkinTone);
+  const RgbImage photo = Shade(Rasterize(mesh, view), mesh, albedo, view);
+  const std::vector<glm::vec2> detected = DetectPhotoLandmarks(detector, photo).pixels;
   glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
-  for (const glm::vec2 p : detected.detected_pixels) {
+  for (const glm::vec2 p : detected) {
     low = glm::min(low, p);
     high = glm::max(high, p);
   }
@@ -89,8 +104,8 @@ std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, const FaceTemplate
   std::vector<glm::vec2> offsets(kDlibLandmarkCount, glm::vec2(0.0f));
   for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
     if (k < 17 && (k < 7 || k > 9)) continue;
-    const glm::vec2 vertex(ProjectToImage(detected.view, mesh.positions[landmarks[k]]));
-    offsets[k] = (vertex - detected.detected_pixels[k]) / size;
+    const glm::vec2 vertex(ProjectToImage(view, mesh.positions[landmarks[k]]));
+    offsets[k] = (vertex - detected[k]) / size;
   }
   return offsets;
 }

@@ -232,6 +232,58 @@ TEST_CASE("Photo fit without identity modes deforms the head onto the landmarks 
   CHECK(error < 1.2 * mean_face);
 }
 
+TEST_CASE("Scaled orthographic camera from exact 2D-3D pairs", "[photo_fit]") {
+  Pcg32 rng(11);
+  std::vector<glm::vec3> points;
+  for (int k = 0; k < 30; ++k) {
+    points.emplace_back(rng.NextNormal() * 5.0, rng.NextNormal() * 5.0, rng.NextNormal() * 2.0);
+  }
+  facerig::ScaledOrthoCamera truth;
+  const glm::vec3 axis = glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f));
+  const float angle = 0.4f;  // about 23 degrees
+  const float c = std::cos(angle), s = std::sin(angle);
+  const glm::mat3 k(0.0f, axis.z, -axis.y, -axis.z, 0.0f, axis.x, axis.y, -axis.x, 0.0f);  // cross-product matrix
+  truth.rotation = glm::transpose(glm::mat3(1.0f) + s * k + (1.0f - c) * k * k);
+  truth.scale = 12.5f;
+  truth.translation = {-20.0f, 35.0f};
+  std::vector<glm::vec2> pixels;
+  for (const glm::vec3& p : points) pixels.push_back(facerig::ProjectPixel(truth, p, 640, 480));
+  const facerig::ScaledOrthoCamera fit = facerig::FitScaledOrthoCamera(points, pixels, {}, 640, 480);
+  CHECK(std::abs(fit.scale - truth.scale) < 1e-3f);
+  for (int col = 0; col < 3; ++col) {
+    CHECK(glm::length(fit.rotation[col] - truth.rotation[col]) < 1e-4f);
+  }
+  CHECK(glm::length(fit.translation - truth.translation) < 1e-2f);
+  // As a RasterView: the same pixels.
+  const facerig::RasterView view = facerig::ToRasterView(fit, 640, 480, points[0]);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    CHECK(glm::length(glm::vec2(facerig::ProjectToImage(view, points[i])) - pixels[i]) < 1e-2f);
+  }
+  CHECK_THROWS_AS(facerig::FitScaledOrthoCamera(std::span(points).first(3), std::span(pixels).first(3), {}, 640, 480),
+                  facerig::InvalidInputError);
+}
+
+TEST_CASE("Photo landmarks take the largest of several faces (shared data)", "[photo_fit][shared-data]") {
+  const RgbImage large = RenderFace(Setup().info, Setup().model.neutral, 0.0f, 400);
+  const RgbImage small = RenderFace(Setup().info, Setup().model.neutral, 0.0f, 240);
+  RgbImage both{.width = 640, .height = 400, .pixels = std::vector<std::uint8_t>(640 * 400 * 3, 40)};
+  auto paste = [&](const RgbImage& image, int x0) {
+    for (int y = 0; y < image.height; ++y) {
+      std::copy_n(image.pixels.begin() + y * image.width * 3, image.width * 3,
+                  both.pixels.begin() + (y * both.width + x0) * 3);
+    }
+  };
+  paste(small, 0);
+  paste(large, 240);
+  facerig::LandmarkDetector detector;
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, both);
+  CHECK(landmarks.faces_found == 2);
+  REQUIRE(landmarks.notes.size() == 1);
+  CHECK(landmarks.notes[0].find("largest") != std::string::npos);
+  CHECK(landmarks.box.left >= 240);
+  for (const glm::vec2 p : landmarks.pixels) CHECK(p.x > 240.0f);
+}
+
 TEST_CASE("Photo landmarks refuse an image without a face (shared data)", "[photo_fit][shared-data]") {
   facerig::LandmarkDetector detector;
   RgbImage blank{.width = 200, .height = 150, .pixels = std::vector<std::uint8_t>(200 * 150 * 3, 90)};
