@@ -16,6 +16,8 @@
 #include "facerig/offline/similarity.h"
 #include "facerig/runtime/behaviour/blink.h"
 #include "facerig/runtime/rig_builder.h"
+#include "facerig/offline/default_head.h"
+#include "support/default_head_poses.h"
 #include "support/registration_targets.h"
 #include "support/test_meshes.h"
 
@@ -32,13 +34,18 @@ struct IctPhotoSetup {
   PhotoFaceModel model;
 };
 
+// One detector for the file: loading dlib's predictor takes a good part of a second.
+facerig::LandmarkDetector& Detector() {
+  static facerig::LandmarkDetector detector;
+  return detector;
+}
+
 const IctPhotoSetup& Setup() {
   static const IctPhotoSetup setup = [] {
     IctPhotoSetup s;
     s.info = facerig::test::LoadIctTemplateInfo(facerig::test::IctRig());
-    facerig::LandmarkDetector detector;
     s.model = facerig::BuildPhotoFaceModel(facerig::test::IctRig(), s.info, facerig::test::IctFaces().identities, {},
-                                           &detector);
+                                           &Detector());
     return s;
   }();
   return setup;
@@ -157,7 +164,7 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
                    float jaw_open = 0.0f) {
   const IctPhotoSetup& setup = Setup();
   const facerig::VertexRange face = setup.info.Group("face");
-  facerig::LandmarkDetector detector;
+  facerig::LandmarkDetector& detector = Detector();
   Pcg32 rng(seed);
   Errors errors;
   for (int f = 0; f < faces; ++f) {
@@ -213,7 +220,7 @@ TEST_CASE("Photo fit without identity modes deforms the head onto the landmarks 
   const IctPhotoSetup& setup = Setup();
   PhotoFaceModel model = setup.model;
   model.identity_modes.clear();
-  facerig::LandmarkDetector detector;
+  facerig::LandmarkDetector& detector = Detector();
   Pcg32 rng(3);
   std::vector<double> weights(setup.model.identity_modes.size());
   for (double& w : weights) w = rng.NextNormal();
@@ -230,6 +237,24 @@ TEST_CASE("Photo fit without identity modes deforms the head onto the landmarks 
   std::printf("photo deform without identity modes: %.2f mm (mean face %.2f mm), %.1f ms\n", error, mean_face,
               1e3 * fit.seconds);
   CHECK(error < 1.2 * mean_face);
+}
+
+TEST_CASE("Photo fit with the built-in head deforms it onto a photo's landmarks (shared data)",
+          "[photo_fit][shared-data]") {
+  const facerig::Rig& head = facerig::test::DefaultHead();
+  facerig::FaceTemplateInfo info = facerig::DefaultHeadTemplateInfo(head);
+  facerig::LandmarkDetector& detector = Detector();
+  info.landmark_vertices = facerig::TemplateLandmarkVertices(head, info, detector);
+  const PhotoFaceModel model = facerig::BuildPhotoFaceModel(head, info, {}, {}, &detector);
+  CHECK(model.identity_modes.empty());
+  CHECK(!model.expression_deltas.empty());
+  const RgbImage photo = RenderFace(Setup().info, Setup().model.neutral, 15.0f, 512);
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
+  const facerig::PhotoFit fit = facerig::FitPhoto(model, landmarks.pixels, photo.width, photo.height);
+  CHECK(fit.deformed);
+  CHECK(fit.rms_pixels < 0.5);
+  CheckCameraMatchesRasterView(fit);
+  facerig::WritePhotoFitPng(facerig::test::OutputPath("photo_fit_default_head.png"), photo, landmarks, fit);
 }
 
 TEST_CASE("Scaled orthographic camera from exact 2D-3D pairs", "[photo_fit]") {
@@ -275,7 +300,7 @@ TEST_CASE("Photo landmarks take the largest of several faces (shared data)", "[p
   };
   paste(small, 0);
   paste(large, 240);
-  facerig::LandmarkDetector detector;
+  facerig::LandmarkDetector& detector = Detector();
   const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, both);
   CHECK(landmarks.faces_found == 2);
   REQUIRE(landmarks.notes.size() == 1);
@@ -294,7 +319,7 @@ TEST_CASE("Identity meshes are read from a template folder (shared data)", "[pho
 }
 
 TEST_CASE("Photo landmarks refuse an image without a face (shared data)", "[photo_fit][shared-data]") {
-  facerig::LandmarkDetector detector;
+  facerig::LandmarkDetector& detector = Detector();
   RgbImage blank{.width = 200, .height = 150, .pixels = std::vector<std::uint8_t>(200 * 150 * 3, 90)};
   CHECK_THROWS_AS(facerig::DetectPhotoLandmarks(detector, blank), facerig::LandmarkDetectionError);
   RgbImage broken{.width = 10, .height = 10, .pixels = {}};
@@ -313,14 +338,13 @@ TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_
   const auto identities = facerig::LoadIdentityMeshes(facerig::test::IctDir(), facerig::test::IctRig().vertex_count());
   const double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   start = std::chrono::steady_clock::now();
-  facerig::LandmarkDetector model_detector;
   const facerig::PhotoFaceModel model =
-      facerig::BuildPhotoFaceModel(facerig::test::IctRig(), Setup().info, identities, {}, &model_detector);
+      facerig::BuildPhotoFaceModel(facerig::test::IctRig(), Setup().info, identities, {}, &Detector());
   const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("model: %zu identity meshes read in %.0f ms, built and calibrated in %.0f ms\n", model.identity_modes.size(),
               1e3 * load, 1e3 * build);
   // Detection time on a 1024 px photo (the same detector as the model build's would do).
-  facerig::LandmarkDetector detector;
+  facerig::LandmarkDetector& detector = Detector();
   const RgbImage photo = RenderFace(Setup().info, Setup().model.neutral, 0.0f, 1024);
   start = std::chrono::steady_clock::now();
   const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
@@ -347,7 +371,7 @@ TEST_CASE("Photo fit regularisation sweep (shared data)", "[.tune][photo_fit][sh
 
 TEST_CASE("Photo landmark noise against the true vertices (shared data)", "[.tune_noise][shared-data]") {
   const IctPhotoSetup& setup = Setup();
-  facerig::LandmarkDetector detector;
+  facerig::LandmarkDetector& detector = Detector();
   Pcg32 rng(77);
   std::vector<glm::vec2> sum(68, glm::vec2(0.0f));
   std::vector<float> sum_sq(68, 0.0f);
