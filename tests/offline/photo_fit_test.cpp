@@ -353,18 +353,33 @@ TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_
   std::printf("1024 px photo: detection %.0f ms, fit %.1f ms\n", 1e3 * detect, 1e3 * fit.seconds);
 }
 
-TEST_CASE("Photo fit regularisation sweep (shared data)", "[.tune][photo_fit][shared-data]") {
-  for (const double sigma : {0.015, 0.02}) {
-    for (const float brow : {0.2f, 0.5f, 1.0f}) {
-      for (const float eye : {0.1f, 0.3f, 1.0f}) {
-        facerig::PhotoFitParams params;
-        params.landmark_sigma_fraction = sigma;
-        params.brow_weight = brow;
-        params.eye_weight = eye;
-        std::printf("sigma %.3f brow %.2f eye %.2f\n", sigma, brow, eye);
-        MeasureFits(6, 0.0f, 99, params);
-        MeasureFits(6, 15.0f, 99, params);
-      }
+// How the defaults were chosen (landmark sigma, landmark group weights, jaw contour).
+TEST_CASE("Photo fit parameter sweep (shared data)", "[.tune][photo_fit][shared-data]") {
+  for (const double sigma : {0.01, 0.015, 0.02, 0.04}) {
+    facerig::PhotoFitParams params;
+    params.landmark_sigma_fraction = sigma;
+    std::printf("sigma %.3f\n", sigma);
+    MeasureFits(6, 0.0f, 99, params);
+    MeasureFits(6, 15.0f, 99, params);
+  }
+  for (const float jaw : {0.25f, 0.5f, 1.0f}) {
+    for (const float cosine : {0.2f, 0.35f, 0.5f}) {
+      facerig::PhotoFitParams params;
+      params.jaw_weight = jaw;
+      params.silhouette_cosine = cosine;
+      std::printf("jaw %.2f silhouette cosine %.2f\n", jaw, cosine);
+      MeasureFits(6, 0.0f, 99, params);
+      MeasureFits(6, 15.0f, 99, params);
+    }
+  }
+  for (const float brow : {0.2f, 0.5f, 1.0f}) {
+    for (const float eye : {0.1f, 0.3f, 1.0f}) {
+      facerig::PhotoFitParams params;
+      params.brow_weight = brow;
+      params.eye_weight = eye;
+      std::printf("brow %.2f eye %.2f\n", brow, eye);
+      MeasureFits(6, 0.0f, 99, params);
+      MeasureFits(6, 15.0f, 99, params);
     }
   }
 }
