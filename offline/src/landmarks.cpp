@@ -175,6 +175,7 @@ struct LandmarkDetector::Impl {
 
   // dlib's 68 points on the close-up, as pixel centres.
   std::vector<glm::vec2> PredictLandmarkPixels(const RgbImage& image);
+  std::vector<glm::vec2> PredictInBox(const dlib::array2d<unsigned char>& image, const dlib::rectangle& face_box);
 };
 
 Candidate LandmarkDetector::Impl::FindFaceSide(std::span<const glm::vec3> framed_positions, const MeshFrame& frame) {
@@ -252,8 +253,12 @@ CloseUp LandmarkDetector::Impl::RenderCloseUp(const Candidate& best) {
 
 std::vector<glm::vec2> LandmarkDetector::Impl::PredictLandmarkPixels(const RgbImage& image) {
   const long quarter = params.landmark_image_size / 4;
-  const dlib::rectangle face_box(quarter, quarter, 3 * quarter, 3 * quarter);
-  const dlib::full_object_detection shape = predictor(ToDlib(image), face_box);
+  return PredictInBox(ToDlib(image), dlib::rectangle(quarter, quarter, 3 * quarter, 3 * quarter));
+}
+
+std::vector<glm::vec2> LandmarkDetector::Impl::PredictInBox(const dlib::array2d<unsigned char>& image,
+                                                            const dlib::rectangle& face_box) {
+  const dlib::full_object_detection shape = predictor(image, face_box);
   if (shape.num_parts() != kDlibLandmarkCount) {
     throw LandmarkDetectionError("landmarks: the shape predictor did not return 68 points");
   }
@@ -292,6 +297,24 @@ LandmarkDetector::~LandmarkDetector() = default;
 LandmarkDetector::LandmarkDetector(LandmarkDetector&&) noexcept = default;
 LandmarkDetector& LandmarkDetector::operator=(LandmarkDetector&&) noexcept = default;
 const LandmarkParams& LandmarkDetector::params() const { return impl_->params; }
+
+std::vector<ImageFaceBox> LandmarkDetector::DetectFaceBoxes(const RgbImage& image) {
+  std::vector<dlib::rect_detection> detections;
+  impl_->detector(ToDlib(image), detections, 0.0);
+  std::vector<ImageFaceBox> boxes;
+  for (const dlib::rect_detection& d : detections) {
+    boxes.push_back({static_cast<int>(d.rect.left()), static_cast<int>(d.rect.top()),
+                     static_cast<int>(d.rect.right()) + 1, static_cast<int>(d.rect.bottom()) + 1,
+                     d.detection_confidence});
+  }
+  std::stable_sort(boxes.begin(), boxes.end(),
+                   [](const ImageFaceBox& a, const ImageFaceBox& b) { return a.score > b.score; });
+  return boxes;
+}
+
+std::vector<glm::vec2> LandmarkDetector::PredictLandmarks(const RgbImage& image, const ImageFaceBox& box) {
+  return impl_->PredictInBox(ToDlib(image), dlib::rectangle(box.left, box.top, box.right - 1, box.bottom - 1));
+}
 
 LandmarkResult LandmarkDetector::Detect(const Mesh& mesh) {
   const auto start = std::chrono::steady_clock::now();

@@ -102,6 +102,18 @@ struct LandmarkResult {
   double seconds = 0.0;
 };
 
+// A face box dlib's frontal detector found in an image: pixels, left/top
+// inclusive, right/bottom exclusive; score is the detection confidence.
+struct ImageFaceBox {
+  int left = 0;
+  int top = 0;
+  int right = 0;
+  int bottom = 0;
+  double score = 0.0;
+  int width() const { return right - left; }
+  int height() const { return bottom - top; }
+};
+
 // Loads dlib's detector and shape predictor once; Detect() reuses them.
 // Not thread-safe (dlib keeps scratch buffers): one detector per thread.
 class LandmarkDetector {
@@ -118,6 +130,12 @@ class LandmarkDetector {
   LandmarkResult Detect(const Mesh& mesh);
 
   const LandmarkParams& params() const;
+
+  // Every face box in a photograph (grey-scale conversion as ToGray), best score first.
+  std::vector<ImageFaceBox> DetectFaceBoxes(const RgbImage& image);
+  // dlib's 68 points (pixel centres) for the face in `box`.
+  // \throw LandmarkDetectionError when the predictor does not return 68 points.
+  std::vector<glm::vec2> PredictLandmarks(const RgbImage& image, const ImageFaceBox& box);
 
  private:
   struct Impl;

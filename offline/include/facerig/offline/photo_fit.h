@@ -1,0 +1,185 @@
+// A face model fitted to one photograph: dlib's 68 landmarks on the photo,
+// then a linear face model (the template's neutral plus identity modes plus a
+// few of its expressions) and a scaled orthographic camera fitted to them,
+// alternating camera and shape (the method of Aldrian & Smith as the eos
+// library uses it: closed-form camera, regularised linear least squares for
+// the shape, jaw-line landmarks matched to the model's moving contour).
+//
+// Identity modes are the template's identity meshes minus its neutral
+// (ICT-FaceKit's identityNNN.obj): each is one mode at one standard deviation,
+// so the prior on each weight is N(0, 1). Expressions are the template's own
+// blend shapes, fitted with weights in [0, 1], so that a smiling or
+// open-mouthed photo still yields a neutral rest face.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "facerig/offline/face_template.h"
+#include "facerig/offline/landmarks.h"
+#include "facerig/offline/rasterizer.h"
+#include "facerig/runtime/rig.h"
+
+namespace facerig {
+
+// --- landmarks on a photograph (photo_landmarks.cpp) ---
+
+struct PhotoLandmarkParams {
+  // Faces smaller than this (the detection box's larger side) are refused:
+  // the 68 points are unreliable below it, and dlib's detector window is 80 px.
+  int min_face_pixels = 80;
+};
+
+struct PhotoLandmarks {
+  std::vector<glm::vec2> pixels;  // dlib's 68 points, pixel centres (row 0 at the top)
+  ImageFaceBox box;  // the face they were read from
+  int faces_found = 0;
+  std::vector<std::string> notes;  // e.g. "3 faces found; the largest was used"
+};
+
+// The largest face of the photo and its 68 landmarks.
+// \throw InvalidInputError on an empty or inconsistent image.
+// \throw LandmarkDetectionError when no face is found, or the face is smaller
+//        than min_face_pixels (the message gives its size).
+PhotoLandmarks DetectPhotoLandmarks(LandmarkDetector& detector, const RgbImage& photo,
+                                    const PhotoLandmarkParams& params = {});
+
+// --- the linear face model (photo_face_model.cpp) ---
+
+struct PhotoModelParams {
+  // Template blend shapes fitted along with the identity (those the rig lacks are skipped).
+  std::vector<std::string> expressions{"jawOpen",       "mouthSmile_L", "mouthSmile_R", "mouthStretch_L",
+                                       "mouthStretch_R", "mouthFunnel",  "mouthPucker",  "eyeBlink_L",
+                                       "eyeBlink_R",     "browInnerUp",  "browDown_L",   "browDown_R"};
+};
+
+struct PhotoFaceModel {
+  std::vector<glm::vec3> neutral;  // every vertex of the template
+  std::vector<std::vector<glm::vec3>> identity_modes;  // identity mesh - neutral, every vertex
+  std::vector<std::string> expression_names;
+  std::vector<std::vector<glm::vec3>> expression_deltas;  // dense, every vertex
+  std::vector<std::uint32_t> landmark_vertices;  // dlib's 68
+  // Face-region vertices the jaw-line landmarks may move to (the lower face's sides and chin).
+  std::vector<std::uint32_t> contour_candidates;
+  std::vector<Triangle> region_triangles;  // triangles of the face region (contour normals)
+  VertexRange region;
+  // dlib's systematic offset from each landmark vertex (image x right, y down,
+  // fractions of the 68 points' box size), measured on the template's own
+  // neutral; zero when not calibrated. The fit moves each detected point by
+  // it: the model's landmark vertices are not exactly where dlib puts them.
+  std::vector<glm::vec2> landmark_offsets;
+
+  std::size_t unknown_count() const { return identity_modes.size() + expression_deltas.size(); }
+};
+
+// `identities`: whole meshes with the rig's vertex count (may be empty: the
+// model then has expressions only). With a detector, landmark_offsets are
+// measured on a render of the rig's neutral (LandmarkDetector::Detect).
+// \throw InvalidInputError when the descriptor has no 68 landmark vertices or
+//        an identity mesh has the wrong vertex count; LandmarkDetectionError
+//        when the detector finds no face on the neutral.
+PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
+                                   std::span<const std::vector<glm::vec3>> identities,
+                                   const PhotoModelParams& params = {}, LandmarkDetector* detector = nullptr);
+
+// identity000.obj, identity001.obj, ... from `folder` while they exist (at most
+// max_count), read through ReadObj (input_file.h checks).
+// \throw IoError on an unreadable file; InvalidInputError when one's vertex
+//        count differs from `vertex_count`.
+std::vector<std::vector<glm::vec3>> LoadIdentityMeshes(const std::filesystem::path& folder, std::size_t vertex_count,
+                                                       std::size_t max_count = 100);
+
+// --- the fit (photo_camera_fit.cpp, photo_shape_fit.cpp) ---
+
+// Scaled orthographic camera: pixel = (w/2 + s r0.x + tx, h/2 - (s r1.x + ty)).
+struct ScaledOrthoCamera {
+  glm::mat3 rotation{1.0f};  // rows: camera right, up, towards the viewer (world coordinates)
+  float scale = 1.0f;  // pixels per model unit
+  glm::vec2 translation{0.0f};  // pixels, y up, from the image centre
+};
+
+// The least-squares affine camera from 2D-3D pairs, then the nearest scaled
+// rotation (SVD) and its translation. \pre points.size() == pixels.size() >= 4.
+// \throw InvalidInputError on mismatched sizes, too few points or a degenerate configuration.
+ScaledOrthoCamera FitScaledOrthoCamera(std::span<const glm::vec3> points, std::span<const glm::vec2> pixels,
+                                       std::span<const float> weights, int width, int height);
+
+glm::vec2 ProjectPixel(const ScaledOrthoCamera& camera, glm::vec3 point, int width, int height);
+
+// The same camera as a RasterView of a width x height image: Rasterize(mesh,
+// view) overlays the mesh on the photo. `depth_centre`: a point of the model
+// (its depth sets the view's centre along the viewing axis).
+RasterView ToRasterView(const ScaledOrthoCamera& camera, int width, int height, glm::vec3 depth_centre);
+
+struct PhotoFitParams {
+  int iterations = 5;
+  // Landmark noise as a fraction of the face size (the box of the 68 points):
+  // with the N(0, 1) prior on identity weights this sets the regularisation.
+  // 0.015: about the best of 0.01..0.08 on renders of random ICT identities.
+  double landmark_sigma_fraction = 0.015;
+  // Prior on the expression weights (N(0, expression_sigma^2), clamped to [0, 1]).
+  double expression_sigma = 0.5;
+  // The jaw line is less precise than the inner points (dlib, silhouettes).
+  float jaw_weight = 0.5f;
+  // dlib's brows (17..26) and eyes (36..47) scatter two to four times as far
+  // as its nose and mouth points on renders of random faces.
+  float brow_weight = 0.5f;
+  float eye_weight = 0.3f;
+  // Jaw landmarks 0..16 except the chin's (7..9) follow the model's contour.
+  bool moving_contour = true;
+  // Move the detected points by the model's landmark_offsets.
+  bool remove_landmark_offsets = true;
+  // A model without identity modes (the built-in head) is then deformed
+  // smoothly onto the landmarks (RbfDeformToLandmarks).
+  bool deform_without_identity = true;
+  // A contour candidate is on the silhouette when |normal . view| is below this.
+  float silhouette_cosine = 0.35f;
+};
+
+struct PhotoFit {
+  ScaledOrthoCamera camera;
+  RasterView view;  // the camera as a RasterView of the photo
+  std::vector<float> identity_weights;
+  std::vector<std::string> expression_names;
+  std::vector<float> expression_weights;
+  std::vector<glm::vec3> rest_positions;  // neutral + identity: the fitted face at rest
+  std::vector<glm::vec3> posed_positions;  // rest + the fitted expressions: as in the photo
+  std::vector<std::uint32_t> landmark_vertices;  // the 68 vertices used last (jaw on the contour)
+  std::vector<glm::vec2> model_pixels;  // those vertices projected into the photo
+  double rms_pixels = 0.0;  // landmark residual
+  bool deformed = false;  // the RBF fallback moved the face (no identity modes)
+  double seconds = 0.0;
+};
+
+// \throw InvalidInputError when landmarks.size() != 68, a pixel is not finite,
+//        or the image size is not positive.
+PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks, int width, int height,
+                  const PhotoFitParams& params = {});
+
+// --- the fallback without identity modes (photo_rbf_fit.cpp) ---
+
+// Moves `positions` so that each landmark vertex projects onto its pixel:
+// the image-plane offsets at the landmark vertices (depth unchanged, from the
+// head itself) interpolated over every vertex by a biharmonic radial basis
+// function (phi(r) = r) with an affine part, the smoothest such deformation.
+// \pre vertices.size() == pixels.size() >= 4, each vertex in range.
+// \throw InvalidInputError on mismatched sizes or an index out of range.
+void RbfDeformToLandmarks(std::span<glm::vec3> positions, std::span<const std::uint32_t> vertices,
+                          std::span<const glm::vec2> pixels, const ScaledOrthoCamera& camera, int width, int height);
+
+// --- debug picture (photo_debug.cpp) ---
+
+// The photo with the detection box (yellow), dlib's 68 landmarks (green; jaw
+// cyan) and the fitted model's projected landmarks (red), joined by lines.
+RgbImage DrawPhotoFit(const RgbImage& photo, const PhotoLandmarks& landmarks, const PhotoFit& fit);
+// DrawPhotoFit written as PNG. \throw std::runtime_error when writing fails.
+void WritePhotoFitPng(const std::filesystem::path& path, const RgbImage& photo, const PhotoLandmarks& landmarks,
+                      const PhotoFit& fit);
+
+}  // namespace facerig

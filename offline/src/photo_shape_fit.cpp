@@ -1,0 +1,265 @@
+// The shape half of the photo fit: identity and expression weights by
+// regularised linear least squares against the landmarks (camera fixed), the
+// jaw line re-matched to the model's contour, alternating with the camera.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/Dense>
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/error.h"
+#include "facerig/offline/photo_fit.h"
+#include "facerig/offline/stats.h"
+#include "facerig/runtime/rig_builder.h"
+
+namespace facerig {
+
+namespace {
+
+constexpr std::size_t kJawCount = 17;
+constexpr std::size_t kChinFirst = 7;
+constexpr std::size_t kChinLast = 9;
+// Expression weights are clamped to [0, 1] by re-solving with the clamped ones fixed.
+constexpr int kClampPasses = 3;
+
+void CheckInput(std::span<const glm::vec2> landmarks, int width, int height) {
+  if (landmarks.size() != kDlibLandmarkCount) {
+    throw InvalidInputError("photo fit: expected 68 landmarks, got " + std::to_string(landmarks.size()), "landmarks");
+  }
+  if (width <= 0 || height <= 0) throw InvalidInputError("photo fit: the image size must be positive", "image size");
+  for (const glm::vec2 p : landmarks) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      throw InvalidInputError("photo fit: a landmark is not finite", "landmarks");
+    }
+  }
+}
+
+// The mode (identity modes first, then expressions) `i` of the model.
+const std::vector<glm::vec3>& Mode(const PhotoFaceModel& model, std::size_t i) {
+  const std::size_t identities = model.identity_modes.size();
+  return i < identities ? model.identity_modes[i] : model.expression_deltas[i - identities];
+}
+
+glm::vec3 ShapeAt(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::uint32_t v) {
+  glm::vec3 p = model.neutral[v];
+  for (std::size_t i = 0; i < model.unknown_count(); ++i) {
+    if (weights[static_cast<Eigen::Index>(i)] != 0.0) p += static_cast<float>(weights[static_cast<Eigen::Index>(i)]) * Mode(model, i)[v];
+  }
+  return p;
+}
+
+std::vector<glm::vec3> ShapeOf(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::size_t first,
+                               std::size_t count, std::size_t mode_count) {
+  std::vector<glm::vec3> shape(model.neutral.begin() + static_cast<std::ptrdiff_t>(first),
+                               model.neutral.begin() + static_cast<std::ptrdiff_t>(first + count));
+  for (std::size_t i = 0; i < mode_count; ++i) {
+    const float w = static_cast<float>(weights[static_cast<Eigen::Index>(i)]);
+    if (w == 0.0f) continue;
+    const std::vector<glm::vec3>& mode = Mode(model, i);
+    for (std::size_t v = 0; v < count; ++v) shape[v] += w * mode[first + v];
+  }
+  return shape;
+}
+
+// For each jaw landmark but the chin's, the contour candidate on the current
+// silhouette (on the landmark's side of the face) nearest to it in the image;
+// the template's own vertex stays when none is nearer.
+void ChooseContourVertices(const PhotoFaceModel& model, const Eigen::VectorXd& weights, const ScaledOrthoCamera& camera,
+                           std::span<const glm::vec2> landmarks, int width, int height, float silhouette_cosine,
+                           std::vector<std::uint32_t>& vertices) {
+  const std::size_t count = static_cast<std::size_t>(model.region.last) + 1;
+  const std::vector<glm::vec3> shape = ShapeOf(model, weights, 0, count, model.unknown_count());
+  std::vector<glm::vec3> normals(count);
+  ComputeVertexNormals(shape, model.region_triangles, normals);
+  const glm::vec3 right(camera.rotation[0][0], camera.rotation[1][0], camera.rotation[2][0]);
+  const glm::vec3 forward(camera.rotation[0][2], camera.rotation[1][2], camera.rotation[2][2]);
+  for (std::size_t k = 0; k < kJawCount; ++k) {
+    if (k >= kChinFirst && k <= kChinLast) continue;
+    const float side = k < kChinFirst ? -1.0f : 1.0f;  // image left: the normal points left
+    const std::uint32_t fixed = model.landmark_vertices[k];
+    float best = glm::length(ProjectPixel(camera, shape[fixed], width, height) - landmarks[k]);
+    vertices[k] = fixed;
+    for (const std::uint32_t v : model.contour_candidates) {
+      if (std::abs(glm::dot(normals[v], forward)) > silhouette_cosine || side * glm::dot(normals[v], right) <= 0.0f) {
+        continue;
+      }
+      const float d = glm::length(ProjectPixel(camera, shape[v], width, height) - landmarks[k]);
+      if (d < best) {
+        best = d;
+        vertices[k] = v;
+      }
+    }
+  }
+}
+
+struct LinearSystem {
+  Eigen::MatrixXd normal;
+  Eigen::VectorXd rhs;
+};
+
+// Weighted normal equations of the landmark residuals in the weights, plus the Gaussian prior.
+LinearSystem BuildSystem(const PhotoFaceModel& model, const ScaledOrthoCamera& camera,
+                         std::span<const glm::vec2> landmarks, std::span<const std::uint32_t> vertices,
+                         std::span<const float> landmark_weights, int width, int height, double sigma_pixels,
+                         const PhotoFitParams& params) {
+  const auto n = static_cast<Eigen::Index>(model.unknown_count());
+  LinearSystem system{Eigen::MatrixXd::Zero(n, n), Eigen::VectorXd::Zero(n)};
+  const glm::vec3 right(camera.rotation[0][0], camera.rotation[1][0], camera.rotation[2][0]);
+  const glm::vec3 up(camera.rotation[0][1], camera.rotation[1][1], camera.rotation[2][1]);
+  Eigen::Matrix2Xd jacobian(2, n);
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    const std::uint32_t v = vertices[k];
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const glm::vec3 d = Mode(model, static_cast<std::size_t>(i))[v];
+      jacobian(0, i) = camera.scale * glm::dot(right, d);
+      jacobian(1, i) = -camera.scale * glm::dot(up, d);
+    }
+    const glm::vec2 r = landmarks[k] - ProjectPixel(camera, model.neutral[v], width, height);
+    const double w = landmark_weights[k] / (sigma_pixels * sigma_pixels);
+    system.normal += w * jacobian.transpose() * jacobian;
+    system.rhs += w * jacobian.transpose() * Eigen::Vector2d(r.x, r.y);
+  }
+  const double expression_precision = 1.0 / (params.expression_sigma * params.expression_sigma);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    system.normal(i, i) += static_cast<std::size_t>(i) < model.identity_modes.size() ? 1.0 : expression_precision;
+  }
+  return system;
+}
+
+// Solves with the expression weights kept in [0, 1]: out-of-range ones are
+// fixed at the bound and the rest re-solved.
+Eigen::VectorXd SolveBounded(const LinearSystem& system, std::size_t identity_count) {
+  const Eigen::Index n = system.rhs.size();
+  std::vector<int> fixed(static_cast<std::size_t>(n), -1);  // -1 free, else the bound (0 or 1)
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  for (int pass = 0; pass <= kClampPasses; ++pass) {
+    Eigen::MatrixXd a = system.normal;
+    Eigen::VectorXd b = system.rhs;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (fixed[static_cast<std::size_t>(i)] < 0) continue;
+      const double value = fixed[static_cast<std::size_t>(i)];
+      b -= a.col(i) * value;
+      a.row(i).setZero();
+      a.col(i).setZero();
+      a(i, i) = 1.0;
+      b[i] = value;
+    }
+    x = a.ldlt().solve(b);
+    bool changed = false;
+    for (Eigen::Index i = static_cast<Eigen::Index>(identity_count); i < n; ++i) {
+      if (fixed[static_cast<std::size_t>(i)] >= 0 || (x[i] >= 0.0 && x[i] <= 1.0)) continue;
+      fixed[static_cast<std::size_t>(i)] = x[i] < 0.0 ? 0 : 1;
+      changed = true;
+    }
+    if (!changed) break;
+  }
+  for (Eigen::Index i = static_cast<Eigen::Index>(identity_count); i < n; ++i) x[i] = std::clamp(x[i], 0.0, 1.0);
+  return x;
+}
+
+std::vector<float> LandmarkWeights(const PhotoFitParams& params) {
+  std::vector<float> weights(kDlibLandmarkCount, 1.0f);
+  for (std::size_t k = 0; k < kJawCount; ++k) weights[k] = params.jaw_weight;
+  for (std::size_t k = 17; k <= 26; ++k) weights[k] = params.brow_weight;
+  for (std::size_t k = 36; k <= 47; ++k) weights[k] = params.eye_weight;
+  return weights;
+}
+
+double FaceSize(std::span<const glm::vec2> landmarks) {
+  glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
+  for (const glm::vec2 p : landmarks) {
+    low = glm::min(low, p);
+    high = glm::max(high, p);
+  }
+  return std::max(1.0f, std::max(high.x - low.x, high.y - low.y));
+}
+
+std::vector<glm::vec3> PointsAt(const PhotoFaceModel& model, const Eigen::VectorXd& weights,
+                                std::span<const std::uint32_t> vertices) {
+  std::vector<glm::vec3> points;
+  for (const std::uint32_t v : vertices) points.push_back(ShapeAt(model, weights, v));
+  return points;
+}
+
+void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit);
+
+void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
+                int width, int height, PhotoFit& fit) {
+  const std::size_t identities = model.identity_modes.size();
+  for (std::size_t i = 0; i < model.unknown_count(); ++i) {
+    const auto w = static_cast<float>(weights[static_cast<Eigen::Index>(i)]);
+    (i < identities ? fit.identity_weights : fit.expression_weights).push_back(w);
+  }
+  fit.expression_names = model.expression_names;
+  fit.rest_positions = ShapeOf(model, weights, 0, model.neutral.size(), identities);
+  fit.posed_positions = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
+  RefreshProjection(landmarks, width, height, fit);
+}
+
+// model_pixels, rms_pixels and the view from the posed positions.
+void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit) {
+  fit.model_pixels.clear();
+  double squared = 0.0;
+  for (std::size_t k = 0; k < landmarks.size(); ++k) {
+    fit.model_pixels.push_back(ProjectPixel(fit.camera, fit.posed_positions[fit.landmark_vertices[k]], width, height));
+    const glm::vec2 d = fit.model_pixels.back() - landmarks[k];
+    squared += glm::dot(d, d);
+  }
+  fit.rms_pixels = std::sqrt(squared / static_cast<double>(landmarks.size()));
+  glm::vec3 centre(0.0f);
+  for (const std::uint32_t v : fit.landmark_vertices) centre += fit.posed_positions[v];
+  fit.view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
+}
+
+}  // namespace
+
+PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detected, int width, int height,
+                  const PhotoFitParams& params) {
+  const auto start = std::chrono::steady_clock::now();
+  CheckInput(detected, width, height);
+  const std::vector<float> landmark_weights = LandmarkWeights(params);
+  const double face_size = FaceSize(detected);
+  const double sigma_pixels = params.landmark_sigma_fraction * face_size;
+  std::vector<glm::vec2> landmarks(detected.begin(), detected.end());
+  if (params.remove_landmark_offsets && model.landmark_offsets.size() == landmarks.size()) {
+    for (std::size_t k = 0; k < landmarks.size(); ++k) {
+      landmarks[k] += static_cast<float>(face_size) * model.landmark_offsets[k];
+    }
+  }
+  Eigen::VectorXd weights = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.unknown_count()));
+  PhotoFit fit;
+  fit.landmark_vertices = model.landmark_vertices;
+  for (int iteration = 0; iteration < std::max(1, params.iterations); ++iteration) {
+    fit.camera = FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights,
+                                      width, height);
+    if (params.moving_contour) {
+      ChooseContourVertices(model, weights, fit.camera, landmarks, width, height, params.silhouette_cosine,
+                            fit.landmark_vertices);
+    }
+    const LinearSystem system = BuildSystem(model, fit.camera, landmarks, fit.landmark_vertices, landmark_weights,
+                                            width, height, sigma_pixels, params);
+    weights = SolveBounded(system, model.identity_modes.size());
+  }
+  fit.camera =
+      FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights, width, height);
+  if (params.deform_without_identity && model.identity_modes.empty()) {
+    // Expressions stay as fitted: the deformation moves rest and posed alike.
+    std::vector<glm::vec3> posed = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
+    const std::vector<glm::vec3> before = posed;
+    RbfDeformToLandmarks(posed, fit.landmark_vertices, landmarks, fit.camera, width, height);
+    FillResult(model, weights, landmarks, width, height, fit);
+    for (std::size_t v = 0; v < posed.size(); ++v) fit.rest_positions[v] += posed[v] - before[v];
+    fit.posed_positions = std::move(posed);
+    fit.deformed = true;
+    RefreshProjection(landmarks, width, height, fit);
+  } else {
+    FillResult(model, weights, landmarks, width, height, fit);
+  }
+  fit.seconds = SecondsSince(start);
+  return fit;
+}
+
+}  // namespace facerig

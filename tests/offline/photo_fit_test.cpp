@@ -1,0 +1,415 @@
+// Fitting the ICT-FaceKit model to one picture: random identities rendered by
+// the project's rasterizer, landmarks by dlib, the fit compared with the truth.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <Eigen/Dense>
+#include <glm/geometric.hpp>
+
+#include "facerig/offline/error.h"
+#include "facerig/offline/photo_fit.h"
+#include "facerig/offline/similarity.h"
+#include "facerig/runtime/behaviour/blink.h"
+#include "facerig/runtime/rig_builder.h"
+#include "facerig/offline/default_head.h"
+#include "support/default_head_poses.h"
+#include "support/registration_targets.h"
+#include "support/test_meshes.h"
+
+namespace {
+
+using facerig::Pcg32;
+using facerig::PhotoFaceModel;
+using facerig::RgbImage;
+
+constexpr float kPi = 3.14159265f;
+
+struct IctPhotoSetup {
+  facerig::FaceTemplateInfo info;
+  PhotoFaceModel model;
+};
+
+// One detector for the file: loading dlib's predictor takes a good part of a second.
+facerig::LandmarkDetector& Detector() {
+  static facerig::LandmarkDetector detector;
+  return detector;
+}
+
+const IctPhotoSetup& Setup() {
+  static const IctPhotoSetup setup = [] {
+    IctPhotoSetup s;
+    s.info = facerig::test::LoadIctTemplateInfo(facerig::test::IctRig());
+    s.model = facerig::BuildPhotoFaceModel(facerig::test::IctRig(), s.info, facerig::test::IctFaces().identities, {},
+                                           &Detector());
+    return s;
+  }();
+  return setup;
+}
+
+std::vector<glm::vec3> FaceWithWeights(const PhotoFaceModel& model, const std::vector<double>& weights) {
+  std::vector<glm::vec3> face = model.neutral;
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    for (std::size_t v = 0; v < face.size(); ++v) face[v] += static_cast<float>(weights[i]) * model.identity_modes[i][v];
+  }
+  return face;
+}
+
+glm::vec3 PartColour(const std::string& name) {
+  if (name.starts_with("skin")) return {0.86f, 0.66f, 0.55f};
+  if (name.starts_with("eyeball")) return {0.85f, 0.85f, 0.82f};
+  if (name.starts_with("eyelashes")) return {0.15f, 0.10f, 0.08f};
+  if (name == "teeth") return {0.9f, 0.9f, 0.85f};
+  return {0.45f, 0.20f, 0.20f};  // mouth and eye sockets, gums
+}
+
+// The head rendered with a flat skin colour and Lambert light; the eye films (transparent in ICT) left out.
+RgbImage RenderFace(const facerig::FaceTemplateInfo& info, const std::vector<glm::vec3>& positions, float yaw_degrees,
+                    int size) {
+  facerig::Mesh mesh{.positions = positions};
+  std::vector<glm::vec3> albedo;
+  for (const facerig::Triangle& t : facerig::test::IctRig().triangles()) {
+    const facerig::TemplatePart* part = nullptr;
+    for (const facerig::TemplatePart& p : info.parts) {
+      if (t[0] >= p.vertices.first && t[0] <= p.vertices.last) part = &p;
+    }
+    if (part == nullptr || part->name.starts_with("lacrimal") || part->name.starts_with("eye_blend") ||
+        part->name.starts_with("eye_occlusion")) {
+      continue;
+    }
+    mesh.triangles.push_back(t);
+    albedo.push_back(PartColour(part->name));
+  }
+  std::vector<glm::vec3> normals(positions.size());
+  facerig::ComputeVertexNormals(positions, mesh.triangles, normals);
+  for (const facerig::Triangle& t : mesh.triangles) {
+    for (const std::uint32_t v : t) mesh.corner_normals.push_back(normals[v]);
+  }
+  const glm::vec3 nose = positions[info.landmark_vertices[30]];
+  const facerig::RasterView view =
+      facerig::RasterView::Orbit(nose, 16.0f, size, size, yaw_degrees * kPi / 180.0f);
+  return facerig::Shade(facerig::Rasterize(mesh, view), mesh, albedo, view);
+}
+
+// Mean distance (mm; ICT is in cm) over the face group after the best similarity alignment.
+double FaceErrorMm(const std::vector<glm::vec3>& fitted, const std::vector<glm::vec3>& truth, facerig::VertexRange face) {
+  const std::span<const glm::vec3> a(fitted.data() + face.first, face.count());
+  const std::span<const glm::vec3> b(truth.data() + face.first, face.count());
+  const facerig::SimilarityTransform align = facerig::Umeyama(a, b);
+  double sum = 0.0;
+  for (std::size_t v = 0; v < a.size(); ++v) sum += glm::length(align.Apply(a[v]) - b[v]);
+  return 10.0 * sum / static_cast<double>(a.size());
+}
+
+// The truth's least-squares projection on the identity modes over the face.
+std::vector<glm::vec3> ProjectOnModes(const PhotoFaceModel& model, const std::vector<glm::vec3>& truth,
+                                      facerig::VertexRange face) {
+  const auto n = static_cast<Eigen::Index>(model.identity_modes.size());
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  for (std::uint32_t v = face.first; v <= face.last; ++v) {
+    const glm::vec3 d = truth[v] - model.neutral[v];
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const glm::vec3 mi = model.identity_modes[static_cast<std::size_t>(i)][v];
+      rhs[i] += glm::dot(mi, d);
+      for (Eigen::Index j = 0; j <= i; ++j) normal(i, j) += glm::dot(mi, model.identity_modes[static_cast<std::size_t>(j)][v]);
+    }
+  }
+  normal = normal.selfadjointView<Eigen::Lower>();
+  const Eigen::VectorXd w = normal.ldlt().solve(rhs);
+  return FaceWithWeights(model, std::vector<double>(w.data(), w.data() + w.size()));
+}
+
+std::vector<glm::vec3> WithExpression(const PhotoFaceModel& model, std::vector<glm::vec3> face, const std::string& name,
+                                      float weight) {
+  for (std::size_t e = 0; e < model.expression_names.size(); ++e) {
+    if (model.expression_names[e] != name) continue;
+    for (std::size_t v = 0; v < face.size(); ++v) face[v] += weight * model.expression_deltas[e][v];
+  }
+  return face;
+}
+
+float ExpressionWeight(const facerig::PhotoFit& fit, const std::string& name) {
+  for (std::size_t e = 0; e < fit.expression_names.size(); ++e) {
+    if (fit.expression_names[e] == name) return fit.expression_weights[e];
+  }
+  return 0.0f;
+}
+
+// Degrees the camera turned about world +y (RasterView::Orbit's sense).
+float Yaw(const facerig::ScaledOrthoCamera& camera) {
+  const glm::vec3 forward(camera.rotation[0][2], camera.rotation[1][2], camera.rotation[2][2]);
+  return std::atan2(forward.x, forward.z) * 180.0f / kPi;
+}
+
+// The RasterView puts every fitted landmark vertex where the camera does.
+void CheckCameraMatchesRasterView(const facerig::PhotoFit& fit) {
+  for (std::size_t k = 0; k < fit.landmark_vertices.size(); ++k) {
+    const glm::vec3 p = facerig::ProjectToImage(fit.view, fit.posed_positions[fit.landmark_vertices[k]]);
+    CHECK(glm::length(glm::vec2(p) - fit.model_pixels[k]) < 0.01f);
+  }
+}
+
+struct Errors {
+  double fit = 0.0, mean_face = 0.0, best = 0.0, fit_seconds = 0.0;
+  int count = 0;
+};
+
+// jaw_open: the photo's jawOpen weight (the fit must still give the rest face).
+Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facerig::PhotoFitParams& params = {},
+                   float jaw_open = 0.0f) {
+  const IctPhotoSetup& setup = Setup();
+  const facerig::VertexRange face = setup.info.Group("face");
+  facerig::LandmarkDetector& detector = Detector();
+  Pcg32 rng(seed);
+  Errors errors;
+  for (int f = 0; f < faces; ++f) {
+    std::vector<double> weights(setup.model.identity_modes.size());
+    for (double& w : weights) w = rng.NextNormal();
+    const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
+    const RgbImage photo = RenderFace(setup.info, WithExpression(setup.model, truth, "jawOpen", jaw_open), yaw_degrees, 512);
+    const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
+    const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, params);
+    if (f == 0) {
+      facerig::WritePhotoFitPng(facerig::test::OutputPath("photo_fit_yaw" + std::to_string(int(yaw_degrees)) + ".png"),
+                                photo, landmarks, fit);
+    }
+    errors.fit += FaceErrorMm(fit.rest_positions, truth, face);
+    errors.mean_face += FaceErrorMm(setup.model.neutral, truth, face);
+    errors.best += FaceErrorMm(ProjectOnModes(setup.model, truth, face), truth, face);
+    errors.fit_seconds = std::max(errors.fit_seconds, fit.seconds);
+    CheckCameraMatchesRasterView(fit);
+    CHECK(std::abs(Yaw(fit.camera) - yaw_degrees) < 4.0f);
+    if (jaw_open > 0.0f) CHECK(ExpressionWeight(fit, "jawOpen") > 0.5f * jaw_open);
+    ++errors.count;
+  }
+  errors.fit /= faces;
+  errors.mean_face /= faces;
+  errors.best /= faces;
+  std::printf("photo fit, yaw %2.0f, %d faces: fit %.2f mm, mean face %.2f mm, best %.3f mm; slowest fit %.1f ms\n",
+              double(yaw_degrees), faces, errors.fit, errors.mean_face, errors.best, 1e3 * errors.fit_seconds);
+  return errors;
+}
+
+}  // namespace
+
+// The goal (<= 1.5 mm and half the mean face's error) is not reached from 68
+// dlib landmarks: the fit removes about a quarter of the mean face's error
+// (numbers from "[.measure]" in the report); even the landmark vertices'
+// exact projections instead of dlib's points leave about 1.5 mm.
+TEST_CASE("Photo fit recovers random ICT identities from renders (shared data)", "[photo_fit][shared-data]") {
+  for (const float yaw : {0.0f, 15.0f}) {
+    const Errors e = MeasureFits(2, yaw, 17);
+    CHECK(e.best < 0.05);
+    CHECK(e.fit < 0.9 * e.mean_face);
+    CHECK(e.fit_seconds < 0.5);
+  }
+}
+
+TEST_CASE("Photo fit of an open mouth gives the rest face (shared data)", "[photo_fit][shared-data]") {
+  const Errors e = MeasureFits(1, 0.0f, 5, {}, 0.6f);
+  CHECK(e.fit < e.mean_face);
+}
+
+TEST_CASE("Photo fit without identity modes deforms the head onto the landmarks (shared data)",
+          "[photo_fit][shared-data]") {
+  const IctPhotoSetup& setup = Setup();
+  PhotoFaceModel model = setup.model;
+  model.identity_modes.clear();
+  facerig::LandmarkDetector& detector = Detector();
+  Pcg32 rng(3);
+  std::vector<double> weights(setup.model.identity_modes.size());
+  for (double& w : weights) w = rng.NextNormal();
+  const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
+  const RgbImage photo = RenderFace(setup.info, truth, 0.0f, 512);
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
+  const facerig::PhotoFit fit = facerig::FitPhoto(model, landmarks.pixels, photo.width, photo.height);
+  CHECK(fit.deformed);
+  CHECK(fit.rms_pixels < 0.5);
+  CheckCameraMatchesRasterView(fit);
+  const facerig::VertexRange face = setup.info.Group("face");
+  const double error = FaceErrorMm(fit.rest_positions, truth, face);
+  const double mean_face = FaceErrorMm(model.neutral, truth, face);
+  std::printf("photo deform without identity modes: %.2f mm (mean face %.2f mm), %.1f ms\n", error, mean_face,
+              1e3 * fit.seconds);
+  CHECK(error < 1.2 * mean_face);
+}
+
+TEST_CASE("Photo fit with the built-in head deforms it onto a photo's landmarks (shared data)",
+          "[photo_fit][shared-data]") {
+  const facerig::Rig& head = facerig::test::DefaultHead();
+  facerig::FaceTemplateInfo info = facerig::DefaultHeadTemplateInfo(head);
+  facerig::LandmarkDetector& detector = Detector();
+  info.landmark_vertices = facerig::TemplateLandmarkVertices(head, info, detector);
+  const PhotoFaceModel model = facerig::BuildPhotoFaceModel(head, info, {}, {}, &detector);
+  CHECK(model.identity_modes.empty());
+  CHECK(!model.expression_deltas.empty());
+  const RgbImage photo = RenderFace(Setup().info, Setup().model.neutral, 15.0f, 512);
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
+  const facerig::PhotoFit fit = facerig::FitPhoto(model, landmarks.pixels, photo.width, photo.height);
+  CHECK(fit.deformed);
+  CHECK(fit.rms_pixels < 0.5);
+  CheckCameraMatchesRasterView(fit);
+  facerig::WritePhotoFitPng(facerig::test::OutputPath("photo_fit_default_head.png"), photo, landmarks, fit);
+}
+
+TEST_CASE("Scaled orthographic camera from exact 2D-3D pairs", "[photo_fit]") {
+  Pcg32 rng(11);
+  std::vector<glm::vec3> points;
+  for (int k = 0; k < 30; ++k) {
+    points.emplace_back(rng.NextNormal() * 5.0, rng.NextNormal() * 5.0, rng.NextNormal() * 2.0);
+  }
+  facerig::ScaledOrthoCamera truth;
+  const glm::vec3 axis = glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f));
+  const float angle = 0.4f;  // about 23 degrees
+  const float c = std::cos(angle), s = std::sin(angle);
+  const glm::mat3 k(0.0f, axis.z, -axis.y, -axis.z, 0.0f, axis.x, axis.y, -axis.x, 0.0f);  // cross-product matrix
+  truth.rotation = glm::transpose(glm::mat3(1.0f) + s * k + (1.0f - c) * k * k);
+  truth.scale = 12.5f;
+  truth.translation = {-20.0f, 35.0f};
+  std::vector<glm::vec2> pixels;
+  for (const glm::vec3& p : points) pixels.push_back(facerig::ProjectPixel(truth, p, 640, 480));
+  const facerig::ScaledOrthoCamera fit = facerig::FitScaledOrthoCamera(points, pixels, {}, 640, 480);
+  CHECK(std::abs(fit.scale - truth.scale) < 1e-3f);
+  for (int col = 0; col < 3; ++col) {
+    CHECK(glm::length(fit.rotation[col] - truth.rotation[col]) < 1e-4f);
+  }
+  CHECK(glm::length(fit.translation - truth.translation) < 1e-2f);
+  // As a RasterView: the same pixels.
+  const facerig::RasterView view = facerig::ToRasterView(fit, 640, 480, points[0]);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    CHECK(glm::length(glm::vec2(facerig::ProjectToImage(view, points[i])) - pixels[i]) < 1e-2f);
+  }
+  CHECK_THROWS_AS(facerig::FitScaledOrthoCamera(std::span(points).first(3), std::span(pixels).first(3), {}, 640, 480),
+                  facerig::InvalidInputError);
+}
+
+TEST_CASE("Photo landmarks take the largest of several faces (shared data)", "[photo_fit][shared-data]") {
+  const RgbImage large = RenderFace(Setup().info, Setup().model.neutral, 0.0f, 400);
+  const RgbImage small = RenderFace(Setup().info, Setup().model.neutral, 0.0f, 240);
+  RgbImage both{.width = 640, .height = 400, .pixels = std::vector<std::uint8_t>(640 * 400 * 3, 40)};
+  auto paste = [&](const RgbImage& image, int x0) {
+    for (int y = 0; y < image.height; ++y) {
+      std::copy_n(image.pixels.begin() + y * image.width * 3, image.width * 3,
+                  both.pixels.begin() + (y * both.width + x0) * 3);
+    }
+  };
+  paste(small, 0);
+  paste(large, 240);
+  facerig::LandmarkDetector& detector = Detector();
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, both);
+  CHECK(landmarks.faces_found == 2);
+  REQUIRE(landmarks.notes.size() == 1);
+  CHECK(landmarks.notes[0].find("largest") != std::string::npos);
+  CHECK(landmarks.box.left >= 240);
+  for (const glm::vec2 p : landmarks.pixels) CHECK(p.x > 240.0f);
+}
+
+TEST_CASE("Identity meshes are read from a template folder (shared data)", "[photo_fit][shared-data]") {
+  const facerig::Rig& rig = facerig::test::IctRig();
+  const auto identities = facerig::LoadIdentityMeshes(facerig::test::IctDir(), rig.vertex_count(), 2);
+  REQUIRE(identities.size() == 2);
+  CHECK(identities[1] == facerig::test::IctFaces().identities[1]);
+  CHECK_THROWS_AS(facerig::LoadIdentityMeshes(facerig::test::IctDir(), 100, 1), facerig::InvalidInputError);
+  CHECK(facerig::LoadIdentityMeshes(facerig::test::OutputPath("no_identities_here"), rig.vertex_count()).empty());
+}
+
+TEST_CASE("Photo landmarks refuse an image without a face (shared data)", "[photo_fit][shared-data]") {
+  facerig::LandmarkDetector& detector = Detector();
+  RgbImage blank{.width = 200, .height = 150, .pixels = std::vector<std::uint8_t>(200 * 150 * 3, 90)};
+  CHECK_THROWS_AS(facerig::DetectPhotoLandmarks(detector, blank), facerig::LandmarkDetectionError);
+  RgbImage broken{.width = 10, .height = 10, .pixels = {}};
+  CHECK_THROWS_AS(facerig::DetectPhotoLandmarks(detector, broken), facerig::InvalidInputError);
+  // A face dlib finds but smaller than the limit the caller asks for.
+  const RgbImage photo = RenderFace(Setup().info, Setup().model.neutral, 0.0f, 256);
+  facerig::PhotoLandmarkParams strict;
+  strict.min_face_pixels = 400;
+  CHECK_THROWS_AS(facerig::DetectPhotoLandmarks(detector, photo, strict), facerig::LandmarkDetectionError);
+  CHECK(facerig::DetectPhotoLandmarks(detector, photo).pixels.size() == 68);
+}
+
+TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_fit][shared-data]") {
+  for (const float yaw : {0.0f, 15.0f}) MeasureFits(12, yaw, 1234);
+  auto start = std::chrono::steady_clock::now();
+  const auto identities = facerig::LoadIdentityMeshes(facerig::test::IctDir(), facerig::test::IctRig().vertex_count());
+  const double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  start = std::chrono::steady_clock::now();
+  const facerig::PhotoFaceModel model =
+      facerig::BuildPhotoFaceModel(facerig::test::IctRig(), Setup().info, identities, {}, &Detector());
+  const double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("model: %zu identity meshes read in %.0f ms, built and calibrated in %.0f ms\n", model.identity_modes.size(),
+              1e3 * load, 1e3 * build);
+  // Detection time on a 1024 px photo (the same detector as the model build's would do).
+  facerig::LandmarkDetector& detector = Detector();
+  const RgbImage photo = RenderFace(Setup().info, Setup().model.neutral, 0.0f, 1024);
+  start = std::chrono::steady_clock::now();
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
+  const double detect = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const facerig::PhotoFit fit = facerig::FitPhoto(Setup().model, landmarks.pixels, photo.width, photo.height);
+  std::printf("1024 px photo: detection %.0f ms, fit %.1f ms\n", 1e3 * detect, 1e3 * fit.seconds);
+}
+
+// How the defaults were chosen (landmark sigma, landmark group weights, jaw contour).
+TEST_CASE("Photo fit parameter sweep (shared data)", "[.tune][photo_fit][shared-data]") {
+  for (const double sigma : {0.01, 0.015, 0.02, 0.04}) {
+    facerig::PhotoFitParams params;
+    params.landmark_sigma_fraction = sigma;
+    std::printf("sigma %.3f\n", sigma);
+    MeasureFits(6, 0.0f, 99, params);
+    MeasureFits(6, 15.0f, 99, params);
+  }
+  for (const float jaw : {0.25f, 0.5f, 1.0f}) {
+    for (const float cosine : {0.2f, 0.35f, 0.5f}) {
+      facerig::PhotoFitParams params;
+      params.jaw_weight = jaw;
+      params.silhouette_cosine = cosine;
+      std::printf("jaw %.2f silhouette cosine %.2f\n", jaw, cosine);
+      MeasureFits(6, 0.0f, 99, params);
+      MeasureFits(6, 15.0f, 99, params);
+    }
+  }
+  for (const float brow : {0.2f, 0.5f, 1.0f}) {
+    for (const float eye : {0.1f, 0.3f, 1.0f}) {
+      facerig::PhotoFitParams params;
+      params.brow_weight = brow;
+      params.eye_weight = eye;
+      std::printf("brow %.2f eye %.2f\n", brow, eye);
+      MeasureFits(6, 0.0f, 99, params);
+      MeasureFits(6, 15.0f, 99, params);
+    }
+  }
+}
+
+TEST_CASE("Photo landmark noise against the true vertices (shared data)", "[.tune_noise][shared-data]") {
+  const IctPhotoSetup& setup = Setup();
+  facerig::LandmarkDetector& detector = Detector();
+  Pcg32 rng(77);
+  std::vector<glm::vec2> sum(68, glm::vec2(0.0f));
+  std::vector<float> sum_sq(68, 0.0f);
+  const int faces = 10;
+  for (int f = 0; f < faces; ++f) {
+    std::vector<double> weights(setup.model.identity_modes.size());
+    for (double& w : weights) w = rng.NextNormal();
+    const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
+    const RgbImage photo = RenderFace(setup.info, truth, 0.0f, 512);
+    const facerig::PhotoLandmarks lm = facerig::DetectPhotoLandmarks(detector, photo);
+    const facerig::RasterView view = facerig::RasterView::Orbit(truth[setup.info.landmark_vertices[30]], 16.0f, 512, 512, 0.0f);
+    float size = 0;
+    for (const auto& p : lm.pixels) size = std::max(size, std::abs(p.x - lm.pixels[30].x));
+    size *= 2;
+    for (std::size_t k = 0; k < 68; ++k) {
+      const glm::vec2 v(facerig::ProjectToImage(view, truth[setup.info.landmark_vertices[k]]));
+      const glm::vec2 d = (v - lm.pixels[k]) / size - setup.model.landmark_offsets[k];
+      sum[k] += d;
+      sum_sq[k] += glm::dot(d, d);
+    }
+  }
+  for (std::size_t k = 17; k < 68; ++k) {
+    const glm::vec2 mean = sum[k] / float(faces);
+    std::printf("%2zu mean (%+.4f %+.4f) rms %.4f\n", k, mean.x, mean.y, std::sqrt(sum_sq[k] / faces));
+  }
+}
