@@ -12,6 +12,7 @@
 
 #include "facerig/offline/closest_point.h"
 #include "facerig/offline/rigid_pieces.h"
+#include "facerig/runtime/shape_names.h"
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/error.h"
 #include "mesh_edges.h"
@@ -407,6 +408,19 @@ void MapVertexValues(const TopologyMapping& mapping, std::span<const Triangle> t
   }
 }
 
+namespace {
+
+// A template shape that replaces a target's own shape: the same name in any
+// spelling ("eyeBlinkLeft" and "eyeBlink_L"), or one side of an unsided
+// target shape ("browInnerUp_L" replaces "browInnerUp").
+bool SameShapeMeaning(std::string_view target_name, std::string_view template_name) {
+  const CanonicalShapeName target = CanonicalShapeNameOf(target_name);
+  const CanonicalShapeName from_template = CanonicalShapeNameOf(template_name);
+  return target.base == from_template.base && (target.side == from_template.side || target.side == 0);
+}
+
+}  // namespace
+
 RawRig MapRigToTarget(const Rig& fitted_rig, const TopologyMapping& mapping, RawRig target,
                       float relative_drop_threshold) {
   if (mapping.weight.size() != target.positions.size()) {
@@ -442,10 +456,10 @@ RawRig MapRigToTarget(const Rig& fitted_rig, const TopologyMapping& mapping, Raw
     }
     shapes.push_back(MakeSparseShape(std::string(shape.name), target_deltas, normals, threshold));
   }
-  // The target's own shapes stay unless a template shape has the same name.
+  // The target's own shapes stay unless a template shape means the same.
   for (RawBlendShape& own : target.shapes) {
-    const bool replaced =
-        std::any_of(shapes.begin(), shapes.end(), [&](const RawBlendShape& s) { return s.name == own.name; });
+    const bool replaced = std::any_of(shapes.begin(), shapes.end(),
+                                      [&](const RawBlendShape& s) { return SameShapeMeaning(own.name, s.name); });
     if (!replaced) shapes.push_back(std::move(own));
   }
   target.shapes = std::move(shapes);

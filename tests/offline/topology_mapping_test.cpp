@@ -4,6 +4,7 @@
 #include "facerig/offline/topology_mapping.h"
 
 #include "facerig/offline/error.h"
+#include "facerig/runtime/rig_builder.h"
 #include "support/slit_sheet.h"
 
 #include <catch2/catch.hpp>
@@ -208,4 +209,41 @@ TEST_CASE("Topology mapping: template rims out of range or out of order are refu
   const std::vector<facerig::MarginDirection> unordered = {{Vertex(4, 4), {0, -1, 0}}, {Vertex(3, 4), {0, -1, 0}}};
   CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(sheet, sheet, {}, unordered),
                     Catch::Contains("out of order"));
+}
+
+namespace {
+
+facerig::RawBlendShape ShapeOnAll(const std::string& name, std::size_t vertex_count, glm::vec3 delta) {
+  facerig::RawBlendShape shape{name, {}, {}, {}};
+  for (std::uint32_t v = 0; v < vertex_count; ++v) {
+    shape.vertex_indices.push_back(v);
+    shape.position_deltas.push_back(delta);
+  }
+  return shape;
+}
+
+}  // namespace
+
+TEST_CASE("Topology mapping: template shapes replace the target's own of the same meaning, in any spelling",
+          "[topology_mapping]") {
+  const SlitSheet sheet = facerig::test::MakeSlitSheet();
+  const std::size_t n = sheet.positions.size();
+  facerig::RawRig template_raw;
+  template_raw.positions = sheet.positions;
+  template_raw.triangles = sheet.triangles;
+  template_raw.shapes = {ShapeOnAll("eyeBlink_L", n, {0, 1, 0}), ShapeOnAll("browInnerUp_R", n, {0, 2, 0})};
+  const std::optional<facerig::Rig> template_rig = facerig::RigBuilder::Build(template_raw);
+  REQUIRE(template_rig);
+  facerig::RawRig target;
+  target.positions = sheet.positions;
+  target.triangles = sheet.triangles;
+  // ARKit spellings of the template's shapes, an unsided one the template
+  // has a side of, and two the template lacks.
+  target.shapes = {ShapeOnAll("eyeBlinkLeft", n, {0, 0, 1}), ShapeOnAll("browInnerUp", n, {0, 0, 2}),
+                   ShapeOnAll("eyeBlinkRight", n, {0, 0, 3}), ShapeOnAll("viseme_aa", n, {0, 0, 4})};
+  const facerig::TopologyMapping mapping = facerig::ComputeTopologyMapping(sheet, sheet, {}, {});
+  const facerig::RawRig mapped = facerig::MapRigToTarget(*template_rig, mapping, target);
+  std::vector<std::string> names;
+  for (const facerig::RawBlendShape& shape : mapped.shapes) names.push_back(shape.name);
+  CHECK(names == std::vector<std::string>{"eyeBlink_L", "browInnerUp_R", "eyeBlinkRight", "viseme_aa"});
 }
