@@ -13,6 +13,11 @@ namespace {
 constexpr std::size_t kDeltaReach = 2, kHistory = 2 * kDeltaReach + 1;
 // A boundary may lie up to this many frames before the column committed when it is emitted.
 constexpr std::size_t kEmitSlack = 2;
+// Frames before the speech onset (in both) where the warping starts.
+constexpr std::size_t kOnsetMargin = kDeltaReach;
+// Speech: louder than this share of the way from the reference's quiet
+// frames (5th percentile) to its loud ones (95th), above the recording's floor.
+constexpr double kOnsetShare = 0.35;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 enum Step : std::uint8_t { kStart, kHorizontal, kDiagonal, kVertical };
 
@@ -78,6 +83,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   width_ = std::min(2 * radius_ + 1, rows_);
   sums_.assign(dimension_, 0.0);
   squares_.assign(dimension_, 0.0);
+  FindReferenceOnset();
   for (std::size_t f = 0; f < rows_; ++f) {
     for (std::size_t d = 0; d < dimension_; ++d) {
       const double v = reference_[f * dimension_ + d];
@@ -97,9 +103,15 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
     squares_[d] = (variance + mean * mean) * params.prior_frames;
   }
   count_ = params.prior_frames;
+  // The warping starts a few frames before the reference's speech; earlier
+  // boundaries keep their distance to it.
+  const std::size_t start_row = onset_row_ > kOnsetMargin ? onset_row_ - kOnsetMargin : 0;
+  reference_.erase(reference_.begin(), reference_.begin() + static_cast<std::ptrdiff_t>(start_row * dimension_));
+  rows_ -= start_row;
+  width_ = std::min(2 * radius_ + 1, rows_);
   for (const Phoneme& phoneme : reference.phonemes) {
     boundary_rows_.push_back((phoneme.start.count() * sample_rate_ - 0.5 * cepstra_.window_samples()) /
-                             cepstra_.hop_samples());
+                                 cepstra_.hop_samples() - static_cast<double>(start_row));
   }
   raw_history_.assign(kHistory * dimension_, 0.0f);
   frame_.resize(dimension_);
@@ -115,6 +127,27 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   emitted_.reserve(boundary_rows_.size());
 }
 
+void StreamingAligner::FindReferenceOnset() {
+  std::vector<float> energy(rows_);
+  for (std::size_t f = 0; f < rows_; ++f) energy[f] = reference_[f * dimension_];
+  const auto percentile = [&](double share) {
+    std::vector<float> sorted = energy;
+    const auto index = static_cast<std::ptrdiff_t>(share * static_cast<double>(sorted.size() - 1));
+    std::nth_element(sorted.begin(), sorted.begin() + index, sorted.end());
+    return static_cast<double>(sorted[static_cast<std::size_t>(index)]);
+  };
+  const double low = percentile(0.05), high = percentile(0.95);
+  onset_rise_ = kOnsetShare * (high - low);
+  floor_cap_ = 0.5 * (low + high);
+  onset_row_ = 0;
+  while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
+  if (onset_row_ + 1 == rows_) onset_row_ = 0;  // no speech stands out
+}
+
+double StreamingAligner::FrameEnd() const {
+  return (static_cast<double>(raw_frames_ - 1) * cepstra_.hop_samples() + cepstra_.window_samples()) / sample_rate_;
+}
+
 double StreamingAligner::look_ahead_seconds() const {
   return (static_cast<double>(lag_ + kDeltaReach + kEmitSlack) * cepstra_.hop_samples() + 0.5 * cepstra_.window_samples()) /
          sample_rate_;
@@ -123,7 +156,8 @@ double StreamingAligner::look_ahead_seconds() const {
 std::span<const StreamedBoundary> StreamingAligner::Push(std::span<const float> samples) {
   emitted_.clear();
   samples_.insert(samples_.end(), samples.begin(), samples.end());
-  pushed_seconds_ += static_cast<double>(samples.size()) / sample_rate_;
+  pushed_samples_ += samples.size();
+  pushed_seconds_ = static_cast<double>(pushed_samples_) / sample_rate_;
   const auto hop = static_cast<std::size_t>(cepstra_.hop_samples()), window = static_cast<std::size_t>(cepstra_.window_samples());
   std::size_t offset = 0;
   for (; offset + window <= samples_.size(); offset += hop) {
@@ -140,16 +174,25 @@ void StreamingAligner::ProcessFrame() {
   const auto n = static_cast<std::size_t>(cepstra_.cepstra());
   std::copy_n(frame_.begin(), n, raw_history_.begin() + static_cast<std::ptrdiff_t>((raw_frames_ % kHistory) * dimension_));
   ++raw_frames_;
-  if (raw_frames_ > kDeltaReach) AddColumn(raw_frames_ - 1 - kDeltaReach);
+  // Leading silence is not warped: a silence's features drift with the
+  // running normalisation and pull the band off. Speech starts above the
+  // floor so far, capped for a stream that starts loud.
+  floor_ = std::min(floor_, static_cast<double>(frame_[0]));
+  if (!started_ && frame_[0] > std::min(floor_, floor_cap_) + onset_rise_) {
+    started_ = true;
+    next_frame_ = column_offset_ = raw_frames_ > kOnsetMargin + 1 ? raw_frames_ - 1 - kOnsetMargin : 0;
+    EmitReady(FrameEnd(), false);  // the boundaries before the onset keep their distance to it
+  }
+  while (started_ && next_frame_ + kDeltaReach < raw_frames_) AddColumn(next_frame_++);
 }
 
 // Recording frame `column` (its raw cepstra in the history) as a normalised
 // feature column, warped and, once the look-ahead passed, committed.
-void StreamingAligner::AddColumn(std::size_t column) {
+void StreamingAligner::AddColumn(std::size_t frame) {
   const auto n = static_cast<std::size_t>(cepstra_.cepstra());
   const auto at = [&](std::ptrdiff_t k) {
     const auto last = static_cast<std::ptrdiff_t>(raw_frames_) - 1;
-    const auto g = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(column) + k, 0, last));
+    const auto g = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(frame) + k, 0, last));
     return raw_history_.data() + (g % kHistory) * dimension_;
   };
   std::copy_n(at(0), n, column_features_.begin());
@@ -166,8 +209,7 @@ void StreamingAligner::AddColumn(std::size_t column) {
   if (columns_ > lag_) {
     Backtrack(BestRow(), lag_ + 1);
     CommitColumn(columns_ - 1 - lag_, path_low_.back(), path_high_.back());
-    const double decided_at = (static_cast<double>(raw_frames_ - 1) * cepstra_.hop_samples() + cepstra_.window_samples()) / sample_rate_;
-    EmitReady(decided_at, false);
+    EmitReady(FrameEnd(), false);
   }
 }
 
@@ -290,7 +332,7 @@ void StreamingAligner::EmitReady(double decided_at, bool at_end) {
       const double span = next_known ? std::min(boundary(k + 1) - boundary(k), 1.0) : 1.0;
       column = boundary(k) + (row + 0.5 - static_cast<double>(k)) * span;
     }
-    const double time = (column * cepstra_.hop_samples() + 0.5 * cepstra_.window_samples()) / sample_rate_;
+    const double time = ((column + static_cast<double>(column_offset_)) * cepstra_.hop_samples() + 0.5 * cepstra_.window_samples()) / sample_rate_;
     last_start_ = std::clamp(time, last_start_, std::max(last_start_, pushed_seconds_));
     emitted_.push_back({next_phoneme_, Seconds(last_start_), decided_at});
   }
@@ -304,7 +346,11 @@ std::span<const StreamedBoundary> StreamingAligner::Finish() {
     ProcessFrame();
   }
   samples_.clear();
-  while (columns_ < raw_frames_) AddColumn(columns_);
+  if (!started_ && raw_frames_ > 0) {
+    started_ = true;  // no speech: the last frame stands for all
+    next_frame_ = column_offset_ = raw_frames_ - 1;
+  }
+  while (next_frame_ < raw_frames_) AddColumn(next_frame_++);
   if (columns_ > committed_columns_) {
     const bool end_in_band = low_ + width_ == rows_ && std::isfinite(cost_[width_ - 1]);
     Backtrack(end_in_band ? rows_ - 1 : BestRow(), columns_ - committed_columns_);

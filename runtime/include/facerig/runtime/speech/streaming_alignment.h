@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -63,8 +64,10 @@ class StreamingAligner {
   std::size_t phoneme_count() const { return boundary_rows_.size(); }
 
  private:
+  void FindReferenceOnset();
+  double FrameEnd() const;  // the audio time the newest frame needed
   void ProcessFrame();
-  void AddColumn(std::size_t column);
+  void AddColumn(std::size_t frame);
   void FillColumn(std::span<const float> x);
   std::size_t BestRow() const;
   void Backtrack(std::size_t from_row, std::size_t columns);
@@ -83,6 +86,12 @@ class StreamingAligner {
   float previous_sample_ = 0.0f;
   std::vector<float> raw_history_;                  // the last 5 frames' cepstra, for the deltas
   std::size_t raw_frames_ = 0, columns_ = 0;
+  // Warping starts at the recording's speech onset: column 0 is recording
+  // frame column_offset_, row 0 the reference's frame onset_row_ - margin.
+  std::size_t onset_row_ = 0, column_offset_ = 0, next_frame_ = 0;
+  bool started_ = false;
+  double onset_rise_ = 0.0, floor_cap_ = 0.0;
+  double floor_ = std::numeric_limits<double>::infinity();
   std::vector<float> frame_, column_features_;
   std::vector<double> previous_cost_, cost_;
   std::size_t previous_low_ = 0, low_ = 0;
@@ -94,6 +103,7 @@ class StreamingAligner {
   std::ptrdiff_t committed_row_ = -1;
   std::size_t next_phoneme_ = 0;
   double last_start_ = 0.0, pushed_seconds_ = 0.0;
+  std::size_t pushed_samples_ = 0;
   std::vector<StreamedBoundary> emitted_;
 };
 
