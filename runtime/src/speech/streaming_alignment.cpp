@@ -80,29 +80,8 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   reference_ = ReferenceFeatures(reference, cepstra_, dimension_);
   rows_ = reference_.size() / dimension_;
   radius_ = static_cast<std::size_t>(std::ceil(params.band_radius_seconds / hop));
-  width_ = std::min(2 * radius_ + 1, rows_);
-  sums_.assign(dimension_, 0.0);
-  squares_.assign(dimension_, 0.0);
   FindReferenceOnset();
-  for (std::size_t f = 0; f < rows_; ++f) {
-    for (std::size_t d = 0; d < dimension_; ++d) {
-      const double v = reference_[f * dimension_ + d];
-      sums_[d] += v;
-      squares_[d] += v * v;
-    }
-  }
-  for (std::size_t d = 0; d < dimension_; ++d) {
-    const double mean = sums_[d] / static_cast<double>(rows_);
-    const double variance = std::max(0.0, squares_[d] / static_cast<double>(rows_) - mean * mean);
-    const double scale = variance > 1e-12 ? 1.0 / std::sqrt(variance) : 0.0;
-    for (std::size_t f = 0; f < rows_; ++f) {
-      float& v = reference_[f * dimension_ + d];
-      v = static_cast<float>((v - mean) * scale);
-    }
-    sums_[d] = mean * params.prior_frames;
-    squares_[d] = (variance + mean * mean) * params.prior_frames;
-  }
-  count_ = params.prior_frames;
+  NormalizeReference(params.prior_frames);
   // The warping starts a few frames before the reference's speech; earlier
   // boundaries keep their distance to it.
   const std::size_t start_row = onset_row_ > kOnsetMargin ? onset_row_ - kOnsetMargin : 0;
@@ -142,6 +121,32 @@ void StreamingAligner::FindReferenceOnset() {
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
   if (onset_row_ + 1 == rows_) onset_row_ = 0;  // no speech stands out
+}
+
+// The reference's features to zero mean and unit variance; its statistics,
+// weighted as `prior_frames` frames, seed the recording's running ones.
+void StreamingAligner::NormalizeReference(double prior_frames) {
+  sums_.assign(dimension_, 0.0);
+  squares_.assign(dimension_, 0.0);
+  for (std::size_t f = 0; f < rows_; ++f) {
+    for (std::size_t d = 0; d < dimension_; ++d) {
+      const double v = reference_[f * dimension_ + d];
+      sums_[d] += v;
+      squares_[d] += v * v;
+    }
+  }
+  for (std::size_t d = 0; d < dimension_; ++d) {
+    const double mean = sums_[d] / static_cast<double>(rows_);
+    const double variance = std::max(0.0, squares_[d] / static_cast<double>(rows_) - mean * mean);
+    const double scale = variance > 1e-12 ? 1.0 / std::sqrt(variance) : 0.0;
+    for (std::size_t f = 0; f < rows_; ++f) {
+      float& v = reference_[f * dimension_ + d];
+      v = static_cast<float>((v - mean) * scale);
+    }
+    sums_[d] = mean * prior_frames;
+    squares_[d] = (variance + mean * mean) * prior_frames;
+  }
+  count_ = prior_frames;
 }
 
 double StreamingAligner::FrameEnd() const {

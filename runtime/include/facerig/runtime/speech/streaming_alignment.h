@@ -13,7 +13,12 @@
 // construction), the band's costs and (look-ahead x band) back-pointers.
 // Push allocates nothing once its buffers reached the largest chunk's size.
 // Features are normalised with running statistics of the recording seeded
-// with the reference's, as the whole recording is not known.
+// with the reference's, as the whole recording is not known. The warping
+// starts at the recording's speech onset (a frame louder than its quiet floor
+// by a share of the reference's loudness range; the floor is capped for a
+// stream that starts with speech, which assumes levels within ~10 dB of the
+// reference's); boundaries before the reference's onset keep their distance
+// to it and are emitted at the onset.
 #pragma once
 
 #include <cstddef>
@@ -65,6 +70,7 @@ class StreamingAligner {
 
  private:
   void FindReferenceOnset();
+  void NormalizeReference(double prior_frames);
   double FrameEnd() const;  // the audio time the newest frame needed
   void ProcessFrame();
   void AddColumn(std::size_t frame);
