@@ -11,6 +11,7 @@
 #include "facerig/runtime/speech/phoneme_source.h"
 #include "headless_player.h"
 #include "player_options.h"
+#include "recorded_speech.h"
 #include "window_player.h"
 
 int main(int argc, char** argv) {
@@ -53,6 +54,10 @@ int main(int argc, char** argv) {
     std::cerr << "facerig-player: warning: " << warning.message << '\n';
   }
 
+  if (WantsRoughMode(options)) {
+    std::cerr << "facerig-player: no transcript: the rough mode, a coarse mouth from the audio alone "
+                 "(give --text for lip-sync)\n";
+  }
   try {
     if (!options.headless) return RunWindow(*rig, rig_name, options);
     InstallStopSignalHandlers();

@@ -27,7 +27,7 @@ std::string UsageText() {
 
 usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]... [--still]
                       [--timing FILE.json]
-       facerig-player --audio FILE --text TEXT [--voice V] ... | --track FILE.json [--audio FILE] ...
+       facerig-player --audio FILE [--text TEXT [--voice V]] ... | --track FILE.json [--audio FILE] ...
        facerig-player [--quit-after S] [--screenshot FILE.png]
        facerig-player --headless --frames DIR [--wav FILE] [--mp4 FILE] [--fps 30]
                       [--size WxH] [--duration S] [--lead-in S] [--say TEXT] [--hud] ...
@@ -41,7 +41,9 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
   --audio FILE     speak a recording (WAV, FLAC, Ogg, ...) instead of synthesized text, with
                    --text TEXT, its transcript (aligned at start; --voice: its language), or
                    --track FILE.json, its phoneme track (e.g. from `facerig align`; the
-                   track's "audio" is used when --audio is not given)
+                   track's "audio" is used when --audio is not given), or alone: the rough
+                   mode, a coarse mouth from loudness and spectrum (no phonemes; p, b, m
+                   do not close the lips)
   --emotion E[:I]  joy, sadness, fear, anger, surprise or disgust at intensity I (default 0.7)
   --still          no idle head motion or eye saccades (blinks stay)
   --msaa N         anti-aliasing samples: 0, 2, 4 (default) or 8
@@ -118,15 +120,13 @@ void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::st
   app.add_option("--size", size);
 }
 
-// --audio, --text and --track: a recording with its transcript or its track.
+// --audio, --text and --track: a recording with its transcript, its track, or
+// alone (the rough mode).
 void CheckRecordingOptions(const PlayerOptions& options) {
   const bool recording = !options.audio.empty() || !options.track.empty();
   if (recording && !options.say.empty()) throw UsageError("--say speaks synthesized text: not with --audio or --track");
   if (!options.text.empty() && options.audio.empty()) throw UsageError("--text is the transcript of --audio FILE");
   if (!options.text.empty() && !options.track.empty()) throw UsageError("--text and --track: give one of them");
-  if (!options.audio.empty() && options.text.empty() && options.track.empty()) {
-    throw UsageError("--audio needs its transcript (--text TEXT) or its phoneme track (--track FILE)");
-  }
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ struct PlayerOptions {
   std::string voice = "en-us";
   // A recording to speak instead of synthesized text: --audio with its
   // transcript (--text, aligned at start) or with --track (a phoneme track;
-  // --audio may then be left out when the track names its audio).
+  // --audio may then be left out when the track names its audio), or alone
+  // (the rough mode: a coarse mouth from the audio, RoughMouthFromAudio).
   std::filesystem::path audio;
   std::string text;
   std::filesystem::path track;

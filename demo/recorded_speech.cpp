@@ -7,6 +7,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/io/input_file.h"
+#include "facerig/runtime/speech/audio_mouth.h"
 #include "facerig/runtime/speech/phoneme_track_file.h"
 
 namespace facerig::player {
@@ -28,16 +29,32 @@ SpeechLine TrackLine(const PlayerOptions& options, std::filesystem::path* audio)
   return std::move(track.line);
 }
 
+// The rough mode's line for a recording without transcript or track.
+SpeechLine RoughLine(const AudioClip& clip, const std::filesystem::path& path) {
+  std::optional<SpeechLine> line = RoughMouthFromAudio(clip.samples, clip.sample_rate);
+  if (!line) {
+    throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),
+                  "sample rate " + std::to_string(clip.sample_rate) + " Hz is outside what the rough mode reads");
+  }
+  return std::move(*line);
+}
+
 }  // namespace
 
 bool WantsRecordedSpeech(const PlayerOptions& options) { return !options.audio.empty() || !options.track.empty(); }
+
+bool WantsRoughMode(const PlayerOptions& options) {
+  return !options.audio.empty() && options.text.empty() && options.track.empty();
+}
 
 SpeechLine LoadRecordedSpeech(const PlayerOptions& options, int sample_rate) {
   std::filesystem::path audio_path = options.audio;
   SpeechLine line;
   if (!options.track.empty()) line = TrackLine(options, &audio_path);
   const AudioClip clip = ReadAudioFile(audio_path);
-  if (options.track.empty()) {
+  if (WantsRoughMode(options)) {
+    line = RoughLine(clip, audio_path);
+  } else if (options.track.empty()) {
     EspeakPhonemeSource source;
     line = AlignRecording(source, clip, options.text, options.voice).alignment.line;
   }

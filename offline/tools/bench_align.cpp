@@ -1,9 +1,11 @@
 #include "bench_align.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@
 #include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/io/input_file.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
+#include "facerig/runtime/speech/streaming_alignment.h"
 #include "support/alignment_scoring.h"
 
 namespace {
@@ -33,6 +36,7 @@ struct AlignBenchOptions {
   int reference_rate = 140, reference_pitch = 75;
   std::string reference_variant = "f3";
   std::string json_path;
+  double stream_chunk_ms = 0.0;  // > 0: StreamingAligner fed chunks of this length instead of AlignRecording
   // Real speech with transcripts (Debian pocketsphinx-testdata): `transcription` lines
   // "<s> words </s> (id)" beside id.wav.
   std::string recordings_dir = "/usr/share/pocketsphinx/test/data/librivox";
@@ -49,6 +53,8 @@ void AddAlignBenchOptions(CLI::App& app, AlignBenchOptions& o) {
   app.add_option("--reference-pitch", o.reference_pitch, "its pitch (default 75)");
   app.add_option("--reference-variant", o.reference_variant, "its variant (default f3)");
   app.add_option("--json", o.json_path, "write the results as JSON");
+  app.add_option("--stream-chunk", o.stream_chunk_ms,
+                 "align with the streaming aligner, the recording in chunks of MS milliseconds (default: offline)");
   app.add_option("--recordings", o.recordings_dir,
                  "folder of real recordings: a 'transcription' file (pocketsphinx format) beside ID.wav "
                  "(default: pocketsphinx-testdata's librivox; skipped when missing)");
@@ -80,6 +86,33 @@ struct VoiceResult {
   double audio_seconds = 0.0, align_seconds = 0.0;
 };
 
+// The streaming aligner's result as AlignRecording's (seconds include the reference's synthesis).
+facerig::RecordingAlignment StreamAlign(facerig::PhonemeSource& aligner, const facerig::AudioClip& clip,
+                                        const std::string& sentence, const std::string& voice, double chunk_ms) {
+  const auto start = std::chrono::steady_clock::now();
+  facerig::RecordingAlignment result;
+  result.reference = aligner.Synthesize(sentence, voice);
+  facerig::StreamingAligner streaming(result.reference);
+  facerig::SpeechLine& line = result.alignment.line;
+  line = result.reference;
+  line.audio.clear();
+  const auto take = [&](std::span<const facerig::StreamedBoundary> boundaries) {
+    for (const facerig::StreamedBoundary& b : boundaries) line.phonemes[b.phoneme].start = b.start;
+  };
+  const auto chunk = std::max<std::size_t>(1, static_cast<std::size_t>(chunk_ms * 1e-3 * clip.sample_rate));
+  for (std::size_t at = 0; at < clip.samples.size(); at += chunk) {
+    take(streaming.Push(std::span<const float>(clip.samples).subspan(at, std::min(chunk, clip.samples.size() - at))));
+  }
+  take(streaming.Finish());
+  const double end = clip.duration_seconds();
+  for (std::size_t i = 0; i < line.phonemes.size(); ++i) {
+    const double next = i + 1 < line.phonemes.size() ? line.phonemes[i + 1].start.count() : end;
+    line.phonemes[i].duration = facerig::Seconds(std::max(0.0, next - line.phonemes[i].start.count()));
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
 VoiceResult MeasureVoice(const AlignBenchOptions& options, const std::string& voice,
                          facerig::PhonemeSource& recorder, facerig::PhonemeSource& aligner) {
   VoiceResult result;
@@ -88,7 +121,9 @@ VoiceResult MeasureVoice(const AlignBenchOptions& options, const std::string& vo
     facerig::AudioClip clip;
     clip.sample_rate = truth.sample_rate;
     clip.samples = facerig::PcmToFloat(truth.audio);
-    const facerig::RecordingAlignment aligned = facerig::AlignRecording(aligner, clip, sentence, voice);
+    const facerig::RecordingAlignment aligned =
+        options.stream_chunk_ms > 0.0 ? StreamAlign(aligner, clip, sentence, voice, options.stream_chunk_ms)
+                                      : facerig::AlignRecording(aligner, clip, sentence, voice);
     const facerig::test::AlignmentScore score = facerig::test::ScoreAlignment(truth, aligned.alignment.line);
     ++result.sentences;
     if (!score.same_phonemes) {
@@ -213,6 +248,7 @@ int RunAlign(const AlignBenchOptions& options) {
         SourceOptions(options.recording_rate, options.recording_pitch, options.recording_variant));
     facerig::EspeakPhonemeSource aligner(
         SourceOptions(options.reference_rate, options.reference_pitch, options.reference_variant));
+    if (options.stream_chunk_ms > 0.0) std::printf("streaming, chunks of %.0f ms; ", options.stream_chunk_ms);
     std::printf("align: recording %d wpm pitch %d variant '%s'; reference %d wpm pitch %d variant '%s'\n\n",
                 options.recording_rate, options.recording_pitch, options.recording_variant.c_str(),
                 options.reference_rate, options.reference_pitch, options.reference_variant.c_str());

@@ -3,18 +3,21 @@
 // makes the `facerig` executable GPL-3.
 #include "cli_commands.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <system_error>
-
 
 #include "cli_common.h"
 #include "cli_report.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/recording_alignment.h"
+#include "facerig/runtime/error.h"
 #include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/io/input_file.h"
+#include "facerig/runtime/speech/audio_mouth.h"
 #include "facerig/runtime/speech/phoneme_track_file.h"
 
 namespace facerig::cli {
@@ -36,42 +39,76 @@ std::string AudioPathForTrack(const std::string& audio, const std::string& track
   return inside ? relative.generic_string() : absolute_audio.string();
 }
 
-CommandReport AlignReport(const AlignOptions& options, const AudioClip& clip, const RecordingAlignment& result) {
+bool IsRoughMode(const AlignOptions& options) { return options.text.empty() && options.text_file.empty(); }
+
+CommandReport AlignReport(const AlignOptions& options, const AudioClip& clip, const SpeechLine& line, double seconds) {
   const double audio_seconds = clip.duration_seconds();
   CommandReport report{"align",
                        {{"audio", options.audio_path}, {"text_file", options.text_file}},
                        {{"track", options.output}}};
-  report.timings = {{"align", result.seconds}, {"total", result.seconds}};
-  report.result = {{"audio_seconds", audio_seconds},
+  report.timings = {{"align", seconds}, {"total", seconds}};
+  report.result = {{"mode", IsRoughMode(options) ? "rough" : "transcript"},
+                   {"audio_seconds", audio_seconds},
                    {"sample_rate", clip.sample_rate},
                    {"channels", clip.channels_in_file},
-                   {"voice", options.voice},
-                   {"phonemes", result.alignment.line.phonemes.size()},
-                   {"reference_seconds", result.reference.audio_duration().count()},
-                   {"path_cost", result.alignment.cost},
-                   {"ms_per_audio_second", audio_seconds > 0.0 ? 1000.0 * result.seconds / audio_seconds : 0.0}};
+                   {"phonemes", line.phonemes.size()},
+                   {"ms_per_audio_second", audio_seconds > 0.0 ? 1000.0 * seconds / audio_seconds : 0.0}};
   return report;
+}
+
+struct AlignOutcome {
+  SpeechLine line;
+  CommandReport report;
+};
+
+// The transcript's alignment, its details added to the report.
+AlignOutcome AlignTranscript(const AlignOptions& options, const AudioClip& clip) {
+  const std::string text = options.text_file.empty()
+                               ? options.text
+                               : ReadInputText(options.text_file, EspeakPhonemeSource::kMaxTextBytes);
+  EspeakPhonemeSource source;
+  RecordingAlignment result = AlignRecording(source, clip, text, options.voice);
+  CommandReport report = AlignReport(options, clip, result.alignment.line, result.seconds);
+  report.result["voice"] = options.voice;
+  report.result["reference_seconds"] = result.reference.audio_duration().count();
+  report.result["path_cost"] = result.alignment.cost;
+  return {std::move(result.alignment.line), std::move(report)};
+}
+
+// The rough mode: a coarse mouth from the audio alone.
+AlignOutcome RoughTrack(const AlignOptions& options, const AudioClip& clip) {
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<SpeechLine> line = RoughMouthFromAudio(clip.samples, clip.sample_rate);
+  if (!line) {
+    throw IoError(IoErrorKind::kUnsupportedFormat, options.audio_path,
+                  "sample rate " + std::to_string(clip.sample_rate) + " Hz is outside what the rough mode reads");
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CommandReport report = AlignReport(options, clip, *line, seconds);
+  return {std::move(*line), std::move(report)};
 }
 
 int RunAlign(const AlignOptions& options) {
   return RunWritingCommand([&] {
     CheckWritable({options.output, options.report_path});
-    const std::string text = options.text_file.empty()
-                                 ? options.text
-                                 : ReadInputText(options.text_file, EspeakPhonemeSource::kMaxTextBytes);
     const AudioClip clip = ReadAudioFile(options.audio_path);
-    EspeakPhonemeSource source;
-    const RecordingAlignment result = AlignRecording(source, clip, text, options.voice);
-    const CommandReport report = AlignReport(options, clip, result);
+    const AlignOutcome outcome = IsRoughMode(options) ? RoughTrack(options, clip) : AlignTranscript(options, clip);
+    const SpeechLine& line = outcome.line;
+    const CommandReport& report = outcome.report;
     WriteOutputSet([&](OutputSet& set) {
       const std::filesystem::path track = set.Add(options.output, OutputSet::Kind::kFile);
-      WritePhonemeTrack(track, result.alignment.line, AudioPathForTrack(options.audio_path, options.output));
+      WritePhonemeTrack(track, line, AudioPathForTrack(options.audio_path, options.output));
       CheckAfterWrite("track", track);
       WriteReport(set, options.report_path, report);
     });
-    std::fprintf(stderr, "%s: %.2f s of audio, %zu phonemes aligned in %.2f s; wrote %s\n",
-                 options.audio_path.c_str(), clip.duration_seconds(), result.alignment.line.phonemes.size(),
-                 result.seconds, options.output.c_str());
+    if (IsRoughMode(options)) {
+      std::fprintf(stderr, "%s: no transcript: the rough mode, a coarse mouth from the audio alone "
+                   "(no phonemes; p, b, m do not close the lips); give --text for lip-sync\n",
+                   options.audio_path.c_str());
+    }
+    std::fprintf(stderr, "%s: %.2f s of audio, %zu phonemes %s in %.2f s; wrote %s\n", options.audio_path.c_str(),
+                 clip.duration_seconds(), line.phonemes.size(), IsRoughMode(options) ? "(rough)" : "aligned",
+                 report.timings.front().second, options.output.c_str());
     return 0;
   });
 }
@@ -82,14 +119,16 @@ void AddAlignCommand(CLI::App& facerig, CommandBody& body) {
   auto [app, options] = AddSubcommand<AlignOptions>(
       facerig, body, "align", "align a recording to its transcript: a phoneme track for the player",
       "The transcript is spoken by espeak-ng in --voice (the recording's language) and warped onto the "
-      "recording; the track (facerig-phoneme-track JSON) names the audio file.",
+      "recording; the track (facerig-phoneme-track JSON) names the audio file. Without a transcript: the "
+      "rough mode (loudness and spectral shape to open/closed and a few vowel classes; no phonemes).",
       &RunAlign);
   app->add_option("AUDIO", options->audio_path, "the recording (WAV, FLAC, Ogg, AIFF, ...)")->required();
-  // Exactly one of --text and --text-file.
-  CLI::Option_group* transcript = app->add_option_group("transcript", "the words spoken in AUDIO");
+  // At most one of --text and --text-file; neither: the rough mode.
+  CLI::Option_group* transcript = app->add_option_group(
+      "transcript", "the words spoken in AUDIO; without them, the rough mode: a coarse mouth from the audio alone");
   transcript->add_option("--text", options->text, "the transcript");
   transcript->add_option("--text-file", options->text_file, "a file holding the transcript (UTF-8)");
-  transcript->require_option(1);
+  transcript->require_option(0, 1);
   app->add_option("--voice", options->voice, "espeak-ng voice of the recording's language (default en-us)");
   AddOutputOptions(*app, options->output, options->report_path, "the phoneme track to write (JSON)");
 }

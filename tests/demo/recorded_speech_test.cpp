@@ -65,7 +65,12 @@ TEST_CASE("Player options: --audio takes --text or --track", "[demo][recorded]")
   CHECK(player::WantsRecordedSpeech(aligned));
   CHECK(ParseOptions({"--track", "t.json"}).track == "t.json");
   CHECK_FALSE(player::WantsRecordedSpeech(ParseOptions({"--say", "hi"})));
-  CHECK_THROWS_AS(ParseOptions({"--audio", "a.wav"}), UsageError);
+  CHECK_FALSE(player::WantsRoughMode(aligned));
+  CHECK_FALSE(player::WantsRoughMode(ParseOptions({"--track", "t.json", "--audio", "a.wav"})));
+  // --audio alone: the rough mode.
+  const PlayerOptions rough = ParseOptions({"--audio", "a.wav"});
+  CHECK(player::WantsRecordedSpeech(rough));
+  CHECK(player::WantsRoughMode(rough));
   CHECK_THROWS_AS(ParseOptions({"--text", "hello"}), UsageError);
   CHECK_THROWS_AS(ParseOptions({"--audio", "a.wav", "--text", "x", "--say", "y"}), UsageError);
   CHECK_THROWS_AS(ParseOptions({"--audio", "a.wav", "--text", "x", "--track", "t.json"}), UsageError);
@@ -118,6 +123,37 @@ TEST_CASE("Player: headless --audio --text plays the recording, mouth on its spe
   REQUIRE(again.speech.phonemes.size() == phonemes.size());
   CHECK(again.speech.phonemes.back().start.count() == Approx(phonemes.back().start.count()).margin(1e-6));
   CHECK(again.speech.audio == result.speech.audio);
+}
+
+TEST_CASE("Player: headless --audio alone speaks in the rough mode, mouth open on the loud vowels", "[demo][recorded]") {
+  const fs::path out = fs::path(FACERIG_TEST_OUTPUT_DIR) / "player_rough";
+  fs::remove_all(out);
+  const fs::path wav = RecordingWav(out);
+  const AudioClip recording = ReadAudioFile(wav);
+  const Rig rig = LoadRigOrTemplateFolder(FACERIG_DEFAULT_HEAD);
+  PlayerOptions options = Headless(out);
+  options.audio = wav;
+  std::ostringstream log;
+  const player::HeadlessResult result = player::RunHeadless(rig, options, log);
+  INFO(log.str());
+  CHECK(result.speech.text.empty());
+  CHECK(result.speech.sample_rate == 44100);
+  CHECK(result.speech.audio == FloatToPcm(recording.samples));
+  // Rough shapes on the recording's timeline; the lips open on an open vowel, rest before speech.
+  const std::vector<Phoneme>& phonemes = result.speech.phonemes;
+  REQUIRE(phonemes.size() >= 4);
+  CHECK(phonemes.back().start.count() <= recording.duration_seconds() + 1e-6);
+  const auto open_vowel = std::find_if(phonemes.begin(), phonemes.end(), [](const Phoneme& p) {
+    return p.symbol.view() == "a" && p.duration.count() >= 0.06;
+  });
+  REQUIRE(open_vowel != phonemes.end());
+  const auto frame_at = [&](double audio_seconds) {
+    return static_cast<std::size_t>(std::lround((audio_seconds + result.speech_start) * options.fps));
+  };
+  const double open = result.lip_aperture[frame_at(open_vowel->start.count() + 0.5 * open_vowel->duration.count())];
+  const double rest = result.lip_aperture[frame_at(-0.5 * result.speech_start)];
+  INFO("aperture at the open vowel " << open << ", in the lead-in " << rest);
+  CHECK(open > rest);
 }
 
 TEST_CASE("Player: a bad recording is an error naming it, and nothing is written", "[demo][recorded]") {

@@ -80,6 +80,42 @@ TEST_CASE("facerig align: writes a phoneme track of the recording, naming it", "
   CHECK(json["command"] == "align");
   CHECK(json["result"]["sample_rate"] == 44100);
   CHECK(json["result"]["phonemes"] == read.line.phonemes.size());
+  CHECK(json["result"]["mode"] == "transcript");
+  CHECK_THAT(outcome.error_output, !Contains("rough"));
+}
+
+TEST_CASE("facerig align: without a transcript, the rough mode, said on stderr and in the report", "[espeak][cli_align]") {
+  const fs::path wav = RecordingWav("align_rough.wav");
+  const fs::path track = test::OutputPath("align_rough_track.json");
+  const fs::path report = test::OutputPath("align_rough_report.json");
+  fs::remove(track);
+  const test::CommandOutcome outcome = Align({wav.string(), "-o", track.string(), "--json", report.string()});
+  INFO(outcome.error_output);
+  REQUIRE(outcome.exit_code == 0);
+  CHECK_THAT(outcome.error_output, Contains("rough mode"));
+  const PhonemeTrack read = ReadPhonemeTrack(track);
+  CHECK(read.audio_path == "align_rough.wav");
+  CHECK(read.line.text.empty());
+  REQUIRE(read.line.phonemes.size() >= 5);
+  // The rough mode's symbols only: rest, closed, open, front, rounded, fricative.
+  std::size_t open = 0;
+  for (const Phoneme& phoneme : read.line.phonemes) {
+    INFO(phoneme.symbol.view());
+    const std::string symbol(phoneme.symbol.view());
+    CHECK((symbol == "_" || symbol == "b" || symbol == "a" || symbol == "i" || symbol == "o" || symbol == "s"));
+    open += phoneme.symbol.view() == "a" ? 1 : 0;
+  }
+  CHECK(open >= 1);
+  const nlohmann::json json = nlohmann::json::parse(ReadInputText(report));
+  CHECK(json["result"]["mode"] == "rough");
+  CHECK(json["result"]["phonemes"] == read.line.phonemes.size());
+  CHECK(json["result"]["sample_rate"] == 44100);
+  // A bad recording is still an error naming it.
+  const fs::path bad = test::OutputPath("align_rough_bad.wav");
+  WriteText(bad, "RIFF but not really a wave file");
+  const test::CommandOutcome failed = Align({bad.string(), "-o", track.string()});
+  CHECK(failed.exit_code == 1);
+  CHECK_THAT(failed.error_output, Contains(bad.string()));
 }
 
 TEST_CASE("facerig align: a bad recording is a clear error and nothing is written", "[espeak][cli_align]") {
@@ -92,8 +128,7 @@ TEST_CASE("facerig align: a bad recording is a clear error and nothing is writte
   CHECK_THAT(outcome.error_output, Contains(bad.string()));
   CHECK_THAT(outcome.error_output, Contains("not a readable audio file"));
   CHECK_FALSE(fs::exists(track));
-  // No transcript, or two: a usage error.
-  CHECK(Align({bad.string(), "-o", track.string()}).exit_code == 2);
+  // Two transcripts: a usage error.
   CHECK(Align({bad.string(), "--text", "a", "--text-file", "b", "-o", track.string()}).exit_code == 2);
   // An unknown voice names the voice.
   const fs::path wav = RecordingWav("align_voice.wav");

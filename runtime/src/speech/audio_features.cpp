@@ -190,6 +190,61 @@ AudioFeatures ComputeAudioFeatures(std::span<const float> samples, int sample_ra
   return features;
 }
 
+FrameCepstra::FrameCepstra(int sample_rate, const AudioFeatureParams& params) {
+  CheckParams(sample_rate, params);
+  const Framing framing = MakeFraming(0, sample_rate, params);
+  hop_ = framing.hop;
+  cepstra_ = params.cepstra;
+  hann_.resize(static_cast<std::size_t>(framing.window));
+  const double span = std::max(1.0, static_cast<double>(hann_.size()) - 1.0);
+  for (std::size_t i = 0; i < hann_.size(); ++i) {
+    hann_[i] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / span));
+  }
+  for (MelFilter& filter : MelFilterBank(params, sample_rate, framing.fft_size)) {
+    bank_.push_back({filter.first_bin, std::move(filter.weights)});
+  }
+  const auto bands = static_cast<double>(bank_.size());
+  for (int c = 0; c < cepstra_; ++c) {
+    for (std::size_t band = 0; band < bank_.size(); ++band) {
+      cosines_.push_back(static_cast<float>(std::cos(std::numbers::pi * c * (static_cast<double>(band) + 0.5) / bands) *
+                                            std::sqrt(2.0 / bands)));
+    }
+  }
+  buffer_.resize(framing.fft_size);
+  spectrum_.resize(framing.fft_size / 2 + 1);
+  log_mel_.resize(bank_.size());
+}
+
+void FrameCepstra::Compute(std::span<const float> window, float previous, std::span<float> out) {
+  // Fixed floors: -100 dB of full-scale power for the energy, as low for the bands.
+  constexpr float kPowerFloor = 1e-10f, kBandFloor = 1e-10f;
+  std::fill(buffer_.begin(), buffer_.end(), std::complex<float>());
+  double sum = 0.0;
+  for (std::size_t i = 0; i < hann_.size(); ++i) {
+    const float x = i < window.size() ? window[i] : 0.0f;
+    const float before = i == 0 ? previous : (i - 1 < window.size() ? window[i - 1] : 0.0f);
+    sum += static_cast<double>(x) * x;
+    buffer_[i] = hann_[i] * (x - kPreEmphasis * before);
+  }
+  detail::FftInPlace(buffer_);
+  for (std::size_t bin = 0; bin < spectrum_.size(); ++bin) spectrum_[bin] = std::norm(buffer_[bin]);
+  for (std::size_t band = 0; band < bank_.size(); ++band) {
+    float energy = 0.0f;
+    for (std::size_t k = 0; k < bank_[band].weights.size(); ++k) {
+      energy += bank_[band].weights[k] * spectrum_[bank_[band].first_bin + k];
+    }
+    log_mel_[band] = std::log(std::max(energy, kBandFloor));
+  }
+  out[0] = std::log(std::max(static_cast<float>(sum / static_cast<double>(hann_.size())), kPowerFloor));
+  for (int c = 1; c < cepstra_; ++c) {
+    float value = 0.0f;
+    for (std::size_t band = 0; band < bank_.size(); ++band) {
+      value += log_mel_[band] * cosines_[static_cast<std::size_t>(c) * bank_.size() + band];
+    }
+    out[static_cast<std::size_t>(c)] = value;
+  }
+}
+
 std::vector<float> PcmToFloat(std::span<const std::int16_t> samples) {
   std::vector<float> out(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) out[i] = static_cast<float>(samples[i]) / 32768.0f;

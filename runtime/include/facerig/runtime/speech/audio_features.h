@@ -2,6 +2,7 @@
 // of the transcript-to-recording alignment (phoneme_alignment.h).
 #pragma once
 
+#include <complex>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -51,6 +52,33 @@ struct AudioFeatures {
 // \throw std::invalid_argument for a sample rate <= 0 or unusable params.
 AudioFeatures ComputeAudioFeatures(std::span<const float> samples, int sample_rate,
                                    const AudioFeatureParams& params = {});
+
+// The un-normalised cepstra of one frame at a time (log energy, c1..), as
+// ComputeAudioFeatures computes them but with fixed energy floors instead of
+// ones relative to the loudest frame: for audio that arrives in pieces.
+// Compute does not allocate.
+class FrameCepstra {
+ public:
+  // \throw std::invalid_argument as ComputeAudioFeatures.
+  FrameCepstra(int sample_rate, const AudioFeatureParams& params);
+  int hop_samples() const { return hop_; }
+  int window_samples() const { return static_cast<int>(hann_.size()); }
+  int cepstra() const { return cepstra_; }
+  // `window`: window_samples() samples; `previous`: the sample before them
+  // (0 at the start); `out`: cepstra() values.
+  void Compute(std::span<const float> window, float previous, std::span<float> out);
+
+ private:
+  struct Filter {
+    std::size_t first_bin = 0;
+    std::vector<float> weights;
+  };
+  int hop_ = 0, cepstra_ = 0;
+  std::vector<float> hann_, spectrum_, log_mel_;
+  std::vector<Filter> bank_;
+  std::vector<float> cosines_;  // cepstra x bands
+  std::vector<std::complex<float>> buffer_;
+};
 
 // 16-bit PCM to floats in [-1, 1).
 std::vector<float> PcmToFloat(std::span<const std::int16_t> samples);
