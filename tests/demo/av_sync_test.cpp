@@ -17,7 +17,6 @@
 #include "facerig/offline/recording_alignment.h"
 #include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/speech/phoneme_track_file.h"
-#include "facerig/runtime/speech/phoneme_visemes.h"
 #include "headless_player.h"
 #include "media_writer.h"
 #include "player_options.h"
@@ -31,8 +30,6 @@ namespace fs = std::filesystem;
 const fs::path kRecording =
     "/usr/share/pocketsphinx/test/data/librivox/sense_and_sensibility_01_austen_64kb-0880.wav";
 constexpr const char* kTranscript = "he was not an ill disposed young man";
-constexpr double kStep = 0.001;  // the lag's resolution
-
 struct Render {
   double fps = 100.0;
   int width = 160, height = 120;
@@ -41,22 +38,12 @@ struct Render {
 struct PlayerRun {
   double fps = 0.0;
   player::HeadlessResult result;
-  std::vector<double> mouth;  // per frame: mean RGB difference from frame 0 in the mouth box
+  std::vector<double> mouth;  // per frame, from the PNGs (test::MouthSeries)
   AudioClip wav;              // the WAV as written (it starts at frame 0)
 };
 
-// Mean absolute RGB difference (0..255) of `frame` from `first` in the box.
-double BoxDifference(const player::Image& frame, const player::Image& first, int x0, int y0, int x1, int y1) {
-  double sum = 0.0;
-  for (int y = y0; y < y1; ++y) {
-    for (int x = x0; x < x1; ++x) {
-      for (int c = 0; c < 3; ++c) {
-        const std::size_t i = (static_cast<std::size_t>(y) * frame.width + x) * 4 + c;
-        sum += std::abs(static_cast<int>(frame.rgba[i]) - static_cast<int>(first.rgba[i]));
-      }
-    }
-  }
-  return sum / (3.0 * (x1 - x0) * (y1 - y0));
+test::FramePixels Pixels(player::Image image) {
+  return {image.width, image.height, 4, std::move(image.rgba)};
 }
 
 // The player speaking the recording with `track`; the mouth series from its PNGs.
@@ -70,77 +57,19 @@ PlayerRun RunPlayer(const Rig& rig, const fs::path& track, const fs::path& out, 
   options.fps = render.fps;
   options.width = render.width;
   options.height = render.height;
-  options.still = true;  // only speech and blinks move; the box holds only the mouth
+  options.still = true;  // only speech and blinks move the face
   std::ostringstream log;
   PlayerRun run{render.fps, player::RunHeadless(rig, options, log), {}, ReadAudioFile(options.wav)};
-  REQUIRE(run.result.has_mouth);
-  const int r = std::max(4, static_cast<int>(std::ceil(run.result.mouth_radius_pixels)));
-  const int cx = static_cast<int>(run.result.mouth_pixel.x), cy = static_cast<int>(run.result.mouth_pixel.y);
-  const int x0 = std::max(0, cx - r), x1 = std::min(options.width, cx + r);
-  const int y0 = std::max(0, cy - r / 2), y1 = std::min(options.height, cy + r);
-  const player::Image first = player::ReadPng(run.result.frames.front());
-  for (const fs::path& frame : run.result.frames) {
-    run.mouth.push_back(BoxDifference(player::ReadPng(frame), first, x0, y0, x1, y1));
-  }
+  std::vector<test::FramePixels> frames;
+  for (const fs::path& frame : run.result.frames) frames.push_back(Pixels(player::ReadPng(frame)));
+  const test::PixelBox box = test::ChangingLowerBox(frames);
+  REQUIRE(box.x1 > box.x0);
+  run.mouth = test::MouthSeries(frames, box);
   return run;
 }
 
 test::LagPeak MeasureLag(const PlayerRun& run) {
-  const std::vector<double> sound = test::RmsEnvelope(run.wav.samples, run.wav.sample_rate, kStep, 1.0 / run.fps);
-  const std::vector<double> mouth = test::Interpolate(run.mouth, 1.0 / run.fps, kStep);
-  return test::PeakLag(sound, mouth, kStep, 0.150);
-}
-
-bool IsVowel(const Phoneme& p) {
-  const auto visemes = LookupPhonemeVisemes("en-us", p.symbol.view());
-  if (!visemes || visemes->count == 0) return false;
-  const Viseme v = visemes->visemes[0];
-  return v == Viseme::kAA || v == Viseme::kE || v == Viseme::kIH || v == Viseme::kOH || v == Viseme::kOU;
-}
-
-bool IsBilabial(const Phoneme& p) {
-  const auto visemes = LookupPhonemeVisemes("en-us", p.symbol.view());
-  return visemes && visemes->count > 0 && visemes->visemes[0] == Viseme::kPP;
-}
-
-struct Closure {
-  std::string symbol;
-  double lips_closed = 0.0;        // WAV time (s) of the frame with the least mouth opening
-  double acoustic = 0.0;           // centre of the quietest 30 ms
-  double closed_from = 0.0, closed_to = 0.0;  // frames at most 15% of the way from rest to the widest
-};
-
-// Each /p b m/ in `phonemes` (recording time; the WAV holds them `offset` s
-// later): searched between the preceding vowel's middle and the next
-// vowel's onset, in the frames and in the WAV.
-std::vector<Closure> MeasureClosures(const PlayerRun& run, const std::vector<Phoneme>& phonemes, double offset) {
-  const double widest = *std::max_element(run.mouth.begin(), run.mouth.end());
-  std::vector<Closure> closures;
-  for (std::size_t i = 0; i < phonemes.size(); ++i) {
-    if (!IsBilabial(phonemes[i])) continue;
-    double from = phonemes[i].start.count() - 0.15, to = phonemes[i].start.count() + 0.15;
-    for (std::size_t j = i; j-- > 0;) {
-      if (IsVowel(phonemes[j])) { from = (phonemes[j].start + 0.5 * phonemes[j].duration).count(); break; }
-    }
-    for (std::size_t j = i + 1; j < phonemes.size(); ++j) {
-      if (IsVowel(phonemes[j])) { to = phonemes[j].start.count(); break; }
-    }
-    from += offset, to += offset;
-    Closure c{std::string(phonemes[i].symbol.view())};
-    c.acoustic = test::QuietestWindow(run.wav.samples, run.wav.sample_rate, from, to - 0.03, 0.03) + 0.015;
-    const auto first = static_cast<std::size_t>(std::max(0.0, std::floor(from * run.fps)));
-    const auto last = std::min(run.mouth.size() - 1, static_cast<std::size_t>(std::ceil(to * run.fps)));
-    std::size_t least = first;
-    for (std::size_t f = first; f <= last; ++f) least = run.mouth[f] < run.mouth[least] ? f : least;
-    c.lips_closed = static_cast<double>(least) / run.fps;
-    std::size_t a = least, b = least;
-    while (a > first && run.mouth[a - 1] <= 0.15 * widest) --a;
-    while (b < last && run.mouth[b + 1] <= 0.15 * widest) ++b;
-    c.closed_from = static_cast<double>(a) / run.fps - 0.5 / run.fps;
-    c.closed_to = static_cast<double>(b) / run.fps + 0.5 / run.fps;
-    closures.push_back(c);
-  }
-  return closures;
+  return test::MouthLag(run.mouth, run.fps, run.wav.samples, run.wav.sample_rate);
 }
 
 SpeechLine Shifted(SpeechLine line, double seconds) {
@@ -185,11 +114,11 @@ TEST_CASE("Player on a real recording: lag at 100 fps, a 50 ms late track, /p b 
               kRecording.filename().c_str(), 1000 * lag.lag_seconds, lag.correlation, 1000 * late_lag.lag_seconds,
               late_lag.correlation);
   const double offset = run.result.speech_start;  // the WAV starts at frame 0: the lead-in is in both
-  for (const Closure& c : MeasureClosures(run, aligned.phonemes, offset)) {
-    const double q0 = c.acoustic - 0.015, q1 = c.acoustic + 0.015;
-    std::printf("  /%s/ lips least open at %.3f s, closed %.3f-%.3f s; quietest 30 ms centred %.3f s: %+.0f ms, %s\n",
-                c.symbol.c_str(), c.lips_closed, c.closed_from, c.closed_to, c.acoustic,
-                1000 * (c.lips_closed - c.acoustic), c.closed_from < q1 && q0 < c.closed_to ? "overlap" : "apart");
+  for (const test::BilabialClosure& c : test::MeasureBilabialClosures(run.mouth, run.fps, run.wav.samples,
+                                                                     run.wav.sample_rate, aligned.phonemes, offset)) {
+    std::printf("  /%s/ lips least open at %.3f s, closed %.3f-%.3f s; quietest 30 ms %.3f-%.3f s: %s\n",
+                c.symbol.c_str(), c.lips_least_open, c.lips_from, c.lips_to, c.acoustic_from, c.acoustic_to,
+                c.overlaps() ? "overlap" : "apart");
   }
   CHECK(std::abs(lag.lag_seconds) <= 0.020);
   CHECK(late_lag.lag_seconds - lag.lag_seconds == Approx(0.050).margin(0.015));

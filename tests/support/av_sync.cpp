@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "facerig/runtime/speech/phoneme_visemes.h"
+
 namespace facerig::test {
 namespace {
 
@@ -92,6 +94,125 @@ double QuietestWindow(std::span<const float> samples, int rate, double from, dou
     if (best_energy < 0.0 || energy < best_energy) best_energy = energy, best_start = t;
   }
   return best_start;
+}
+
+double BoxDifference(const FramePixels& frame, const FramePixels& first, const PixelBox& box) {
+  double sum = 0.0;
+  for (int y = box.y0; y < box.y1; ++y) {
+    for (int x = box.x0; x < box.x1; ++x) {
+      const std::size_t at = (static_cast<std::size_t>(y) * frame.width + x) * frame.channels;
+      for (std::size_t c = 0; c < 3; ++c) sum += std::abs(frame.values[at + c] - first.values[at + c]);
+    }
+  }
+  const int count = 3 * (box.x1 - box.x0) * (box.y1 - box.y0);
+  return count > 0 ? sum / count : 0.0;
+}
+
+PixelBox ChangingLowerBox(std::span<const FramePixels> frames) {
+  if (frames.empty()) return {};
+  const FramePixels& first = frames.front();
+  const int top = first.height / 2;
+  std::vector<int> change(static_cast<std::size_t>(first.width) * first.height, 0);
+  for (const FramePixels& frame : frames) {
+    for (int y = top; y < first.height; ++y) {
+      for (int x = 0; x < first.width; ++x) {
+        const std::size_t pixel = static_cast<std::size_t>(y) * first.width + x;
+        for (std::size_t c = 0; c < 3; ++c) {
+          const std::size_t at = pixel * first.channels + c;
+          change[pixel] = std::max(change[pixel], std::abs(frame.values[at] - first.values[at]));
+        }
+      }
+    }
+  }
+  const int largest = *std::max_element(change.begin(), change.end());
+  PixelBox box{first.width, first.height, 0, 0};
+  for (int y = top; y < first.height && largest > 0; ++y) {
+    for (int x = 0; x < first.width; ++x) {
+      if (4 * change[static_cast<std::size_t>(y) * first.width + x] < largest) continue;
+      box = {std::min(box.x0, x), std::min(box.y0, y), std::max(box.x1, x + 1), std::max(box.y1, y + 1)};
+    }
+  }
+  return box.x1 > box.x0 ? box : PixelBox{};
+}
+
+std::vector<double> MouthSeries(std::span<const FramePixels> frames, const PixelBox& box) {
+  std::vector<double> series;
+  for (const FramePixels& frame : frames) series.push_back(BoxDifference(frame, frames.front(), box));
+  return series;
+}
+
+LagPeak MouthLag(std::span<const double> mouth, double fps, std::span<const float> samples, int rate) {
+  constexpr double kStep = 0.001;
+  const std::vector<double> sound = RmsEnvelope(samples, rate, kStep, 1.0 / fps);
+  const std::vector<double> fine_mouth = Interpolate(mouth, 1.0 / fps, kStep);
+  return PeakLag(sound, fine_mouth, kStep, 0.150);
+}
+
+namespace {
+
+Viseme FirstViseme(const Phoneme& p) {
+  const auto visemes = LookupPhonemeVisemes("en-us", p.symbol.view());
+  return visemes && visemes->count > 0 ? visemes->visemes[0] : Viseme::kSil;
+}
+
+bool IsVowel(const Phoneme& p) {
+  const Viseme v = FirstViseme(p);
+  return v == Viseme::kAA || v == Viseme::kE || v == Viseme::kIH || v == Viseme::kOH || v == Viseme::kOU;
+}
+
+// From the preceding vowel's middle to the next vowel's onset (150 ms from
+// the phoneme where there is none), in recording time.
+std::pair<double, double> VowelToVowel(std::span<const Phoneme> phonemes, std::size_t i) {
+  double from = phonemes[i].start.count() - 0.150, to = phonemes[i].start.count() + 0.150;
+  for (std::size_t j = i; j-- > 0;) {
+    if (IsVowel(phonemes[j])) {
+      from = (phonemes[j].start + 0.5 * phonemes[j].duration).count();
+      break;
+    }
+  }
+  for (std::size_t j = i + 1; j < phonemes.size(); ++j) {
+    if (IsVowel(phonemes[j])) {
+      to = phonemes[j].start.count();
+      break;
+    }
+  }
+  return {from, to};
+}
+
+// The frame with the least opening in [from, to] s and the frames around it
+// at most `closed` open.
+void LipsClosed(std::span<const double> mouth, double fps, double from, double to, double closed,
+                BilabialClosure* c) {
+  const auto first = static_cast<std::size_t>(std::max(0.0, std::floor(from * fps)));
+  const auto last = std::min(mouth.size() - 1, static_cast<std::size_t>(std::ceil(to * fps)));
+  std::size_t least = std::min(first, last);
+  for (std::size_t f = least; f <= last; ++f) least = mouth[f] < mouth[least] ? f : least;
+  std::size_t a = least, b = least;
+  while (a > first && mouth[a - 1] <= closed) --a;
+  while (b < last && mouth[b + 1] <= closed) ++b;
+  c->lips_least_open = static_cast<double>(least) / fps;
+  c->lips_from = (static_cast<double>(a) - 0.5) / fps;
+  c->lips_to = (static_cast<double>(b) + 0.5) / fps;
+}
+
+}  // namespace
+
+std::vector<BilabialClosure> MeasureBilabialClosures(std::span<const double> mouth, double fps,
+                                                     std::span<const float> samples, int rate,
+                                                     std::span<const Phoneme> phonemes, double offset) {
+  std::vector<BilabialClosure> closures;
+  if (mouth.empty()) return closures;
+  const double widest = *std::max_element(mouth.begin(), mouth.end());
+  for (std::size_t i = 0; i < phonemes.size(); ++i) {
+    if (FirstViseme(phonemes[i]) != Viseme::kPP) continue;
+    const auto [from, to] = VowelToVowel(phonemes, i);
+    BilabialClosure c{std::string(phonemes[i].symbol.view())};
+    c.acoustic_from = QuietestWindow(samples, rate, from + offset, std::max(from, to - 0.030) + offset, 0.030);
+    c.acoustic_to = c.acoustic_from + 0.030;
+    LipsClosed(mouth, fps, from + offset, to + offset, 0.15 * widest, &c);
+    closures.push_back(c);
+  }
+  return closures;
 }
 
 }  // namespace facerig::test
