@@ -79,7 +79,7 @@ std::string Quote(const fs::path& path) {
 
 // Runs `command` through the shell, its output appended to `log`.
 void Run(const std::string& command, const fs::path& log) {
-  if (std::system((command + " >>" + Quote(log) + " 2>&1").c_str()) != 0) {
+  if (std::system(("{ " + command + "; } >>" + Quote(log) + " 2>&1").c_str()) != 0) {
     throw std::runtime_error("failed (see " + log.string() + "): " + command);
   }
 }
