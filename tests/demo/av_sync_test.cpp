@@ -30,6 +30,7 @@ namespace fs = std::filesystem;
 const fs::path kRecording =
     "/usr/share/pocketsphinx/test/data/librivox/sense_and_sensibility_01_austen_64kb-0880.wav";
 constexpr const char* kTranscript = "he was not an ill disposed young man";
+
 struct Render {
   double fps = 100.0;
   int width = 160, height = 120;
