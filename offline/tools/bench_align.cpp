@@ -13,6 +13,7 @@
 
 #include "bench_common.h"
 #include "bench_json.h"
+#include "bench_recordings.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/recording_alignment.h"
 #include "facerig/runtime/io/audio_file.h"
@@ -123,34 +124,6 @@ nlohmann::json VoiceJson(const VoiceResult& r) {
 // --- real speech: no exact truth; the time per second of audio and whether
 // each /p b m/ mouth closure overlaps the recording's quiet closure gap ---
 
-// pocketsphinx's layout: a transcription file ("transcription" or
-// "<folder>.transcription") beside ID.wav.
-fs::path TranscriptionFile(const fs::path& folder) {
-  const fs::path plain = folder / "transcription";
-  return fs::exists(plain) ? plain : folder / (folder.filename().string() + ".transcription");
-}
-
-struct Recording {
-  std::string text;
-  fs::path wav;
-};
-
-std::vector<Recording> ReadTranscription(const fs::path& folder) {
-  std::vector<Recording> recordings;
-  std::istringstream in(facerig::ReadInputText(TranscriptionFile(folder), std::uint64_t{1} << 20));
-  for (std::string line; std::getline(in, line);) {
-    const std::size_t open = line.rfind('('), close = line.rfind(')');
-    if (open == std::string::npos || close == std::string::npos || close < open) continue;
-    std::string text = line.substr(0, open);
-    for (const char* tag : {"<s>", "</s>"}) {
-      for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag)) text.erase(at, std::string(tag).size());
-    }
-    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    recordings.push_back({text, folder / (line.substr(open + 1, close - open - 1) + ".wav")});
-  }
-  return recordings;
-}
-
 // Log energy of 30 ms windows every 5 ms.
 std::vector<double> EnergyEnvelope(const facerig::AudioClip& clip, double* hop_seconds) {
   *hop_seconds = 0.005;
@@ -254,7 +227,7 @@ nlohmann::json MeasureRecordings(const AlignBenchOptions& options) {
   std::size_t recording_count = 0;
   for (const std::string& folder : options.recordings_dirs) {
     if (!fs::exists(TranscriptionFile(folder))) continue;
-    for (const Recording& recording : ReadTranscription(folder)) {
+    for (const BenchRecording& recording : ReadTranscription(folder)) {
       const facerig::AudioClip clip = facerig::ReadAudioFile(recording.wav);
       const facerig::RecordingAlignment result = facerig::AlignRecording(source, clip, recording.text, "en-us");
       ++recording_count;

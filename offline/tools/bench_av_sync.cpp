@@ -12,6 +12,7 @@
 
 #include "bench_common.h"
 #include "bench_json.h"
+#include "bench_recordings.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/recording_alignment.h"
@@ -48,27 +49,6 @@ void AddAvSyncOptions(CLI::App& app, AvSyncOptions& o) {
   app.add_option("--height", o.height, "frame height (default 120)");
   app.add_option("--late", o.late_seconds, "the control track's delay in seconds (default 0.050)");
   app.add_option("--json", o.json_path, "write the results as JSON");
-}
-
-struct Recording {
-  std::string id, text;
-  fs::path wav;
-};
-
-std::vector<Recording> ReadTranscription(const fs::path& folder) {
-  std::vector<Recording> recordings;
-  std::istringstream in(facerig::ReadInputText(folder / "transcription", std::uint64_t{1} << 20));
-  for (std::string line; std::getline(in, line);) {
-    const std::size_t open = line.rfind('('), close = line.rfind(')');
-    if (open == std::string::npos || close == std::string::npos || close < open) continue;
-    std::string text = line.substr(0, open);
-    for (const std::string tag : {"<s>", "</s>"}) {
-      for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag)) text.erase(at, tag.size());
-    }
-    const std::string id = line.substr(open + 1, close - open - 1);
-    recordings.push_back({id, text, folder / (id + ".wav")});
-  }
-  return recordings;
 }
 
 std::string Quote(const fs::path& path) {
@@ -139,7 +119,7 @@ struct PlayerOutput {
 
 // The player on `track` in `folder`: frames + WAV, the plain ffmpeg mux, the
 // MP4 decoded back into frames and a WAV; both measured.
-PlayerOutput PlayAndMux(const AvSyncOptions& o, const Recording& r, const fs::path& track, const fs::path& folder) {
+PlayerOutput PlayAndMux(const AvSyncOptions& o, const BenchRecording& r, const fs::path& track, const fs::path& folder) {
   fs::create_directories(folder / "decoded");
   const fs::path log = folder / "log.txt";
   const std::string fps = std::to_string(o.fps);
@@ -168,7 +148,7 @@ struct RecordingResult {
   std::vector<double> lags, mp4_lags, late_lags;
 };
 
-RecordingResult MeasureRecording(const AvSyncOptions& o, const Recording& r, facerig::PhonemeSource& source) {
+RecordingResult MeasureRecording(const AvSyncOptions& o, const BenchRecording& r, facerig::PhonemeSource& source) {
   const fs::path folder = fs::path(o.work_dir) / r.id;
   fs::remove_all(folder);
   fs::create_directories(folder);
@@ -201,7 +181,7 @@ RecordingResult MeasureRecording(const AvSyncOptions& o, const Recording& r, fac
   return result;
 }
 
-void PrintRow(const Recording& r, const RecordingResult& x) {
+void PrintRow(const BenchRecording& r, const RecordingResult& x) {
   const nlohmann::json& j = x.json;
   const nlohmann::json& s = j["mp4_streams"];
   std::printf("| %s | %.2f | %+.0f ms (r %.2f) | %+.0f ms | %+.0f ms | %zu / %zu | video %.3f + %.3f s, audio %.3f + %.3f s |\n",
@@ -220,7 +200,7 @@ int RunAvSync(const AvSyncOptions& o) {
     std::printf("|---|---|---|---|---|---|---|\n");
     RecordingResult all;
     nlohmann::json recordings = nlohmann::json::array();
-    for (const Recording& r : ReadTranscription(o.recordings_dir)) {
+    for (const BenchRecording& r : ReadTranscription(o.recordings_dir)) {
       const RecordingResult x = MeasureRecording(o, r, source);
       PrintRow(r, x);
       recordings.push_back(x.json);
