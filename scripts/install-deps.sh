@@ -17,7 +17,7 @@ packages=(
   # runtime_io: recordings to align (WAV/FLAC/Ogg... via libsndfile, LGPL-2.1)
   # brought to the reference's sample rate (libsamplerate, BSD-2)
   libsndfile1-dev libsamplerate0-dev
-  pocketsphinx-testdata                            # facerig-bench align: recorded English with transcripts
+  pocketsphinx-testdata                            # recorded English + transcripts: bench align/av-sync, av-sync test
   # facerig-player: SDL2 window + audio; libepoxy loads GL for GLX/SDL and EGL
   # contexts alike, so the windowed and headless paths share one loader;
   # EGL + Mesa (llvmpipe) render headless without a display or GPU.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "bench_common.h"
 #include "bench_json.h"
+#include "bench_recordings.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/recording_alignment.h"
 #include "facerig/runtime/io/audio_file.h"
@@ -39,7 +41,8 @@ struct AlignBenchOptions {
   double stream_chunk_ms = 0.0;  // > 0: StreamingAligner fed chunks of this length instead of AlignRecording
   // Real speech with transcripts (Debian pocketsphinx-testdata): `transcription` lines
   // "<s> words </s> (id)" beside id.wav.
-  std::string recordings_dir = "/usr/share/pocketsphinx/test/data/librivox";
+  std::vector<std::string> recordings_dirs = {"/usr/share/pocketsphinx/test/data/librivox",
+                                              "/usr/share/pocketsphinx/test/data/cards"};
 };
 
 void AddAlignBenchOptions(CLI::App& app, AlignBenchOptions& o) {
@@ -55,9 +58,9 @@ void AddAlignBenchOptions(CLI::App& app, AlignBenchOptions& o) {
   app.add_option("--json", o.json_path, "write the results as JSON");
   app.add_option("--stream-chunk", o.stream_chunk_ms,
                  "align with the streaming aligner, the recording in chunks of MS milliseconds (default: offline)");
-  app.add_option("--recordings", o.recordings_dir,
-                 "folder of real recordings: a 'transcription' file (pocketsphinx format) beside ID.wav "
-                 "(default: pocketsphinx-testdata's librivox; skipped when missing)");
+  facerig::cli::AddCommaListOption(app, "--recordings", o.recordings_dirs,
+                 "folders of real recordings: a 'transcription' file (pocketsphinx format) beside ID.wav "
+                 "(default: pocketsphinx-testdata's librivox and cards; skipped when missing)");
 }
 
 std::vector<std::string> CorpusLines(const AlignBenchOptions& options, const std::string& voice) {
@@ -154,28 +157,7 @@ nlohmann::json VoiceJson(const VoiceResult& r) {
 }
 
 // --- real speech: no exact truth; the time per second of audio and whether
-// each /p b m/ mouth closure overlaps the quietest 30 ms around it ---
-
-struct Recording {
-  std::string text;
-  fs::path wav;
-};
-
-std::vector<Recording> ReadTranscription(const fs::path& folder) {
-  std::vector<Recording> recordings;
-  std::istringstream in(facerig::ReadInputText(folder / "transcription", std::uint64_t{1} << 20));
-  for (std::string line; std::getline(in, line);) {
-    const std::size_t open = line.rfind('('), close = line.rfind(')');
-    if (open == std::string::npos || close == std::string::npos || close < open) continue;
-    std::string text = line.substr(0, open);
-    for (const char* tag : {"<s>", "</s>"}) {
-      for (std::size_t at = text.find(tag); at != std::string::npos; at = text.find(tag)) text.erase(at, std::string(tag).size());
-    }
-    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    recordings.push_back({text, folder / (line.substr(open + 1, close - open - 1) + ".wav")});
-  }
-  return recordings;
-}
+// each /p b m/ mouth closure overlaps the recording's quiet closure gap ---
 
 // Log energy of 30 ms windows every 5 ms.
 std::vector<double> EnergyEnvelope(const facerig::AudioClip& clip, double* hop_seconds) {
@@ -191,55 +173,124 @@ std::vector<double> EnergyEnvelope(const facerig::AudioClip& clip, double* hop_s
   return energy;
 }
 
-// Whether the mouth's closure for `p` (shifted by `shift` seconds) overlaps
-// the quietest 30 ms within 120 ms of the phoneme's start.
-bool ClosureOverlaps(const facerig::Phoneme& p, const facerig::PhonemeVisemes& visemes,
-                     const std::vector<double>& energy, double hop, double shift) {
-  const double start = p.start.count() + shift;
-  const double mouth_start = start - (visemes.has(facerig::PhonemeVisemes::kUnvoicedStop) ? 0.045 : 0.0);
-  const double mouth_end = start + std::max(p.duration.count(), 0.030);
-  const auto first = static_cast<std::ptrdiff_t>(std::floor((start - 0.120) / hop));
-  const auto last = static_cast<std::ptrdiff_t>(std::ceil((start + 0.120) / hop));
+// The mouth's closure for a /p b m/ as the track times it (recording time, s):
+// from the phoneme's start (45 ms earlier for an unvoiced stop, whose closure
+// precedes the burst) to its end (at least 30 ms).
+struct Interval {
+  double start = 0.0, end = 0.0;
+};
+
+Interval MouthClosure(const facerig::Phoneme& p, const facerig::PhonemeVisemes& visemes) {
+  const double start = p.start.count();
+  return {start - (visemes.has(facerig::PhonemeVisemes::kUnvoicedStop) ? 0.045 : 0.0),
+          start + std::max(p.duration.count(), 0.030)};
+}
+
+// The quietest 30 ms of the envelope whose start lies in [from, to] s.
+std::optional<Interval> QuietestGap(const std::vector<double>& energy, double hop, double from, double to) {
+  const auto first = static_cast<std::ptrdiff_t>(std::floor(from / hop));
+  const auto last = static_cast<std::ptrdiff_t>(std::ceil(to / hop));
   std::ptrdiff_t quietest = -1;
   for (std::ptrdiff_t i = std::max<std::ptrdiff_t>(first, 0); i <= last && i < static_cast<std::ptrdiff_t>(energy.size()); ++i) {
     if (quietest < 0 || energy[static_cast<std::size_t>(i)] < energy[static_cast<std::size_t>(quietest)]) quietest = i;
   }
-  if (quietest < 0) return false;
-  const double gap_start = static_cast<double>(quietest) * hop, gap_end = gap_start + 0.030;
-  return mouth_start < gap_end && gap_start < mouth_end;
+  if (quietest < 0) return std::nullopt;
+  const double start = static_cast<double>(quietest) * hop;
+  return Interval{start, start + 0.030};
+}
+
+bool IsVowel(const facerig::Phoneme& p) {
+  const auto visemes = facerig::LookupPhonemeVisemes("en-us", p.symbol.view());
+  if (!visemes || visemes->count == 0) return false;
+  using facerig::Viseme;
+  const Viseme v = visemes->visemes[0];
+  return v == Viseme::kAA || v == Viseme::kE || v == Viseme::kIH || v == Viseme::kOH || v == Viseme::kOU;
+}
+
+// Where the acoustic closure of phonemes[i] must lie: from the preceding
+// vowel's middle to the next vowel's onset (the quiet gap then ends by it).
+// Without a vowel on a side, 150 ms from the phoneme.
+Interval VowelToVowel(const std::vector<facerig::Phoneme>& phonemes, std::size_t i) {
+  Interval window{phonemes[i].start.count() - 0.150, phonemes[i].start.count() + 0.150};
+  for (std::size_t j = i; j-- > 0;) {
+    if (IsVowel(phonemes[j])) {
+      window.start = (phonemes[j].start + 0.5 * phonemes[j].duration).count();
+      break;
+    }
+  }
+  for (std::size_t j = i + 1; j < phonemes.size(); ++j) {
+    if (IsVowel(phonemes[j])) {
+      window.end = phonemes[j].start.count();
+      break;
+    }
+  }
+  return window;
+}
+
+bool Overlap(const Interval& a, double shift, const std::optional<Interval>& b) {
+  return b && a.start + shift < b->end && b->start < a.end + shift;
+}
+
+struct ClosureCounts {
+  std::size_t bilabials = 0, near_start = 0, vowel_to_vowel = 0, vowel_to_vowel_late = 0;
+};
+
+// Each /p b m/'s mouth closure against two acoustic closures: the quietest
+// 30 ms within 120 ms of its start (crude: a quiet /s/ or pause nearby wins),
+// and the quietest 30 ms between the neighbouring vowels; the second also with
+// the mouth 150 ms late (the gap still found on the track as aligned).
+void CountClosures(const std::vector<facerig::Phoneme>& phonemes, const std::vector<double>& energy, double hop,
+                   ClosureCounts* counts) {
+  for (std::size_t i = 0; i < phonemes.size(); ++i) {
+    const auto visemes = facerig::LookupPhonemeVisemes("en-us", phonemes[i].symbol.view());
+    if (!visemes || visemes->count == 0 || visemes->visemes[0] != facerig::Viseme::kPP) continue;
+    const Interval mouth = MouthClosure(phonemes[i], *visemes);
+    const double start = phonemes[i].start.count();
+    const Interval window = VowelToVowel(phonemes, i);
+    const std::optional<Interval> gap = QuietestGap(energy, hop, window.start, std::max(window.start, window.end - 0.030));
+    ++counts->bilabials;
+    counts->near_start += Overlap(mouth, 0.0, QuietestGap(energy, hop, start - 0.120, start + 0.120));
+    counts->vowel_to_vowel += Overlap(mouth, 0.0, gap);
+    counts->vowel_to_vowel_late += Overlap(mouth, 0.150, gap);
+  }
 }
 
 nlohmann::json MeasureRecordings(const AlignBenchOptions& options) {
-  if (!fs::exists(fs::path(options.recordings_dir) / "transcription")) return nullptr;
   facerig::EspeakPhonemeSource source;  // the default voice and rate
-  std::size_t bilabials = 0, overlapping = 0, overlapping_shifted = 0;
+  ClosureCounts counts;
   double audio_seconds = 0.0, align_seconds = 0.0;
-  const std::vector<Recording> recordings = ReadTranscription(options.recordings_dir);
-  for (const Recording& recording : recordings) {
-    const facerig::AudioClip clip = facerig::ReadAudioFile(recording.wav);
-    const facerig::RecordingAlignment result = facerig::AlignRecording(source, clip, recording.text, "en-us");
-    audio_seconds += clip.duration_seconds();
-    align_seconds += result.seconds;
-    double hop = 0.0;
-    const std::vector<double> energy = EnergyEnvelope(clip, &hop);
-    for (const facerig::Phoneme& p : result.alignment.line.phonemes) {
-      const auto visemes = facerig::LookupPhonemeVisemes("en-us", p.symbol.view());
-      if (!visemes || visemes->count == 0 || visemes->visemes[0] != facerig::Viseme::kPP) continue;
-      ++bilabials;
-      overlapping += ClosureOverlaps(p, *visemes, energy, hop, 0.0);
-      overlapping_shifted += ClosureOverlaps(p, *visemes, energy, hop, 0.150);
+  std::size_t recording_count = 0;
+  for (const std::string& folder : options.recordings_dirs) {
+    if (!fs::exists(TranscriptionFile(folder))) continue;
+    for (const BenchRecording& recording : ReadTranscription(folder)) {
+      const facerig::AudioClip clip = facerig::ReadAudioFile(recording.wav);
+      const facerig::RecordingAlignment result = facerig::AlignRecording(source, clip, recording.text, "en-us");
+      ++recording_count;
+      audio_seconds += clip.duration_seconds();
+      align_seconds += result.seconds;
+      double hop = 0.0;
+      const std::vector<double> energy = EnergyEnvelope(clip, &hop);
+      CountClosures(result.alignment.line.phonemes, energy, hop, &counts);
     }
   }
+  if (recording_count == 0) return nullptr;
   const double ms_per_second = audio_seconds > 0.0 ? 1000.0 * align_seconds / audio_seconds : 0.0;
-  const auto share = [&](std::size_t n) { return bilabials > 0 ? static_cast<double>(n) / static_cast<double>(bilabials) : 0.0; };
-  std::printf("\nreal speech (%s): %zu recordings, %.1f s, %.1f ms per second of audio; /p b m/ closure over the "
-              "quietest 30 ms near it: %zu / %zu (%.0f%%; the same track 150 ms late: %.0f%%)\n",
-              options.recordings_dir.c_str(), recordings.size(), audio_seconds, ms_per_second, overlapping, bilabials,
-              100.0 * share(overlapping), 100.0 * share(overlapping_shifted));
-  return {{"folder", options.recordings_dir},      {"recordings", recordings.size()},
-          {"audio_seconds", audio_seconds},        {"ms_per_audio_second", ms_per_second},
-          {"bilabials", bilabials},                {"closure_overlap_share", share(overlapping)},
-          {"closure_overlap_share_150ms_late", share(overlapping_shifted)}};
+  const auto share = [&](std::size_t n) { return counts.bilabials > 0 ? static_cast<double>(n) / static_cast<double>(counts.bilabials) : 0.0; };
+  std::printf("\nreal speech: %zu recordings, %.1f s, %.1f ms per second of audio\n"
+              "/p b m/ mouth closure over the acoustic closure (quietest 30 ms):\n"
+              "  between the neighbouring vowels: %zu / %zu (%.0f%%; the mouth 150 ms late: %.0f%%)\n"
+              "  within 120 ms of the phoneme (crude): %zu / %zu (%.0f%%)\n",
+              recording_count, audio_seconds, ms_per_second, counts.vowel_to_vowel, counts.bilabials,
+              100.0 * share(counts.vowel_to_vowel), 100.0 * share(counts.vowel_to_vowel_late), counts.near_start,
+              counts.bilabials, 100.0 * share(counts.near_start));
+  return {{"folders", options.recordings_dirs},
+          {"recordings", recording_count},
+          {"audio_seconds", audio_seconds},
+          {"ms_per_audio_second", ms_per_second},
+          {"bilabials", counts.bilabials},
+          {"closure_overlap_share", share(counts.vowel_to_vowel)},
+          {"closure_overlap_share_150ms_late", share(counts.vowel_to_vowel_late)},
+          {"closure_overlap_share_within_120ms", share(counts.near_start)}};
 }
 
 int RunAlign(const AlignBenchOptions& options) {

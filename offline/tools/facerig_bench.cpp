@@ -13,6 +13,7 @@
 #include "cli_options.h"
 #if FACERIG_BENCH_LIPSYNC
 #include "bench_align.h"
+#include "bench_av_sync.h"
 #include "bench_crowd.h"
 #include "bench_lipsync.h"
 #endif
@@ -40,6 +41,8 @@ const std::vector<Entry>& Benchmarks() {
       {"crowd", "N characters' update + blend per 60 fps frame on one core (needs espeak-ng)", RunCrowdBenchmark},
       {"align", "recording-to-transcript alignment against exact truth, per voice (needs espeak-ng)",
        RunAlignBenchmark},
+      {"av-sync", "the player on real recordings: mouth vs sound from the frames and the WAV (needs the player, ffmpeg)",
+       RunAvSyncBenchmark},
 #endif
   };
   return benchmarks;
