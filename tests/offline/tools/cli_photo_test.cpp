@@ -174,6 +174,16 @@ TEST_CASE("facerig photo: the built-in head from a real photograph", "[cli][phot
   CHECK(rig.FindShape("jawOpen").has_value());
   CHECK(rig.FindShape("viseme_aa").has_value());
   CheckCheeks(rig, features.cheeks[1], features.cheeks[0]);  // [0]: the character's left, the image's right
+  // Her mouth is open in the photo; the rest face's lips still meet as the
+  // head's do (how far the mouth opens is an expression).
+  float widest_gap = 0.0f;
+  for (std::size_t i = 0; i < features.upper_lip.size(); ++i) {
+    const float gap = glm::distance(rig.positions()[features.upper_lip[i]], rig.positions()[features.lower_lip[i]]);
+    const float head_gap = glm::distance(head.positions()[features.upper_lip[i]], head.positions()[features.lower_lip[i]]);
+    widest_gap = std::max(widest_gap, gap - head_gap);
+  }
+  INFO("widest lip gap beyond the head's own: " << widest_gap << " cm");
+  CHECK(widest_gap < 0.15f);  // 0.09 cm; 0.26 when the photo's opening went into the rest face
 }
 
 TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared data)", "[cli][photo][shared-data]") {
