@@ -24,6 +24,8 @@ packages=(
   libsdl2-dev libepoxy-dev libegl-dev libgl1-mesa-dri libegl-mesa0
   catch2                                           # tests
   libmeshoptimizer-dev                             # tests: decimated targets
+  # real photographs for the photo tests: astronaut.png (NASA, public domain), camera.png (grey)
+  python3-skimage
   nodejs npm                                       # glTF validator in the tests
   chromium                                         # tests: written GLBs in three.js, headless (tests/browser)
 )

@@ -2,6 +2,7 @@
 // regularised linear least squares against the landmarks (camera fixed), the
 // jaw line re-matched to the model's contour, alternating with the camera.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -186,6 +187,38 @@ std::vector<glm::vec3> PointsAt(const PhotoFaceModel& model, const Eigen::Vector
 
 void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit);
 
+// dlib's points above and below the lips' and the eyes' openings, paired
+// across each opening; and the other points of the lips' upper and lower halves.
+struct Opening {
+  std::vector<std::array<int, 2>> pairs;  // (upper, lower) across the opening
+  std::vector<int> upper, lower;          // every point that moves with each side
+};
+const std::array<Opening, 3>& Openings() {
+  static const std::array<Opening, 3> openings{
+      Opening{{{61, 67}, {62, 66}, {63, 65}}, {61, 62, 63, 50, 51, 52}, {65, 66, 67, 56, 57, 58}},
+      Opening{{{37, 41}, {38, 40}}, {37, 38}, {40, 41}},
+      Opening{{{43, 47}, {44, 46}}, {43, 44}, {46, 47}}};
+  return openings;
+}
+
+// The landmarks with each opening brought back to the model's (posed)
+// opening, each side moving half: how far the mouth and eyes are open is an
+// expression, not the face's shape, so the rest face keeps the template's.
+std::vector<glm::vec2> OpeningsAsModelled(std::span<const glm::vec2> landmarks, std::span<const glm::vec3> posed,
+                                          std::span<const std::uint32_t> vertices, const ScaledOrthoCamera& camera,
+                                          int width, int height) {
+  std::vector<glm::vec2> kept(landmarks.begin(), landmarks.end());
+  const auto excess = [&](int k) { return landmarks[k] - ProjectPixel(camera, posed[vertices[k]], width, height); };
+  for (const Opening& opening : Openings()) {
+    glm::vec2 wider(0.0f);  // how much more the photo's opening is open than the model's
+    for (const auto& [upper, lower] : opening.pairs) wider += excess(lower) - excess(upper);
+    wider /= static_cast<float>(opening.pairs.size());
+    for (const int k : opening.upper) kept[k] += 0.5f * wider;
+    for (const int k : opening.lower) kept[k] -= 0.5f * wider;
+  }
+  return kept;
+}
+
 void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
                 int width, int height, PhotoFit& fit) {
   const std::size_t identities = model.identity_modes.size();
@@ -247,11 +280,17 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detect
       FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights, width, height);
   if (params.deform_without_identity && model.identity_modes.empty()) {
     // Expressions stay as fitted: the deformation moves rest and posed alike.
+    // The posed face matches the photo (what the texture is baked from); the
+    // rest face takes the deformation with the openings as modelled.
     std::vector<glm::vec3> posed = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
+    std::vector<glm::vec3> shaped = posed;
     const std::vector<glm::vec3> before = posed;
+    const std::vector<glm::vec2> closed =
+        OpeningsAsModelled(landmarks, before, fit.landmark_vertices, fit.camera, width, height);
     RbfDeformToLandmarks(posed, fit.landmark_vertices, landmarks, fit.camera, width, height);
+    RbfDeformToLandmarks(shaped, fit.landmark_vertices, closed, fit.camera, width, height);
     FillResult(model, weights, landmarks, width, height, fit);
-    for (std::size_t v = 0; v < posed.size(); ++v) fit.rest_positions[v] += posed[v] - before[v];
+    for (std::size_t v = 0; v < posed.size(); ++v) fit.rest_positions[v] += shaped[v] - before[v];
     fit.posed_positions = std::move(posed);
     fit.deformed = true;
     RefreshProjection(landmarks, width, height, fit);

@@ -14,6 +14,7 @@ int RunFacerig(int argc, char** argv) {
   AddLandmarksCommand(app, body);
   AddRegisterCommand(app, body);
   AddBuildCommand(app, body);
+  AddPhotoCommand(app, body);
   AddAverageCommand(app, body);
   AddCaricatureCommand(app, body);
   AddMorphCommand(app, body);

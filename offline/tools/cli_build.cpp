@@ -16,6 +16,7 @@
 
 #include "cli_common.h"
 #include "cli_names.h"
+#include "cli_obj_folder.h"
 #include "cli_options.h"
 #include "cli_template_info.h"
 #include "facerig/offline/eye_textures.h"
@@ -111,39 +112,6 @@ void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::pa
   }
 }
 
-// A file name for a shape: characters other than letters, digits, '_', '-', '.' become '_'.
-std::string ShapeFileName(std::string_view name) {
-  std::string file(name);
-  for (char& c : file) {
-    const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
-    if (!keep) c = '_';
-  }
-  if (file.empty() || file[0] == '.') file.insert(0, "shape_");
-  return file + ".obj";
-}
-
-// neutral.obj and one OBJ per shape on the target's topology, into `folder`
-// (the output set's temporary folder for --obj-dir), sharing one
-// materials.mtl and the images when the rig has materials.
-void WriteObjFolder(const std::filesystem::path& folder, const Rig& rig) {
-  const MtlReference mtl = rig.materials().empty()
-                               ? MtlReference{}
-                               : WriteMtl(folder, "materials.mtl", rig.materials(), rig.images());
-  WriteObj(folder / "neutral.obj", rig, mtl);
-  CheckAfterWrite("obj-neutral", folder / "neutral.obj");
-  std::vector<glm::vec3> positions, normals(rig.vertex_count());
-  for (std::size_t s = 0; s < rig.shape_count(); ++s) {
-    positions.assign(rig.positions().begin(), rig.positions().end());
-    const BlendShapeView shape = rig.shape(s);
-    for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
-      positions[shape.vertex_indices[i]] += shape.position_deltas[i];
-    }
-    ComputeVertexNormals(positions, rig.triangles(), normals);
-    WriteObj(folder / ShapeFileName(shape.name), positions, normals, rig.uvs(), rig.triangles(), rig.parts(), mtl);
-    ThrowIfStopped();
-  }
-}
-
 struct BuildInputs {
   Rig template_rig;
   FaceTemplateInfo template_info;
@@ -216,23 +184,14 @@ struct BuildOutputPaths {
 };
 
 // The outputs as one set (output_set.h): --obj-dir is replaced, not merged,
-// and only when it holds nothing but .obj files.
+// and only when it holds nothing but what WriteRigObjFolder writes.
 BuildOutputPaths AddBuildOutputs(const BuildOptions& options, OutputSet& set) {
   const auto add_file = [&set](const std::string& path) {
     return path.empty() ? std::filesystem::path() : set.Add(path, OutputSet::Kind::kFile);
   };
   BuildOutputPaths paths;
   paths.frig = add_file(options.frig);
-  if (!options.obj_dir.empty()) {
-    // What WriteObjFolder writes: OBJs, their MTL and its images.
-    const ReplaceableFolder obj_folder{[](const std::filesystem::path& name) {
-                                         const std::string extension = name.extension().string();
-                                         return extension == ".obj" || extension == ".mtl" || extension == ".png" ||
-                                                extension == ".jpg";
-                                       },
-                                       ".obj, .mtl, .png and .jpg files", "--obj-dir"};
-    paths.obj_dir = set.Add(options.obj_dir, OutputSet::Kind::kFolder, obj_folder);
-  }
+  if (!options.obj_dir.empty()) paths.obj_dir = AddObjFolderOutput(set, options.obj_dir);
   paths.report = add_file(options.report);
   return paths;
 }
@@ -249,7 +208,7 @@ void WriteBuildOutputs(const BuildOptions& options, const BuildOutputPaths& path
     CheckAfterWrite("frig", paths.frig);
   }
   if (!paths.obj_dir.empty()) {
-    WriteObjFolder(paths.obj_dir, dressed);
+    WriteRigObjFolder(paths.obj_dir, dressed);
     CheckAfterWrite("obj-dir", paths.obj_dir);
   }
   if (!options.template_topology.empty()) {

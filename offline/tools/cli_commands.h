@@ -16,6 +16,12 @@ namespace facerig::cli {
 // [--shape-predictor F] [--no-contacts] [--no-eye-fit]: a rig for a new face.
 void AddBuildCommand(CLI::App& facerig, CommandBody& body);
 
+// --- cli_photo.cpp ---
+// `photo`: IMAGE -o OUT.glb [--template DIR|RIG] [--frig OUT.frig]
+// [--obj-dir DIR] [--json REPORT] [--debug-png P] [--shape-predictor F]
+// [--names ..] [--visemes ..]: a talking head from one photograph.
+void AddPhotoCommand(CLI::App& facerig, CommandBody& body);
+
 // --- cli_register.cpp ---
 // `landmarks`: MESH -o LM.json [--debug-png P] [--json REPORT] [--shape-predictor F].
 void AddLandmarksCommand(CLI::App& facerig, CommandBody& body);

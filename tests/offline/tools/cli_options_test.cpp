@@ -46,7 +46,8 @@ TEST_CASE("facerig --help and COMMAND --help print the usage on stdout and exit 
   CHECK(Contains(top.output, "Usage: facerig"));
   CHECK(top.errors.empty());
   for (const char* command :
-       {"inspect", "convert", "landmarks", "register", "build", "average", "caricature", "morph", "default-head"}) {
+       {"inspect", "convert", "landmarks", "register", "build", "photo", "average", "caricature", "morph",
+        "default-head"}) {
     INFO(command);
     CHECK(Contains(top.output, command));  // listed
     const Outcome help = RunWithStdout({command, "--help"});
@@ -59,6 +60,11 @@ TEST_CASE("facerig --help and COMMAND --help print the usage on stdout and exit 
   for (const char* flag : {"--template", "--target", "-o", "--frig", "--obj-dir", "--mode", "--landmarks", "--json",
                            "--units", "--template-topology", "--template-info", "--shape-predictor", "--no-contacts", "--no-eye-fit"}) {
     CHECK(Contains(build.output, flag));
+  }
+  const Outcome photo = RunWithStdout({"photo", "--help"});
+  for (const char* flag : {"IMAGE", "-o", "--template", "--frig", "--obj-dir", "--json", "--debug-png", "--names",
+                           "--visemes", "--shape-predictor"}) {
+    CHECK(Contains(photo.output, flag));
   }
 }
 

@@ -136,7 +136,10 @@ struct PhotoFitParams {
   // Move the detected points by the model's landmark_offsets.
   bool remove_landmark_offsets = true;
   // A model without identity modes (the built-in head) is then deformed
-  // smoothly onto the landmarks (RbfDeformToLandmarks).
+  // smoothly onto the landmarks (RbfDeformToLandmarks): the posed face onto
+  // the photo's points, the rest face with the mouth and eyes as open as the
+  // fitted expressions make them (an open mouth in the photo stays an
+  // expression, not part of the face's shape).
   bool deform_without_identity = true;
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;

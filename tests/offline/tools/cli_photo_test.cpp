@@ -1,0 +1,265 @@
+// `facerig photo` on a real photograph shipped by Debian (python3-skimage's
+// astronaut.png: NASA's portrait of Eileen Collins, public domain, 512 x 512):
+// the landmarks land where a person marked the face by hand, the written
+// texture holds the photo's skin on the cheeks, the GLB is validator-clean;
+// and bad input (not an image, a face too small, no face) fails with a clear
+// message and writes nothing.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <array>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cli_app.h"
+#include "command_report_check.h"
+#include "facerig/offline/default_head.h"
+#include "facerig/offline/photo_image.h"
+#include "facerig/offline/rasterizer.h"
+#include "facerig/runtime/io/rig_file.h"
+#include "output_set_files.h"
+#include "support/command_runner.h"
+#include "support/default_head_poses.h"
+#include "support/gltf_validator.h"
+#include "support/test_meshes.h"
+
+namespace facerig {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Where python3-skimage (scripts/install-deps.sh) puts its sample photographs.
+const fs::path kSkimageData = "/usr/lib/python3/dist-packages/skimage/data";
+
+fs::path SamplePhoto(const char* name) {
+  const fs::path path = kSkimageData / name;
+  if (!fs::exists(path)) FAIL(path << " is missing: install python3-skimage (scripts/install-deps.sh)");
+  return path;
+}
+
+// Points marked by hand on astronaut.png (pixels, x right, y down): the
+// centres of the eye openings (her right eye on the image's left), the nose
+// tip and the middle of the open mouth.
+constexpr glm::vec2 kImageLeftEye{203.0f, 101.0f}, kImageRightEye{246.0f, 102.5f};
+constexpr glm::vec2 kNoseTip{223.0f, 127.5f}, kMouthCentre{224.0f, 145.0f};
+// Cheek patches (x, y of the top-left corner; 8 x 8 px) below each eye,
+// beside the nose, the skin lit evenly.
+constexpr glm::ivec2 kImageLeftCheek{197, 118}, kImageRightCheek{240, 118};
+
+glm::vec2 Mean(const nlohmann::json& landmarks, int first, int last) {
+  glm::vec2 sum(0.0f);
+  for (int i = first; i <= last; ++i) sum += glm::vec2(landmarks[i][0].get<float>(), landmarks[i][1].get<float>());
+  return sum / static_cast<float>(last - first + 1);
+}
+
+void CheckLandmarksOnTheFace(const nlohmann::json& landmarks) {
+  REQUIRE(landmarks.size() == 68);
+  constexpr float kTolerance = 6.0f;  // pixels; dlib lands within about 3 of the marks
+  CHECK(glm::distance(Mean(landmarks, 36, 41), kImageLeftEye) < kTolerance);
+  CHECK(glm::distance(Mean(landmarks, 42, 47), kImageRightEye) < kTolerance);
+  CHECK(glm::distance(Mean(landmarks, 30, 30), kNoseTip) < kTolerance);
+  CHECK(glm::distance(Mean(landmarks, 60, 67), kMouthCentre) < kTolerance);
+}
+
+// Mean colour (levels) of a size x size patch.
+glm::vec3 PatchMean(const RgbImage& image, glm::ivec2 corner, int size) {
+  glm::vec3 sum(0.0f);
+  for (int y = corner.y; y < corner.y + size; ++y) {
+    for (int x = corner.x; x < corner.x + size; ++x) {
+      const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x));
+      sum += glm::vec3(image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]);
+    }
+  }
+  return sum / static_cast<float>(size * size);
+}
+
+// The photo's texture (the material the bake adds) on a written rig.
+RgbImage PhotoSkinTexture(const Rig& rig) {
+  for (const Material& material : rig.materials()) {
+    if (material.name == "photo_skin" && material.base_colour_image >= 0) {
+      return DecodeImage(rig.images()[static_cast<std::size_t>(material.base_colour_image)]);
+    }
+  }
+  FAIL("the rig has no photo_skin material");
+  return {};
+}
+
+// The texture's colour around vertex v's UV (5 x 5 texels).
+glm::vec3 TextureAt(const Rig& rig, const RgbImage& texture, std::uint32_t v) {
+  const glm::vec2 uv = rig.uvs()[v];
+  const glm::ivec2 texel(static_cast<int>(uv.x * static_cast<float>(texture.width)) - 2,
+                         static_cast<int>((1.0f - uv.y) * static_cast<float>(texture.height)) - 2);
+  return PatchMean(texture, texel, 5);
+}
+
+// The texture at each cheek vertex holds the photo's cheek on that side
+// (the light comes from her left: the sides differ by about 15 levels; over
+// one cheek the skin varies by 40): per channel within 25 levels of the
+// patch's mean (the largest difference measured was 18), and as red as the
+// skin (red minus blue within 20 levels: not the grey background).
+void CheckCheeks(const Rig& rig, std::uint32_t image_left_cheek, std::uint32_t image_right_cheek) {
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  const RgbImage texture = PhotoSkinTexture(rig);
+  for (const auto& [v, patch] : {std::pair{image_left_cheek, kImageLeftCheek}, std::pair{image_right_cheek, kImageRightCheek}}) {
+    const glm::vec3 skin = PatchMean(photo, patch, 8);
+    const glm::vec3 baked = TextureAt(rig, texture, v);
+    INFO("vertex " << v << ": baked " << baked.r << " " << baked.g << " " << baked.b << ", photo " << skin.r << " "
+                   << skin.g << " " << skin.b);
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(baked[c] - skin[c]) < 25.0f);
+    CHECK(std::abs((baked.r - baked.b) - (skin.r - skin.b)) < 20.0f);
+  }
+}
+
+struct PhotoRun {
+  fs::path out;
+  test::CommandOutcome outcome;
+  nlohmann::json report;
+};
+
+PhotoRun RunPhoto(const std::string& folder, const fs::path& image, const std::vector<std::string>& more = {}) {
+  PhotoRun run{test::FreshOutputFolder(folder), {}, {}};
+  std::vector<std::string> arguments{"photo",        image.string(),
+                                     "-o",           (run.out / "head.glb").string(),
+                                     "--frig",       (run.out / "head.frig").string(),
+                                     "--json",       (run.out / "report.json").string(),
+                                     "--debug-png",  (run.out / "fit.png").string()};
+  arguments.insert(arguments.end(), more.begin(), more.end());
+  run.outcome = test::RunCommand(cli::RunFacerig, arguments);
+  if (run.outcome.exit_code == 0) run.report = nlohmann::json::parse(test::ReadText(run.out / "report.json"));
+  return run;
+}
+
+// The outputs every successful run writes, and its report's steps.
+void CheckWritten(const PhotoRun& run) {
+  INFO(run.outcome.error_output);
+  REQUIRE(run.outcome.exit_code == 0);
+  test::CheckCommandReport(run.report, "photo");
+  for (const char* step : {"read", "detect", "template", "fit", "texture", "write", "total"}) {
+    CHECK(run.report["timings"].contains(step));
+  }
+  std::vector<std::string> names{"fit.png", "head.frig", "head.glb", "report.json"};
+  if (fs::exists(run.out / "obj")) {
+    names.insert(names.begin() + 3, "obj");
+    CHECK(fs::exists(run.out / "obj" / "neutral.obj"));
+    CHECK(fs::exists(run.out / "obj" / "materials.mtl"));
+    CHECK(fs::exists(run.out / "obj" / "photo_skin.png"));
+  }
+  CHECK(test::Names(run.out) == names);
+  test::RequireValidatorAccepts(run.out / "head.glb");
+  // The stderr progress names each step.
+  for (const char* line : {"detecting the face", "fitting the face", "baking the photo", "writing"}) {
+    CHECK(run.outcome.error_output.find(line) != std::string::npos);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("facerig photo: the built-in head from a real photograph", "[cli][photo]") {
+  const PhotoRun run = RunPhoto("cli_photo_head", SamplePhoto("astronaut.png"));
+  CheckWritten(run);
+  const nlohmann::json& result = run.report["result"];
+  CHECK(result["template"]["built_in"] == true);
+  CHECK(result["fit"]["deformed"] == true);
+  CHECK(result["faces_found"] == 1);
+  CheckLandmarksOnTheFace(result["landmarks"]);
+  DefaultHeadFeatures features;
+  const Rig& head = test::DefaultHead(&features);
+  const Rig rig = LoadRig(run.out / "head.frig");
+  CHECK(rig.vertex_count() >= head.vertex_count());
+  CHECK(rig.FindShape("jawOpen").has_value());
+  CHECK(rig.FindShape("viseme_aa").has_value());
+  CheckCheeks(rig, features.cheeks[1], features.cheeks[0]);  // [0]: the character's left, the image's right
+  // Her mouth is open in the photo; the rest face's lips still meet as the
+  // head's do (how far the mouth opens is an expression).
+  float widest_gap = 0.0f;
+  for (std::size_t i = 0; i < features.upper_lip.size(); ++i) {
+    const float gap = glm::distance(rig.positions()[features.upper_lip[i]], rig.positions()[features.lower_lip[i]]);
+    const float head_gap = glm::distance(head.positions()[features.upper_lip[i]], head.positions()[features.lower_lip[i]]);
+    widest_gap = std::max(widest_gap, gap - head_gap);
+  }
+  INFO("widest lip gap beyond the head's own: " << widest_gap << " cm");
+  CHECK(widest_gap < 0.15f);  // 0.09 cm; 0.26 when the photo's opening went into the rest face
+}
+
+TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared data)", "[cli][photo][shared-data]") {
+  const PhotoRun run = RunPhoto("cli_photo_ict", SamplePhoto("astronaut.png"),
+                                {"--template", test::IctDir().string(), "--obj-dir", (test::OutputPath("cli_photo_ict") / "obj").string()});
+  REQUIRE(fs::exists(run.out / "obj"));
+  CheckWritten(run);
+  const nlohmann::json& result = run.report["result"];
+  CHECK(result["template"]["built_in"] == false);
+  CHECK(result["fit"]["identity_modes"] == 20);
+  CHECK(result["fit"]["deformed"] == false);
+  CheckLandmarksOnTheFace(result["landmarks"]);
+  // The eyes got painted textures (ICT's are flat colours).
+  CHECK(result["texture"]["eye_materials_painted"].get<int>() > 0);
+  const Rig rig = LoadRig(run.out / "head.frig");
+  // The cheeks: the face vertices nearest the middle of the shipped
+  // descriptor's landmarks 1, 31, 41 (her right) and 15, 35, 46 (her left).
+  const nlohmann::json descriptor =
+      nlohmann::json::parse(test::ReadText(fs::path(FACERIG_SOURCE_DIR) / "data/templates/ict-facekit.template.json"));
+  std::vector<std::uint32_t> cheeks;
+  for (const auto& corners : {std::array{1, 31, 41}, std::array{15, 35, 46}}) {
+    glm::vec3 centre(0.0f);
+    for (const int k : corners) centre += rig.positions()[descriptor["landmarks"][k].get<std::uint32_t>()] / 3.0f;
+    std::uint32_t nearest = 0;
+    for (std::uint32_t v = 0; v < 9409; ++v) {  // ICT's face vertices
+      if (glm::distance(rig.positions()[v], centre) < glm::distance(rig.positions()[nearest], centre)) nearest = v;
+    }
+    cheeks.push_back(nearest);
+  }
+  CheckCheeks(rig, cheeks[0], cheeks[1]);
+}
+
+TEST_CASE("facerig photo: a grey-scale photo is converted, with a note", "[cli][photo]") {
+  RgbImage grey = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  for (std::size_t i = 0; i < grey.pixels.size(); i += 3) {
+    const auto level = static_cast<std::uint8_t>((grey.pixels[i] + grey.pixels[i + 1] + grey.pixels[i + 2]) / 3);
+    grey.pixels[i] = grey.pixels[i + 1] = grey.pixels[i + 2] = level;
+  }
+  const fs::path image = test::FreshOutputFolder("cli_photo_grey_input") / "astronaut_grey.png";
+  WritePng(image, grey);
+  const PhotoRun run = RunPhoto("cli_photo_grey", image);
+  REQUIRE(run.outcome.exit_code == 0);
+  CHECK(run.report["result"]["photo"]["grey"] == true);
+  CHECK(run.report["result"]["notes"].dump().find("grey-scale") != std::string::npos);
+  CHECK(run.outcome.error_output.find("note: a grey-scale image") != std::string::npos);
+}
+
+TEST_CASE("facerig photo: bad input fails clearly and writes nothing", "[cli][photo]") {
+  const fs::path inputs = test::FreshOutputFolder("cli_photo_bad_inputs");
+  test::WriteText(inputs / "not_an_image.png", "hello, not a picture\n");
+  // The astronaut at 120 px: her face is about 20 px, under dlib's 80 px window.
+  WritePng(inputs / "tiny_face.png", ReadPhoto(SamplePhoto("astronaut.png"), {.max_side = 120}).image);
+  struct Case {
+    fs::path image;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {inputs / "not_an_image.png", "not_an_image.png: not a PNG or JPEG image"},
+      {inputs / "missing.jpg", "missing.jpg"},
+      {inputs / "tiny_face.png", "tiny_face.png: no face found (a frontal or near-frontal face of at least 80 px"},
+      // Grey-scale, the cameraman in profile under his hat: dlib finds no face.
+      {SamplePhoto("camera.png"), "camera.png: no face found"},
+  };
+  const fs::path out = test::FreshOutputFolder("cli_photo_bad");
+  test::WriteText(out / "head.glb", "old head.glb");
+  for (const Case& c : cases) {
+    INFO(c.image);
+    const test::CommandOutcome outcome = test::RunCommand(
+        cli::RunFacerig, {"photo", c.image.string(), "-o", (out / "head.glb").string(), "--frig",
+                          (out / "head.frig").string(), "--json", (out / "report.json").string()});
+    CHECK(outcome.exit_code == 1);
+    CHECK(outcome.error_output.find(c.message) != std::string::npos);
+    INFO(outcome.error_output);
+    CHECK(test::Names(out) == std::vector<std::string>{"head.glb"});
+    CHECK(test::ReadText(out / "head.glb") == "old head.glb");
+  }
+}
+
+}  // namespace facerig
