@@ -77,7 +77,7 @@ TEST_CASE("MTL: colour, alpha, roughness and maps with options and spaces", "[mt
   CHECK(materials[2].normal_map.file == "tear.png");
 }
 
-TEST_CASE("MTL: values outside [0,1] are clamped, spectral colours keep the default", "[mtl]") {
+TEST_CASE("MTL: values outside 0 to 1 are clamped, spectral colours keep the default", "[mtl]") {
   const std::vector<MtlMaterial> materials =
       ParseMtl("newmtl a\nKd 1.5 -0.5 0.5\nd 2\nNs -4\nnewmtl b\nKd spectral blue.rfl\n", "mem.mtl");
   REQUIRE(materials.size() == 2);

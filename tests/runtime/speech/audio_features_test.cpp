@@ -56,7 +56,7 @@ TEST_CASE("ComputeAudioFeatures: empty, short and silent audio, bad params", "[a
   CHECK_THROWS_AS(ComputeAudioFeatures(silence, 16000, bad), std::invalid_argument);
 }
 
-TEST_CASE("PcmToFloat: full scale is [-1, 1)", "[audio_features]") {
+TEST_CASE("PcmToFloat: full scale maps into -1 (inclusive) to 1 (exclusive)", "[audio_features]") {
   const std::vector<std::int16_t> pcm = {-32768, 0, 16384};
   CHECK(PcmToFloat(pcm) == std::vector<float>{-1.0f, 0.0f, 0.5f});
 }
