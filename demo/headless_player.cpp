@@ -168,6 +168,7 @@ void RenderAndWrite(const Rig& rig, const PlayerOptions& options, const Temporar
   StartAnimation(options, &animator, result);
   FaceRenderer renderer(rig);
   for (const std::string& problem : renderer.problems()) log << "warning: " << problem << '\n';
+  renderer.camera().Orbit(options.yaw_degrees, options.pitch_degrees);
   OffscreenTarget target(options.width, options.height, options.msaa);
   std::optional<Hud> hud;
   if (options.hud) hud.emplace();

@@ -30,7 +30,7 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
        facerig-player --audio FILE [--text TEXT [--voice V]] ... | --track FILE.json [--audio FILE] ...
        facerig-player [--quit-after S] [--screenshot FILE.png]
        facerig-player --headless --frames DIR [--wav FILE] [--mp4 FILE] [--fps 30]
-                      [--size WxH] [--duration S] [--lead-in S] [--say TEXT] [--hud] ...
+                      [--size WxH] [--duration S] [--lead-in S] [--yaw D] [--say TEXT] [--hud] ...
        facerig-player --version
 
   --rig FILE       .glb, .gltf, .frig or an OBJ template folder
@@ -47,6 +47,8 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
   --emotion E[:I]  joy, sadness, fear, anger, surprise or disgust at intensity I (default 0.7)
   --still          no idle head motion or eye saccades (blinks stay)
   --msaa N         anti-aliasing samples: 0, 2, 4 (default) or 8
+  --yaw D          start with the camera turned D degrees about the head (positive: towards
+                   the face's left; -180..180); --pitch D: from above (-80..80)
   --timing FILE    write per-frame CPU timing (update, blend, normals, upload, draw) as JSON
   --quit-after S   window: quit after S seconds; --screenshot FILE saves the last frame (PNG)
   --headless       no window and no sound card: render offscreen (EGL), animation time =
@@ -114,6 +116,8 @@ void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::st
   app.add_option("--fps", options.fps)->check(CLI::Range(1e-9, 1000.0));
   app.add_option("--duration", options.duration)->check(CLI::Range(1e-9, 3600.0));
   app.add_option("--msaa", options.msaa)->check(CLI::IsMember({0, 2, 4, 8}));
+  app.add_option("--yaw", options.yaw_degrees)->check(CLI::Range(-180.0f, 180.0f));
+  app.add_option("--pitch", options.pitch_degrees)->check(CLI::Range(-80.0f, 80.0f));
   app.add_option("--quit-after", options.quit_after)->check(CLI::NonNegativeNumber);
   app.add_option("--screenshot", options.screenshot);
   app.add_option("--lead-in", options.lead_in)->check(CLI::Range(0.0, 60.0));

@@ -47,6 +47,10 @@ struct PlayerOptions {
   // Multisample anti-aliasing samples (0: off). On Mesa llvmpipe 4x costs
   // ~2.5x the draw time of no MSAA.
   int msaa = 4;
+  // The camera turned about the head from the front: yaw positive towards
+  // the face's left (the camera moves towards +X), pitch positive from above.
+  float yaw_degrees = 0.0f;
+  float pitch_degrees = 0.0f;
   std::optional<double> duration;  // seconds; default: lead-in + speech + 0.6 s (at least 1 s)
   // Headless: the speech audio starts this long after frame 0, so the face
   // starts at rest and the mouth can move ahead of the sound (coarticulation

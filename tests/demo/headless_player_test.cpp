@@ -223,3 +223,29 @@ TEST_CASE("Player: the window path draws under Xvfb with a dummy audio device", 
   CHECK(differing > 320 * 240 / 50);
   CHECK(output.find("frames, CPU ms per frame") != std::string::npos);
 }
+
+TEST_CASE("Player: --yaw turns the camera about the head", "[demo]") {
+  const facerig::Rig rig = facerig::LoadRigOrTemplateFolder(FACERIG_DEFAULT_HEAD);
+  const auto mouth_at = [&](float yaw) {
+    PlayerOptions options;
+    options.headless = true;
+    options.frames_dir = std::filesystem::path(FACERIG_TEST_OUTPUT_DIR) / "player_yaw" / std::to_string(static_cast<int>(yaw));
+    options.fps = 10.0;
+    options.duration = 0.1;
+    options.width = kWidth;
+    options.height = kHeight;
+    options.still = true;
+    options.yaw_degrees = yaw;
+    std::ostringstream log;
+    const HeadlessResult result = facerig::player::RunHeadless(rig, options, log);
+    REQUIRE(result.has_mouth);
+    return result.mouth_pixel;
+  };
+  const glm::vec2 front = mouth_at(0.0f), left = mouth_at(40.0f), right = mouth_at(-40.0f);
+  INFO("mouth at " << front.x << " from the front, " << left.x << " at yaw 40, " << right.x << " at yaw -40");
+  // Seen from the face's left, the mouth (in front of the head's centre) moves
+  // towards the picture's left; from its right, towards the right; symmetrically.
+  CHECK(left.x < front.x - 0.05f * kWidth);
+  CHECK(right.x > front.x + 0.05f * kWidth);
+  CHECK(std::abs((front.x - left.x) - (right.x - front.x)) < 0.02f * kWidth);
+}

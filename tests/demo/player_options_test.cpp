@@ -86,6 +86,12 @@ TEST_CASE("Player: options keep their defaults and take every value form", "[dem
   CHECK_THROWS_AS(ParseOptions({"--duration", "-1"}), UsageError);
   CHECK_THROWS_AS(ParseOptions({"--quit-after", "-1"}), UsageError);
   CHECK_THROWS_AS(ParseOptions({"--fps", "nan"}), UsageError);
+  CHECK(defaults.yaw_degrees == 0.0f);
+  const facerig::player::PlayerOptions turned = ParseOptions({"--yaw", "-35", "--pitch", "10"});
+  CHECK(turned.yaw_degrees == -35.0f);
+  CHECK(turned.pitch_degrees == 10.0f);
+  CHECK_THROWS_AS(ParseOptions({"--yaw", "200"}), UsageError);
+  CHECK_THROWS_AS(ParseOptions({"--pitch", "90"}), UsageError);
 }
 
 TEST_CASE("Player: the default rig is the head installed beside the executable, else the build tree's", "[demo]") {
