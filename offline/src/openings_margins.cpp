@@ -1,4 +1,5 @@
 #include "facerig/offline/openings.h"
+#include "facerig/offline/stats.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,13 +49,6 @@ glm::vec3 ClosestOnSegment(glm::vec3 p, glm::vec3 a, glm::vec3 b) {
   const float length2 = glm::dot(ab, ab);
   if (!(length2 > 0.0f)) return a;
   return a + std::clamp(glm::dot(p - a, ab) / length2, 0.0f, 1.0f) * ab;
-}
-
-float Median(std::vector<float> values) {
-  if (values.empty()) return 0.0f;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo_fit.h"
 #include "facerig/runtime/io/obj.h"
+#include "facerig/runtime/part_roles.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
@@ -51,19 +52,12 @@ std::vector<Triangle> RegionTriangles(std::span<const Triangle> triangles, Verte
 
 // Transparent layers (ICT-FaceKit's eye occlusion, tear film and blend
 // meshes) would hide the eyes from the detector in an opaque render.
-bool IsTransparentLayer(const std::string& part_name) {
-  for (const char* layer : {"occlusion", "lacrimal", "eye_blend"}) {
-    if (part_name.find(layer) != std::string::npos) return true;
-  }
-  return false;
-}
-
 // The neutral as a photo would show it: every part but the transparent layers.
 Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info) {
   Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()}};
   std::vector<VertexRange> hidden;
   for (const TemplatePart& part : info.parts) {
-    if (IsTransparentLayer(part.name)) hidden.push_back(part.vertices);
+    if (RoleOfPart(part.name) == PartRole::kEyeLayer) hidden.push_back(part.vertices);
   }
   for (const Triangle& t : rig.triangles()) {
     const bool transparent = std::any_of(hidden.begin(), hidden.end(),

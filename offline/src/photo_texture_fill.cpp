@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/runtime/part_roles.h"
+#include "facerig/offline/stats.h"
 #include "photo_texture_internal.h"
 #include "srgb.h"
 
@@ -143,11 +144,7 @@ glm::vec3 EstimateSkinColour(const TexelLayers& layers) {
     }
     glm::vec3 colour(-1.0f);
     if (channels[0].size() < 64) return colour;
-    for (int k = 0; k < 3; ++k) {
-      auto middle = channels[k].begin() + static_cast<std::ptrdiff_t>(channels[k].size() / 2);
-      std::nth_element(channels[k].begin(), middle, channels[k].end());
-      colour[k] = *middle;
-    }
+    for (int k = 0; k < 3; ++k) colour[k] = Median(std::move(channels[k]));
     return colour;
   };
   glm::vec3 colour = median(true);

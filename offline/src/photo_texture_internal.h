@@ -41,9 +41,6 @@ struct CheekRegion {
 };
 CheekRegion FindCheeks(const Mesh& mesh);
 
-// Area-weighted vertex normals of all triangles (zero on unused vertices).
-std::vector<glm::vec3> VertexNormals(const Mesh& mesh);
-
 // Fills the layers' direct and mirror samples from the photo for every texel
 // of the skin triangles.
 void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,

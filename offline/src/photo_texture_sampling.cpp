@@ -9,6 +9,7 @@
 #include <glm/vec2.hpp>
 
 #include "facerig/runtime/part_roles.h"
+#include "facerig/runtime/rig_builder.h"
 #include "photo_texture_internal.h"
 #include "uv_raster.h"
 
@@ -157,7 +158,8 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
                   const RgbImage& photo, const MirrorPartners& mirror, const CheekRegion& cheeks,
                   const PhotoTextureParams& params, TexelLayers& layers) {
   const PhotoView view(mesh, skin_triangle, camera, photo, params);
-  const std::vector<glm::vec3> normals = VertexNormals(mesh);
+  std::vector<glm::vec3> normals(mesh.vertex_count());
+  ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
     if (!skin_triangle[t]) continue;
     const std::array<std::uint32_t, 3> v{mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
@@ -188,19 +190,6 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       layers.side[i] = glm::dot(mirror.plane_normal, point.position) < mirror.plane_offset ? 1 : 0;
     });
   }
-}
-
-std::vector<glm::vec3> VertexNormals(const Mesh& mesh) {
-  std::vector<glm::vec3> normals(mesh.vertex_count(), glm::vec3(0.0f));
-  for (const Triangle& t : mesh.triangles) {
-    const glm::vec3 n = glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]);
-    for (std::uint32_t v : t) normals[v] += n;
-  }
-  for (glm::vec3& n : normals) {
-    const float length = glm::length(n);
-    if (length > 0.0f) n /= length;
-  }
-  return normals;
 }
 
 }  // namespace facerig::photo_texture

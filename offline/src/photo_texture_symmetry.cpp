@@ -7,6 +7,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/stats.h"
 #include "photo_texture_internal.h"
 
 namespace facerig::photo_texture {
@@ -117,8 +118,7 @@ MirrorPartners FindMirrorPartners(const Mesh& mesh, const std::vector<std::uint8
   // Partners further apart than 2% of the skin's size are no partners.
   const float reach = std::max(0.02f * glm::length(hi - lo), 1e-6f);
   const PointGrid grid(mesh.positions, ids, reach);
-  std::nth_element(xs.begin(), xs.begin() + static_cast<std::ptrdiff_t>(xs.size() / 2), xs.end());
-  Plane plane{glm::vec3(1.0f, 0.0f, 0.0f), xs[xs.size() / 2]};  // the character's left is +X
+  Plane plane{glm::vec3(1.0f, 0.0f, 0.0f), Median(std::move(xs))};  // the character's left is +X
   for (int pass = 0; pass < 3; ++pass) plane = RefinedPlane(plane, mesh.positions, ids, grid);
   mirror.plane_normal = plane.normal;
   mirror.plane_offset = plane.offset;

@@ -1,4 +1,5 @@
 #include "facerig/offline/recording_alignment.h"
+#include "facerig/offline/stats.h"
 
 #include <chrono>
 #include <vector>
@@ -16,7 +17,7 @@ RecordingAlignment AlignRecording(PhonemeSource& source, const AudioClip& record
   const std::vector<float> samples =
       ResampleAudio(recording.samples, recording.sample_rate, result.reference.sample_rate);
   result.alignment = AlignPhonemesToRecording(result.reference, samples, params);
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = SecondsSince(start);
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include "facerig/offline/deformation_transfer.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/similarity.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/part_roles.h"
 
 namespace facerig {
@@ -18,12 +19,6 @@ namespace {
 bool IsRigidRole(PartRole role) {
   return role == PartRole::kTeeth || role == PartRole::kSclera || role == PartRole::kIris ||
          role == PartRole::kPupil;
-}
-
-float Median(std::vector<float> values) {
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
 }
 
 // Where most of the piece goes: the component-wise median displacement (no

@@ -14,6 +14,7 @@
 #include "cli_report.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/recording_alignment.h"
+#include "facerig/offline/stats.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/io/input_file.h"
@@ -83,7 +84,7 @@ AlignOutcome RoughTrack(const AlignOptions& options, const AudioClip& clip) {
     throw IoError(IoErrorKind::kUnsupportedFormat, options.audio_path,
                   "sample rate " + std::to_string(clip.sample_rate) + " Hz is outside what the rough mode reads");
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = SecondsSince(start);
   CommandReport report = AlignReport(options, clip, *line, seconds);
   return {std::move(*line), std::move(report)};
 }

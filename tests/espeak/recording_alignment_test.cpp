@@ -12,28 +12,14 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/espeak/espeak_phoneme_source.h"
+#include "alignment_sentences.h"
 #include "support/alignment_scoring.h"
 
 namespace facerig {
 namespace {
 
-const std::vector<std::string>& Sentences() {
-  static const std::vector<std::string> sentences = {
-      "Peter picked a peck of pickled peppers by the pond.",
-      "My mother made maple muffins every Monday morning.",
-      "Please pass me the paper plate and the plastic spoon.",
-      "Five very friendly foxes visited the village fair.",
-      "Bring both bottles of milk back before breakfast."};
-  return sentences;
-}
-
-EspeakOptions Voice(int rate_wpm, int pitch, std::string variant) {
-  EspeakOptions options;
-  options.rate_wpm = rate_wpm;
-  options.pitch = pitch;
-  options.variant = std::move(variant);
-  return options;
-}
+using test::AlignmentSentences;
+using test::AlignmentVoice;
 
 AudioClip AsRecording(const SpeechLine& line) {
   AudioClip clip;
@@ -44,12 +30,12 @@ AudioClip AsRecording(const SpeechLine& line) {
 }
 
 TEST_CASE("AlignRecording: boundaries within 20 ms (median) of the truth across voices and rates", "[espeak][align]") {
-  EspeakPhonemeSource recorder(Voice(175, 50, ""));
-  EspeakPhonemeSource aligner(Voice(140, 75, "f3"));  // a female voice, higher, 20% slower
+  EspeakPhonemeSource recorder(AlignmentVoice(175, 50, ""));
+  EspeakPhonemeSource aligner(AlignmentVoice(140, 75, "f3"));  // a female voice, higher, 20% slower
   std::vector<double> errors;
   double audio_seconds = 0.0, align_seconds = 0.0;
   std::size_t bilabials = 0, bilabials_kept = 0;
-  for (const std::string& sentence : Sentences()) {
+  for (const std::string& sentence : AlignmentSentences()) {
     INFO(sentence);
     const SpeechLine truth = recorder.Synthesize(sentence, "en-us");
     const RecordingAlignment result = AlignRecording(aligner, AsRecording(truth), sentence, "en-us");

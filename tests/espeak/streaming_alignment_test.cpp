@@ -14,29 +14,15 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/espeak/espeak_phoneme_source.h"
+#include "alignment_sentences.h"
 #include "support/alignment_scoring.h"
 #include "support/allocation_counter.h"
 
 namespace facerig {
 namespace {
 
-const std::vector<std::string>& Sentences() {
-  static const std::vector<std::string> sentences = {
-      "Peter picked a peck of pickled peppers by the pond.",
-      "My mother made maple muffins every Monday morning.",
-      "Please pass me the paper plate and the plastic spoon.",
-      "Five very friendly foxes visited the village fair.",
-      "Bring both bottles of milk back before breakfast."};
-  return sentences;
-}
-
-EspeakOptions Voice(int rate_wpm, int pitch, std::string variant) {
-  EspeakOptions options;
-  options.rate_wpm = rate_wpm;
-  options.pitch = pitch;
-  options.variant = std::move(variant);
-  return options;
-}
+using test::AlignmentSentences;
+using test::AlignmentVoice;
 
 struct StreamedLine {
   SpeechLine line;                 // the reference's phonemes at the streamed starts
@@ -66,10 +52,10 @@ StreamedLine StreamAlign(const SpeechLine& reference, const std::vector<float>& 
 }
 
 TEST_CASE("StreamingAligner: boundaries within 20 ms (median) of the truth, final within the look-ahead", "[espeak][align][stream]") {
-  EspeakPhonemeSource recorder(Voice(175, 50, ""));
-  EspeakPhonemeSource aligner(Voice(140, 75, "f3"));
+  EspeakPhonemeSource recorder(AlignmentVoice(175, 50, ""));
+  EspeakPhonemeSource aligner(AlignmentVoice(140, 75, "f3"));
   std::vector<std::pair<SpeechLine, SpeechLine>> lines;  // truth, reference: the same for every chunk size
-  for (const std::string& sentence : Sentences()) {
+  for (const std::string& sentence : AlignmentSentences()) {
     lines.emplace_back(recorder.Synthesize(sentence, "en-us"), aligner.Synthesize(sentence, "en-us"));
   }
   for (const double chunk : {0.010, 0.050, 0.200}) {
@@ -111,9 +97,9 @@ TEST_CASE("StreamingAligner: boundaries within 20 ms (median) of the truth, fina
 }
 
 TEST_CASE("StreamingAligner: chunking does not change the result, bad references are refused", "[espeak][align][stream]") {
-  EspeakPhonemeSource recorder(Voice(175, 50, ""));
-  EspeakPhonemeSource aligner(Voice(140, 75, "f3"));
-  for (const std::string& sentence : Sentences()) {
+  EspeakPhonemeSource recorder(AlignmentVoice(175, 50, ""));
+  EspeakPhonemeSource aligner(AlignmentVoice(140, 75, "f3"));
+  for (const std::string& sentence : AlignmentSentences()) {
     const SpeechLine truth = recorder.Synthesize(sentence, "en-us");
     const SpeechLine reference = aligner.Synthesize(sentence, "en-us");
     const StreamedLine small = StreamAlign(reference, PcmToFloat(truth.audio), 0.010);
@@ -124,7 +110,7 @@ TEST_CASE("StreamingAligner: chunking does not change the result, bad references
       CHECK(small.decided_at[i] == Approx(large.decided_at[i]).margin(1e-9));
     }
   }
-  const SpeechLine reference = aligner.Synthesize(Sentences()[1], "en-us");
+  const SpeechLine reference = aligner.Synthesize(AlignmentSentences()[1], "en-us");
   SpeechLine silent = reference;
   silent.audio.clear();
   CHECK_THROWS_AS(StreamingAligner(silent), AlignmentError);
@@ -140,11 +126,11 @@ TEST_CASE("StreamingAligner: chunking does not change the result, bad references
 }
 
 TEST_CASE("StreamingAligner: a recording that starts late, with noise, keeps the boundaries", "[espeak][align][stream]") {
-  EspeakPhonemeSource recorder(Voice(175, 50, ""));
-  EspeakPhonemeSource aligner(Voice(140, 75, "f3"));
+  EspeakPhonemeSource recorder(AlignmentVoice(175, 50, ""));
+  EspeakPhonemeSource aligner(AlignmentVoice(140, 75, "f3"));
   std::vector<double> errors;
   std::size_t bilabials = 0, bilabials_kept = 0;
-  for (const std::string& sentence : Sentences()) {
+  for (const std::string& sentence : AlignmentSentences()) {
     SpeechLine truth = recorder.Synthesize(sentence, "en-us");
     // 0.6 s of quiet noise before the speech and 0.3 s after it (a stream's lead and tail).
     const auto lead = static_cast<std::size_t>(0.6 * truth.sample_rate), tail = static_cast<std::size_t>(0.3 * truth.sample_rate);
@@ -175,11 +161,11 @@ TEST_CASE("StreamingAligner: a recording that starts late, with noise, keeps the
 }
 
 TEST_CASE("StreamingAligner: pushing chunks allocates nothing once the buffers have grown", "[espeak][align][stream]") {
-  EspeakPhonemeSource recorder(Voice(175, 50, ""));
-  EspeakPhonemeSource aligner(Voice(140, 75, "f3"));
-  const SpeechLine truth = recorder.Synthesize(Sentences()[0], "en-us");
+  EspeakPhonemeSource recorder(AlignmentVoice(175, 50, ""));
+  EspeakPhonemeSource aligner(AlignmentVoice(140, 75, "f3"));
+  const SpeechLine truth = recorder.Synthesize(AlignmentSentences()[0], "en-us");
   const std::vector<float> recording = PcmToFloat(truth.audio);
-  StreamingAligner streaming(aligner.Synthesize(Sentences()[0], "en-us"));
+  StreamingAligner streaming(aligner.Synthesize(AlignmentSentences()[0], "en-us"));
   const std::size_t chunk = static_cast<std::size_t>(0.05 * truth.sample_rate);
   REQUIRE(recording.size() > 10 * chunk);
   // Two chunks grow the audio buffer to a chunk plus the unframed rest.
