@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "facerig/runtime/io/input_file.h"
+#include "facerig/offline/png_encode.h"
 #include "output_set.h"
 
 namespace facerig::player {
@@ -27,10 +27,6 @@ void PutU16(std::vector<char>& out, std::uint16_t value) {
 
 void PutText(std::vector<char>& out, const char* text) {
   out.insert(out.end(), text, text + std::strlen(text));
-}
-
-std::uint32_t GetU32(const unsigned char* p) {
-  return p[0] | (p[1] << 8) | (p[2] << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
 }
 
 // The failure injection (FailureInjected) that makes writing `what` run out of space.
@@ -80,55 +76,19 @@ void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> s
   WriteWholeFile(path, bytes, "WAV");
 }
 
-std::vector<std::int16_t> ReadWav(const std::filesystem::path& path, int* sample_rate) {
-  std::vector<unsigned char> bytes;
-  try {
-    const std::vector<std::byte> file = ReadInputFile(path);  // a regular file only: a FIFO does not block
-    const auto* data = reinterpret_cast<const unsigned char*>(file.data());
-    bytes.assign(data, data + file.size());
-  } catch (const std::runtime_error& error) {
-    throw std::runtime_error("cannot read WAV " + path.string() + ": " + error.what());
-  }
-  if (bytes.size() < 44 || std::memcmp(bytes.data(), "RIFF", 4) != 0 ||
-      std::memcmp(bytes.data() + 8, "WAVE", 4) != 0) {
-    throw std::runtime_error("not a WAV file: " + path.string());
-  }
-  std::size_t offset = 12;
-  std::vector<std::int16_t> samples;
-  while (offset + 8 <= bytes.size()) {
-    const std::uint32_t size = GetU32(bytes.data() + offset + 4);
-    if (std::memcmp(bytes.data() + offset, "fmt ", 4) == 0 && sample_rate != nullptr) {
-      *sample_rate = static_cast<int>(GetU32(bytes.data() + offset + 12));
-    }
-    if (std::memcmp(bytes.data() + offset, "data", 4) == 0) {
-      const std::size_t count = std::min<std::size_t>(size, bytes.size() - offset - 8) / 2;
-      samples.resize(count);
-      for (std::size_t i = 0; i < count; ++i) {
-        const unsigned char* p = bytes.data() + offset + 8 + 2 * i;
-        samples[i] = static_cast<std::int16_t>(static_cast<std::uint16_t>(p[0] | (p[1] << 8)));
-      }
-      return samples;
-    }
-    offset += 8 + size + (size & 1);
-  }
-  throw std::runtime_error("WAV without a data chunk: " + path.string());
-}
-
 void WritePng(const std::filesystem::path& path, const Image& image) {
-  const cv::Mat rgba(image.height, image.width, CV_8UC4,
-                     const_cast<std::uint8_t*>(image.rgba.data()));
-  cv::Mat bgr;
-  cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
-  // Encoded in memory and written here, because imwrite does not report a failed close (a full disk).
-  std::vector<std::uint8_t> png;
-  bool ok = false;
+  const cv::Mat rgba(image.height, image.width, CV_8UC4, const_cast<std::uint8_t*>(image.rgba.data()));
+  cv::Mat rgb;  // the frames are opaque: an RGB PNG
+  cv::cvtColor(rgba, rgb, cv::COLOR_RGBA2RGB);
+  EncodedImage png;
   try {
-    ok = cv::imencode(".png", bgr, png);
-  } catch (const cv::Exception& e) {
+    png = EncodePng(std::span<const std::uint8_t>(rgb.data, rgb.total() * 3), rgb.cols, rgb.rows, 3,
+                    path.filename().string());
+  } catch (const std::exception& e) {
     throw std::runtime_error("cannot write PNG " + path.string() + ": " + e.what());
   }
-  if (!ok) throw std::runtime_error("cannot write PNG " + path.string());
-  WriteWholeFile(path, std::span(reinterpret_cast<const char*>(png.data()), png.size()), "PNG");
+  // Encoded in memory and written here, because imwrite does not report a failed close (a full disk).
+  WriteWholeFile(path, std::span(reinterpret_cast<const char*>(png.bytes.data()), png.bytes.size()), "PNG");
 }
 
 Image ReadPng(const std::filesystem::path& path) {

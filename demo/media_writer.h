@@ -26,8 +26,6 @@ void WriteWholeFile(const std::filesystem::path& path, std::span<const char> byt
 // "cannot write WAV PATH: reason".
 void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> samples,
               int sample_rate);
-// Reads a 16-bit PCM mono WAV written by WriteWav (for tests). Throws std::runtime_error.
-std::vector<std::int16_t> ReadWav(const std::filesystem::path& path, int* sample_rate);
 
 // Writes the image as an RGB PNG (OpenCV imgcodecs). Like WriteWav, a write error removes
 // the file and throws std::runtime_error "cannot write PNG PATH: reason".

@@ -7,10 +7,11 @@
 #include "default_head_albedo.h"
 #include "uv_raster.h"
 #include "facerig/offline/default_head.h"
+#include "facerig/offline/png_encode.h"
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <span>
 
 #include <glm/geometric.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -197,20 +198,11 @@ void AddFineNoise(SkinCanvas& canvas) {
 
 }  // namespace
 
-EncodedImage EncodePng(const cv::Mat& bgr_float, const char* name) {
-  cv::Mat bytes;
+EncodedImage EncodeFloatBgrPng(const cv::Mat& bgr_float, const char* name) {
+  cv::Mat bytes, rgb;
   bgr_float.convertTo(bytes, CV_8UC3, 255.0);
-  std::vector<std::uint8_t> png;
-  if (!cv::imencode(".png", bytes, png, {cv::IMWRITE_PNG_COMPRESSION, 6})) {
-    throw std::logic_error(std::string("default head: encoding ") + name + " failed");
-  }
-  EncodedImage image;
-  image.name = name;
-  image.format = ImageFormat::kPng;
-  image.width = static_cast<std::uint32_t>(bgr_float.cols);
-  image.height = static_cast<std::uint32_t>(bgr_float.rows);
-  image.bytes = std::move(png);
-  return image;
+  cv::cvtColor(bytes, rgb, cv::COLOR_BGR2RGB);
+  return EncodePng(std::span<const std::uint8_t>(rgb.data, rgb.total() * 3), rgb.cols, rgb.rows, 3, name, 6);
 }
 
 EncodedImage PaintSkinAlbedo(const HeadGeometry& head, const std::vector<glm::vec2>& uvs) {
@@ -230,7 +222,7 @@ EncodedImage PaintSkinAlbedo(const HeadGeometry& head, const std::vector<glm::ve
   PaintBrows(canvas);
   PaintLips(canvas);
   AddFineNoise(canvas);
-  return EncodePng(canvas.colour, "default_head_skin.png");
+  return EncodeFloatBgrPng(canvas.colour, "default_head_skin.png");
 }
 
 }  // namespace facerig::default_head

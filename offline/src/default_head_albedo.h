@@ -42,7 +42,7 @@ void PaintLids(SkinCanvas& canvas);
 void PaintLips(SkinCanvas& canvas);
 
 // 8-bit PNG of a CV_32FC3 image (B, G, R in [0, 1]).
-EncodedImage EncodePng(const cv::Mat& bgr_float, const char* name);
+EncodedImage EncodeFloatBgrPng(const cv::Mat& bgr_float, const char* name);
 
 // A smooth curve (Catmull-Rom, ends repeated) through `points`, `samples` long.
 std::vector<glm::dvec3> SmoothCurve(const std::vector<glm::dvec3>& points, int samples);

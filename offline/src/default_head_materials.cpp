@@ -114,7 +114,7 @@ EncodedImage PaintMouthAlbedo() {
     const cv::Vec3f c = (lips * (1.0f - a) + cavity * a) * (1.0f - b) + back * b;
     for (int x = 0; x < size; ++x) mouth.at<cv::Vec3f>(y, x) = c;
   }
-  return EncodePng(mouth, "default_head_mouth.png");
+  return EncodeFloatBgrPng(mouth, "default_head_mouth.png");
 }
 
 EncodedImage PaintEyeAlbedo() {
@@ -125,7 +125,7 @@ EncodedImage PaintEyeAlbedo() {
   const double pupil = EyeUvRadius(std::asin(Anatomy::kPupilRadius / r)) * size;
   PaintSclera(eye, iris);
   PaintIris(eye, iris, pupil);
-  return EncodePng(eye, "default_head_eye.png");
+  return EncodeFloatBgrPng(eye, "default_head_eye.png");
 }
 
 void DressHead(RawRig& raw, const HeadGeometry& head) {

@@ -213,7 +213,7 @@ EncodedImage PaintTeethAlbedo() {
     const double v = std::min(1.0, (upper ? band : 2.0 - band) / (2.0 * kBandEdge));  // 0 at the gum edge
     for (int x = 0; x < size; ++x) teeth.at<cv::Vec3f>(y, x) = ToothColour((x + 0.5) / size, v, upper);
   }
-  return EncodePng(teeth, "default_head_teeth.png");
+  return EncodeFloatBgrPng(teeth, "default_head_teeth.png");
 }
 
 }  // namespace facerig::default_head

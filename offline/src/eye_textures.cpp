@@ -12,9 +12,9 @@
 
 #include <glm/geometric.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/png_encode.h"
 #include "facerig/runtime/part_roles.h"
 #include "srgb.h"
 #include "uv_raster.h"
@@ -321,20 +321,17 @@ std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(2
 
 // sRGB colour (and linear alpha, when `with_alpha`) as an 8-bit PNG.
 EncodedImage EncodeCanvas(const Canvas& canvas, const std::string& name, bool with_alpha) {
-  cv::Mat bgra(canvas.size, canvas.size, with_alpha ? CV_8UC4 : CV_8UC3);
+  const int channels = with_alpha ? 4 : 3;
+  std::vector<std::uint8_t> texels(static_cast<std::size_t>(canvas.size) * canvas.size * channels);
+  std::uint8_t* texel = texels.data();
   for (int y = 0; y < canvas.size; ++y) {
-    std::uint8_t* row = bgra.ptr<std::uint8_t>(y);
-    for (int x = 0; x < canvas.size; ++x) {
+    for (int x = 0; x < canvas.size; ++x, texel += channels) {
       const cv::Vec4f c = canvas.colour.at<cv::Vec4f>(y, x);
-      std::uint8_t* texel = row + x * bgra.channels();
-      for (int k = 0; k < 3; ++k) texel[2 - k] = ToByte(LinearToSrgb(std::clamp(c[k], 0.0f, 1.0f)));
+      for (int k = 0; k < 3; ++k) texel[k] = ToByte(LinearToSrgb(std::clamp(c[k], 0.0f, 1.0f)));
       if (with_alpha) texel[3] = ToByte(c[3]);
     }
   }
-  EncodedImage image{.name = name, .format = ImageFormat::kPng, .width = static_cast<std::uint32_t>(canvas.size),
-                     .height = static_cast<std::uint32_t>(canvas.size)};
-  if (!cv::imencode(".png", bgra, image.bytes)) throw InvalidInputError("eye texture: PNG encoding failed", name);
-  return image;
+  return EncodePng(texels, canvas.size, canvas.size, channels, name);
 }
 
 // A file name for the material's image, unused by the mesh's other images.

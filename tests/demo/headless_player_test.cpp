@@ -14,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/offline/io/template_folder.h"
+#include "facerig/runtime/io/audio_file.h"
 #include "media_writer.h"
 #include "player_options.h"
 #include "support/command_runner.h"
@@ -80,9 +81,9 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
           static_cast<std::size_t>(std::ceil((start + speech.audio_duration().count() + 0.6) * kFps - 1e-9)));
 
   // The WAV starts with frame 0: the lead-in's silence, then exactly the synthesized speech.
-  int wav_rate = 0;
-  const std::vector<std::int16_t> wav = facerig::player::ReadWav(options.wav, &wav_rate);
-  CHECK(wav_rate == speech.sample_rate);
+  const facerig::AudioClip wav_clip = facerig::ReadAudioFile(options.wav);
+  const std::vector<std::int16_t> wav = facerig::FloatToPcm(wav_clip.samples);  // exact for 16-bit PCM
+  CHECK(wav_clip.sample_rate == speech.sample_rate);
   const auto lead_in = static_cast<std::size_t>(std::lround(start * speech.sample_rate));
   CHECK(lead_in == static_cast<std::size_t>(0.3 * speech.sample_rate));
   REQUIRE(wav.size() == lead_in + speech.audio.size());

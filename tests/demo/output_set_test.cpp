@@ -22,6 +22,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "facerig/runtime/io/audio_file.h"
 #include "media_writer.h"
 #include "support/command_runner.h"
 
@@ -131,8 +132,7 @@ TEST_CASE("Player outputs: a run replaces the whole set and leaves no temporarie
   CHECK(frames.size() == 10);  // 1 s at 10 fps; the old frame_09999.png is gone: replaced, not merged
   CHECK(!fs::exists(out / "frames" / "frame_09999.png"));
   CHECK(facerig::player::ReadPng(out / "frames" / "frame_00000.png").width == 64);
-  int rate = 0;
-  CHECK(!facerig::player::ReadWav(out / "speech.wav", &rate).empty());
+  CHECK(!facerig::ReadAudioFile(out / "speech.wav").samples.empty());
   CHECK(nlohmann::json::parse(ReadText(out / "timing.json"))["frames"] == 10);
   CHECK(Temporaries(out).empty());
 }

@@ -90,8 +90,9 @@ TEST_CASE("Player: headless --audio --text plays the recording, mouth on its spe
   INFO(log.str());
 
   // The WAV: the lead-in's silence, then the recording at its own rate.
-  int rate = 0;
-  const std::vector<std::int16_t> written = player::ReadWav(options.wav, &rate);
+  const AudioClip written_clip = ReadAudioFile(options.wav);
+  const int rate = written_clip.sample_rate;
+  const std::vector<std::int16_t> written = FloatToPcm(written_clip.samples);  // exact for 16-bit PCM
   CHECK(rate == 44100);
   const auto lead_in = static_cast<std::size_t>(std::lround(result.speech_start * rate));
   REQUIRE(written.size() == lead_in + recording.samples.size());

@@ -11,6 +11,7 @@
 
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/rasterizer.h"
+#include "support/default_head_poses.h"
 
 namespace {
 
@@ -35,7 +36,7 @@ float Distance(const dlib::point& a, const glm::vec3& b) {
 TEST_CASE("Default head: dlib finds the face and its landmarks where the head has them",
           "[default_head][dlib]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig rig = facerig::BuildDefaultHead(&features);
+  const facerig::Rig& rig = facerig::test::DefaultHead(&features);
   // Front-on, orthographic, the whole head in view (as a portrait photo).
   const facerig::RasterView view =
       facerig::RasterView::Orbit({0.0f, -1.5f, 0.0f}, 14.0f, kImageSize, kImageSize);

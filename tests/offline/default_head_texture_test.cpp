@@ -12,6 +12,7 @@
 
 #include "facerig/offline/default_head.h"
 #include "facerig/runtime/io/gltf.h"
+#include "support/default_head_poses.h"
 #include "support/gltf_validator.h"
 
 namespace {
@@ -54,7 +55,7 @@ const facerig::Material& PartMaterial(const facerig::Rig& rig, const char* part)
 }  // namespace
 
 TEST_CASE("Default head: the GLB carries UVs, materials and the painted textures", "[default_head][texture]") {
-  const facerig::Rig head = facerig::BuildDefaultHead();
+  const facerig::Rig& head = facerig::test::DefaultHead();
   const std::filesystem::path path = WriteHeadGlb(head, "materials");
   facerig::test::RequireValidatorAccepts(path);
   const facerig::Rig glb = facerig::ReadGltf(path);
@@ -103,7 +104,7 @@ TEST_CASE("Default head: the GLB carries UVs, materials and the painted textures
 TEST_CASE("Default head: the painted skin has red lips, skin tones, and an iris with a pupil",
           "[default_head][texture]") {
   facerig::DefaultHeadFeatures features;
-  const facerig::Rig head = facerig::BuildDefaultHead(&features);
+  const facerig::Rig& head = facerig::test::DefaultHead(&features);
   const facerig::Rig glb = facerig::ReadGltf(WriteHeadGlb(head, "pixels"));
   const facerig::Material& skin = PartMaterial(glb, "skin");
   const facerig::RgbImage albedo = facerig::DecodeImage(glb.images()[static_cast<std::size_t>(skin.base_colour_image)]);
@@ -145,7 +146,7 @@ TEST_CASE("Default head: the painted skin has red lips, skin tones, and an iris 
 
 TEST_CASE("Default head: the painted teeth are ivory crowns with dark gaps, a gum line, the back in shadow",
           "[default_head][texture]") {
-  const facerig::Rig glb = facerig::ReadGltf(WriteHeadGlb(facerig::BuildDefaultHead(), "teeth"));
+  const facerig::Rig glb = facerig::ReadGltf(WriteHeadGlb(facerig::test::DefaultHead(), "teeth"));
   const facerig::Material& material = PartMaterial(glb, "teeth_upper");
   const facerig::RgbImage teeth = facerig::DecodeImage(glb.images()[static_cast<std::size_t>(material.base_colour_image)]);
   const facerig::Part* upper = glb.FindPart("teeth_upper");
@@ -186,7 +187,8 @@ TEST_CASE("Default head: the painted teeth are ivory crowns with dark gaps, a gu
 }
 
 TEST_CASE("Default head: the textured GLB is the same bytes on every generation", "[default_head][texture]") {
-  const std::vector<char> first = ReadBytes(WriteHeadGlb(facerig::BuildDefaultHead(), "first"));
+  // The tests' shared head (built earlier in this process) against a new one.
+  const std::vector<char> first = ReadBytes(WriteHeadGlb(facerig::test::DefaultHead(), "first"));
   const std::vector<char> second = ReadBytes(WriteHeadGlb(facerig::BuildDefaultHead(), "second"));
   REQUIRE(first.size() > 1000000);  // the textures are in it
   const bool identical = first == second;  // (Catch would print every byte)

@@ -1,5 +1,6 @@
-// The built-in head for the tests: built once per test binary (it takes
-// about a second), and posed by shape weights.
+// The built-in head for the tests: built once per process (a few seconds;
+// the [default_head] tests run in one process, tests/CMakeLists.txt), and
+// posed by shape weights.
 #pragma once
 
 #include <string>
