@@ -27,7 +27,7 @@ constexpr std::size_t kEnergyMargin = 32;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Consecutive vertical steps (reference frames on one recording frame) the
 // path may take: a longer climb skips speech the recording has not reached.
-constexpr std::uint8_t kMaxVerticalRun = 6;
+constexpr std::uint8_t kMaxVerticalRun = 10;
 enum Step : std::uint8_t { kStart, kHorizontal, kDiagonal, kVertical };
 
 // Slopes of the cepstra over +-kDeltaReach frames; `at(k)` gives frame t + k's cepstra.
