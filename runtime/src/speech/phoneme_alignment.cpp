@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "facerig/runtime/speech/release_landmark.h"
+#include "percentile.h"
 
 namespace facerig {
 namespace {
@@ -14,16 +15,11 @@ namespace {
 // energies (5th percentile) to the loud end (95th) count as speech.
 constexpr double kSpeechEnergyShare = 0.35;
 
-double Percentile(std::vector<float> values, double share) {
-  const auto index = static_cast<std::size_t>(share * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index), values.end());
-  return values[index];
-}
-
 // First and last frame of speech (the whole range when no frame stands out).
 std::pair<double, double> SpeechEndpoints(const AudioFeatures& features) {
   const std::vector<float>& energy = features.log_energy;
-  const double low = Percentile(energy, 0.05), high = Percentile(energy, 0.95);
+  std::vector<float> sorted = energy;
+  const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   const double threshold = low + kSpeechEnergyShare * (high - low);
   std::size_t first = 0, last = energy.size() - 1;
   while (first < last && energy[first] < threshold) ++first;

@@ -7,11 +7,16 @@
 #include <stdexcept>
 
 #include "facerig/runtime/speech/dtw_align.h"
+#include "deltas.h"
+#include "feature_statistics.h"
+#include "percentile.h"
 
 namespace facerig {
 namespace {
 
-constexpr std::size_t kDeltaReach = 2, kHistory = 2 * kDeltaReach + 1;
+using detail::DeltasOf;
+using detail::kDeltaReach;
+constexpr std::size_t kHistory = 2 * kDeltaReach + 1;
 // A boundary may lie up to this many frames before the column committed when it is emitted.
 constexpr std::size_t kEmitSlack = 2;
 // Frames before the speech onset (in both) where the warping starts.
@@ -29,21 +34,6 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // path may take: a longer climb skips speech the recording has not reached.
 constexpr std::uint8_t kMaxVerticalRun = 10;
 enum Step : std::uint8_t { kStart, kHorizontal, kDiagonal, kVertical };
-
-// Slopes of the cepstra over +-kDeltaReach frames; `at(k)` gives frame t + k's cepstra.
-template <typename At>
-void DeltasOf(std::size_t cepstra, At at, float* out) {
-  float norm = 0.0f;
-  for (std::size_t n = 1; n <= kDeltaReach; ++n) norm += 2.0f * static_cast<float>(n * n);
-  for (std::size_t c = 0; c < cepstra; ++c) {
-    float sum = 0.0f;
-    for (std::size_t n = 1; n <= kDeltaReach; ++n) {
-      const auto k = static_cast<std::ptrdiff_t>(n);
-      sum += static_cast<float>(n) * (at(k)[c] - at(-k)[c]);
-    }
-    out[c] = sum / norm;
-  }
-}
 
 // The reference's raw features (cepstra and deltas), frame-major.
 std::vector<float> ReferenceFeatures(const SpeechLine& reference, FrameCepstra& cepstra, std::size_t dimension) {
@@ -121,13 +111,8 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
 void StreamingAligner::FindReferenceOnset() {
   std::vector<float> energy(rows_);
   for (std::size_t f = 0; f < rows_; ++f) energy[f] = reference_[f * dimension_];
-  const auto percentile = [&](double share) {
-    std::vector<float> sorted = energy;
-    const auto index = static_cast<std::ptrdiff_t>(share * static_cast<double>(sorted.size() - 1));
-    std::nth_element(sorted.begin(), sorted.begin() + index, sorted.end());
-    return static_cast<double>(sorted[static_cast<std::size_t>(index)]);
-  };
-  const double low = percentile(0.05), high = percentile(0.95);
+  std::vector<float> sorted = energy;
+  const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   onset_rise_ = kOnsetShare * (high - low);
   floor_cap_ = 0.5 * (low + high);
   onset_row_ = 0;
@@ -140,23 +125,11 @@ void StreamingAligner::FindReferenceOnset() {
 void StreamingAligner::NormalizeReference(double prior_frames) {
   sums_.assign(dimension_, 0.0);
   squares_.assign(dimension_, 0.0);
-  for (std::size_t f = 0; f < rows_; ++f) {
-    for (std::size_t d = 0; d < dimension_; ++d) {
-      const double v = reference_[f * dimension_ + d];
-      sums_[d] += v;
-      squares_[d] += v * v;
-    }
-  }
   for (std::size_t d = 0; d < dimension_; ++d) {
-    const double mean = sums_[d] / static_cast<double>(rows_);
-    const double variance = std::max(0.0, squares_[d] / static_cast<double>(rows_) - mean * mean);
-    const double scale = variance > 1e-12 ? 1.0 / std::sqrt(variance) : 0.0;
-    for (std::size_t f = 0; f < rows_; ++f) {
-      float& v = reference_[f * dimension_ + d];
-      v = static_cast<float>((v - mean) * scale);
-    }
-    sums_[d] = mean * prior_frames;
-    squares_[d] = (variance + mean * mean) * prior_frames;
+    const detail::DimensionStatistics statistics = detail::StatisticsOf(reference_, dimension_, d);
+    detail::Normalize(reference_, dimension_, d, statistics);
+    sums_[d] = statistics.mean * prior_frames;
+    squares_[d] = (statistics.variance + statistics.mean * statistics.mean) * prior_frames;
   }
   count_ = prior_frames;
 }
