@@ -71,6 +71,7 @@ TEST_CASE("StreamingAligner: boundaries within 20 ms (median) of the truth, fina
       bilabials += score.bilabials;
       bilabials_kept += score.bilabials_kept;
       const double look_ahead = StreamingAligner(reference).look_ahead_seconds();
+      REQUIRE(look_ahead <= 0.300);  // the default latency, the release snap's included
       for (std::size_t i = 0; i < truth.phonemes.size(); ++i) {
         const double decided = streamed.decided_at[i];
         REQUIRE(decided >= 0.0);

@@ -7,7 +7,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "deltas.h"
+#include "feature_statistics.h"
 #include "fft.h"
+#include "hann_window.h"
 
 namespace facerig {
 namespace {
@@ -16,7 +19,6 @@ namespace {
 // silence (synthetic speech) and a microphone's noise floor then look alike.
 constexpr float kEnergyFloorRatio = 1e-7f;
 constexpr float kPreEmphasis = 0.97f;
-constexpr int kDeltaReach = 2;
 
 double HzToMel(double hz) { return 1127.0 * std::log1p(hz / 700.0); }
 double MelToHz(double mel) { return 700.0 * std::expm1(mel / 1127.0); }
@@ -71,38 +73,45 @@ Framing MakeFraming(std::size_t sample_count, int sample_rate, const AudioFeatur
   return f;
 }
 
+// One frame: pre-emphasised, Hann-windowed, transformed; its mel energies
+// (linear) go to `mel`, its mean power is returned. `window` may be shorter
+// than `hann` (zeros follow); `previous` is the sample before it.
+template <typename Filters>
+float MelFrame(std::span<const float> window, float previous, std::span<const float> hann,
+               std::span<std::complex<float>> buffer, std::span<float> spectrum, const Filters& bank, float* mel) {
+  std::fill(buffer.begin(), buffer.end(), std::complex<float>());
+  double sum = 0.0;
+  for (std::size_t i = 0; i < hann.size(); ++i) {
+    const float x = i < window.size() ? window[i] : 0.0f;
+    const float before = i == 0 ? previous : (i - 1 < window.size() ? window[i - 1] : 0.0f);
+    sum += static_cast<double>(x) * x;
+    buffer[i] = hann[i] * (x - kPreEmphasis * before);
+  }
+  detail::FftInPlace(buffer);
+  for (std::size_t bin = 0; bin < spectrum.size(); ++bin) spectrum[bin] = std::norm(buffer[bin]);
+  for (std::size_t band = 0; band < bank.size(); ++band) {
+    float energy = 0.0f;
+    for (std::size_t k = 0; k < bank[band].weights.size(); ++k) {
+      energy += bank[band].weights[k] * spectrum[bank[band].first_bin + k];
+    }
+    mel[band] = energy;
+  }
+  return static_cast<float>(sum / static_cast<double>(hann.size()));
+}
+
 // Mel energies (linear) and mean power of every frame.
 void MelEnergies(std::span<const float> samples, const Framing& f, const std::vector<MelFilter>& bank,
                  std::vector<float>& mel, std::vector<float>& power) {
-  std::vector<float> hann(static_cast<std::size_t>(f.window));
-  const double span = std::max(1.0, static_cast<double>(hann.size()) - 1.0);
-  for (std::size_t i = 0; i < hann.size(); ++i) {
-    hann[i] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / span));
-  }
+  const std::vector<float> hann = detail::HannWindow(static_cast<std::size_t>(f.window));
   std::vector<std::complex<float>> buffer(f.fft_size);
   std::vector<float> spectrum(f.fft_size / 2 + 1);
   mel.assign(f.frames * bank.size(), 0.0f);
   power.assign(f.frames, 0.0f);
   for (std::size_t frame = 0; frame < f.frames; ++frame) {
     const std::size_t start = frame * static_cast<std::size_t>(f.hop);
-    std::fill(buffer.begin(), buffer.end(), std::complex<float>());
-    double sum = 0.0;
-    for (std::size_t i = 0; i < hann.size(); ++i) {
-      const float x = start + i < samples.size() ? samples[start + i] : 0.0f;
-      const float previous = start + i >= 1 && start + i - 1 < samples.size() ? samples[start + i - 1] : 0.0f;
-      sum += static_cast<double>(x) * x;
-      buffer[i] = hann[i] * (x - kPreEmphasis * previous);
-    }
-    power[frame] = static_cast<float>(sum / static_cast<double>(hann.size()));
-    detail::FftInPlace(buffer);
-    for (std::size_t bin = 0; bin < spectrum.size(); ++bin) spectrum[bin] = std::norm(buffer[bin]);
-    for (std::size_t band = 0; band < bank.size(); ++band) {
-      float energy = 0.0f;
-      for (std::size_t k = 0; k < bank[band].weights.size(); ++k) {
-        energy += bank[band].weights[k] * spectrum[bank[band].first_bin + k];
-      }
-      mel[frame * bank.size() + band] = energy;
-    }
+    const std::span<const float> window = samples.subspan(start, std::min(hann.size(), samples.size() - start));
+    const float previous = start > 0 ? samples[start - 1] : 0.0f;
+    power[frame] = MelFrame(window, previous, hann, buffer, spectrum, bank, mel.data() + frame * bank.size());
   }
 }
 
@@ -132,39 +141,20 @@ void Cepstra(const std::vector<float>& log_mel, const std::vector<float>& log_en
 }
 
 void Deltas(std::size_t frames, int cepstra, int dimension, std::vector<float>& values) {
-  const auto at = [&](std::ptrdiff_t frame, int c) -> float {
+  const auto row = [&](std::ptrdiff_t frame) {
     frame = std::clamp<std::ptrdiff_t>(frame, 0, static_cast<std::ptrdiff_t>(frames) - 1);
-    return values[static_cast<std::size_t>(frame) * static_cast<std::size_t>(dimension) + static_cast<std::size_t>(c)];
+    return values.data() + static_cast<std::size_t>(frame) * static_cast<std::size_t>(dimension);
   };
-  float norm = 0.0f;
-  for (int n = 1; n <= kDeltaReach; ++n) norm += 2.0f * static_cast<float>(n * n);
   for (std::size_t frame = 0; frame < frames; ++frame) {
     const auto t = static_cast<std::ptrdiff_t>(frame);
-    for (int c = 0; c < cepstra; ++c) {
-      float sum = 0.0f;
-      for (int n = 1; n <= kDeltaReach; ++n) sum += static_cast<float>(n) * (at(t + n, c) - at(t - n, c));
-      values[frame * static_cast<std::size_t>(dimension) + static_cast<std::size_t>(cepstra + c)] = sum / norm;
-    }
+    detail::DeltasOf(static_cast<std::size_t>(cepstra), [&](std::ptrdiff_t k) { return row(t + k); }, row(t) + cepstra);
   }
 }
 
 // Zero mean and unit variance per dimension over all frames.
-void NormalizeMeanVariance(std::size_t frames, int dimension, std::vector<float>& values) {
-  for (int d = 0; d < dimension; ++d) {
-    double sum = 0.0, squares = 0.0;
-    for (std::size_t f = 0; f < frames; ++f) {
-      const double v = values[f * static_cast<std::size_t>(dimension) + static_cast<std::size_t>(d)];
-      sum += v;
-      squares += v * v;
-    }
-    const double mean = sum / static_cast<double>(frames);
-    const double variance = std::max(0.0, squares / static_cast<double>(frames) - mean * mean);
-    const double scale = variance > 1e-12 ? 1.0 / std::sqrt(variance) : 0.0;
-    for (std::size_t f = 0; f < frames; ++f) {
-      float& v = values[f * static_cast<std::size_t>(dimension) + static_cast<std::size_t>(d)];
-      v = static_cast<float>((v - mean) * scale);
-    }
-  }
+void NormalizeMeanVariance(int dimension, std::vector<float>& values) {
+  const auto n = static_cast<std::size_t>(dimension);
+  for (std::size_t d = 0; d < n; ++d) detail::Normalize(values, n, d, detail::StatisticsOf(values, n, d));
 }
 
 }  // namespace
@@ -186,7 +176,7 @@ AudioFeatures ComputeAudioFeatures(std::span<const float> samples, int sample_ra
   features.values.assign(framing.frames * static_cast<std::size_t>(features.dimension), 0.0f);
   Cepstra(mel, features.log_energy, bank.size(), params.cepstra, features.dimension, features.values);
   if (params.deltas) Deltas(framing.frames, params.cepstra, features.dimension, features.values);
-  NormalizeMeanVariance(framing.frames, features.dimension, features.values);
+  NormalizeMeanVariance(features.dimension, features.values);
   return features;
 }
 
@@ -195,11 +185,7 @@ FrameCepstra::FrameCepstra(int sample_rate, const AudioFeatureParams& params) {
   const Framing framing = MakeFraming(0, sample_rate, params);
   hop_ = framing.hop;
   cepstra_ = params.cepstra;
-  hann_.resize(static_cast<std::size_t>(framing.window));
-  const double span = std::max(1.0, static_cast<double>(hann_.size()) - 1.0);
-  for (std::size_t i = 0; i < hann_.size(); ++i) {
-    hann_[i] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / span));
-  }
+  hann_ = detail::HannWindow(static_cast<std::size_t>(framing.window));
   for (MelFilter& filter : MelFilterBank(params, sample_rate, framing.fft_size)) {
     bank_.push_back({filter.first_bin, std::move(filter.weights)});
   }
@@ -218,24 +204,9 @@ FrameCepstra::FrameCepstra(int sample_rate, const AudioFeatureParams& params) {
 void FrameCepstra::Compute(std::span<const float> window, float previous, std::span<float> out) {
   // Fixed floors: -100 dB of full-scale power for the energy, as low for the bands.
   constexpr float kPowerFloor = 1e-10f, kBandFloor = 1e-10f;
-  std::fill(buffer_.begin(), buffer_.end(), std::complex<float>());
-  double sum = 0.0;
-  for (std::size_t i = 0; i < hann_.size(); ++i) {
-    const float x = i < window.size() ? window[i] : 0.0f;
-    const float before = i == 0 ? previous : (i - 1 < window.size() ? window[i - 1] : 0.0f);
-    sum += static_cast<double>(x) * x;
-    buffer_[i] = hann_[i] * (x - kPreEmphasis * before);
-  }
-  detail::FftInPlace(buffer_);
-  for (std::size_t bin = 0; bin < spectrum_.size(); ++bin) spectrum_[bin] = std::norm(buffer_[bin]);
-  for (std::size_t band = 0; band < bank_.size(); ++band) {
-    float energy = 0.0f;
-    for (std::size_t k = 0; k < bank_[band].weights.size(); ++k) {
-      energy += bank_[band].weights[k] * spectrum_[bank_[band].first_bin + k];
-    }
-    log_mel_[band] = std::log(std::max(energy, kBandFloor));
-  }
-  out[0] = std::log(std::max(static_cast<float>(sum / static_cast<double>(hann_.size())), kPowerFloor));
+  const float power = MelFrame(window, previous, hann_, buffer_, spectrum_, bank_, log_mel_.data());
+  for (float& energy : log_mel_) energy = std::log(std::max(energy, kBandFloor));
+  out[0] = std::log(std::max(power, kPowerFloor));
   for (int c = 1; c < cepstra_; ++c) {
     float value = 0.0f;
     for (std::size_t band = 0; band < bank_.size(); ++band) {

@@ -4,16 +4,10 @@
 #include <cmath>
 
 #include "mouth_segments.h"
+#include "percentile.h"
 
 namespace facerig {
 namespace {
-
-// The value at `fraction` (0..1) of the sorted levels.
-float Percentile(std::vector<float>& levels, double fraction) {
-  const auto at = static_cast<std::size_t>(fraction * double(levels.size() - 1));
-  std::nth_element(levels.begin(), levels.begin() + static_cast<std::ptrdiff_t>(at), levels.end());
-  return levels[at];
-}
 
 std::vector<MouthFrameFeatures> MedianFiltered(std::span<const MouthFrameFeatures> frames,
                                                const AudioMouthParams& params) {
@@ -33,8 +27,8 @@ MouthVoiceThresholds WholeBufferThresholds(std::span<const MouthFrameFeatures> f
   std::vector<float> levels;
   levels.reserve(frames.size());
   for (const MouthFrameFeatures& f : frames) levels.push_back(f.level_db);
-  const float floor = Percentile(levels, 0.02);
-  const float loud = Percentile(levels, 0.95);
+  const float floor = detail::PercentileInPlace(levels, 0.02);
+  const float loud = detail::PercentileInPlace(levels, 0.95);
   return MouthVoiceThresholdsFor(floor, loud, params);
 }
 

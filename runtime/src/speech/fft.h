@@ -1,5 +1,6 @@
-// In-place radix-2 FFT for the audio features (audio_features.cpp): the
-// runtime core has no FFT library, and a few hundred points per frame need no more.
+// In-place radix-2 FFT for every per-frame spectrum of speech (the alignment
+// features, the audio-only mouth): the runtime core has no FFT library, and a
+// few hundred points per frame need no more. Allocates nothing.
 #pragma once
 
 #include <complex>

@@ -5,6 +5,9 @@
 #include <utility>
 #include <vector>
 
+#include "facerig/runtime/speech/release_landmark.h"
+#include "percentile.h"
+
 namespace facerig {
 namespace {
 
@@ -12,16 +15,11 @@ namespace {
 // energies (5th percentile) to the loud end (95th) count as speech.
 constexpr double kSpeechEnergyShare = 0.35;
 
-double Percentile(std::vector<float> values, double share) {
-  const auto index = static_cast<std::size_t>(share * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index), values.end());
-  return values[index];
-}
-
 // First and last frame of speech (the whole range when no frame stands out).
 std::pair<double, double> SpeechEndpoints(const AudioFeatures& features) {
   const std::vector<float>& energy = features.log_energy;
-  const double low = Percentile(energy, 0.05), high = Percentile(energy, 0.95);
+  std::vector<float> sorted = energy;
+  const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   const double threshold = low + kSpeechEnergyShare * (high - low);
   std::size_t first = 0, last = energy.size() - 1;
   while (first < last && energy[first] < threshold) ++first;
@@ -60,6 +58,58 @@ void CheckInputs(const SpeechLine& reference, std::span<const float> recording) 
   }
   if (reference.phonemes.empty()) throw AlignmentError("the reference line has no phonemes");
   if (recording.empty()) throw AlignmentError("the recording is empty");
+}
+
+// Fractional frame index of a time (the inverse of FrameTime).
+double FrameAt(const AudioFeatures& features, double seconds) {
+  return (seconds * features.sample_rate - 0.5 * features.window_samples) / features.hop_samples;
+}
+
+// Recording seconds per reference second around [start, end] along the path.
+double LocalTempo(double start, double end, const DtwPath& path, const AudioFeatures& ref, const AudioFeatures& rec) {
+  constexpr double kContext = 0.100;
+  const double from = std::max(0.0, start - kContext), to = end + kContext;
+  const double mapped = MapReferenceTime(to, path, ref, rec) - MapReferenceTime(from, path, ref, rec);
+  return std::clamp(mapped / (to - from), 0.5, 2.0);
+}
+
+// Each squeezed /p b m/ onto the recording's own release: the reference's
+// release (its steepest energy rise near the phoneme's ReleaseTime) is warped
+// across, the recording's steepest rise within reach of it taken instead when
+// it is a clear one, and the phoneme placed around it with the reference's
+// timing at the local tempo. Its neighbours give or take the time.
+void SnapBilabialsToReleases(const SpeechLine& reference, const DtwPath& path, const AudioFeatures& ref,
+                             const AudioFeatures& rec, double recording_end, std::vector<Phoneme>& phonemes) {
+  for (std::size_t i = 0; i < phonemes.size(); ++i) {
+    const Phoneme& source = reference.phonemes[i];
+    if (!IsBilabial(source, reference.language.view())) continue;
+    const double ref_start = source.start.count(), ref_end = (source.start + source.duration).count();
+    if (phonemes[i].duration.count() >= kSqueezedFrames * rec.hop_seconds()) continue;
+    const double expected = ReleaseTime(source, reference.language.view());
+    const auto ref_rise = SteepestRise(ref.log_energy, FrameAt(ref, expected - kReferenceReleaseReach),
+                                       FrameAt(ref, expected + kReferenceReleaseReach));
+    if (!ref_rise || ref_rise->rise < kMinReleaseRise) continue;
+    const double ref_release = ref.FrameTime(ref_rise->position);
+    const double warped = MapReferenceTime(ref_release, path, ref, rec);
+    const auto rec_rise = SteepestRise(rec.log_energy, FrameAt(rec, warped - kReleaseReachSeconds),
+                                       FrameAt(rec, warped + kReleaseReachSeconds));
+    if (!rec_rise || rec_rise->rise < kReleaseRiseShare * ref_rise->rise) continue;
+    const double release = rec.FrameTime(rec_rise->position);
+    const double tempo = LocalTempo(ref_start, ref_end, path, ref, rec);
+    const double lowest = i > 0 ? phonemes[i - 1].start.count() : 0.0;
+    const double highest = i + 2 < phonemes.size() ? phonemes[i + 2].start.count() : recording_end;
+    const double start = std::clamp(release - tempo * (ref_release - ref_start), lowest, release);
+    const double end = std::clamp(release + tempo * (ref_end - ref_release), std::max(start, release), highest);
+    if (i > 0) phonemes[i - 1].duration = Seconds(start - lowest);
+    if (i + 1 < phonemes.size()) {
+      Phoneme& next = phonemes[i + 1];
+      const double next_end = std::max(end, (next.start + next.duration).count());
+      next.start = Seconds(end);
+      next.duration = Seconds(next_end - end);
+    }
+    phonemes[i].start = Seconds(start);
+    phonemes[i].duration = Seconds(end - start);
+  }
 }
 
 }  // namespace
@@ -114,6 +164,7 @@ PhonemeAlignment AlignPhonemesToRecording(const SpeechLine& reference, std::span
     phoneme.duration = Seconds(std::clamp(end, start, recording_end) - start);
     previous_start = start;
   }
+  SnapBilabialsToReleases(reference, path, ref, rec, recording_end, result.line.phonemes);
   return result;
 }
 

@@ -1,5 +1,5 @@
 // Power spectrum of one audio frame for the audio-only mouth: a Hann window
-// and a zero-padded radix-2 FFT. Private to facerig::runtime.
+// (hann_window.h) and a zero-padded radix-2 FFT (fft.h). Private to facerig::runtime.
 #pragma once
 
 #include <complex>
@@ -28,11 +28,7 @@ class PowerSpectrum {
   float power_scale() const { return power_scale_; }
 
  private:
-  void Transform();
-
   std::vector<float> window_;
-  std::vector<std::complex<float>> twiddles_;  // exp(-2 pi i k / n), k < n/2
-  std::vector<std::size_t> bit_reversed_;
   std::vector<std::complex<float>> buffer_;
   std::vector<float> power_;
   float power_scale_ = 1.0f;

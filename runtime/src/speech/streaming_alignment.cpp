@@ -3,14 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "facerig/runtime/speech/dtw_align.h"
+#include "deltas.h"
+#include "feature_statistics.h"
+#include "percentile.h"
 
 namespace facerig {
 namespace {
 
-constexpr std::size_t kDeltaReach = 2, kHistory = 2 * kDeltaReach + 1;
+using detail::DeltasOf;
+using detail::kDeltaReach;
+constexpr std::size_t kHistory = 2 * kDeltaReach + 1;
 // A boundary may lie up to this many frames before the column committed when it is emitted.
 constexpr std::size_t kEmitSlack = 2;
 // Frames before the speech onset (in both) where the warping starts.
@@ -18,23 +24,16 @@ constexpr std::size_t kOnsetMargin = kDeltaReach;
 // Speech: louder than this share of the way from the reference's quiet
 // frames (5th percentile) to its loud ones (95th), above the recording's floor.
 constexpr double kOnsetShare = 0.35;
+// Latency the release snap (streaming_release.cpp) may add: waiting for a
+// bilabial's end and moving its start earlier.
+constexpr double kReleaseLatency = 0.050;
+// Recording frames kept for the release search, beyond the look-ahead.
+constexpr std::size_t kEnergyMargin = 32;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Consecutive vertical steps (reference frames on one recording frame) the
+// path may take: a longer climb skips speech the recording has not reached.
+constexpr std::uint8_t kMaxVerticalRun = 10;
 enum Step : std::uint8_t { kStart, kHorizontal, kDiagonal, kVertical };
-
-// Slopes of the cepstra over +-kDeltaReach frames; `at(k)` gives frame t + k's cepstra.
-template <typename At>
-void DeltasOf(std::size_t cepstra, At at, float* out) {
-  float norm = 0.0f;
-  for (std::size_t n = 1; n <= kDeltaReach; ++n) norm += 2.0f * static_cast<float>(n * n);
-  for (std::size_t c = 0; c < cepstra; ++c) {
-    float sum = 0.0f;
-    for (std::size_t n = 1; n <= kDeltaReach; ++n) {
-      const auto k = static_cast<std::ptrdiff_t>(n);
-      sum += static_cast<float>(n) * (at(k)[c] - at(-k)[c]);
-    }
-    out[c] = sum / norm;
-  }
-}
 
 // The reference's raw features (cepstra and deltas), frame-major.
 std::vector<float> ReferenceFeatures(const SpeechLine& reference, FrameCepstra& cepstra, std::size_t dimension) {
@@ -81,6 +80,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   rows_ = reference_.size() / dimension_;
   radius_ = static_cast<std::size_t>(std::ceil(params.band_radius_seconds / hop));
   FindReferenceOnset();
+  FindReferenceReleases(reference);
   NormalizeReference(params.prior_frames);
   // The warping starts a few frames before the reference's speech; earlier
   // boundaries keep their distance to it.
@@ -93,10 +93,12 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
                                  cepstra_.hop_samples() - static_cast<double>(start_row));
   }
   raw_history_.assign(kHistory * dimension_, 0.0f);
+  energy_ring_.assign(lag_ + kHistory + kEnergyMargin, 0.0f);
   frame_.resize(dimension_);
   column_features_.resize(dimension_);
   previous_cost_.assign(width_, kInfinity);
   cost_.assign(width_, kInfinity);
+  vertical_run_.assign(width_, 0);
   steps_.assign((lag_ + 1) * width_, kStart);
   step_lows_.assign(lag_ + 1, 0);
   path_low_.reserve(lag_ + 2);
@@ -109,13 +111,8 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
 void StreamingAligner::FindReferenceOnset() {
   std::vector<float> energy(rows_);
   for (std::size_t f = 0; f < rows_; ++f) energy[f] = reference_[f * dimension_];
-  const auto percentile = [&](double share) {
-    std::vector<float> sorted = energy;
-    const auto index = static_cast<std::ptrdiff_t>(share * static_cast<double>(sorted.size() - 1));
-    std::nth_element(sorted.begin(), sorted.begin() + index, sorted.end());
-    return static_cast<double>(sorted[static_cast<std::size_t>(index)]);
-  };
-  const double low = percentile(0.05), high = percentile(0.95);
+  std::vector<float> sorted = energy;
+  const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   onset_rise_ = kOnsetShare * (high - low);
   floor_cap_ = 0.5 * (low + high);
   onset_row_ = 0;
@@ -128,23 +125,11 @@ void StreamingAligner::FindReferenceOnset() {
 void StreamingAligner::NormalizeReference(double prior_frames) {
   sums_.assign(dimension_, 0.0);
   squares_.assign(dimension_, 0.0);
-  for (std::size_t f = 0; f < rows_; ++f) {
-    for (std::size_t d = 0; d < dimension_; ++d) {
-      const double v = reference_[f * dimension_ + d];
-      sums_[d] += v;
-      squares_[d] += v * v;
-    }
-  }
   for (std::size_t d = 0; d < dimension_; ++d) {
-    const double mean = sums_[d] / static_cast<double>(rows_);
-    const double variance = std::max(0.0, squares_[d] / static_cast<double>(rows_) - mean * mean);
-    const double scale = variance > 1e-12 ? 1.0 / std::sqrt(variance) : 0.0;
-    for (std::size_t f = 0; f < rows_; ++f) {
-      float& v = reference_[f * dimension_ + d];
-      v = static_cast<float>((v - mean) * scale);
-    }
-    sums_[d] = mean * prior_frames;
-    squares_[d] = (variance + mean * mean) * prior_frames;
+    const detail::DimensionStatistics statistics = detail::StatisticsOf(reference_, dimension_, d);
+    detail::Normalize(reference_, dimension_, d, statistics);
+    sums_[d] = statistics.mean * prior_frames;
+    squares_[d] = (statistics.variance + statistics.mean * statistics.mean) * prior_frames;
   }
   count_ = prior_frames;
 }
@@ -155,7 +140,8 @@ double StreamingAligner::FrameEnd() const {
 
 double StreamingAligner::look_ahead_seconds() const {
   return (static_cast<double>(lag_ + kDeltaReach + kEmitSlack) * cepstra_.hop_samples() + 0.5 * cepstra_.window_samples()) /
-         sample_rate_;
+             sample_rate_ +
+         kReleaseLatency;
 }
 
 std::span<const StreamedBoundary> StreamingAligner::Push(std::span<const float> samples) {
@@ -178,6 +164,7 @@ std::span<const StreamedBoundary> StreamingAligner::Push(std::span<const float> 
 void StreamingAligner::ProcessFrame() {
   const auto n = static_cast<std::size_t>(cepstra_.cepstra());
   std::copy_n(frame_.begin(), n, raw_history_.begin() + static_cast<std::ptrdiff_t>((raw_frames_ % kHistory) * dimension_));
+  energy_ring_[raw_frames_ % energy_ring_.size()] = frame_[0];
   ++raw_frames_;
   // Leading silence is not warped: a silence's features drift with the
   // running normalisation and pull the band off. Speech starts above the
@@ -245,9 +232,10 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
     double best = kInfinity;
     std::uint8_t step = kStart;
     if (j == 0 && row == 0) best = d;
+    const bool may_climb = c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
     const double candidates[3] = {j > 0 ? previous(row) + d : kInfinity,
                                   j > 0 && row > 0 ? previous(row - 1) + 2.0 * d : kInfinity,
-                                  c > 0 ? cost_[c - 1] + d : kInfinity};
+                                  may_climb ? cost_[c - 1] + d : kInfinity};
     for (std::uint8_t s = 0; s < 3; ++s) {
       if (candidates[s] < best) {
         best = candidates[s];
@@ -256,6 +244,7 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
     }
     cost_[c] = best;
     steps_[slot * width_ + c] = step;
+    vertical_run_[c] = step == kVertical ? static_cast<std::uint8_t>(vertical_run_[c - 1] + 1) : 0;
   }
   ++columns_;
 }
@@ -312,33 +301,54 @@ void StreamingAligner::CommitColumn(std::size_t column, std::size_t lowest_row, 
   committed_columns_ = column + 1;
 }
 
-void StreamingAligner::EmitReady(double decided_at, bool at_end) {
+// Phoneme `index`'s start on the recording once the committed path decides it.
+std::optional<double> StreamingAligner::BoundaryTime(std::size_t index, bool at_end) const {
   const auto boundary = [&](std::size_t k) {
     if (k == 0) return -0.5;
     if (k == rows_) return static_cast<double>(last_column_[rows_ - 1]) + 0.5;
     return 0.5 * static_cast<double>(last_column_[k - 1] + first_column_[k]);
   };
   const double rows = static_cast<double>(rows_);
+  const double row = boundary_rows_[index];
+  double column = row;
+  if (row >= rows - 0.5) {
+    if (!at_end) return std::nullopt;
+    column = boundary(rows_) + (row - (rows - 0.5));
+  } else if (row >= -0.5) {
+    // Inside reference frame k, advancing at most one recording frame: a
+    // frame the recording holds longer is final once the path stayed on it
+    // that long, without waiting for the path to leave it.
+    const auto k = static_cast<std::size_t>(std::floor(row + 0.5));
+    if (static_cast<std::ptrdiff_t>(k) > committed_row_) return std::nullopt;
+    const bool next_known = static_cast<std::ptrdiff_t>(k + 1) <= committed_row_ || at_end;
+    const double committed_edge = static_cast<double>(committed_columns_) - 0.5;
+    if (!next_known && committed_edge < boundary(k) + 1.0) return std::nullopt;
+    const double span = next_known ? std::min(boundary(k + 1) - boundary(k), 1.0) : 1.0;
+    column = boundary(k) + (row + 0.5 - static_cast<double>(k)) * span;
+  }
+  return ColumnTime(column);
+}
+
+double StreamingAligner::ColumnTime(double column) const {
+  return ((column + static_cast<double>(column_offset_)) * cepstra_.hop_samples() + 0.5 * cepstra_.window_samples()) /
+         sample_rate_;
+}
+
+void StreamingAligner::EmitReady(double decided_at, bool at_end) {
   for (; next_phoneme_ < boundary_rows_.size(); ++next_phoneme_) {
-    const double row = boundary_rows_[next_phoneme_];
-    double column = row;
-    if (row >= rows - 0.5) {
-      if (!at_end) return;
-      column = boundary(rows_) + (row - (rows - 0.5));
-    } else if (row >= -0.5) {
-      // Inside reference frame k, advancing at most one recording frame: a
-      // frame the recording holds longer is final once the path stayed on it
-      // that long, without waiting for the path to leave it.
-      const auto k = static_cast<std::size_t>(std::floor(row + 0.5));
-      if (static_cast<std::ptrdiff_t>(k) > committed_row_) return;
-      const bool next_known = static_cast<std::ptrdiff_t>(k + 1) <= committed_row_ || at_end;
-      const double committed_edge = static_cast<double>(committed_columns_) - 0.5;
-      if (!next_known && committed_edge < boundary(k) + 1.0) return;
-      const double span = next_known ? std::min(boundary(k + 1) - boundary(k), 1.0) : 1.0;
-      column = boundary(k) + (row + 0.5 - static_cast<double>(k)) * span;
+    const std::optional<double> time = BoundaryTime(next_phoneme_, at_end);
+    if (!time) return;
+    double start = *time;
+    if (snapped_next_start_ >= 0.0) {
+      start = snapped_next_start_;  // the end of a bilabial moved onto its release
+      snapped_next_start_ = -1.0;
+    } else if (releases_[next_phoneme_].rise > 0.0) {
+      const std::optional<double> snapped = SnapToRelease(next_phoneme_, start, at_end);
+      if (!snapped) return;
+      start = *snapped;
     }
-    const double time = ((column + static_cast<double>(column_offset_)) * cepstra_.hop_samples() + 0.5 * cepstra_.window_samples()) / sample_rate_;
-    last_start_ = std::clamp(time, last_start_, std::max(last_start_, pushed_seconds_));
+    start = std::max(start, decided_at - look_ahead_seconds());
+    last_start_ = std::clamp(start, last_start_, std::max(last_start_, pushed_seconds_));
     emitted_.push_back({next_phoneme_, Seconds(last_start_), decided_at});
   }
 }

@@ -37,7 +37,9 @@ struct PhonemeAlignment {
 
 // Aligns `reference` (audio + exactly timed phonemes of the transcript) with
 // `recording`, mono samples at reference.sample_rate. Phonemes the reference
-// places before its speech or after it map to the recording's silence.
+// places before its speech or after it map to the recording's silence. A
+// /p b m/ the warping squeezed to no time is placed on the recording's own
+// release instead (release_landmark.h).
 // \throw AlignmentError when the reference has no audio or no phonemes, the
 // recording is empty, or the band needs more than params.max_cells cells
 // (split long audio into lines); std::invalid_argument for bad params.

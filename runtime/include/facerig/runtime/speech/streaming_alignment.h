@@ -8,7 +8,10 @@
 // committed: the boundaries it passes are emitted, final.
 //
 // Latency: a boundary is emitted once the audio reaches its emitted time plus
-// look_ahead_seconds (decided_at in StreamedBoundary says when exactly).
+// look_ahead_seconds() (decided_at in StreamedBoundary says when exactly): the
+// params' look-ahead and up to 50 ms more for a /p b m/ the path squeezed,
+// which waits for its end and moves onto the recording's release (the
+// steepest energy rise within 40 ms, as in AlignPhonemesToRecording).
 // Memory: the reference's features and per-row path columns (fixed at
 // construction), the band's costs and (look-ahead x band) back-pointers.
 // Push allocates nothing once its buffers reached the largest chunk's size.
@@ -24,6 +27,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -35,7 +39,8 @@ namespace facerig {
 struct StreamingAlignmentParams {
   AudioFeatureParams features;  // deltas are always used
   // A boundary is final once the audio reaches its time plus this (at least
-  // the window, two frames for the deltas and one frame of path).
+  // the window, two frames for the deltas and one frame of path); a squeezed
+  // /p b m/ up to 50 ms later.
   double look_ahead_seconds = 0.25;
   // Half-width of the band of reference frames searched per recording frame.
   double band_radius_seconds = 0.5;
@@ -79,6 +84,21 @@ class StreamingAligner {
   void Backtrack(std::size_t from_row, std::size_t columns);
   void CommitColumn(std::size_t column, std::size_t lowest_row, std::size_t highest_row);
   void EmitReady(double decided_at, bool at_end);
+  std::optional<double> BoundaryTime(std::size_t index, bool at_end) const;
+  double ColumnTime(double column) const;
+  // The release snap of bilabials (streaming_release.cpp).
+  void FindReferenceReleases(const SpeechLine& reference);
+  std::optional<double> SnapToRelease(std::size_t index, double start, bool at_end);
+  std::optional<double> RecordingRelease(double warped, double min_rise) const;
+  bool RecordingHolds(double seconds) const;
+  double PathTempo() const;
+
+  // A /p b m/'s release in the reference (rise 0: none, or not a bilabial).
+  struct ReferenceRelease {
+    double rise = 0.0;                           // its log-energy rise
+    double before = 0.0, after = 0.0;            // seconds from the phoneme's start to it, from it to the end
+    bool burst_first = false;                    // released at the start (unvoiced stop) rather than the end
+  };
 
   FrameCepstra cepstra_;
   StreamingAlignmentParams params_;
@@ -100,6 +120,7 @@ class StreamingAligner {
   double floor_ = std::numeric_limits<double>::infinity();
   std::vector<float> frame_, column_features_;
   std::vector<double> previous_cost_, cost_;
+  std::vector<std::uint8_t> vertical_run_;          // vertical steps ending in each cell of the column
   std::size_t previous_low_ = 0, low_ = 0;
   std::vector<std::uint8_t> steps_;                 // (lag_ + 1) x width_ back-pointers, a ring by column
   std::vector<std::size_t> step_lows_;              // each ring column's first row
@@ -111,6 +132,9 @@ class StreamingAligner {
   double last_start_ = 0.0, pushed_seconds_ = 0.0;
   std::size_t pushed_samples_ = 0;
   std::vector<StreamedBoundary> emitted_;
+  std::vector<ReferenceRelease> releases_;         // per phoneme
+  std::vector<float> energy_ring_;                  // the recording's last frames' log energy, by raw frame
+  double snapped_next_start_ = -1.0;                // the next start, set by a bilabial moved onto its release
 };
 
 }  // namespace facerig
