@@ -48,7 +48,8 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
   photo.add_option("--frig", options.frig, "also write the rig as .frig");
   photo.add_option("--obj-dir", options.obj_dir, "also write neutral.obj and one OBJ per shape into DIR");
   photo.add_option("--debug-png", options.debug_png,
-                   "draw the face box, the landmarks and the fitted model's landmarks over the photo");
+                   "draw the face box, the landmarks and the fitted model's landmarks over the photo, shaded blue\n"
+                   "where the texture takes no photo pixels");
   AddShapePredictorOption(photo, options.landmark_params);
   AddShapeNamingOptions(photo, options.naming);
 }
@@ -158,6 +159,7 @@ CommandReport PhotoReport(const PhotoOptions& options, const PhotoRun& run) {
                         {"built_in", run.photo_template.built_in},
                         {"info", TemplateInfoReport(run.photo_template.info)}};
   result["fit"] = FitJson(run.fit);
+  result["fit"]["lid_margins_fitted"] = run.made.lid_margins_fitted;
   result["texture"] = TextureJson(run.made, PhotoRigParams{}.texture.size);
   result["vertices"] = run.rig.vertex_count();
   result["shapes"] = run.rig.shape_count();
@@ -183,7 +185,7 @@ void WritePhotoSet(const PhotoOptions& options, const PhotoRun& run, StepTimer& 
       CheckAfterWrite("obj-dir", folder);
     }
     if (const std::filesystem::path png = AddOptionalFile(set, options.debug_png); !png.empty()) {
-      WritePhotoFitPng(png, run.photo.image, run.landmarks, run.fit);
+      WritePhotoFitPng(png, ShadeOutsideSkinMask(run.photo.image, run.made.skin_mask), run.landmarks, run.fit);
       CheckAfterWrite("debug-png", png);
     }
     timer.Add("write", SecondsSince(write_start));
@@ -236,7 +238,8 @@ int MakePhotoHead(const PhotoOptions& options) {
                run.fit.deformed ? " (the head deformed onto the landmarks)" : "");
   std::fputs("baking the photo into the texture...\n", stderr);
   run.made = timer.Run("texture", [&] {
-    return MakePhotoRig(run.photo_template.rig, run.photo_template.surface, run.fit, run.photo.image);
+    return MakePhotoRig(run.photo_template.rig, run.photo_template.surface, run.fit, run.photo.image,
+                        run.landmarks.pixels);
   });
   run.rig = NameShapesForWriting(run.made.rig, options.naming, &run.names);
   std::fputs("writing...\n", stderr);
