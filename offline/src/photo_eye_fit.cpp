@@ -14,6 +14,9 @@
 namespace facerig {
 namespace {
 
+// An eye whose lids are less than this many eye widths apart is not fitted.
+constexpr float kMinOpening = 0.12f;
+
 float SmoothStep(float edge0, float edge1, float x) {
   const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
@@ -39,6 +42,8 @@ class LidLines {
   }
 
   float width() const { return width_; }
+  // Mean distance between the lids at their two middle points, pixels.
+  float opening() const { return 0.5f * ((lower_[1].y - upper_[1].y) + (lower_[2].y - upper_[2].y)); }
   glm::vec2 down() const { return n_; }
   glm::vec2 centre() const { return 0.5f * (a_ + b_); }
   float Along(glm::vec2 p) const { return glm::dot(p - a_, u_) / width_; }
@@ -173,6 +178,9 @@ LidMarginFit FitLidMarginsToPhoto(const Mesh& surface, std::span<const glm::vec2
   std::vector<EyeTargets> eyes;
   for (const std::size_t first : {std::size_t{36}, std::size_t{42}}) {
     const LidLines lids(landmarks.subspan(first, 6));
+    // A closed or squeezed eye says where the lids are in that expression,
+    // not at rest (the rest face takes the same offsets): left as it is.
+    if (lids.opening() < kMinOpening * lids.width()) continue;
     const std::vector<std::uint32_t>* loop = EyeLoop(loops, pixels, lids);
     if (loop == nullptr) continue;
     EyeTargets eye = TargetsOnLids(*loop, pixels, posed, lids);

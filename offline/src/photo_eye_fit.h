@@ -29,7 +29,8 @@ struct LidMarginFit {
 // lids smoothly (RbfDeformToLandmarks, the other landmark vertices held) and
 // fades out within an eye width of the opening; each eyeball (with the
 // layers over it) moves by its rim's mean offset, keeping the iris centred. `posed` (the face as the photo shows it, under `camera`) and
-// `rest` take the same offsets.
+// `rest` take the same offsets. An eye the photo shows nearly closed (lids
+// less than 0.12 eye widths apart) is left as it is.
 // \pre surface's triangles index posed, posed.size() == rest.size(),
 //      landmarks.size() == landmark_vertices.size() == 68.
 LidMarginFit FitLidMarginsToPhoto(const Mesh& surface, std::span<const glm::vec2> landmarks,

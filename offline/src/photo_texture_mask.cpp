@@ -142,7 +142,7 @@ PhotoSkinMask BuildPhotoSkinMask(const RgbImage& photo, std::span<const glm::vec
   cv::convexHull(ToPoints(inner, window.tl()), inner_hull);
   const cv::Mat trusted = SoftPolygon(window.size(), inner_hull, sigma, 0.25f, 0.6f);
   const std::vector<glm::vec2> inner_lips(landmarks.begin() + 60, landmarks.end());
-  const cv::Mat mouth = SoftPolygon(window.size(), ToPoints(inner_lips, window.tl()), 0.4 * sigma, 0.4f, 0.7f);
+  const cv::Mat mouth = SoftPolygon(window.size(), ToPoints(inner_lips, window.tl()), 0.4 * sigma, 0.3f, 0.6f);
   const cv::Mat skin = SkinLikeness(photo, window, landmarks, face_size, params);
   mask.weight.resize(static_cast<std::size_t>(window.area()));
   for (int y = 0; y < window.height; ++y) {

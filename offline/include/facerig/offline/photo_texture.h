@@ -8,7 +8,8 @@
 // kSkin) takes, in this order of preference:
 //   1. the photo at its surface point, where the z-buffer sees that point,
 //      weighted by how squarely the surface faces the camera (fading to 0 at
-//      grazing angles);
+//      grazing angles) and by the skin mask there (PhotoSkinMask: no
+//      background, hair or teeth);
 //   2. the photo at its mirror point (the same barycentrics on the mirror
 //      partners of its triangle's vertices, across the face's symmetry plane),
 //      where the photo sees that side instead, scaled per side and channel so
