@@ -8,7 +8,6 @@
 
 #include "facerig/runtime/io/mtl.h"
 #include "facerig/runtime/io/obj.h"
-#include "facerig/runtime/rig_builder.h"
 
 namespace facerig::cli {
 
@@ -24,18 +23,20 @@ std::string ShapeFileName(std::string_view name) {
 
 namespace {
 
-// The shapes s = first, first + stride, ... each as an OBJ of the shaped face.
+// The shapes s = first, first + stride, ... each as an OBJ of the shaped
+// face: positions and UVs, as ICT-FaceKit's expression OBJs (a reader makes
+// the normals; they were a third of the bytes, and writing is what takes the
+// time).
 void WriteShapeObjs(const std::filesystem::path& folder, const Rig& rig, const ObjTopologyWriter& writer,
                     std::size_t first, std::size_t stride) {
-  std::vector<glm::vec3> positions, normals(rig.vertex_count());
+  std::vector<glm::vec3> positions;
   for (std::size_t s = first; s < rig.shape_count(); s += stride) {
     positions.assign(rig.positions().begin(), rig.positions().end());
     const BlendShapeView shape = rig.shape(s);
     for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
       positions[shape.vertex_indices[i]] += shape.position_deltas[i];
     }
-    ComputeVertexNormals(positions, rig.triangles(), normals);
-    writer.Write(folder / ShapeFileName(shape.name), positions, normals, rig.uvs());
+    writer.Write(folder / ShapeFileName(shape.name), positions, {}, rig.uvs());
     ThrowIfStopped();
   }
 }
@@ -46,11 +47,14 @@ void WriteRigObjFolder(const std::filesystem::path& folder, const Rig& rig) {
   const MtlReference mtl = rig.materials().empty()
                                ? MtlReference{}
                                : WriteMtl(folder, "materials.mtl", rig.materials(), rig.images());
-  // Every OBJ of the folder has the rig's faces: formatted once.
-  const ObjTopologyWriter writer(rig.triangles(), rig.parts(), mtl, !rig.normals().empty(), !rig.uvs().empty(),
-                                 (folder / "neutral.obj").string());
-  writer.Write(folder / "neutral.obj", rig.positions(), rig.normals(), rig.uvs());
+  // Every OBJ of the folder has the rig's faces: formatted once for the
+  // neutral (with its normals) and once for the shapes.
+  const ObjTopologyWriter neutral(rig.triangles(), rig.parts(), mtl, !rig.normals().empty(), !rig.uvs().empty(),
+                                  (folder / "neutral.obj").string());
+  neutral.Write(folder / "neutral.obj", rig.positions(), rig.normals(), rig.uvs());
   CheckAfterWrite("obj-neutral", folder / "neutral.obj");
+  const ObjTopologyWriter writer(rig.triangles(), rig.parts(), mtl, false, !rig.uvs().empty(),
+                                 (folder / "neutral.obj").string());
   // Shapes are independent files: one worker per core (formatting, not the
   // disk, takes the time).
   const std::size_t workers = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 8);
