@@ -130,12 +130,9 @@ PhotoSkinMask BuildPhotoSkinMask(const RgbImage& photo, std::span<const glm::vec
   const cv::Rect window = cv::Rect(cv::Point(static_cast<int>(low.x) - margin, static_cast<int>(low.y) - margin),
                                    cv::Point(static_cast<int>(high.x) + margin + 1, static_cast<int>(high.y) + margin + 1)) &
                           cv::Rect(0, 0, photo.width, photo.height);
+  // Landmarks wholly outside the photo: no pixel counts.
+  if (window.area() == 0) return PhotoSkinMask{0, 0, 1, 1, {0.0f}};
   PhotoSkinMask mask{window.x, window.y, window.width, window.height, {}};
-  if (window.area() == 0) {
-    mask.width = mask.height = 1, mask.left = mask.top = -1;
-    mask.weight.assign(1, 0.0f);
-    return mask;
-  }
   const cv::Mat face = SoftPolygon(window.size(), ToPoints(outline, window.tl()), sigma, 0.5f, 0.98f);
   std::vector<glm::vec2> inner(landmarks.begin() + 17, landmarks.end());
   std::vector<cv::Point> inner_hull;
