@@ -19,15 +19,15 @@ std::string SizeText(int width, int height) { return std::to_string(width) + "x"
 
 // 8-bit BGR, whatever the file held: IMREAD_COLOR converts grey, palette and
 // 16-bit images, drops alpha and applies a JPEG's EXIF orientation.
-cv::Mat DecodeBgr(const EncodedImage& encoded, const std::filesystem::path& path) {
+cv::Mat DecodeBgr(const EncodedImage& encoded, const std::string& path) {
   const cv::Mat bytes(1, static_cast<int>(encoded.bytes.size()), CV_8U, const_cast<std::uint8_t*>(encoded.bytes.data()));
   cv::Mat bgr;
   try {
     bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
   } catch (const cv::Exception& error) {
-    throw IoError(IoErrorKind::kParse, path.string(), std::string("the image data does not decode: ") + error.what());
+    throw IoError(IoErrorKind::kParse, path, std::string("the image data does not decode: ") + error.what());
   }
-  if (bgr.empty()) throw IoError(IoErrorKind::kParse, path.string(), "the image data does not decode");
+  if (bgr.empty()) throw IoError(IoErrorKind::kParse, path, "the image data does not decode");
   return bgr;
 }
 
@@ -61,14 +61,23 @@ RgbImage ToRgb(const cv::Mat& bgr, bool& grey) {
   return rgb;
 }
 
-}  // namespace
-
-Photo ReadPhoto(const std::filesystem::path& path, const PhotoReadParams& params) {
+void CheckParams(const PhotoReadParams& params) {
   if (params.max_side < 16) {
     throw InvalidInputError("photo: max_side must be at least 16", "max_side", std::to_string(params.max_side));
   }
-  const EncodedImage encoded = ReadImageFile(path);
+}
+
+Photo DecodeEncoded(const EncodedImage& encoded, const std::string& path, const PhotoReadParams& params) {
+  if (std::uint64_t{encoded.width} * encoded.height > params.max_pixels) {
+    throw IoError(IoErrorKind::kAbsurdCount, path,
+                  "the image has " + SizeText(static_cast<int>(encoded.width), static_cast<int>(encoded.height)) +
+                      " pixels, more than the " + std::to_string(params.max_pixels) + " allowed");
+  }
   const cv::Mat bgr = DecodeBgr(encoded, path);
+  // The decoder follows the data, not the probed header: check what it made.
+  if (static_cast<std::uint64_t>(bgr.cols) * static_cast<std::uint64_t>(bgr.rows) > params.max_pixels) {
+    throw IoError(IoErrorKind::kAbsurdCount, path, "the image decodes to " + SizeText(bgr.cols, bgr.rows) + " pixels, more than allowed");
+  }
   Photo photo;
   photo.original_width = bgr.cols;
   photo.original_height = bgr.rows;
@@ -81,6 +90,18 @@ Photo ReadPhoto(const std::filesystem::path& path, const PhotoReadParams& params
   }
   if (photo.grey) photo.notes.push_back("a grey-scale image: read as RGB; the texture will have no colour");
   return photo;
+}
+
+}  // namespace
+
+Photo ReadPhoto(const std::filesystem::path& path, const PhotoReadParams& params) {
+  CheckParams(params);
+  return DecodeEncoded(ReadImageFile(path), path.string(), params);
+}
+
+Photo DecodePhoto(std::span<const std::byte> bytes, const std::string& name, const PhotoReadParams& params) {
+  CheckParams(params);
+  return DecodeEncoded(MakeEncodedImage(bytes, name, name), name, params);
 }
 
 }  // namespace facerig

@@ -11,6 +11,7 @@
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/rig_surface.h"
 #include "facerig/runtime/shape_names.h"
+#include "photo_eye_fit.h"
 
 namespace facerig {
 namespace {
@@ -57,18 +58,25 @@ PhotoModelParams PhotoModelParamsFor(const Rig& rig) {
 }
 
 PhotoRig MakePhotoRig(const Rig& template_rig, Mesh surface, const PhotoFit& fit, const RgbImage& photo,
-                      const PhotoRigParams& params) {
+                      std::span<const glm::vec2> landmarks, const PhotoRigParams& params) {
   CheckSizes(template_rig, surface, fit);
   surface.corner_normals.clear();  // the template's: not the fitted face's
   ReplacePlaceholderMaterials(surface);
   PhotoRig result;
   result.eye_materials_painted = PaintEyeTextures(surface);
-  surface.positions = fit.posed_positions;
-  const PhotoTexture texture = BakePhotoTexture(surface, fit.view, photo, params.texture);
+  std::vector<glm::vec3> posed = fit.posed_positions, rest = fit.rest_positions;
+  if (fit.deformed && landmarks.size() == 68) {
+    const LidMarginFit lids = FitLidMarginsToPhoto(surface, landmarks, fit.landmark_vertices, fit.camera, photo.width,
+                                                   photo.height, posed, rest);
+    result.lid_margins_fitted = lids.margins;
+  }
+  surface.positions = posed;
+  if (!landmarks.empty()) result.skin_mask = BuildPhotoSkinMask(photo, landmarks, params.mask);
+  const PhotoTexture texture = BakePhotoTexture(surface, fit.view, photo, params.texture, result.skin_mask);
   ApplyPhotoTexture(surface, texture);
-  surface.positions = fit.rest_positions;
+  surface.positions = rest;
   std::string problem;
-  std::optional<Rig> dressed = RigWithSurface(WithNeutral(template_rig, fit.rest_positions), surface, &problem);
+  std::optional<Rig> dressed = RigWithSurface(WithNeutral(template_rig, rest), surface, &problem);
   if (!dressed) throw InvalidInputError("photo rig: the template's surface does not fit its rig: " + problem, "surface");
   result.rig = std::move(*dressed);
   result.texture_stats = texture.stats;

@@ -126,8 +126,11 @@ PhotoTextureStats Measure(const TexelLayers& layers, const photo_texture::Mirror
 }  // namespace
 
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
-                              const PhotoTextureParams& params) {
+                              const PhotoTextureParams& params, const PhotoSkinMask& mask) {
   CheckInputs(mesh, camera, photo, params);
+  if (!mask.empty() && mask.weight.size() != static_cast<std::size_t>(mask.width) * static_cast<std::size_t>(mask.height)) {
+    throw InvalidInputError("photo texture: the mask's weights do not match its size", "mask");
+  }
   const std::vector<std::uint8_t> skin_triangle = SkinTriangles(mesh);
   std::vector<std::uint8_t> skin_vertex(mesh.vertex_count(), 0);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
@@ -137,7 +140,7 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
   const double partner_seconds = clock.Lap();
   TexelLayers layers = EmptyLayers(params.size);
-  photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mirror, photo_texture::FindCheeks(mesh), params, layers);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mask, mirror, photo_texture::FindCheeks(mesh), params, layers);
   const double project_seconds = clock.Lap();
   photo_texture::BalanceMirrorLight(layers);
   PhotoTexture result;

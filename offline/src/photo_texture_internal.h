@@ -42,10 +42,10 @@ struct CheekRegion {
 CheekRegion FindCheeks(const Mesh& mesh);
 
 // Fills the layers' direct and mirror samples from the photo for every texel
-// of the skin triangles.
+// of the skin triangles, each photo pixel weighted by the mask.
 void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
-                  const RgbImage& photo, const MirrorPartners& mirror, const CheekRegion& cheeks,
-                  const PhotoTextureParams& params, TexelLayers& layers);
+                  const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
+                  const CheekRegion& cheeks, const PhotoTextureParams& params, TexelLayers& layers);
 
 // Scales each side's mirror colours so that, where a texel is seen both
 // directly and in its mirror, the two agree on average: one side of a face

@@ -39,8 +39,8 @@ Mesh Occluders(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
 class PhotoView {
  public:
   PhotoView(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
-            const RgbImage& photo, const PhotoTextureParams& params)
-      : camera_(camera), photo_(photo), params_(params),
+            const RgbImage& photo, const PhotoSkinMask& mask, const PhotoTextureParams& params)
+      : camera_(camera), photo_(photo), mask_(mask), params_(params),
         buffers_(Rasterize(Occluders(mesh, skin_triangle, shows_skin_), camera)) {
     towards_camera_ = glm::vec3(camera.rotation[0][2], camera.rotation[1][2], camera.rotation[2][2]);
     camera_position_ = camera.centre + camera.distance * towards_camera_;
@@ -63,7 +63,7 @@ class PhotoView {
     const bool perspective = camera_.vertical_fov > 0.0f;
     const glm::vec3 towards = perspective ? glm::normalize(camera_position_ - p) : towards_camera_;
     const float facing = facing_sign_ * glm::dot(n, towards);
-    const float weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing);
+    const float weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing) * MaskUnder(q.x, q.y);
     if (weight <= 0.0f) return 0.0f;
     const std::size_t pixel = buffers_.index(static_cast<int>(q.x), static_cast<int>(q.y));
     // Where the photo shows an eye or teeth there, the skin point is behind them.
@@ -88,6 +88,13 @@ class PhotoView {
     x = std::clamp(x, 0, photo_.width - 1), y = std::clamp(y, 0, photo_.height - 1);
     const std::uint8_t* c = &photo_.pixels[3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(photo_.width) + static_cast<std::size_t>(x))];
     return glm::vec3(c[0], c[1], c[2]) * (1.0f / 255.0f);
+  }
+
+  // The least mask weight of the pixels Bilinear mixes at (x, y): a colour
+  // with any of an excluded pixel in it counts no more than that pixel.
+  float MaskUnder(float x, float y) const {
+    const int x0 = static_cast<int>(std::floor(x - 0.5f)), y0 = static_cast<int>(std::floor(y - 0.5f));
+    return std::min(std::min(mask_.At(x0, y0), mask_.At(x0 + 1, y0)), std::min(mask_.At(x0, y0 + 1), mask_.At(x0 + 1, y0 + 1)));
   }
 
   bool ShowsSkin(int x, int y) const {
@@ -117,6 +124,7 @@ class PhotoView {
 
   const RasterView& camera_;
   const RgbImage& photo_;
+  const PhotoSkinMask& mask_;
   const PhotoTextureParams& params_;
   std::vector<std::uint8_t> shows_skin_;  // declared before buffers_: Occluders fills it
   RasterBuffers buffers_;
@@ -155,9 +163,9 @@ void TexelCorners(const Mesh& mesh, std::size_t t, int size, glm::dvec2 (&uv)[3]
 }  // namespace
 
 void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
-                  const RgbImage& photo, const MirrorPartners& mirror, const CheekRegion& cheeks,
-                  const PhotoTextureParams& params, TexelLayers& layers) {
-  const PhotoView view(mesh, skin_triangle, camera, photo, params);
+                  const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
+                  const CheekRegion& cheeks, const PhotoTextureParams& params, TexelLayers& layers) {
+  const PhotoView view(mesh, skin_triangle, camera, photo, mask, params);
   std::vector<glm::vec3> normals(mesh.vertex_count());
   ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {

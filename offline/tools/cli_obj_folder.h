@@ -15,9 +15,10 @@ namespace facerig::cli {
 // '.' become '_'; ".obj" appended.
 std::string ShapeFileName(std::string_view name);
 
-// neutral.obj and one OBJ per shape on the rig's topology, into `folder` (the
-// output set's temporary folder for --obj-dir), sharing one materials.mtl and
-// the images when the rig has materials.
+// neutral.obj (positions, UVs, normals) and one OBJ per shape (positions and
+// UVs, as ICT-FaceKit's) on the rig's topology, into `folder` (the output
+// set's temporary folder for --obj-dir), sharing one materials.mtl and the
+// images when the rig has materials. Shapes are written on every core.
 void WriteRigObjFolder(const std::filesystem::path& folder, const Rig& rig);
 
 // `path` added to `set` as a folder that is replaced, not merged, and only

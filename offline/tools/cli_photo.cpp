@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <optional>
 #include <string>
 #include <utility>
@@ -48,7 +49,8 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
   photo.add_option("--frig", options.frig, "also write the rig as .frig");
   photo.add_option("--obj-dir", options.obj_dir, "also write neutral.obj and one OBJ per shape into DIR");
   photo.add_option("--debug-png", options.debug_png,
-                   "draw the face box, the landmarks and the fitted model's landmarks over the photo");
+                   "draw the face box, the landmarks and the fitted model's landmarks over the photo, shaded blue\n"
+                   "where the texture takes no photo pixels");
   AddShapePredictorOption(photo, options.landmark_params);
   AddShapeNamingOptions(photo, options.naming);
 }
@@ -158,6 +160,7 @@ CommandReport PhotoReport(const PhotoOptions& options, const PhotoRun& run) {
                         {"built_in", run.photo_template.built_in},
                         {"info", TemplateInfoReport(run.photo_template.info)}};
   result["fit"] = FitJson(run.fit);
+  result["fit"]["lid_margins_fitted"] = run.made.lid_margins_fitted;
   result["texture"] = TextureJson(run.made, PhotoRigParams{}.texture.size);
   result["vertices"] = run.rig.vertex_count();
   result["shapes"] = run.rig.shape_count();
@@ -183,7 +186,7 @@ void WritePhotoSet(const PhotoOptions& options, const PhotoRun& run, StepTimer& 
       CheckAfterWrite("obj-dir", folder);
     }
     if (const std::filesystem::path png = AddOptionalFile(set, options.debug_png); !png.empty()) {
-      WritePhotoFitPng(png, run.photo.image, run.landmarks, run.fit);
+      WritePhotoFitPng(png, ShadeOutsideSkinMask(run.photo.image, run.made.skin_mask), run.landmarks, run.fit);
       CheckAfterWrite("debug-png", png);
     }
     timer.Add("write", SecondsSince(write_start));
@@ -215,15 +218,30 @@ void ReadAndDetect(const PhotoOptions& options, PhotoRun& run, StepTimer& timer,
                run.landmarks.box.top, run.photo.image.width, run.photo.image.height);
 }
 
+// The template with the seconds its loading took.
+struct LoadedTemplate {
+  PhotoTemplate loaded;
+  double seconds = 0.0;
+};
+
 int MakePhotoHead(const PhotoOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   CheckOutputsWritable(options);
   StepTimer timer;
   PhotoRun run;
+  // Detection and the template's loading need nothing of each other: the
+  // template loads on a second core meanwhile.
+  std::fputs("loading the template...\n", stderr);
+  std::future<LoadedTemplate> template_load = std::async(std::launch::async, [&options] {
+    const auto load_start = std::chrono::steady_clock::now();
+    PhotoTemplate loaded = LoadPhotoTemplate(options.template_path, options.naming);
+    return LoadedTemplate{std::move(loaded), SecondsSince(load_start)};
+  });
   std::optional<LandmarkDetector> detector;
   ReadAndDetect(options, run, timer, detector);
-  std::fputs("loading the template...\n", stderr);
-  run.photo_template = timer.Run("template", [&] { return LoadPhotoTemplate(options.template_path, options.naming); });
+  LoadedTemplate loaded = template_load.get();
+  run.photo_template = std::move(loaded.loaded);
+  timer.Add("template", loaded.seconds);
   std::fprintf(stderr, "template %s: %zu vertices, %zu shapes, %zu identity modes\n",
                run.photo_template.description.c_str(), run.photo_template.rig.vertex_count(),
                run.photo_template.rig.shape_count(), run.photo_template.identities.size());
@@ -236,7 +254,8 @@ int MakePhotoHead(const PhotoOptions& options) {
                run.fit.deformed ? " (the head deformed onto the landmarks)" : "");
   std::fputs("baking the photo into the texture...\n", stderr);
   run.made = timer.Run("texture", [&] {
-    return MakePhotoRig(run.photo_template.rig, run.photo_template.surface, run.fit, run.photo.image);
+    return MakePhotoRig(run.photo_template.rig, run.photo_template.surface, run.fit, run.photo.image,
+                        run.landmarks.pixels);
   });
   run.rig = NameShapesForWriting(run.made.rig, options.naming, &run.names);
   std::fputs("writing...\n", stderr);

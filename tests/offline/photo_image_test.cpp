@@ -1,7 +1,9 @@
 // Photographs as `facerig photo` reads them (photo_image.h).
 #include "facerig/offline/photo_image.h"
 
+#include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include <catch2/catch.hpp>
@@ -60,6 +62,27 @@ TEST_CASE("photo image: a grey photo is read as RGB with a note, and bad files a
   CHECK_THROWS_WITH(ReadPhoto(folder / "text.jpg"), Catch::Contains("text.jpg"));
   CHECK_THROWS_AS(ReadPhoto(folder / "missing.png"), IoError);
   CHECK_THROWS_AS(ReadPhoto(folder / "grey.png", {.max_side = 4}), InvalidInputError);
+}
+
+}  // namespace facerig
+
+namespace facerig {
+
+TEST_CASE("photo image: bytes in memory decode as the file does; more pixels than max_pixels are refused", "[photo_image]") {
+  const std::filesystem::path path = test::FreshOutputFolder("photo_image_bytes") / "wide.png";
+  WritePng(path, Gradient(300, 100, false));
+  const std::string text = test::ReadText(path);
+  const std::span<const std::byte> bytes(reinterpret_cast<const std::byte*>(text.data()), text.size());
+  const Photo from_file = ReadPhoto(path, {.max_side = 120});
+  const Photo from_bytes = DecodePhoto(bytes, "wide.png", {.max_side = 120});
+  CHECK(from_bytes.image.width == 120);
+  CHECK(from_bytes.image.height == 40);
+  CHECK(from_bytes.image.pixels == from_file.image.pixels);
+  CHECK(from_bytes.notes == from_file.notes);
+  // 30 000 pixels against a cap of 20 000: refused before decoding, naming the file.
+  CHECK_THROWS_WITH(DecodePhoto(bytes, "wide.png", {.max_pixels = 20000}), Catch::Contains("wide.png"));
+  CHECK_THROWS_AS(ReadPhoto(path, {.max_pixels = 20000}), IoError);
+  CHECK_THROWS_AS(DecodePhoto(bytes.first(30), "cut.png"), IoError);
 }
 
 }  // namespace facerig

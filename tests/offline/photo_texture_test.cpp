@@ -262,6 +262,41 @@ TEST_CASE("photo texture: a mesh wound the other way round bakes the same", "[ph
   CHECK(difference / static_cast<double>(a.texture.pixels.size()) < 0.1);
 }
 
+TEST_CASE("photo texture: photo pixels outside the skin mask are taken neither directly nor mirrored",
+          "[photo_texture]") {
+  const Mesh& mesh = HeadMesh();
+  const RasterView camera = Portrait(0.0f, 256);
+  RgbImage photo = RenderTextured(mesh, camera);
+  // The image's right half (the character's left) green, and masked out.
+  PhotoSkinMask mask{0, 0, photo.width, photo.height, std::vector<float>(photo.pixels.size() / 3, 1.0f)};
+  for (int y = 0; y < photo.height; ++y) {
+    for (int x = photo.width / 2; x < photo.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(photo.width) + static_cast<std::size_t>(x);
+      photo.pixels[3 * i] = 0, photo.pixels[3 * i + 1] = 255, photo.pixels[3 * i + 2] = 0;
+      mask.weight[i] = 0.0f;
+    }
+  }
+  const auto green_texels = [](const PhotoTexture& bake) {
+    std::size_t green = 0;
+    for (std::size_t i = 0; i < bake.direct_weight.size(); ++i) {
+      const glm::vec3 c = Texel(bake.texture, static_cast<int>(i % static_cast<std::size_t>(bake.texture.width)),
+                                static_cast<int>(i / static_cast<std::size_t>(bake.texture.width)));
+      green += c.g > std::max(c.r, c.b) + 40.0f ? 1 : 0;
+    }
+    return green;
+  };
+  const PhotoTexture unmasked = BakePhotoTexture(mesh, camera, photo, {.size = 256});
+  const PhotoTexture masked = BakePhotoTexture(mesh, camera, photo, {.size = 256}, mask);
+  INFO("green texels: " << green_texels(unmasked) << " unmasked, " << green_texels(masked) << " masked");
+  CHECK(green_texels(unmasked) > 1000);
+  CHECK(green_texels(masked) == 0);
+  CHECK(masked.stats.seen_fraction < unmasked.stats.seen_fraction - 0.1);
+  // A mask whose weights do not match its size is refused.
+  PhotoSkinMask broken = mask;
+  broken.weight.pop_back();
+  CHECK_THROWS_AS(BakePhotoTexture(mesh, camera, photo, {.size = 64}, broken), InvalidInputError);
+}
+
 TEST_CASE("photo texture: invalid inputs are refused", "[photo_texture]") {
   const Mesh& head = HeadMesh();
   const RasterView camera = Portrait(0.0f, 64);

@@ -258,21 +258,23 @@ class ObjParser {
   std::size_t polygon_count_ = 0;
 };
 
-void AppendFloat(std::string& out, float value) {
+// Appends `value` with std::to_chars: no locale, no temporary strings.
+template <typename Number>
+void AppendNumber(std::string& out, Number value) {
   char buffer[32];
-  // Shortest representation that reads back to the same float.
+  // Floats: the shortest representation that reads back to the same float.
   const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
   out.append(buffer, result.ptr);
 }
 
 void AppendVertices(std::string& out, std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                     std::span<const glm::vec2> uvs) {
-  out.reserve(out.size() + positions.size() * 64);
+  out.reserve(out.size() + positions.size() * 40 + normals.size() * 40 + uvs.size() * 28);
   auto append_line = [&out](const char* keyword, const float* values, int count) {
     out += keyword;
     for (int i = 0; i < count; ++i) {
       out += ' ';
-      AppendFloat(out, values[i]);
+      AppendNumber(out, values[i]);
     }
     out += '\n';
   };
@@ -287,15 +289,16 @@ void AppendFaces(std::string& out, std::span<const Triangle> triangles, std::spa
                  std::span<const std::string> usemtl_names, bool with_normal, bool with_uv) {
   out.reserve(out.size() + triangles.size() * 40);
   auto append_corner = [&](std::uint32_t v) {
-    const std::string index = std::to_string(v + 1);
+    char index[16];
+    const std::size_t length = static_cast<std::size_t>(std::to_chars(index, index + sizeof(index), v + 1).ptr - index);
     out += ' ';
-    out += index;
+    out.append(index, length);
     if (with_uv || with_normal) {
       out += '/';
-      if (with_uv) out += index;
+      if (with_uv) out.append(index, length);
       if (with_normal) {
         out += '/';
-        out += index;
+        out.append(index, length);
       }
     }
   };
@@ -358,34 +361,45 @@ Mesh ReadObj(const std::filesystem::path& path, ObjStats* stats) {
   return mesh;
 }
 
+ObjTopologyWriter::ObjTopologyWriter(std::span<const Triangle> triangles, std::span<const Part> parts,
+                                     const MtlReference& mtl, bool with_normals, bool with_uvs,
+                                     const std::string& path_for_errors)
+    : header_("# written by facerig\n") {
+  std::vector<std::string> usemtl_names;
+  if (mtl.mtl_file.empty()) {
+    for (const Part& part : parts) usemtl_names.push_back(part.name);
+  } else {
+    header_ += "mtllib " + mtl.mtl_file + "\n";
+    usemtl_names = PartMaterialNames(path_for_errors, parts, mtl.material_names);
+  }
+  AppendFaces(faces_, triangles, parts, usemtl_names, with_normals, with_uvs);
+}
+
+void ObjTopologyWriter::Write(const std::filesystem::path& path, std::span<const glm::vec3> positions,
+                              std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs) const {
+  std::string out;
+  out.reserve(header_.size() + faces_.size() + positions.size() * 40 + normals.size() * 40 + uvs.size() * 28);
+  out += header_;
+  AppendVertices(out, positions, normals, uvs);
+  out += faces_;
+  WriteFileAtomically(path, out);
+}
+
 void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
               std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
               std::span<const Triangle> triangles, std::span<const Part> parts) {
-  std::string out = "# written by facerig\n";
-  AppendVertices(out, positions, normals, uvs);
-  std::vector<std::string> part_names;
-  for (const Part& part : parts) part_names.push_back(part.name);
-  AppendFaces(out, triangles, parts, part_names, !normals.empty(), !uvs.empty());
-  WriteFileAtomically(path, out);
+  WriteObj(path, positions, normals, uvs, triangles, parts, MtlReference{});
 }
 
 void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
               std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
               std::span<const Triangle> triangles, std::span<const Part> parts, const MtlReference& mtl) {
-  if (mtl.mtl_file.empty()) {
-    WriteObj(path, positions, normals, uvs, triangles, parts);
-    return;
-  }
-  std::string out = "# written by facerig\nmtllib " + mtl.mtl_file + "\n";
-  AppendVertices(out, positions, normals, uvs);
-  const std::vector<std::string> names = PartMaterialNames(path, parts, mtl.material_names);
-  AppendFaces(out, triangles, parts, names, !normals.empty(), !uvs.empty());
-  WriteFileAtomically(path, out);
+  ObjTopologyWriter(triangles, parts, mtl, !normals.empty(), !uvs.empty(), path.string()).Write(path, positions, normals, uvs);
 }
 
 void WriteObj(const std::filesystem::path& path, const Rig& rig) {
   if (rig.materials().empty()) {
-    WriteObj(path, rig.positions(), rig.normals(), rig.uvs(), rig.triangles(), rig.parts());
+    WriteObj(path, rig.positions(), rig.normals(), rig.uvs(), rig.triangles(), rig.parts(), MtlReference{});
     return;
   }
   const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");

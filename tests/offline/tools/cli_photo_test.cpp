@@ -20,6 +20,7 @@
 #include "command_report_check.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/photo_image.h"
+#include "facerig/offline/photo_texture.h"
 #include "facerig/offline/rasterizer.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "output_set_files.h"
@@ -157,6 +158,61 @@ void CheckWritten(const PhotoRun& run) {
   }
 }
 
+// The astronaut in front of a saturated green wall: every pixel above her
+// collar outside an ellipse round her face (her hair mostly gone) turned green.
+constexpr glm::vec3 kGreen{40.0f, 200.0f, 60.0f};
+
+fs::path GreenBackdropPhoto() {
+  RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  for (int y = 0; y < 200; ++y) {
+    for (int x = 0; x < photo.width; ++x) {
+      const float dx = (static_cast<float>(x) - 225.0f) / 52.0f, dy = (static_cast<float>(y) - 122.0f) / 66.0f;
+      if (dx * dx + dy * dy <= 1.0f) continue;
+      const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(photo.width) + static_cast<std::size_t>(x));
+      for (int c = 0; c < 3; ++c) photo.pixels[i + static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(kGreen[c]);
+    }
+  }
+  const fs::path path = test::FreshOutputFolder("cli_photo_green_input") / "astronaut_green.png";
+  WritePng(path, photo);
+  return path;
+}
+
+bool LooksGreen(const glm::vec3& colour) { return colour.g > std::max(colour.r, colour.b) + 30.0f; }
+
+// The photo's texture at the skin vertices facing sideways or back (the
+// head looks along +Z), which the photo's background lay next to.
+void CheckNoBackdropOnTheSides(const Rig& rig) {
+  const RgbImage texture = PhotoSkinTexture(rig);
+  std::vector<std::uint8_t> counted(rig.vertex_count(), 0);
+  std::size_t sides = 0, green = 0;
+  for (const Part& part : rig.parts()) {
+    if (part.material < 0 || rig.materials()[static_cast<std::size_t>(part.material)].name != "photo_skin") continue;
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
+      for (const std::uint32_t v : rig.triangles()[t]) {
+        if (counted[v] || rig.normals()[v].z > 0.2f) continue;
+        counted[v] = 1;
+        ++sides;
+        green += LooksGreen(TextureAt(rig, texture, v)) ? 1 : 0;
+      }
+    }
+  }
+  INFO(green << " of " << sides << " side and back vertices textured green");
+  REQUIRE(sides > 500);
+  CHECK(static_cast<double>(green) < 0.002 * static_cast<double>(sides));
+}
+
+// The skin mask of the green photo: the cheeks count, the wall beside the
+// face and the inside of her open mouth do not.
+void CheckSkinMask(const fs::path& image, const nlohmann::json& landmarks) {
+  const RgbImage photo = ReadPhoto(image).image;
+  std::vector<glm::vec2> points;
+  for (const auto& p : landmarks) points.emplace_back(p[0].get<float>(), p[1].get<float>());
+  const PhotoSkinMask mask = BuildPhotoSkinMask(photo, points);
+  for (const glm::ivec2 cheek : {kImageLeftCheek, kImageRightCheek}) CHECK(mask.At(cheek.x + 4, cheek.y + 4) > 0.9f);
+  CHECK(mask.At(static_cast<int>(kMouthCentre.x), static_cast<int>(kMouthCentre.y)) < 0.05f);
+  for (const int x : {160, 168, 282, 290}) CHECK(mask.At(x, 120) == 0.0f);
+}
+
 }  // namespace
 
 TEST_CASE("facerig photo: the built-in head from a real photograph", "[cli][photo]") {
@@ -214,6 +270,15 @@ TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared dat
     cheeks.push_back(nearest);
   }
   CheckCheeks(rig, cheeks[0], cheeks[1]);
+}
+
+TEST_CASE("facerig photo: a strongly coloured background stays off the head's sides and back", "[cli][photo]") {
+  const fs::path image = GreenBackdropPhoto();
+  const PhotoRun run = RunPhoto("cli_photo_green", image);
+  INFO(run.outcome.error_output);
+  REQUIRE(run.outcome.exit_code == 0);
+  CheckSkinMask(image, run.report["result"]["landmarks"]);
+  CheckNoBackdropOnTheSides(LoadRig(run.out / "head.frig"));
 }
 
 TEST_CASE("facerig photo: a grey-scale photo is converted, with a note", "[cli][photo]") {

@@ -5,11 +5,15 @@
 // brought down to at most `max_side` pixels on its longer side.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "facerig/offline/rasterizer.h"
+#include "facerig/runtime/io/image_file.h"
 
 namespace facerig {
 
@@ -18,6 +22,9 @@ struct PhotoReadParams {
   // already shows a portrait's face at several times the baked texture's
   // 1024 texels; larger photos add time, not detail.
   int max_side = 2048;
+  // Images with more pixels than this are refused before decoding (the
+  // header says the size): image_file.h's cap, or less where memory is short.
+  std::uint64_t max_pixels = kMaxImagePixels;
 };
 
 struct Photo {
@@ -32,9 +39,12 @@ struct Photo {
 
 // \throw IoError naming the file: kOpenFailed when it cannot be read; as
 //        ProbeImage (kBadMagic for a file that is neither PNG nor JPEG,
-//        kTruncated, kAbsurdCount for a size over its caps); kParse when the
-//        image data does not decode.
+//        kTruncated, kAbsurdCount for a size over its caps or max_pixels);
+//        kParse when the image data does not decode.
 // \throw InvalidInputError when max_side < 16.
 Photo ReadPhoto(const std::filesystem::path& path, const PhotoReadParams& params = {});
+
+// The same for a photo already in memory; `name` stands for the file in errors.
+Photo DecodePhoto(std::span<const std::byte> bytes, const std::string& name, const PhotoReadParams& params = {});
 
 }  // namespace facerig

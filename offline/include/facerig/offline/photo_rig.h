@@ -8,6 +8,7 @@
 // approximation for the small, smooth deformation of the built-in head.
 #pragma once
 
+#include <span>
 #include <string>
 
 #include <glm/vec3.hpp>
@@ -25,6 +26,7 @@ PhotoModelParams PhotoModelParamsFor(const Rig& rig);
 
 struct PhotoRigParams {
   PhotoTextureParams texture;
+  PhotoSkinMaskParams mask;
 };
 
 struct PhotoRig {
@@ -32,18 +34,24 @@ struct PhotoRig {
   PhotoTextureStats texture_stats;
   glm::vec3 skin_colour{0.0f};  // sRGB in [0, 1], estimated from the photo
   std::size_t eye_materials_painted = 0;
+  // A deformed fit's eye-opening rim vertices put on the photo's lids (0: none).
+  std::size_t lid_margins_fitted = 0;
+  PhotoSkinMask skin_mask;  // where the texture took photo pixels (empty: everywhere)
 };
 
 // `surface`: the template's surface on the rig's vertices whose triangle t is
 // the rig's triangle t (NeutralMesh(rig), or GroupedByPart of the OBJ a
 // template folder was read from), with UVs. The photo is baked onto the face
 // as the photo shows it (fit.posed_positions under fit.view), then the rig and
-// surface take fit.rest_positions. Placeholder materials become their part's
+// surface take fit.rest_positions. A deformed fit (no identity modes) with
+// landmarks first gets its lid margins onto the photo's lids (both faces). Placeholder materials become their part's
 // role material and untextured eyes get painted ones (eye_textures.h), so
-// eyes, teeth, tongue and lashes keep materials of their own.
+// eyes, teeth, tongue and lashes keep materials of their own. `landmarks`:
+// the 68 points detected on the photo; the texture then takes photo pixels
+// only where BuildPhotoSkinMask says they show the face's skin (empty: all).
 // \throw InvalidInputError when the fit, surface and rig do not match, or as
 //        BakePhotoTexture.
 PhotoRig MakePhotoRig(const Rig& template_rig, Mesh surface, const PhotoFit& fit, const RgbImage& photo,
-                      const PhotoRigParams& params = {});
+                      std::span<const glm::vec2> landmarks, const PhotoRigParams& params = {});
 
 }  // namespace facerig

@@ -58,6 +58,24 @@ void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> posi
 void WriteObj(const std::filesystem::path& path, std::span<const glm::vec3> positions,
               std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs,
               std::span<const Triangle> triangles, std::span<const Part> parts, const MtlReference& mtl);
+// The faces of one topology formatted once, for writing many OBJs of it (a
+// rig's neutral and each of its shapes): Write makes the same file as
+// WriteObj with these triangles, parts and MTL. Write is const and may run on
+// several threads at once.
+class ObjTopologyWriter {
+ public:
+  // `path_for_errors`: named when a part's material is out of range.
+  ObjTopologyWriter(std::span<const Triangle> triangles, std::span<const Part> parts, const MtlReference& mtl,
+                    bool with_normals, bool with_uvs, const std::string& path_for_errors);
+  // \pre normals and uvs non-empty exactly as the constructor said.
+  void Write(const std::filesystem::path& path, std::span<const glm::vec3> positions,
+             std::span<const glm::vec3> normals, std::span<const glm::vec2> uvs) const;
+
+ private:
+  std::string header_;
+  std::string faces_;
+};
+
 // The rig's neutral mesh. With materials, also <stem>.mtl and the images
 // beside it (WriteMtl).
 void WriteObj(const std::filesystem::path& path, const Rig& rig);
