@@ -96,6 +96,19 @@ void ChooseContourVertices(const PhotoFaceModel& model, const Eigen::VectorXd& w
   }
 }
 
+struct LandmarkNoise {
+  glm::vec2 bias;  // true vertex - detected point, fractions of the face size
+  glm::vec2 sigma;  // scatter about the bias, x and y
+};
+
+constexpr std::array<LandmarkNoise, kDlibLandmarkCount> kDlibNoise{{
+#include "photo_landmark_noise.inc"
+}};
+
+bool OnContour(std::size_t k, const PhotoFitParams& params) {
+  return params.moving_contour && k < kJawCount && (k < kChinFirst || k > kChinLast);
+}
+
 struct LinearSystem {
   Eigen::MatrixXd normal;
   Eigen::VectorXd rhs;
@@ -104,8 +117,7 @@ struct LinearSystem {
 // Weighted normal equations of the landmark residuals in the weights, plus the Gaussian prior.
 LinearSystem BuildSystem(const PhotoFaceModel& model, const ScaledOrthoCamera& camera,
                          std::span<const glm::vec2> landmarks, std::span<const std::uint32_t> vertices,
-                         std::span<const float> landmark_weights, int width, int height, double sigma_pixels,
-                         const PhotoFitParams& params) {
+                         std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params) {
   const auto n = static_cast<Eigen::Index>(model.unknown_count());
   LinearSystem system{Eigen::MatrixXd::Zero(n, n), Eigen::VectorXd::Zero(n)};
   const glm::vec3 right(camera.rotation[0][0], camera.rotation[1][0], camera.rotation[2][0]);
@@ -119,9 +131,9 @@ LinearSystem BuildSystem(const PhotoFaceModel& model, const ScaledOrthoCamera& c
       jacobian(1, i) = -camera.scale * glm::dot(up, d);
     }
     const glm::vec2 r = landmarks[k] - ProjectPixel(camera, model.neutral[v], width, height);
-    const double w = landmark_weights[k] / (sigma_pixels * sigma_pixels);
-    system.normal += w * jacobian.transpose() * jacobian;
-    system.rhs += w * jacobian.transpose() * Eigen::Vector2d(r.x, r.y);
+    const Eigen::Matrix2d w = Eigen::Vector2d(precisions[k].x, precisions[k].y).asDiagonal();
+    system.normal += jacobian.transpose() * w * jacobian;
+    system.rhs += jacobian.transpose() * w * Eigen::Vector2d(r.x, r.y);
   }
   const double expression_precision = 1.0 / (params.expression_sigma * params.expression_sigma);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -161,12 +173,54 @@ Eigen::VectorXd SolveBounded(const LinearSystem& system, std::size_t identity_co
   return x;
 }
 
-std::vector<float> LandmarkWeights(const PhotoFitParams& params) {
+std::vector<float> GroupWeights(const PhotoFitParams& params) {
   std::vector<float> weights(kDlibLandmarkCount, 1.0f);
   for (std::size_t k = 0; k < kJawCount; ++k) weights[k] = params.jaw_weight;
   for (std::size_t k = 17; k <= 26; ++k) weights[k] = params.brow_weight;
   for (std::size_t k = 36; k <= 47; ++k) weights[k] = params.eye_weight;
   return weights;
+}
+
+// 1 / sigma^2 per landmark and axis, in 1/pixels^2.
+std::vector<glm::vec2> LandmarkPrecisions(const PhotoFitParams& params, double face_size) {
+  std::vector<glm::vec2> precisions(kDlibLandmarkCount);
+  if (!params.learned_landmark_noise) {
+    const std::vector<float> weights = GroupWeights(params);
+    const double sigma = params.landmark_sigma_fraction * face_size;
+    for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) precisions[k] = glm::vec2(float(weights[k] / (sigma * sigma)));
+    return precisions;
+  }
+  const auto precision = [&](double sigma) {
+    const double fraction = std::hypot(sigma, params.model_sigma_fraction);
+    return static_cast<float>(1.0 / (fraction * fraction * face_size * face_size));
+  };
+  for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
+    const glm::vec2 sigma = OnContour(k, params) ? glm::vec2(static_cast<float>(params.jaw_sigma_fraction))
+                                                 : static_cast<float>(params.noise_scale) * kDlibNoise[k].sigma;
+    precisions[k] = {precision(sigma.x), precision(sigma.y)};
+  }
+  return precisions;
+}
+
+// The camera takes one weight per point: the mean of its two axes' precisions.
+std::vector<float> CameraWeights(std::span<const glm::vec2> precisions) {
+  std::vector<float> weights;
+  for (const glm::vec2 p : precisions) weights.push_back(0.5f * (p.x + p.y));
+  return weights;
+}
+
+// The detected points moved by the model's offsets (and dlib's learned bias):
+// where the landmark vertices would project.
+std::vector<glm::vec2> CorrectedLandmarks(const PhotoFaceModel& model, std::span<const glm::vec2> detected,
+                                          double face_size, const PhotoFitParams& params) {
+  std::vector<glm::vec2> landmarks(detected.begin(), detected.end());
+  const bool offsets = params.remove_landmark_offsets && model.landmark_offsets.size() == landmarks.size();
+  for (std::size_t k = 0; k < landmarks.size(); ++k) {
+    glm::vec2 shift = offsets ? model.landmark_offsets[k] : glm::vec2(0.0f);
+    if (offsets && params.learned_landmark_noise && !OnContour(k, params)) shift += kDlibNoise[k].bias;
+    landmarks[k] += static_cast<float>(face_size) * shift;
+  }
+  return landmarks;
 }
 
 double FaceSize(std::span<const glm::vec2> landmarks) {
@@ -253,15 +307,10 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detect
                   const PhotoFitParams& params) {
   const auto start = std::chrono::steady_clock::now();
   CheckInput(detected, width, height);
-  const std::vector<float> landmark_weights = LandmarkWeights(params);
   const double face_size = FaceSize(detected);
-  const double sigma_pixels = params.landmark_sigma_fraction * face_size;
-  std::vector<glm::vec2> landmarks(detected.begin(), detected.end());
-  if (params.remove_landmark_offsets && model.landmark_offsets.size() == landmarks.size()) {
-    for (std::size_t k = 0; k < landmarks.size(); ++k) {
-      landmarks[k] += static_cast<float>(face_size) * model.landmark_offsets[k];
-    }
-  }
+  const std::vector<glm::vec2> precisions = LandmarkPrecisions(params, face_size);
+  const std::vector<float> landmark_weights = CameraWeights(precisions);
+  const std::vector<glm::vec2> landmarks = CorrectedLandmarks(model, detected, face_size, params);
   Eigen::VectorXd weights = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.unknown_count()));
   PhotoFit fit;
   fit.landmark_vertices = model.landmark_vertices;
@@ -272,8 +321,8 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detect
       ChooseContourVertices(model, weights, fit.camera, landmarks, width, height, params.silhouette_cosine,
                             fit.landmark_vertices);
     }
-    const LinearSystem system = BuildSystem(model, fit.camera, landmarks, fit.landmark_vertices, landmark_weights,
-                                            width, height, sigma_pixels, params);
+    const LinearSystem system =
+        BuildSystem(model, fit.camera, landmarks, fit.landmark_vertices, precisions, width, height, params);
     weights = SolveBounded(system, model.identity_modes.size());
   }
   fit.camera =

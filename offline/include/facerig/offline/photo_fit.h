@@ -131,6 +131,17 @@ struct PhotoFitParams {
   // as its nose and mouth points on renders of random faces.
   float brow_weight = 0.5f;
   float eye_weight = 0.3f;
+  // dlib's learned bias and scatter per landmark (photo_landmark_noise.inc,
+  // measured on renders of training identities): each point is moved by its
+  // bias and weighted by 1/sigma^2 per axis, sigma^2 = (noise_scale *
+  // scatter)^2 + model_sigma_fraction^2. Off: the group weights above with
+  // landmark_sigma_fraction.
+  bool learned_landmark_noise = true;
+  double noise_scale = 2.0;
+  // What the table does not hold: the model's own landmark-vertex mismatch.
+  double model_sigma_fraction = 0.002;
+  // The jaw line's points on the moving contour (not in the table).
+  double jaw_sigma_fraction = 0.02;
   // Jaw landmarks 0..16 except the chin's (7..9) follow the model's contour.
   bool moving_contour = true;
   // Move the detected points by the model's landmark_offsets.
