@@ -53,6 +53,10 @@ std::vector<Triangle> RegionTriangles(std::span<const Triangle> triangles, Verte
 // Transparent layers (ICT-FaceKit's eye occlusion, tear film and blend
 // meshes) would hide the eyes from the detector in an opaque render.
 // The neutral as a photo would show it: every part but the transparent layers.
+// A skin tone for the detector's renders: dlib places some points (lids,
+// brows) differently on a grey render than on skin.
+constexpr glm::vec3 kSkinTone{0.86f, 0.66f, 0.55f};
+
 Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info) {
   Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()}};
   std::vector<VertexRange> hidden;
@@ -67,20 +71,13 @@ Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info) {
   return mesh;
 }
 
-// A skin tone for the calibration render: dlib places some points (lids,
-// brows) differently on a grey render than on skin.
-constexpr glm::vec3 kSkinTone{0.86f, 0.66f, 0.55f};
 constexpr int kCalibrationImageSize = 512;
 
-// Where dlib puts each landmark on a skin-coloured render of the neutral,
-// against where the landmark vertex projects; jaw points other than the
-// chin's are left alone (they follow the contour, not their vertex).
-std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, const FaceTemplateInfo& info,
-                                              std::span<const std::uint32_t> landmarks, LandmarkDetector& detector) {
-  Mesh mesh = VisibleNeutral(rig, info);
-  RasterView view = detector.Detect(mesh).view;  // the front view, the face filling half of it
-  view.width = kCalibrationImageSize;
-  view.height = kCalibrationImageSize;
+}  // namespace
+
+std::vector<glm::vec2> MeasureDlibOffsets(const PhotoFaceModel& model, std::span<const glm::vec3> positions,
+                                          RasterView view, LandmarkDetector& detector) {
+  Mesh mesh{.positions = {positions.begin(), positions.end()}, .triangles = model.visible_triangles};
   std::vector<glm::vec3> normals(mesh.positions.size());
   ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (const Triangle& t : mesh.triangles) {
@@ -98,10 +95,22 @@ std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, const FaceTemplate
   std::vector<glm::vec2> offsets(kDlibLandmarkCount, glm::vec2(0.0f));
   for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
     if (k < 17 && (k < 7 || k > 9)) continue;
-    const glm::vec2 vertex(ProjectToImage(view, mesh.positions[landmarks[k]]));
+    const glm::vec2 vertex(ProjectToImage(view, mesh.positions[model.landmark_vertices[k]]));
     offsets[k] = (vertex - detected[k]) / size;
   }
   return offsets;
+}
+
+namespace {
+
+// Where dlib puts each landmark on a render of the neutral from the front.
+std::vector<glm::vec2> NeutralOffsets(const Rig& rig, const FaceTemplateInfo& info, const PhotoFaceModel& model,
+                                      LandmarkDetector& detector) {
+  Mesh mesh = VisibleNeutral(rig, info);
+  RasterView view = detector.Detect(mesh).view;  // the front view, the face filling half of it
+  view.width = kCalibrationImageSize;
+  view.height = kCalibrationImageSize;
+  return MeasureDlibOffsets(model, model.neutral, view, detector);
 }
 
 }  // namespace
@@ -135,7 +144,9 @@ PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
   model.region = info.region;
   model.contour_candidates = ContourCandidates(model.neutral, info.Group("face"), model.landmark_vertices);
   model.region_triangles = RegionTriangles(rig.triangles(), info.region);
-  model.landmark_offsets = detector != nullptr ? MeasureLandmarkOffsets(rig, info, model.landmark_vertices, *detector)
+  model.visible_triangles = VisibleNeutral(rig, info).triangles;
+  model.detector = detector;
+  model.landmark_offsets = detector != nullptr ? NeutralOffsets(rig, info, model, *detector)
                                                : std::vector<glm::vec2>(kDlibLandmarkCount, glm::vec2(0.0f));
   return model;
 }

@@ -303,19 +303,15 @@ void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int heig
 
 }  // namespace
 
-PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detected, int width, int height,
-                  const PhotoFitParams& params) {
-  const auto start = std::chrono::steady_clock::now();
-  CheckInput(detected, width, height);
-  const double face_size = FaceSize(detected);
-  const std::vector<glm::vec2> precisions = LandmarkPrecisions(params, face_size);
-  const std::vector<float> landmark_weights = CameraWeights(precisions);
-  const std::vector<glm::vec2> landmarks = CorrectedLandmarks(model, detected, face_size, params);
-  Eigen::VectorXd weights = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.unknown_count()));
-  PhotoFit fit;
-  fit.landmark_vertices = model.landmark_vertices;
-  for (int iteration = 0; iteration < std::max(1, params.iterations); ++iteration) {
-    fit.camera = FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights,
+namespace {
+
+// Camera and shape in turn from `weights` on; the camera last.
+void Alternate(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks, std::span<const glm::vec2> precisions,
+               int iterations, int width, int height, const PhotoFitParams& params, Eigen::VectorXd& weights,
+               PhotoFit& fit) {
+  const std::vector<float> camera_weights = CameraWeights(precisions);
+  for (int iteration = 0; iteration < std::max(1, iterations); ++iteration) {
+    fit.camera = FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, camera_weights,
                                       width, height);
     if (params.moving_contour) {
       ChooseContourVertices(model, weights, fit.camera, landmarks, width, height, params.silhouette_cosine,
@@ -326,7 +322,65 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detect
     weights = SolveBounded(system, model.identity_modes.size());
   }
   fit.camera =
-      FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights, width, height);
+      FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, camera_weights, width, height);
+}
+
+// The photo's camera as a view of at most kSelfCalibrationSize pixels (dlib's
+// offsets are in fractions of the face, so the size does not change them).
+constexpr int kSelfCalibrationSize = 512;
+
+RasterView SelfCalibrationView(const PhotoFaceModel& model, const Eigen::VectorXd& weights, const PhotoFit& fit,
+                               int width, int height) {
+  glm::vec3 centre(0.0f);
+  for (const std::uint32_t v : fit.landmark_vertices) centre += ShapeAt(model, weights, v);
+  RasterView view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
+  const float shrink = std::min(1.0f, static_cast<float>(kSelfCalibrationSize) / static_cast<float>(std::max(width, height)));
+  view.width = std::max(1, static_cast<int>(std::lround(static_cast<float>(width) * shrink)));
+  view.height = std::max(1, static_cast<int>(std::lround(static_cast<float>(height) * shrink)));
+  return view;
+}
+
+// dlib's offsets on a render of the fit so far in place of the neutral's, then
+// a re-fit: dlib's error depends on the face, and the fit is nearer the photo's
+// face than the neutral is. A render dlib finds no face on ends the rounds.
+void SelfCalibrate(const PhotoFaceModel& model, std::span<const glm::vec2> detected,
+                   std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
+                   std::vector<glm::vec2>& landmarks, Eigen::VectorXd& weights, PhotoFit& fit) {
+  const double face_size = FaceSize(detected);
+  for (int round = 0; round < params.self_calibration_rounds; ++round) {
+    const std::vector<glm::vec3> posed = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
+    std::vector<glm::vec2> offsets;
+    try {
+      offsets = MeasureDlibOffsets(model, posed, SelfCalibrationView(model, weights, fit, width, height), *model.detector);
+    } catch (const LandmarkDetectionError&) {
+      return;
+    }
+    landmarks.assign(detected.begin(), detected.end());
+    for (std::size_t k = 0; k < landmarks.size(); ++k) {
+      if (OnContour(k, params)) continue;
+      const glm::vec2 bias = params.learned_landmark_noise ? kDlibNoise[k].bias : glm::vec2(0.0f);
+      landmarks[k] += static_cast<float>(face_size) * (offsets[k] + bias);
+    }
+    Alternate(model, landmarks, precisions, params.iterations, width, height, params, weights, fit);
+  }
+}
+
+}  // namespace
+
+PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detected, int width, int height,
+                  const PhotoFitParams& params) {
+  const auto start = std::chrono::steady_clock::now();
+  CheckInput(detected, width, height);
+  const double face_size = FaceSize(detected);
+  const std::vector<glm::vec2> precisions = LandmarkPrecisions(params, face_size);
+  std::vector<glm::vec2> landmarks = CorrectedLandmarks(model, detected, face_size, params);
+  Eigen::VectorXd weights = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.unknown_count()));
+  PhotoFit fit;
+  fit.landmark_vertices = model.landmark_vertices;
+  Alternate(model, landmarks, precisions, params.iterations, width, height, params, weights, fit);
+  if (model.detector != nullptr && !model.identity_modes.empty() && params.remove_landmark_offsets) {
+    SelfCalibrate(model, detected, precisions, width, height, params, landmarks, weights, fit);
+  }
   if (params.deform_without_identity && model.identity_modes.empty()) {
     // Expressions stay as fitted: the deformation moves rest and posed alike.
     // The posed face matches the photo (what the texture is baked from); the
