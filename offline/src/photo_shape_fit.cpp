@@ -96,15 +96,6 @@ void ChooseContourVertices(const PhotoFaceModel& model, const Eigen::VectorXd& w
   }
 }
 
-struct LandmarkNoise {
-  glm::vec2 bias;  // true vertex - detected point, fractions of the face size
-  glm::vec2 sigma;  // scatter about the bias, x and y
-};
-
-constexpr std::array<LandmarkNoise, kDlibLandmarkCount> kDlibNoise{{
-#include "photo_landmark_noise.inc"
-}};
-
 bool OnContour(std::size_t k, const PhotoFitParams& params) {
   return params.moving_contour && k < kJawCount && (k < kChinFirst || k > kChinLast);
 }
@@ -183,22 +174,10 @@ std::vector<float> GroupWeights(const PhotoFitParams& params) {
 
 // 1 / sigma^2 per landmark and axis, in 1/pixels^2.
 std::vector<glm::vec2> LandmarkPrecisions(const PhotoFitParams& params, double face_size) {
-  std::vector<glm::vec2> precisions(kDlibLandmarkCount);
-  if (!params.learned_landmark_noise) {
-    const std::vector<float> weights = GroupWeights(params);
-    const double sigma = params.landmark_sigma_fraction * face_size;
-    for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) precisions[k] = glm::vec2(float(weights[k] / (sigma * sigma)));
-    return precisions;
-  }
-  const auto precision = [&](double sigma) {
-    const double fraction = std::hypot(sigma, params.model_sigma_fraction);
-    return static_cast<float>(1.0 / (fraction * fraction * face_size * face_size));
-  };
-  for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
-    const glm::vec2 sigma = OnContour(k, params) ? glm::vec2(static_cast<float>(params.jaw_sigma_fraction))
-                                                 : static_cast<float>(params.noise_scale) * kDlibNoise[k].sigma;
-    precisions[k] = {precision(sigma.x), precision(sigma.y)};
-  }
+  const std::vector<float> weights = GroupWeights(params);
+  const double sigma = params.landmark_sigma_fraction * face_size;
+  std::vector<glm::vec2> precisions;
+  for (const float w : weights) precisions.emplace_back(static_cast<float>(w / (sigma * sigma)));
   return precisions;
 }
 
@@ -209,16 +188,14 @@ std::vector<float> CameraWeights(std::span<const glm::vec2> precisions) {
   return weights;
 }
 
-// The detected points moved by the model's offsets (and dlib's learned bias):
-// where the landmark vertices would project.
+// The detected points moved by the model's offsets: where the landmark
+// vertices would project.
 std::vector<glm::vec2> CorrectedLandmarks(const PhotoFaceModel& model, std::span<const glm::vec2> detected,
                                           double face_size, const PhotoFitParams& params) {
   std::vector<glm::vec2> landmarks(detected.begin(), detected.end());
   const bool offsets = params.remove_landmark_offsets && model.landmark_offsets.size() == landmarks.size();
   for (std::size_t k = 0; k < landmarks.size(); ++k) {
-    glm::vec2 shift = offsets ? model.landmark_offsets[k] : glm::vec2(0.0f);
-    if (offsets && params.learned_landmark_noise && !OnContour(k, params)) shift += kDlibNoise[k].bias;
-    landmarks[k] += static_cast<float>(face_size) * shift;
+    if (offsets && !OnContour(k, params)) landmarks[k] += static_cast<float>(face_size) * model.landmark_offsets[k];
   }
   return landmarks;
 }
@@ -358,8 +335,7 @@ void SelfCalibrate(const PhotoFaceModel& model, std::span<const glm::vec2> detec
     landmarks.assign(detected.begin(), detected.end());
     for (std::size_t k = 0; k < landmarks.size(); ++k) {
       if (OnContour(k, params)) continue;
-      const glm::vec2 bias = params.learned_landmark_noise ? kDlibNoise[k].bias : glm::vec2(0.0f);
-      landmarks[k] += static_cast<float>(face_size) * (offsets[k] + bias);
+      landmarks[k] += static_cast<float>(face_size) * offsets[k];
     }
     Alternate(model, landmarks, precisions, params.iterations, width, height, params, weights, fit);
   }

@@ -76,6 +76,7 @@ struct PhotoFaceModel {
   std::vector<glm::vec2> landmark_offsets;
   // What a photo shows of the model (the transparent eye layers left out): the detector's renders.
   std::vector<Triangle> visible_triangles;
+  std::vector<glm::vec3> visible_albedo;  // per visible triangle: skin, white eyes, dark lashes and mouth
   // The detector the offsets were measured with (not owned; null: none). With
   // it FitPhoto measures dlib's offsets again on a render of its own fit.
   LandmarkDetector* detector = nullptr;
@@ -95,7 +96,7 @@ PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
 
 // dlib's offsets (each landmark vertex's projection - dlib's point, in
 // fractions of the 68 points' box; zero for the jaw but the chin) on a
-// skin-coloured render of `positions` (the model's vertices) through `view`.
+// render of `positions` (the model's vertices) in the model's visible_albedo through `view`.
 // \throw LandmarkDetectionError when dlib finds no face on the render.
 std::vector<glm::vec2> MeasureDlibOffsets(const PhotoFaceModel& model, std::span<const glm::vec3> positions,
                                           RasterView view, LandmarkDetector& detector);
@@ -143,17 +144,6 @@ struct PhotoFitParams {
   // as its nose and mouth points on renders of random faces.
   float brow_weight = 0.5f;
   float eye_weight = 0.3f;
-  // dlib's learned bias and scatter per landmark (photo_landmark_noise.inc,
-  // measured on renders of training identities): each point is moved by its
-  // bias and weighted by 1/sigma^2 per axis, sigma^2 = (noise_scale *
-  // scatter)^2 + model_sigma_fraction^2. Off: the group weights above with
-  // landmark_sigma_fraction.
-  bool learned_landmark_noise = true;
-  double noise_scale = 2.0;
-  // What the table does not hold: the model's own landmark-vertex mismatch.
-  double model_sigma_fraction = 0.002;
-  // The jaw line's points on the moving contour (not in the table).
-  double jaw_sigma_fraction = 0.02;
   // With identity modes and the model's detector: rounds of dlib's offsets
   // measured on a render of the fit itself (from the photo's camera) in place
   // of the neutral's, each followed by a re-fit.
