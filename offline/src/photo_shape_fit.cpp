@@ -278,10 +278,6 @@ void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int heig
   fit.view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
 }
 
-}  // namespace
-
-namespace {
-
 // Camera and shape in turn from `weights` on; the camera last.
 void Alternate(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks, std::span<const glm::vec2> precisions,
                int iterations, int width, int height, const PhotoFitParams& params, Eigen::VectorXd& weights,
@@ -311,7 +307,8 @@ RasterView SelfCalibrationView(const PhotoFaceModel& model, const Eigen::VectorX
   glm::vec3 centre(0.0f);
   for (const std::uint32_t v : fit.landmark_vertices) centre += ShapeAt(model, weights, v);
   RasterView view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
-  const float shrink = std::min(1.0f, static_cast<float>(kSelfCalibrationSize) / static_cast<float>(std::max(width, height)));
+  const float shrink =
+      std::min(1.0f, static_cast<float>(kSelfCalibrationSize) / static_cast<float>(std::max(width, height)));
   view.width = std::max(1, static_cast<int>(std::lround(static_cast<float>(width) * shrink)));
   view.height = std::max(1, static_cast<int>(std::lround(static_cast<float>(height) * shrink)));
   return view;
@@ -328,7 +325,8 @@ void SelfCalibrate(const PhotoFaceModel& model, std::span<const glm::vec2> detec
     const std::vector<glm::vec3> posed = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
     std::vector<glm::vec2> offsets;
     try {
-      offsets = MeasureDlibOffsets(model, posed, SelfCalibrationView(model, weights, fit, width, height), *model.detector);
+      const RasterView view = SelfCalibrationView(model, weights, fit, width, height);
+      offsets = MeasureDlibOffsets(model, posed, view, *model.detector);
     } catch (const LandmarkDetectionError&) {
       return;
     }
