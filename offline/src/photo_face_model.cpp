@@ -50,44 +50,59 @@ std::vector<Triangle> RegionTriangles(std::span<const Triangle> triangles, Verte
   return inside;
 }
 
-// Transparent layers (ICT-FaceKit's eye occlusion, tear film and blend
-// meshes) would hide the eyes from the detector in an opaque render.
-// The neutral as a photo would show it: every part but the transparent layers.
-Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info) {
-  Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()}};
-  std::vector<VertexRange> hidden;
-  for (const TemplatePart& part : info.parts) {
-    if (RoleOfPart(part.name) == PartRole::kEyeLayer) hidden.push_back(part.vertices);
+// The colours a photo shows each part in, for the detector's renders: dlib
+// places the lids, brows and lips differently on a grey or all-skin render
+// than on skin with white eyes, dark lashes and a dark mouth. Eyeballs and
+// sockets go by their names where the part roles do not say.
+glm::vec3 DetectorColour(const std::string& part_name) {
+  if (part_name.find("eyeball") != std::string::npos) return {0.85f, 0.85f, 0.82f};
+  if (part_name.find("socket") != std::string::npos) return {0.45f, 0.20f, 0.20f};
+  switch (RoleOfPart(part_name)) {
+    case PartRole::kSclera: return {0.85f, 0.85f, 0.82f};
+    case PartRole::kIris: return {0.30f, 0.22f, 0.15f};
+    case PartRole::kPupil: return {0.03f, 0.03f, 0.03f};
+    case PartRole::kLashes: return {0.15f, 0.10f, 0.08f};
+    case PartRole::kTeeth: return {0.90f, 0.90f, 0.85f};
+    case PartRole::kGums:
+    case PartRole::kTongue:
+    case PartRole::kMouthInner: return {0.45f, 0.20f, 0.20f};
+    case PartRole::kSkin:
+    case PartRole::kEyeLayer: break;
   }
+  return {0.86f, 0.66f, 0.55f};
+}
+
+// The neutral as a photo would show it: every part but the transparent layers
+// (ICT-FaceKit's eye occlusion, tear film and blend meshes would hide the eyes
+// in an opaque render), and each triangle's colour.
+Mesh VisibleNeutral(const Rig& rig, const FaceTemplateInfo& info, std::vector<glm::vec3>& albedo) {
+  Mesh mesh{.positions = {rig.positions().begin(), rig.positions().end()}};
+  albedo.clear();
   for (const Triangle& t : rig.triangles()) {
-    const bool transparent = std::any_of(hidden.begin(), hidden.end(),
-                                         [&](const VertexRange& r) { return t[0] >= r.first && t[0] <= r.last; });
-    if (!transparent) mesh.triangles.push_back(t);
+    const auto part = std::find_if(info.parts.begin(), info.parts.end(), [&](const TemplatePart& p) {
+      return t[0] >= p.vertices.first && t[0] <= p.vertices.last;
+    });
+    const std::string name = part == info.parts.end() ? std::string() : part->name;
+    if (RoleOfPart(name) == PartRole::kEyeLayer) continue;
+    mesh.triangles.push_back(t);
+    albedo.push_back(DetectorColour(name));
   }
   return mesh;
 }
 
-// A skin tone for the calibration render: dlib places some points (lids,
-// brows) differently on a grey render than on skin.
-constexpr glm::vec3 kSkinTone{0.86f, 0.66f, 0.55f};
 constexpr int kCalibrationImageSize = 512;
 
-// Where dlib puts each landmark on a skin-coloured render of the neutral,
-// against where the landmark vertex projects; jaw points other than the
-// chin's are left alone (they follow the contour, not their vertex).
-std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, const FaceTemplateInfo& info,
-                                              std::span<const std::uint32_t> landmarks, LandmarkDetector& detector) {
-  Mesh mesh = VisibleNeutral(rig, info);
-  RasterView view = detector.Detect(mesh).view;  // the front view, the face filling half of it
-  view.width = kCalibrationImageSize;
-  view.height = kCalibrationImageSize;
+}  // namespace
+
+std::vector<glm::vec2> MeasureDlibOffsets(const PhotoFaceModel& model, std::span<const glm::vec3> positions,
+                                          RasterView view, LandmarkDetector& detector) {
+  Mesh mesh{.positions = {positions.begin(), positions.end()}, .triangles = model.visible_triangles};
   std::vector<glm::vec3> normals(mesh.positions.size());
   ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (const Triangle& t : mesh.triangles) {
     for (const std::uint32_t v : t) mesh.corner_normals.push_back(normals[v]);
   }
-  const std::vector<glm::vec3> albedo(mesh.triangles.size(), kSkinTone);
-  const RgbImage photo = Shade(Rasterize(mesh, view), mesh, albedo, view);
+  const RgbImage photo = Shade(Rasterize(mesh, view), mesh, model.visible_albedo, view);
   const std::vector<glm::vec2> detected = DetectPhotoLandmarks(detector, photo).pixels;
   glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
   for (const glm::vec2 p : detected) {
@@ -98,10 +113,23 @@ std::vector<glm::vec2> MeasureLandmarkOffsets(const Rig& rig, const FaceTemplate
   std::vector<glm::vec2> offsets(kDlibLandmarkCount, glm::vec2(0.0f));
   for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
     if (k < 17 && (k < 7 || k > 9)) continue;
-    const glm::vec2 vertex(ProjectToImage(view, mesh.positions[landmarks[k]]));
+    const glm::vec2 vertex(ProjectToImage(view, mesh.positions[model.landmark_vertices[k]]));
     offsets[k] = (vertex - detected[k]) / size;
   }
   return offsets;
+}
+
+namespace {
+
+// Where dlib puts each landmark on a render of the neutral from the front.
+std::vector<glm::vec2> NeutralOffsets(const Rig& rig, const FaceTemplateInfo& info, const PhotoFaceModel& model,
+                                      LandmarkDetector& detector) {
+  std::vector<glm::vec3> albedo;
+  Mesh mesh = VisibleNeutral(rig, info, albedo);
+  RasterView view = detector.Detect(mesh).view;  // the front view, the face filling half of it
+  view.width = kCalibrationImageSize;
+  view.height = kCalibrationImageSize;
+  return MeasureDlibOffsets(model, model.neutral, view, detector);
 }
 
 }  // namespace
@@ -135,7 +163,9 @@ PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
   model.region = info.region;
   model.contour_candidates = ContourCandidates(model.neutral, info.Group("face"), model.landmark_vertices);
   model.region_triangles = RegionTriangles(rig.triangles(), info.region);
-  model.landmark_offsets = detector != nullptr ? MeasureLandmarkOffsets(rig, info, model.landmark_vertices, *detector)
+  model.visible_triangles = VisibleNeutral(rig, info, model.visible_albedo).triangles;
+  model.detector = detector;
+  model.landmark_offsets = detector != nullptr ? NeutralOffsets(rig, info, model, *detector)
                                                : std::vector<glm::vec2>(kDlibLandmarkCount, glm::vec2(0.0f));
   return model;
 }

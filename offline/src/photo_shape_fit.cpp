@@ -96,6 +96,10 @@ void ChooseContourVertices(const PhotoFaceModel& model, const Eigen::VectorXd& w
   }
 }
 
+bool OnContour(std::size_t k, const PhotoFitParams& params) {
+  return params.moving_contour && k < kJawCount && (k < kChinFirst || k > kChinLast);
+}
+
 struct LinearSystem {
   Eigen::MatrixXd normal;
   Eigen::VectorXd rhs;
@@ -104,8 +108,7 @@ struct LinearSystem {
 // Weighted normal equations of the landmark residuals in the weights, plus the Gaussian prior.
 LinearSystem BuildSystem(const PhotoFaceModel& model, const ScaledOrthoCamera& camera,
                          std::span<const glm::vec2> landmarks, std::span<const std::uint32_t> vertices,
-                         std::span<const float> landmark_weights, int width, int height, double sigma_pixels,
-                         const PhotoFitParams& params) {
+                         std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params) {
   const auto n = static_cast<Eigen::Index>(model.unknown_count());
   LinearSystem system{Eigen::MatrixXd::Zero(n, n), Eigen::VectorXd::Zero(n)};
   const glm::vec3 right(camera.rotation[0][0], camera.rotation[1][0], camera.rotation[2][0]);
@@ -119,9 +122,9 @@ LinearSystem BuildSystem(const PhotoFaceModel& model, const ScaledOrthoCamera& c
       jacobian(1, i) = -camera.scale * glm::dot(up, d);
     }
     const glm::vec2 r = landmarks[k] - ProjectPixel(camera, model.neutral[v], width, height);
-    const double w = landmark_weights[k] / (sigma_pixels * sigma_pixels);
-    system.normal += w * jacobian.transpose() * jacobian;
-    system.rhs += w * jacobian.transpose() * Eigen::Vector2d(r.x, r.y);
+    const Eigen::Matrix2d w = Eigen::Vector2d(precisions[k].x, precisions[k].y).asDiagonal();
+    system.normal += jacobian.transpose() * w * jacobian;
+    system.rhs += jacobian.transpose() * w * Eigen::Vector2d(r.x, r.y);
   }
   const double expression_precision = 1.0 / (params.expression_sigma * params.expression_sigma);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -161,12 +164,40 @@ Eigen::VectorXd SolveBounded(const LinearSystem& system, std::size_t identity_co
   return x;
 }
 
-std::vector<float> LandmarkWeights(const PhotoFitParams& params) {
+std::vector<float> GroupWeights(const PhotoFitParams& params) {
   std::vector<float> weights(kDlibLandmarkCount, 1.0f);
   for (std::size_t k = 0; k < kJawCount; ++k) weights[k] = params.jaw_weight;
   for (std::size_t k = 17; k <= 26; ++k) weights[k] = params.brow_weight;
   for (std::size_t k = 36; k <= 47; ++k) weights[k] = params.eye_weight;
   return weights;
+}
+
+// 1 / sigma^2 per landmark and axis, in 1/pixels^2.
+std::vector<glm::vec2> LandmarkPrecisions(const PhotoFitParams& params, double face_size) {
+  const std::vector<float> weights = GroupWeights(params);
+  const double sigma = params.landmark_sigma_fraction * face_size;
+  std::vector<glm::vec2> precisions;
+  for (const float w : weights) precisions.emplace_back(static_cast<float>(w / (sigma * sigma)));
+  return precisions;
+}
+
+// The camera takes one weight per point: the mean of its two axes' precisions.
+std::vector<float> CameraWeights(std::span<const glm::vec2> precisions) {
+  std::vector<float> weights;
+  for (const glm::vec2 p : precisions) weights.push_back(0.5f * (p.x + p.y));
+  return weights;
+}
+
+// The detected points moved by the model's offsets: where the landmark
+// vertices would project.
+std::vector<glm::vec2> CorrectedLandmarks(const PhotoFaceModel& model, std::span<const glm::vec2> detected,
+                                          double face_size, const PhotoFitParams& params) {
+  std::vector<glm::vec2> landmarks(detected.begin(), detected.end());
+  const bool offsets = params.remove_landmark_offsets && model.landmark_offsets.size() == landmarks.size();
+  for (std::size_t k = 0; k < landmarks.size(); ++k) {
+    if (offsets && !OnContour(k, params)) landmarks[k] += static_cast<float>(face_size) * model.landmark_offsets[k];
+  }
+  return landmarks;
 }
 
 double FaceSize(std::span<const glm::vec2> landmarks) {
@@ -247,37 +278,83 @@ void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int heig
   fit.view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
 }
 
+// Camera and shape in turn from `weights` on; the camera last.
+void Alternate(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks, std::span<const glm::vec2> precisions,
+               int iterations, int width, int height, const PhotoFitParams& params, Eigen::VectorXd& weights,
+               PhotoFit& fit) {
+  const std::vector<float> camera_weights = CameraWeights(precisions);
+  for (int iteration = 0; iteration < std::max(1, iterations); ++iteration) {
+    fit.camera = FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, camera_weights,
+                                      width, height);
+    if (params.moving_contour) {
+      ChooseContourVertices(model, weights, fit.camera, landmarks, width, height, params.silhouette_cosine,
+                            fit.landmark_vertices);
+    }
+    const LinearSystem system =
+        BuildSystem(model, fit.camera, landmarks, fit.landmark_vertices, precisions, width, height, params);
+    weights = SolveBounded(system, model.identity_modes.size());
+  }
+  fit.camera =
+      FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, camera_weights, width, height);
+}
+
+// The photo's camera as a view of at most kSelfCalibrationSize pixels (dlib's
+// offsets are in fractions of the face, so the size does not change them).
+constexpr int kSelfCalibrationSize = 512;
+
+RasterView SelfCalibrationView(const PhotoFaceModel& model, const Eigen::VectorXd& weights, const PhotoFit& fit,
+                               int width, int height) {
+  glm::vec3 centre(0.0f);
+  for (const std::uint32_t v : fit.landmark_vertices) centre += ShapeAt(model, weights, v);
+  RasterView view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
+  const float shrink =
+      std::min(1.0f, static_cast<float>(kSelfCalibrationSize) / static_cast<float>(std::max(width, height)));
+  view.width = std::max(1, static_cast<int>(std::lround(static_cast<float>(width) * shrink)));
+  view.height = std::max(1, static_cast<int>(std::lround(static_cast<float>(height) * shrink)));
+  return view;
+}
+
+// dlib's offsets on a render of the fit so far in place of the neutral's, then
+// a re-fit: dlib's error depends on the face, and the fit is nearer the photo's
+// face than the neutral is. A render dlib finds no face on ends the rounds.
+void SelfCalibrate(const PhotoFaceModel& model, std::span<const glm::vec2> detected,
+                   std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
+                   std::vector<glm::vec2>& landmarks, Eigen::VectorXd& weights, PhotoFit& fit) {
+  const double face_size = FaceSize(detected);
+  for (int round = 0; round < params.self_calibration_rounds; ++round) {
+    const std::vector<glm::vec3> posed = ShapeOf(model, weights, 0, model.neutral.size(), model.unknown_count());
+    std::vector<glm::vec2> offsets;
+    try {
+      const RasterView view = SelfCalibrationView(model, weights, fit, width, height);
+      offsets = MeasureDlibOffsets(model, posed, view, *model.detector);
+    } catch (const LandmarkDetectionError&) {
+      return;
+    }
+    landmarks.assign(detected.begin(), detected.end());
+    for (std::size_t k = 0; k < landmarks.size(); ++k) {
+      if (OnContour(k, params)) continue;
+      landmarks[k] += static_cast<float>(face_size) * offsets[k];
+    }
+    Alternate(model, landmarks, precisions, params.iterations, width, height, params, weights, fit);
+  }
+}
+
 }  // namespace
 
 PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detected, int width, int height,
                   const PhotoFitParams& params) {
   const auto start = std::chrono::steady_clock::now();
   CheckInput(detected, width, height);
-  const std::vector<float> landmark_weights = LandmarkWeights(params);
   const double face_size = FaceSize(detected);
-  const double sigma_pixels = params.landmark_sigma_fraction * face_size;
-  std::vector<glm::vec2> landmarks(detected.begin(), detected.end());
-  if (params.remove_landmark_offsets && model.landmark_offsets.size() == landmarks.size()) {
-    for (std::size_t k = 0; k < landmarks.size(); ++k) {
-      landmarks[k] += static_cast<float>(face_size) * model.landmark_offsets[k];
-    }
-  }
+  const std::vector<glm::vec2> precisions = LandmarkPrecisions(params, face_size);
+  std::vector<glm::vec2> landmarks = CorrectedLandmarks(model, detected, face_size, params);
   Eigen::VectorXd weights = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.unknown_count()));
   PhotoFit fit;
   fit.landmark_vertices = model.landmark_vertices;
-  for (int iteration = 0; iteration < std::max(1, params.iterations); ++iteration) {
-    fit.camera = FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights,
-                                      width, height);
-    if (params.moving_contour) {
-      ChooseContourVertices(model, weights, fit.camera, landmarks, width, height, params.silhouette_cosine,
-                            fit.landmark_vertices);
-    }
-    const LinearSystem system = BuildSystem(model, fit.camera, landmarks, fit.landmark_vertices, landmark_weights,
-                                            width, height, sigma_pixels, params);
-    weights = SolveBounded(system, model.identity_modes.size());
+  Alternate(model, landmarks, precisions, params.iterations, width, height, params, weights, fit);
+  if (model.detector != nullptr && !model.identity_modes.empty() && params.remove_landmark_offsets) {
+    SelfCalibrate(model, detected, precisions, width, height, params, landmarks, weights, fit);
   }
-  fit.camera =
-      FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, landmark_weights, width, height);
   if (params.deform_without_identity && model.identity_modes.empty()) {
     // Expressions stay as fitted: the deformation moves rest and posed alike.
     // The posed face matches the photo (what the texture is baked from); the

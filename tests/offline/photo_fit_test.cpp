@@ -159,9 +159,21 @@ struct Errors {
   int count = 0;
 };
 
+// The landmark vertices' exact projections into a render of `rendered`: what
+// a perfect detector would give (the jaw at its fixed vertices).
+std::vector<glm::vec2> ExactLandmarks(const facerig::FaceTemplateInfo& info, const std::vector<glm::vec3>& rendered,
+                                      float yaw_degrees, int size) {
+  const facerig::RasterView view =
+      facerig::RasterView::Orbit(rendered[info.landmark_vertices[30]], 16.0f, size, size, yaw_degrees * kPi / 180.0f);
+  std::vector<glm::vec2> pixels;
+  for (const std::uint32_t v : info.landmark_vertices) pixels.emplace_back(facerig::ProjectToImage(view, rendered[v]));
+  return pixels;
+}
+
 // jaw_open: the photo's jawOpen weight (the fit must still give the rest face).
+// exact: the fit takes ExactLandmarks instead of dlib's (no offsets, fixed jaw).
 Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facerig::PhotoFitParams& params = {},
-                   float jaw_open = 0.0f) {
+                   float jaw_open = 0.0f, bool exact = false) {
   const IctPhotoSetup& setup = Setup();
   const facerig::VertexRange face = setup.info.Group("face");
   facerig::LandmarkDetector& detector = Detector();
@@ -171,9 +183,19 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
     std::vector<double> weights(setup.model.identity_modes.size());
     for (double& w : weights) w = rng.NextNormal();
     const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
-    const RgbImage photo = RenderFace(setup.info, WithExpression(setup.model, truth, "jawOpen", jaw_open), yaw_degrees, 512);
-    const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
-    const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, params);
+    const std::vector<glm::vec3> rendered = WithExpression(setup.model, truth, "jawOpen", jaw_open);
+    const RgbImage photo = RenderFace(setup.info, rendered, yaw_degrees, 512);
+    facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
+    facerig::PhotoFitParams used = params;
+    if (exact) {
+      landmarks.pixels = ExactLandmarks(setup.info, rendered, yaw_degrees, photo.width);
+      used.remove_landmark_offsets = false;
+      used.moving_contour = false;
+      // Noise-free points: only the prior holds the shape back.
+      used.landmark_sigma_fraction = 0.004;
+      used.jaw_weight = used.brow_weight = used.eye_weight = 1.0f;
+    }
+    const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, used);
     if (f == 0) {
       facerig::WritePhotoFitPng(facerig::test::OutputPath("photo_fit_yaw" + std::to_string(int(yaw_degrees)) + ".png"),
                                 photo, landmarks, fit);
@@ -199,14 +221,14 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
 
 // The goal (<= 1.5 mm and half the mean face's error) is not reached from 68
 // dlib landmarks: the fit removes about a quarter of the mean face's error
-// (numbers from "[.measure]" in the report); even the landmark vertices'
-// exact projections instead of dlib's points leave about 1.5 mm.
+// (numbers from "[.measure]" in the report); the landmark vertices' exact
+// projections instead of dlib's points reach it (about 1.1 mm).
 TEST_CASE("Photo fit recovers random ICT identities from renders (shared data)", "[photo_fit][shared-data]") {
   for (const float yaw : {0.0f, 15.0f}) {
     const Errors e = MeasureFits(2, yaw, 17);
     CHECK(e.best < 0.05);
     CHECK(e.fit < 0.9 * e.mean_face);
-    CHECK(e.fit_seconds < 0.5);
+    CHECK(e.fit_seconds < 1.5);  // one render and detection of its own for the self-calibration
   }
 }
 
@@ -333,7 +355,16 @@ TEST_CASE("Photo landmarks refuse an image without a face (shared data)", "[phot
 }
 
 TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_fit][shared-data]") {
-  for (const float yaw : {0.0f, 15.0f}) MeasureFits(12, yaw, 1234);
+  facerig::PhotoFitParams no_self_calibration;
+  no_self_calibration.self_calibration_rounds = 0;
+  for (const float yaw : {0.0f, 15.0f}) {
+    std::printf("the default:\n");
+    MeasureFits(30, yaw, 1234);
+    std::printf("without the self-calibration:\n");
+    MeasureFits(30, yaw, 1234, no_self_calibration);
+    std::printf("the landmark vertices' exact projections instead of dlib's:\n");
+    MeasureFits(30, yaw, 1234, {}, 0.0f, true);
+  }
   auto start = std::chrono::steady_clock::now();
   const auto identities = facerig::LoadIdentityMeshes(facerig::test::IctDir(), facerig::test::IctRig().vertex_count());
   const double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -353,6 +384,24 @@ TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_
   std::printf("1024 px photo: detection %.0f ms, fit %.1f ms\n", 1e3 * detect, 1e3 * fit.seconds);
 }
 
+// How many self-calibration rounds, on training identities (seed 2001).
+TEST_CASE("Photo fit self-calibration sweep (shared data)", "[.tune_self][photo_fit][shared-data]") {
+  for (const int rounds : {0, 1, 2, 3}) {
+    facerig::PhotoFitParams params;
+    params.self_calibration_rounds = rounds;
+    std::printf("self-calibration rounds %d\n", rounds);
+    MeasureFits(10, 0.0f, 2001, params);
+    MeasureFits(10, 15.0f, 2001, params);
+  }
+  for (const double sigma : {0.01, 0.02}) {
+    facerig::PhotoFitParams params;
+    params.landmark_sigma_fraction = sigma;
+    std::printf("landmark sigma %.3f\n", sigma);
+    MeasureFits(10, 0.0f, 2001, params);
+    MeasureFits(10, 15.0f, 2001, params);
+  }
+}
+
 // How the defaults were chosen (landmark sigma, landmark group weights, jaw contour).
 TEST_CASE("Photo fit parameter sweep (shared data)", "[.tune][photo_fit][shared-data]") {
   for (const double sigma : {0.01, 0.015, 0.02, 0.04}) {
@@ -365,7 +414,7 @@ TEST_CASE("Photo fit parameter sweep (shared data)", "[.tune][photo_fit][shared-
   for (const float jaw : {0.25f, 0.5f, 1.0f}) {
     for (const float cosine : {0.2f, 0.35f, 0.5f}) {
       facerig::PhotoFitParams params;
-      params.jaw_weight = jaw;
+        params.jaw_weight = jaw;
       params.silhouette_cosine = cosine;
       std::printf("jaw %.2f silhouette cosine %.2f\n", jaw, cosine);
       MeasureFits(6, 0.0f, 99, params);
@@ -375,7 +424,7 @@ TEST_CASE("Photo fit parameter sweep (shared data)", "[.tune][photo_fit][shared-
   for (const float brow : {0.2f, 0.5f, 1.0f}) {
     for (const float eye : {0.1f, 0.3f, 1.0f}) {
       facerig::PhotoFitParams params;
-      params.brow_weight = brow;
+        params.brow_weight = brow;
       params.eye_weight = eye;
       std::printf("brow %.2f eye %.2f\n", brow, eye);
       MeasureFits(6, 0.0f, 99, params);
@@ -384,32 +433,44 @@ TEST_CASE("Photo fit parameter sweep (shared data)", "[.tune][photo_fit][shared-
   }
 }
 
-TEST_CASE("Photo landmark noise against the true vertices (shared data)", "[.tune_noise][shared-data]") {
+// dlib's remaining bias and its scatter per landmark against the true
+// landmark vertices' projections (after the model's offsets), on renders of
+// training identities; jaw points but the chin's follow the silhouette, not
+// their vertex: left out. A learned table of these (bias removed, 1/sigma^2
+// weights) did not beat the group weights on held-out faces.
+TEST_CASE("Photo landmark noise on training identities (shared data)", "[.tune_noise][shared-data]") {
   const IctPhotoSetup& setup = Setup();
   facerig::LandmarkDetector& detector = Detector();
-  Pcg32 rng(77);
-  std::vector<glm::vec2> sum(68, glm::vec2(0.0f));
-  std::vector<float> sum_sq(68, 0.0f);
-  const int faces = 10;
-  for (int f = 0; f < faces; ++f) {
-    std::vector<double> weights(setup.model.identity_modes.size());
-    for (double& w : weights) w = rng.NextNormal();
-    const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
-    const RgbImage photo = RenderFace(setup.info, truth, 0.0f, 512);
-    const facerig::PhotoLandmarks lm = facerig::DetectPhotoLandmarks(detector, photo);
-    const facerig::RasterView view = facerig::RasterView::Orbit(truth[setup.info.landmark_vertices[30]], 16.0f, 512, 512, 0.0f);
-    float size = 0;
-    for (const auto& p : lm.pixels) size = std::max(size, std::abs(p.x - lm.pixels[30].x));
-    size *= 2;
-    for (std::size_t k = 0; k < 68; ++k) {
-      const glm::vec2 v(facerig::ProjectToImage(view, truth[setup.info.landmark_vertices[k]]));
-      const glm::vec2 d = (v - lm.pixels[k]) / size - setup.model.landmark_offsets[k];
-      sum[k] += d;
-      sum_sq[k] += glm::dot(d, d);
+  std::vector<glm::dvec2> sum(68, glm::dvec2(0.0)), sum_sq(68, glm::dvec2(0.0));
+  int samples = 0;
+  for (std::uint64_t seed = 1001; seed <= 1012; ++seed) {
+    Pcg32 rng(seed);
+    for (const float yaw : {0.0f, 8.0f, 15.0f, -15.0f}) {
+      std::vector<double> weights(setup.model.identity_modes.size());
+      for (double& w : weights) w = rng.NextNormal();
+      const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
+      const RgbImage photo = RenderFace(setup.info, truth, yaw, 512);
+      const std::vector<glm::vec2> detected = facerig::DetectPhotoLandmarks(detector, photo).pixels;
+      const facerig::RasterView view = facerig::RasterView::Orbit(truth[setup.info.landmark_vertices[30]], 16.0f,
+                                                                  512, 512, yaw * kPi / 180.0f);
+      glm::vec2 low(1e9f), high(-1e9f);
+      for (const glm::vec2 p : detected) {
+        low = glm::min(low, p);
+        high = glm::max(high, p);
+      }
+      const float size = std::max(high.x - low.x, high.y - low.y);
+      for (std::size_t k = 0; k < 68; ++k) {
+        const glm::vec2 v(facerig::ProjectToImage(view, truth[setup.info.landmark_vertices[k]]));
+        const glm::dvec2 d((v - detected[k]) / size - setup.model.landmark_offsets[k]);
+        sum[k] += d;
+        sum_sq[k] += d * d;
+      }
+      ++samples;
     }
   }
-  for (std::size_t k = 17; k < 68; ++k) {
-    const glm::vec2 mean = sum[k] / float(faces);
-    std::printf("%2zu mean (%+.4f %+.4f) rms %.4f\n", k, mean.x, mean.y, std::sqrt(sum_sq[k] / faces));
+  for (std::size_t k = 0; k < 68; ++k) {
+    const glm::dvec2 mean = sum[k] / double(samples);
+    const glm::dvec2 sigma = glm::sqrt(glm::max(sum_sq[k] / double(samples) - mean * mean, glm::dvec2(0.0)));
+    std::printf("%2zu bias (%+.4f %+.4f) sigma (%.4f %.4f)\n", k, mean.x, mean.y, sigma.x, sigma.y);
   }
 }

@@ -74,6 +74,12 @@ struct PhotoFaceModel {
   // neutral; zero when not calibrated. The fit moves each detected point by
   // it: the model's landmark vertices are not exactly where dlib puts them.
   std::vector<glm::vec2> landmark_offsets;
+  // What a photo shows of the model (the transparent eye layers left out): the detector's renders.
+  std::vector<Triangle> visible_triangles;
+  std::vector<glm::vec3> visible_albedo;  // per visible triangle: skin, white eyes, dark lashes and mouth
+  // The detector the offsets were measured with (not owned; null: none). With
+  // it FitPhoto measures dlib's offsets again on a render of its own fit.
+  LandmarkDetector* detector = nullptr;
 
   std::size_t unknown_count() const { return identity_modes.size() + expression_deltas.size(); }
 };
@@ -87,6 +93,13 @@ struct PhotoFaceModel {
 PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
                                    std::span<const std::vector<glm::vec3>> identities,
                                    const PhotoModelParams& params = {}, LandmarkDetector* detector = nullptr);
+
+// dlib's offsets (each landmark vertex's projection - dlib's point, in
+// fractions of the 68 points' box; zero for the jaw but the chin) on a
+// render of `positions` (the model's vertices) in the model's visible_albedo through `view`.
+// \throw LandmarkDetectionError when dlib finds no face on the render.
+std::vector<glm::vec2> MeasureDlibOffsets(const PhotoFaceModel& model, std::span<const glm::vec3> positions,
+                                          RasterView view, LandmarkDetector& detector);
 
 // identity000.obj, identity001.obj, ... from `folder` while they exist (at most
 // max_count), read through ReadObj (input_file.h checks).
@@ -131,6 +144,10 @@ struct PhotoFitParams {
   // as its nose and mouth points on renders of random faces.
   float brow_weight = 0.5f;
   float eye_weight = 0.3f;
+  // With identity modes and the model's detector: rounds of dlib's offsets
+  // measured on a render of the fit itself (from the photo's camera) in place
+  // of the neutral's, each followed by a re-fit.
+  int self_calibration_rounds = 1;
   // Jaw landmarks 0..16 except the chin's (7..9) follow the model's contour.
   bool moving_contour = true;
   // Move the detected points by the model's landmark_offsets.
