@@ -1,12 +1,11 @@
 #include "facerig/offline/photo_texture.h"
+#include "facerig/offline/png_encode.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "facerig/offline/error.h"
 #include "facerig/runtime/part_roles.h"
@@ -88,21 +87,6 @@ RgbImage CoverageImage(const TexelLayers& layers) {
   return ToImage(layers.size, colours);
 }
 
-EncodedImage EncodePng(const RgbImage& image, int compression) {
-  cv::Mat bgr(image.height, image.width, CV_8UC3);
-  for (int y = 0; y < image.height; ++y) {
-    const std::uint8_t* from = &image.pixels[3 * static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width)];
-    std::uint8_t* to = bgr.ptr<std::uint8_t>(y);
-    for (int x = 0; x < 3 * image.width; x += 3) to[x] = from[x + 2], to[x + 1] = from[x + 1], to[x + 2] = from[x];
-  }
-  EncodedImage encoded{.name = "photo_skin.png", .format = ImageFormat::kPng,
-                       .width = static_cast<std::uint32_t>(image.width), .height = static_cast<std::uint32_t>(image.height)};
-  if (!cv::imencode(".png", bgr, encoded.bytes, {cv::IMWRITE_PNG_COMPRESSION, compression})) {
-    throw InvalidInputError("photo texture: PNG encoding failed", "texture");
-  }
-  return encoded;
-}
-
 PhotoTextureStats Measure(const TexelLayers& layers, const photo_texture::MirrorPartners& mirror) {
   PhotoTextureStats stats{.mirror_pairs = mirror.pairs, .mirror_partner_error = mirror.mean_error};
   std::size_t skin = 0, seen = 0, mirrored = 0;
@@ -151,7 +135,8 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   result.direct_weight = std::move(layers.direct_weight);
   result.mirror_weight = std::move(layers.mirror_weight);
   result.stats.fill_seconds = clock.Lap();
-  result.image = EncodePng(result.texture, params.png_compression);
+  result.image = EncodePng(result.texture.pixels, result.texture.width, result.texture.height, 3, "photo_skin.png",
+                           params.png_compression);
   result.stats.encode_seconds = clock.Lap();
   result.stats.partner_seconds = partner_seconds;
   result.stats.project_seconds = project_seconds;

@@ -68,7 +68,7 @@ TEST_CASE("photo image: a grey photo is read as RGB with a note, and bad files a
 
 namespace facerig {
 
-TEST_CASE("photo image: bytes in memory decode as the file does; more pixels than max_pixels are refused", "[photo_image]") {
+TEST_CASE("photo image: bytes in memory decode as the file does, and more pixels than max_pixels are refused", "[photo_image]") {
   const std::filesystem::path path = test::FreshOutputFolder("photo_image_bytes") / "wide.png";
   WritePng(path, Gradient(300, 100, false));
   const std::string text = test::ReadText(path);
