@@ -25,21 +25,36 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_CO
 cmake --build "$build" -j "${FACERIG_FUZZ_JOBS:-$(nproc)}" --target "${targets[@]/%/_fuzzer}"
 
 mkdir -p "$build/findings"
-for target in "${targets[@]}"; do
-  corpus="$build/corpus/$target"
+# One target's run; its log ends up in $build/findings/<target>.log.
+run_target() {
+  local target=$1 corpus="$build/corpus/$1" log="$build/findings/$1.log" status=0
   mkdir -p "$corpus"
-  echo "== $target: ${seconds} s"
-  log="$build/findings/$target.log"
-  status=0
   # -rss_limit_mb: a reader may allocate what the input's size justifies, not more.
   "$build/fuzz/${target}_fuzzer" "$corpus" "fuzz/seeds/$target" -max_total_time="$seconds" \
     -max_len=65536 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$build/findings/${target}-" >"$log" 2>&1 || status=$?
-  grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs)" "$log" || true
+  echo "$status" >"$build/findings/$target.status"
+}
+
+# The targets run side by side, one per core (each fuzzer is single-threaded).
+jobs=${FACERIG_FUZZ_JOBS:-$(nproc)}
+echo "== ${#targets[@]} targets x ${seconds} s, ${jobs} at a time"
+for target in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+  run_target "$target" &
+done
+wait
+
+failed=0
+for target in "${targets[@]}"; do
+  echo "== $target"
+  grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs)" "$build/findings/$target.log" || true
+  status=$(cat "$build/findings/$target.status")
   if [ "$status" -ne 0 ]; then
-    tail -n 40 "$log" >&2
+    tail -n 40 "$build/findings/$target.log" >&2
     echo "run-fuzz.sh: $target found a problem (exit $status); see $build/findings/" >&2
-    exit 1
+    failed=1
   fi
 done
+[ "$failed" -eq 0 ] || exit 1
 echo "run-fuzz.sh: no findings in ${#targets[@]} targets x ${seconds} s"
