@@ -5,6 +5,8 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <cstdio>
+#include <cstdlib>
 
 #include "facerig/runtime/speech/dtw_align.h"
 #include "deltas.h"
@@ -16,7 +18,11 @@ namespace {
 
 using detail::DeltasOf;
 using detail::kDeltaReach;
-constexpr std::size_t kHistory = 2 * kDeltaReach + 1;
+// The onset moves back to where its energy began to rise, at most this many
+// frames: a quiet voiced closure (a /b/ or /m/ first) belongs to the speech.
+constexpr std::size_t kMaxOnsetWalkBack = 8;
+// Raw frames kept: the deltas' reach both ways, and the onset's walk back.
+constexpr std::size_t kHistory = 2 * kDeltaReach + 1 + kMaxOnsetWalkBack;
 // A boundary may lie up to this many frames before the column committed when it is emitted.
 constexpr std::size_t kEmitSlack = 2;
 // Frames before the speech onset (in both) where the warping starts.
@@ -118,6 +124,9 @@ void StreamingAligner::FindReferenceOnset() {
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
   if (onset_row_ + 1 == rows_) onset_row_ = 0;  // no speech stands out
+  for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && onset_row_ > 0 && energy[onset_row_ - 1] < energy[onset_row_]; ++walked) {
+    --onset_row_;
+  }
 }
 
 // The reference's features to zero mean and unit variance; its statistics,
@@ -172,10 +181,22 @@ void StreamingAligner::ProcessFrame() {
   floor_ = std::min(floor_, static_cast<double>(frame_[0]));
   if (!started_ && frame_[0] > std::min(floor_, floor_cap_) + onset_rise_) {
     started_ = true;
-    next_frame_ = column_offset_ = raw_frames_ > kOnsetMargin + 1 ? raw_frames_ - 1 - kOnsetMargin : 0;
+    const std::size_t onset = RisingFrom(raw_frames_ - 1);
+    next_frame_ = column_offset_ = onset > kOnsetMargin ? onset - kOnsetMargin : 0;
+    if (std::getenv("DBG_ONSET")) std::fprintf(stderr, "ONSET ref_row %zu (%.3f s) rec_frame %zu (%.3f s) floor %.2f cap %.2f rise %.2f e %.2f\n", onset_row_, ColumnTime(static_cast<double>(onset_row_)) - ColumnTime(0) + 0.0125, raw_frames_ - 1, static_cast<double>(raw_frames_ - 1) * 0.01 + 0.0125, floor_, floor_cap_, onset_rise_, frame_[0]);
     EmitReady(FrameEnd(), false);  // the boundaries before the onset keep their distance to it
   }
   while (started_ && next_frame_ + kDeltaReach < raw_frames_) AddColumn(next_frame_++);
+}
+
+// The first frame of the energy rise that reaches recording frame `frame`.
+std::size_t StreamingAligner::RisingFrom(std::size_t frame) const {
+  const std::size_t ring = energy_ring_.size();
+  for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && frame > 0 && raw_frames_ - frame < ring; ++walked) {
+    if (!(energy_ring_[(frame - 1) % ring] < energy_ring_[frame % ring])) break;
+    --frame;
+  }
+  return frame;
 }
 
 // Recording frame `column` (its raw cepstra in the history) as a normalised

@@ -78,6 +78,7 @@ class StreamingAligner {
   void NormalizeReference(double prior_frames);
   double FrameEnd() const;  // the audio time the newest frame needed
   void ProcessFrame();
+  std::size_t RisingFrom(std::size_t frame) const;
   void AddColumn(std::size_t frame);
   void FillColumn(std::span<const float> x);
   std::size_t BestRow() const;
@@ -110,7 +111,7 @@ class StreamingAligner {
   double count_ = 0.0;
   std::vector<float> samples_;                      // audio not yet framed (and the sample before it)
   float previous_sample_ = 0.0f;
-  std::vector<float> raw_history_;                  // the last 5 frames' cepstra, for the deltas
+  std::vector<float> raw_history_;                  // the last frames' cepstra, for the deltas and the onset
   std::size_t raw_frames_ = 0, columns_ = 0;
   // Warping starts at the recording's speech onset: column 0 is recording
   // frame column_offset_, row 0 the reference's frame onset_row_ - margin.
