@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -137,21 +136,6 @@ VoiceResult MeasureVoice(const AlignBenchOptions& options, const std::string& vo
     result.errors.insert(result.errors.end(), score.boundary_errors.begin(), score.boundary_errors.end());
     result.bilabials += score.bilabials;
     result.bilabials_kept += score.bilabials_kept;
-    if (std::getenv("BENCH_MISSES")) {
-      const auto& tp = truth.phonemes;
-      const auto& ap = aligned.alignment.line.phonemes;
-      for (std::size_t i = 0; i < tp.size(); ++i) {
-        const auto v = facerig::LookupPhonemeVisemes(voice, tp[i].symbol.view());
-        if (!v || v->count == 0 || v->visemes[0] != facerig::Viseme::kPP) continue;
-        const double ov = std::min(ap[i].start + ap[i].duration, tp[i].start + tp[i].duration).count() -
-                          std::max(ap[i].start, tp[i].start).count();
-        if (ov > 0.0) continue;
-        std::printf("MISS %s #%zu ph %zu/%zu '%s' true %.3f+%.3f got %.3f+%.3f err %.0f ms | %s\n", voice.c_str(),
-                    result.sentences, i, tp.size(), std::string(tp[i].symbol.view()).c_str(), tp[i].start.count(),
-                    tp[i].duration.count(), ap[i].start.count(), ap[i].duration.count(),
-                    1000.0 * (ap[i].start - tp[i].start).count(), sentence.c_str());
-      }
-    }
     result.audio_seconds += truth.audio_duration().count();
     result.align_seconds += aligned.seconds;
   }

@@ -5,8 +5,6 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
-#include <cstdio>
-#include <cstdlib>
 
 #include "facerig/runtime/speech/dtw_align.h"
 #include "deltas.h"
@@ -39,6 +37,11 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Consecutive vertical steps (reference frames on one recording frame) the
 // path may take: a longer climb skips speech the recording has not reached.
 constexpr std::uint8_t kMaxVerticalRun = 10;
+// A diagonal step costs this many times its cell (a horizontal or vertical
+// one, once): below the symmetric 2, the path keeps moving through the
+// reference instead of waiting on a row and catching up late, which a path
+// committed after a short look-ahead cannot undo.
+constexpr double kDiagonalWeight = 1.35;
 enum Step : std::uint8_t { kStart, kHorizontal, kDiagonal, kVertical };
 
 // The reference's raw features (cepstra and deltas), frame-major.
@@ -124,8 +127,9 @@ void StreamingAligner::FindReferenceOnset() {
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
   if (onset_row_ + 1 == rows_) onset_row_ = 0;  // no speech stands out
-  for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && onset_row_ > 0 && energy[onset_row_ - 1] < energy[onset_row_]; ++walked) {
-    --onset_row_;
+  for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && onset_row_ > 0; ++walked) {
+    if (!(energy[onset_row_ - 1] < energy[onset_row_])) break;
+    --onset_row_;  // back to where the rise began, as the recording's onset
   }
 }
 
@@ -183,7 +187,6 @@ void StreamingAligner::ProcessFrame() {
     started_ = true;
     const std::size_t onset = RisingFrom(raw_frames_ - 1);
     next_frame_ = column_offset_ = onset > kOnsetMargin ? onset - kOnsetMargin : 0;
-    if (std::getenv("DBG_ONSET")) std::fprintf(stderr, "ONSET ref_row %zu (%.3f s) rec_frame %zu (%.3f s) floor %.2f cap %.2f rise %.2f e %.2f\n", onset_row_, ColumnTime(static_cast<double>(onset_row_)) - ColumnTime(0) + 0.0125, raw_frames_ - 1, static_cast<double>(raw_frames_ - 1) * 0.01 + 0.0125, floor_, floor_cap_, onset_rise_, frame_[0]);
     EmitReady(FrameEnd(), false);  // the boundaries before the onset keep their distance to it
   }
   while (started_ && next_frame_ + kDeltaReach < raw_frames_) AddColumn(next_frame_++);
@@ -255,7 +258,7 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
     if (j == 0 && row == 0) best = d;
     const bool may_climb = c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
     const double candidates[3] = {j > 0 ? previous(row) + d : kInfinity,
-                                  j > 0 && row > 0 ? previous(row - 1) + 2.0 * d : kInfinity,
+                                  j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
                                   may_climb ? cost_[c - 1] + d : kInfinity};
     for (std::uint8_t s = 0; s < 3; ++s) {
       if (candidates[s] < best) {

@@ -20,8 +20,12 @@
 // starts at the recording's speech onset (a frame louder than its quiet floor
 // by a share of the reference's loudness range; the floor is capped for a
 // stream that starts with speech, which assumes levels within ~10 dB of the
-// reference's); boundaries before the reference's onset keep their distance
-// to it and are emitted at the onset.
+// reference's), in both moved back to where that frame's energy rise began
+// (a quiet voiced closure first, as in "Be ...", is speech); boundaries before
+// the reference's onset keep their distance to it and are emitted at the
+// onset. Diagonal steps cost less than a horizontal plus a vertical one, so
+// the path follows the reference's tempo rather than stalling on a row and
+// catching up later than the look-ahead can correct.
 #pragma once
 
 #include <cstddef>
