@@ -127,6 +127,7 @@ void StreamingAligner::FindReferenceOnset() {
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
   if (onset_row_ + 1 == rows_) onset_row_ = 0;  // no speech stands out
+  if (onset_row_ == 0) speech_at_start_ = energy[0] - onset_rise_;
   for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && onset_row_ > 0; ++walked) {
     if (!(energy[onset_row_ - 1] < energy[onset_row_])) break;
     --onset_row_;  // back to where the rise began, as the recording's onset
@@ -183,7 +184,10 @@ void StreamingAligner::ProcessFrame() {
   // running normalisation and pull the band off. Speech starts above the
   // floor so far, capped for a stream that starts loud.
   floor_ = std::min(floor_, static_cast<double>(frame_[0]));
-  if (!started_ && frame_[0] > std::min(floor_, floor_cap_) + onset_rise_) {
+  // A stream that starts as loud as a reference that starts with speech
+  // starts with speech too: no rise above a floor will mark it.
+  const bool speech_at_start = raw_frames_ == 1 && frame_[0] > speech_at_start_;
+  if (!started_ && (speech_at_start || frame_[0] > std::min(floor_, floor_cap_) + onset_rise_)) {
     started_ = true;
     const std::size_t onset = RisingFrom(raw_frames_ - 1);
     next_frame_ = column_offset_ = onset > kOnsetMargin ? onset - kOnsetMargin : 0;

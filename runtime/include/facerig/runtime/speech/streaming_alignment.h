@@ -122,6 +122,8 @@ class StreamingAligner {
   std::size_t onset_row_ = 0, column_offset_ = 0, next_frame_ = 0;
   bool started_ = false;
   double onset_rise_ = 0.0, floor_cap_ = 0.0;
+  // A first recording frame louder than this is speech (infinite: the reference starts quiet).
+  double speech_at_start_ = std::numeric_limits<double>::infinity();
   double floor_ = std::numeric_limits<double>::infinity();
   std::vector<float> frame_, column_features_;
   std::vector<double> previous_cost_, cost_;
