@@ -20,7 +20,8 @@
 // starts at the recording's speech onset (a frame louder than its quiet floor
 // by a share of the reference's loudness range; the floor is capped for a
 // stream that starts with speech, which assumes levels within ~10 dB of the
-// reference's), in both moved back to where that frame's energy rise began
+// reference's; a first frame as loud as the reference's, when that starts
+// with speech, is the onset), in both moved back to where its energy rise began
 // (a quiet voiced closure first, as in "Be ...", is speech); boundaries before
 // the reference's onset keep their distance to it and are emitted at the
 // onset. Diagonal steps cost less than a horizontal plus a vertical one, so
