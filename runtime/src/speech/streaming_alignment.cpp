@@ -16,7 +16,11 @@ namespace {
 
 using detail::DeltasOf;
 using detail::kDeltaReach;
-constexpr std::size_t kHistory = 2 * kDeltaReach + 1;
+// The onset moves back to where its energy began to rise, at most this many
+// frames: a quiet voiced closure (a /b/ or /m/ first) belongs to the speech.
+constexpr std::size_t kMaxOnsetWalkBack = 8;
+// Raw frames kept: the deltas' reach both ways, and the onset's walk back.
+constexpr std::size_t kHistory = 2 * kDeltaReach + 1 + kMaxOnsetWalkBack;
 // A boundary may lie up to this many frames before the column committed when it is emitted.
 constexpr std::size_t kEmitSlack = 2;
 // Frames before the speech onset (in both) where the warping starts.
@@ -33,6 +37,11 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Consecutive vertical steps (reference frames on one recording frame) the
 // path may take: a longer climb skips speech the recording has not reached.
 constexpr std::uint8_t kMaxVerticalRun = 10;
+// A diagonal step costs this many times its cell (a horizontal or vertical
+// one, once): below the symmetric 2, the path keeps moving through the
+// reference instead of waiting on a row and catching up late, which a path
+// committed after a short look-ahead cannot undo.
+constexpr double kDiagonalWeight = 1.35;
 enum Step : std::uint8_t { kStart, kHorizontal, kDiagonal, kVertical };
 
 // The reference's raw features (cepstra and deltas), frame-major.
@@ -118,6 +127,11 @@ void StreamingAligner::FindReferenceOnset() {
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
   if (onset_row_ + 1 == rows_) onset_row_ = 0;  // no speech stands out
+  if (onset_row_ == 0) speech_at_start_ = energy[0] - onset_rise_;
+  for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && onset_row_ > 0; ++walked) {
+    if (!(energy[onset_row_ - 1] < energy[onset_row_])) break;
+    --onset_row_;  // back to where the rise began, as the recording's onset
+  }
 }
 
 // The reference's features to zero mean and unit variance; its statistics,
@@ -170,12 +184,26 @@ void StreamingAligner::ProcessFrame() {
   // running normalisation and pull the band off. Speech starts above the
   // floor so far, capped for a stream that starts loud.
   floor_ = std::min(floor_, static_cast<double>(frame_[0]));
-  if (!started_ && frame_[0] > std::min(floor_, floor_cap_) + onset_rise_) {
+  // A stream that starts as loud as a reference that starts with speech
+  // starts with speech too: no rise above a floor will mark it.
+  const bool speech_at_start = raw_frames_ == 1 && frame_[0] > speech_at_start_;
+  if (!started_ && (speech_at_start || frame_[0] > std::min(floor_, floor_cap_) + onset_rise_)) {
     started_ = true;
-    next_frame_ = column_offset_ = raw_frames_ > kOnsetMargin + 1 ? raw_frames_ - 1 - kOnsetMargin : 0;
+    const std::size_t onset = RisingFrom(raw_frames_ - 1);
+    next_frame_ = column_offset_ = onset > kOnsetMargin ? onset - kOnsetMargin : 0;
     EmitReady(FrameEnd(), false);  // the boundaries before the onset keep their distance to it
   }
   while (started_ && next_frame_ + kDeltaReach < raw_frames_) AddColumn(next_frame_++);
+}
+
+// The first frame of the energy rise that reaches recording frame `frame`.
+std::size_t StreamingAligner::RisingFrom(std::size_t frame) const {
+  const std::size_t ring = energy_ring_.size();
+  for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && frame > 0 && raw_frames_ - frame < ring; ++walked) {
+    if (!(energy_ring_[(frame - 1) % ring] < energy_ring_[frame % ring])) break;
+    --frame;
+  }
+  return frame;
 }
 
 // Recording frame `column` (its raw cepstra in the history) as a normalised
@@ -234,7 +262,7 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
     if (j == 0 && row == 0) best = d;
     const bool may_climb = c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
     const double candidates[3] = {j > 0 ? previous(row) + d : kInfinity,
-                                  j > 0 && row > 0 ? previous(row - 1) + 2.0 * d : kInfinity,
+                                  j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
                                   may_climb ? cost_[c - 1] + d : kInfinity};
     for (std::uint8_t s = 0; s < 3; ++s) {
       if (candidates[s] < best) {

@@ -20,8 +20,13 @@
 // starts at the recording's speech onset (a frame louder than its quiet floor
 // by a share of the reference's loudness range; the floor is capped for a
 // stream that starts with speech, which assumes levels within ~10 dB of the
-// reference's); boundaries before the reference's onset keep their distance
-// to it and are emitted at the onset.
+// reference's; a first frame as loud as the reference's, when that starts
+// with speech, is the onset), in both moved back to where its energy rise began
+// (a quiet voiced closure first, as in "Be ...", is speech); boundaries before
+// the reference's onset keep their distance to it and are emitted at the
+// onset. Diagonal steps cost less than a horizontal plus a vertical one, so
+// the path follows the reference's tempo rather than stalling on a row and
+// catching up later than the look-ahead can correct.
 #pragma once
 
 #include <cstddef>
@@ -78,6 +83,7 @@ class StreamingAligner {
   void NormalizeReference(double prior_frames);
   double FrameEnd() const;  // the audio time the newest frame needed
   void ProcessFrame();
+  std::size_t RisingFrom(std::size_t frame) const;
   void AddColumn(std::size_t frame);
   void FillColumn(std::span<const float> x);
   std::size_t BestRow() const;
@@ -110,13 +116,15 @@ class StreamingAligner {
   double count_ = 0.0;
   std::vector<float> samples_;                      // audio not yet framed (and the sample before it)
   float previous_sample_ = 0.0f;
-  std::vector<float> raw_history_;                  // the last 5 frames' cepstra, for the deltas
+  std::vector<float> raw_history_;                  // the last frames' cepstra, for the deltas and the onset
   std::size_t raw_frames_ = 0, columns_ = 0;
   // Warping starts at the recording's speech onset: column 0 is recording
   // frame column_offset_, row 0 the reference's frame onset_row_ - margin.
   std::size_t onset_row_ = 0, column_offset_ = 0, next_frame_ = 0;
   bool started_ = false;
   double onset_rise_ = 0.0, floor_cap_ = 0.0;
+  // A first recording frame louder than this is speech (infinite: the reference starts quiet).
+  double speech_at_start_ = std::numeric_limits<double>::infinity();
   double floor_ = std::numeric_limits<double>::infinity();
   std::vector<float> frame_, column_features_;
   std::vector<double> previous_cost_, cost_;
