@@ -66,7 +66,7 @@ TexelLayers EmptyLayers(int size) {
   const std::size_t count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
           std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0),
-          std::vector<std::uint8_t>(count, 0)};
+          std::vector<std::uint8_t>(count, 0), std::vector<float>(count, 0.0f), std::vector<glm::vec3>(count)};
 }
 
 std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
@@ -110,10 +110,14 @@ PhotoTextureStats Measure(const TexelLayers& layers, const photo_texture::Mirror
 }  // namespace
 
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
-                              const PhotoTextureParams& params, const PhotoSkinMask& mask) {
+                              const PhotoTextureParams& params, const PhotoSkinMask& mask, const PhotoHair& hair) {
   CheckInputs(mesh, camera, photo, params);
   if (!mask.empty() && mask.weight.size() != static_cast<std::size_t>(mask.width) * static_cast<std::size_t>(mask.height)) {
     throw InvalidInputError("photo texture: the mask's weights do not match its size", "mask");
+  }
+  if (hair.head.weight.size() != static_cast<std::size_t>(hair.head.width) * static_cast<std::size_t>(hair.head.height) &&
+      !hair.head.empty()) {
+    throw InvalidInputError("photo texture: the hair's head mask weights do not match its size", "hair");
   }
   const std::vector<std::uint8_t> skin_triangle = SkinTriangles(mesh);
   std::vector<std::uint8_t> skin_vertex(mesh.vertex_count(), 0);
@@ -124,7 +128,10 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
   const double partner_seconds = clock.Lap();
   TexelLayers layers = EmptyLayers(params.size);
-  photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mask, mirror, photo_texture::FindCheeks(mesh), params, layers);
+  photo_texture::HairSource hair_source{&hair.head, {}, hair.colour};
+  if (hair.found && !hair.head.empty()) hair_source.scalp = photo_texture::FindScalp(mesh);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mask, mirror, photo_texture::FindCheeks(mesh),
+                              hair_source, params, layers);
   const double project_seconds = clock.Lap();
   photo_texture::BalanceMirrorLight(layers);
   PhotoTexture result;

@@ -122,12 +122,39 @@ PhotoSkinMask BuildPhotoSkinMask(const RgbImage& photo, std::span<const glm::vec
 // it out (by 1 - weight). \pre the mask empty or of this photo.
 RgbImage ShadeOutsideSkinMask(const RgbImage& photo, const PhotoSkinMask& mask);
 
+// Where the photo shows the head (face and hair, not the background), from
+// GrabCut on a scaled copy of the window round the face, seeded from the
+// landmarks (inside the jaw line: head; the window's edges inside the photo:
+// background); and the hair's colour there.
+struct PhotoHairParams {
+  int work_size = 192;  // pixels a side of the scaled copy GrabCut runs on
+  int iterations = 3;
+};
+
+struct PhotoHair {
+  // Per photo pixel, the weight with which it shows the head (hair or skin);
+  // empty when the head could not be told from the background.
+  PhotoSkinMask head;
+  glm::vec3 colour{0.0f};  // sRGB in [0, 1]: the median of the head's pixels above the brows that are not skin
+  bool found = false;      // enough such pixels for a colour
+};
+
+// `skin`: BuildPhotoSkinMask of the same photo and landmarks.
+// \throw InvalidInputError when landmarks.size() != 68 or the photo's pixels do not match its size.
+PhotoHair FindPhotoHair(const RgbImage& photo, std::span<const glm::vec2> landmarks, const PhotoSkinMask& skin,
+                        const PhotoHairParams& params = {});
+
 // \pre mesh.Validate(), corner UVs, the camera valid for Rasterize, the photo
 // width x height x 3 bytes and the same size as the camera's image.
 // \throw InvalidInputError naming the mesh, camera, photo or parameter at fault.
-// `mask`: empty, or of the photo (BuildPhotoSkinMask).
+// `mask`: empty, or of the photo (BuildPhotoSkinMask). `hair`: when found,
+// the scalp (the surface above a hairline set from the eyes: high on the
+// forehead, over the ears, down to the nape) takes the photo's head pixels
+// where the photo sees it above the brows, and elsewhere the hair's colour
+// with a little low-frequency variation, where skin would be filled in.
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
-                              const PhotoTextureParams& params = {}, const PhotoSkinMask& mask = {});
+                              const PhotoTextureParams& params = {}, const PhotoSkinMask& mask = {},
+                              const PhotoHair& hair = {});
 
 // Gives every triangle of a skin part the baked material (its image appended
 // to mesh.images); other parts keep their materials (a mesh without any gets
