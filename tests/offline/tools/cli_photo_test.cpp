@@ -116,6 +116,53 @@ void CheckCheeks(const Rig& rig, std::uint32_t image_left_cheek, std::uint32_t i
   }
 }
 
+// Hair patches marked by hand on astronaut.png (12 x 12 px, top-left
+// corners): the crown's lit top, the fringe, and both darker sides.
+constexpr std::array<glm::ivec2, 4> kHairPatches{{{205, 28}, {215, 45}, {170, 60}, {270, 60}}};
+
+glm::vec3 PhotoHairColour() {
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  glm::vec3 sum(0.0f);
+  for (const glm::ivec2 patch : kHairPatches) sum += PatchMean(photo, patch, 12);
+  return sum / static_cast<float>(kHairPatches.size());
+}
+
+// The top of the head (the photo's skin parts above the eyes by over 60 % of
+// the way to the crown) wears her hair: its median colour near the hand-marked
+// hair's mean, and far darker than her cheeks (a bald head wore skin there).
+void CheckScalpWearsTheHair(const Rig& rig, float eye_height) {
+  const RgbImage texture = PhotoSkinTexture(rig);
+  float crown = eye_height;
+  for (const glm::vec3& p : rig.positions()) crown = std::max(crown, p.y);
+  std::vector<std::uint8_t> counted(rig.vertex_count(), 0);
+  std::array<std::vector<float>, 3> channels;
+  for (const Part& part : rig.parts()) {
+    if (part.material < 0 || rig.materials()[static_cast<std::size_t>(part.material)].name != "photo_skin") continue;
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
+      for (const std::uint32_t v : rig.triangles()[t]) {
+        if (counted[v] || rig.positions()[v].y < eye_height + 0.6f * (crown - eye_height)) continue;
+        counted[v] = 1;
+        const glm::vec3 colour = TextureAt(rig, texture, v);
+        for (int c = 0; c < 3; ++c) channels[static_cast<std::size_t>(c)].push_back(colour[c]);
+      }
+    }
+  }
+  REQUIRE(channels[0].size() > 200);
+  glm::vec3 scalp;
+  for (int c = 0; c < 3; ++c) {
+    auto& values = channels[static_cast<std::size_t>(c)];
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+    scalp[c] = values[values.size() / 2];
+  }
+  const glm::vec3 hair = PhotoHairColour();
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  const glm::vec3 cheek = PatchMean(photo, kImageLeftCheek, 8);
+  INFO("scalp " << scalp.r << " " << scalp.g << " " << scalp.b << " over " << channels[0].size() << " vertices; hair "
+                << hair.r << " " << hair.g << " " << hair.b << "; cheek " << cheek.r << " " << cheek.g << " " << cheek.b);
+  for (int c = 0; c < 3; ++c) CHECK(std::abs(scalp[c] - hair[c]) < 35.0f);
+  CHECK(scalp.g < cheek.g - 40.0f);
+}
+
 struct PhotoRun {
   fs::path out;
   test::CommandOutcome outcome;
@@ -230,6 +277,8 @@ TEST_CASE("facerig photo: the built-in head from a real photograph", "[cli][phot
   CHECK(rig.FindShape("jawOpen").has_value());
   CHECK(rig.FindShape("viseme_aa").has_value());
   CheckCheeks(rig, features.cheeks[1], features.cheeks[0]);  // [0]: the character's left, the image's right
+  CHECK(result["texture"]["hair_found"] == true);
+  CheckScalpWearsTheHair(rig, 0.5f * (features.eye_centres[0].y + features.eye_centres[1].y));
   // Her mouth is open in the photo; the rest face's lips still meet as the
   // head's do (how far the mouth opens is an expression).
   float widest_gap = 0.0f;
