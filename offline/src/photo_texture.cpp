@@ -62,6 +62,13 @@ std::vector<std::uint8_t> SkinTriangles(const Mesh& mesh) {
   return skin;
 }
 
+// The skin triangles whose UVs lie in `tile`.
+std::vector<std::uint8_t> InTile(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, glm::ivec2 tile) {
+  std::vector<std::uint8_t> in(skin_triangle.size(), 0);
+  for (std::size_t t = 0; t < in.size(); ++t) in[t] = skin_triangle[t] && photo_texture::UvTile(mesh, t) == tile ? 1 : 0;
+  return in;
+}
+
 TexelLayers EmptyLayers(int size) {
   const std::size_t count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
@@ -127,23 +134,43 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   Stopwatch clock;
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
   const double partner_seconds = clock.Lap();
-  TexelLayers layers = EmptyLayers(params.size);
   photo_texture::HairSource hair_source{&hair.head, {}, hair.colour};
   if (hair.found && !hair.head.empty()) hair_source.scalp = photo_texture::FindScalp(mesh);
-  photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mask, mirror, photo_texture::FindCheeks(mesh),
-                              hair_source, params, layers);
+  const photo_texture::CheekRegion cheeks = photo_texture::FindCheeks(mesh);
+  const std::vector<glm::ivec2> tiles = photo_texture::SkinUvTiles(mesh, skin_triangle);
+  PhotoTexture result;
+  result.main_tile = tiles.front();
+  TexelLayers layers = EmptyLayers(params.size);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, result.main_tile), camera, photo, mask,
+                              mirror, cheeks, hair_source, params, layers);
   const double project_seconds = clock.Lap();
   photo_texture::BalanceMirrorLight(layers);
-  PhotoTexture result;
   result.skin_colour = photo_texture::EstimateSkinColour(layers);
   result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, params.fill_radius));
   result.coverage = CoverageImage(layers);
   result.stats = Measure(layers, mirror);
   result.direct_weight = std::move(layers.direct_weight);
   result.mirror_weight = std::move(layers.mirror_weight);
+  // The other tiles (the back of a head laid out beside its face) mostly
+  // show what the photo does not: half the size does.
+  PhotoTextureParams other = params;
+  other.size = std::max(16, params.size / 2);
+  other.fill_radius = std::max(1.0f, params.fill_radius / 2.0f);
+  for (std::size_t k = 1; k < tiles.size(); ++k) {
+    TexelLayers tile_layers = EmptyLayers(other.size);
+    photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, tiles[k]), camera, photo, mask, mirror,
+                                cheeks, hair_source, other, tile_layers);
+    photo_texture::BalanceMirrorLight(tile_layers);
+    result.other_tiles.push_back({tiles[k], ToImage(other.size, photo_texture::FillTexels(tile_layers, result.skin_colour,
+                                                                                           other.fill_radius)), {}});
+  }
   result.stats.fill_seconds = clock.Lap();
   result.image = EncodePng(result.texture.pixels, result.texture.width, result.texture.height, 3, "photo_skin.png",
                            params.png_compression);
+  for (PhotoTextureTile& tile : result.other_tiles) {
+    const std::string name = "photo_skin_" + std::to_string(tile.tile.x) + "_" + std::to_string(tile.tile.y) + ".png";
+    tile.image = EncodePng(tile.texture.pixels, tile.texture.width, tile.texture.height, 3, name, params.png_compression);
+  }
   result.stats.encode_seconds = clock.Lap();
   result.stats.partner_seconds = partner_seconds;
   result.stats.project_seconds = project_seconds;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "facerig/offline/photo_texture.h"
@@ -76,9 +77,18 @@ struct HairSource {
   glm::vec3 colour{0.0f};
 };
 
+// The UV tile (integer part) triangle t's UVs lie in, by their centre.
+glm::ivec2 UvTile(const Mesh& mesh, std::size_t t);
+
+// The UV tiles of the skin triangles, the one with the most triangles first
+// ({0, 0} alone when there are none).
+std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle);
+
 // Fills the layers' direct and mirror samples from the photo for every texel
-// of the skin triangles, each photo pixel weighted by the mask.
-void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
+// of the `baked` triangles (skin triangles of one UV tile), each photo pixel
+// weighted by the mask; all skin triangles count as skin where they hide others.
+void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
+                  const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
                   const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
                   TexelLayers& layers);

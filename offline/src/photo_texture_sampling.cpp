@@ -155,9 +155,7 @@ SurfacePoint Interpolate(const std::vector<glm::vec3>& positions, const std::vec
 
 // The triangle's UVs in texel coordinates (OBJ's v up; the UV tile its centre lies in).
 void TexelCorners(const Mesh& mesh, std::size_t t, int size, glm::dvec2 (&uv)[3]) {
-  glm::vec2 centre(0.0f);
-  for (int k = 0; k < 3; ++k) centre += mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] / 3.0f;
-  const glm::vec2 tile = glm::floor(centre);
+  const glm::vec2 tile(UvTile(mesh, t));
   for (int k = 0; k < 3; ++k) {
     const glm::vec2 local = mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] - tile;
     uv[k] = glm::dvec2(local.x, 1.0f - local.y) * static_cast<double>(size) - 0.5;
@@ -166,7 +164,30 @@ void TexelCorners(const Mesh& mesh, std::size_t t, int size, glm::dvec2 (&uv)[3]
 
 }  // namespace
 
-void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
+glm::ivec2 UvTile(const Mesh& mesh, std::size_t t) {
+  glm::vec2 centre(0.0f);
+  for (int k = 0; k < 3; ++k) centre += mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] / 3.0f;
+  return glm::ivec2(glm::floor(centre));
+}
+
+std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle) {
+  std::vector<std::pair<glm::ivec2, std::size_t>> counts;
+  for (std::size_t t = 0; t < skin_triangle.size(); ++t) {
+    if (!skin_triangle[t]) continue;
+    const glm::ivec2 tile = UvTile(mesh, t);
+    auto found = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == tile; });
+    if (found == counts.end()) counts.emplace_back(tile, 1);
+    else ++found->second;
+  }
+  std::stable_sort(counts.begin(), counts.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::vector<glm::ivec2> tiles;
+  for (const auto& c : counts) tiles.push_back(c.first);
+  if (tiles.empty()) tiles.emplace_back(0, 0);
+  return tiles;
+}
+
+void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
+                  const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
                   const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
                   TexelLayers& layers) {
@@ -174,7 +195,7 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
   std::vector<glm::vec3> normals(mesh.vertex_count());
   ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    if (!skin_triangle[t]) continue;
+    if (!baked[t]) continue;
     const std::array<std::uint32_t, 3> v{mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
     const bool mirrored = mirror.partner[v[0]] >= 0 && mirror.partner[v[1]] >= 0 && mirror.partner[v[2]] >= 0;
     std::array<std::uint32_t, 3> m{};

@@ -63,6 +63,14 @@ struct PhotoTextureStats {
   double partner_seconds = 0.0, project_seconds = 0.0, fill_seconds = 0.0, encode_seconds = 0.0;
 };
 
+// A skin UV tile beyond the main one (UDIM layouts: ICT-FaceKit's back of
+// the head lies at u in [1, 2]), baked into a texture of its own at half size.
+struct PhotoTextureTile {
+  glm::ivec2 tile{0};  // the UVs' integer part
+  RgbImage texture;
+  EncodedImage image;  // "photo_skin_<u>_<v>.png"
+};
+
 struct PhotoTexture {
   // size x size, sRGB, row 0 at the top (v = 1, OBJ's convention); every
   // texel set, also outside the skin's UV islands (so filtering across a
@@ -77,6 +85,9 @@ struct PhotoTexture {
   // skin's UV islands.
   RgbImage coverage;
   glm::vec3 skin_colour{0.0f};  // sRGB in [0, 1], estimated from the photo
+  // The UV tile `texture` covers (the one with the most skin triangles), and the others.
+  glm::ivec2 main_tile{0};
+  std::vector<PhotoTextureTile> other_tiles;
   EncodedImage image;           // the texture as PNG, "photo_skin.png"
   Material material;            // white, textured by `image` (index set by ApplyPhotoTexture)
   PhotoTextureStats stats;
@@ -157,7 +168,8 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
                               const PhotoHair& hair = {});
 
 // Gives every triangle of a skin part the baked material (its image appended
-// to mesh.images); other parts keep their materials (a mesh without any gets
+// to mesh.images; a skin triangle in another UV tile that tile's own
+// material, "photo_skin_<u>_<v>"); other parts keep their materials (a mesh without any gets
 // each part its RoleMaterial); materials and images nothing uses any more are
 // dropped.
 void ApplyPhotoTexture(Mesh& mesh, const PhotoTexture& texture);
