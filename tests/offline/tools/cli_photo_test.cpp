@@ -79,10 +79,10 @@ glm::vec3 PatchMean(const RgbImage& image, glm::ivec2 corner, int size) {
   return sum / static_cast<float>(size * size);
 }
 
-// The photo's texture (the material the bake adds) on a written rig.
-RgbImage PhotoSkinTexture(const Rig& rig) {
+// The photo's texture (the material the bake adds, or the one of another UV tile) on a written rig.
+RgbImage PhotoSkinTexture(const Rig& rig, const std::string& name = "photo_skin") {
   for (const Material& material : rig.materials()) {
-    if (material.name == "photo_skin" && material.base_colour_image >= 0) {
+    if (material.name == name && material.base_colour_image >= 0) {
       return DecodeImage(rig.images()[static_cast<std::size_t>(material.base_colour_image)]);
     }
   }
@@ -131,13 +131,15 @@ glm::vec3 PhotoHairColour() {
 // the way to the crown) wears her hair: its median colour near the hand-marked
 // hair's mean, and far darker than her cheeks (a bald head wore skin there).
 void CheckScalpWearsTheHair(const Rig& rig, float eye_height) {
-  const RgbImage texture = PhotoSkinTexture(rig);
   float crown = eye_height;
   for (const glm::vec3& p : rig.positions()) crown = std::max(crown, p.y);
   std::vector<std::uint8_t> counted(rig.vertex_count(), 0);
   std::array<std::vector<float>, 3> channels;
   for (const Part& part : rig.parts()) {
-    if (part.material < 0 || rig.materials()[static_cast<std::size_t>(part.material)].name != "photo_skin") continue;
+    if (part.material < 0) continue;
+    const std::string& name = rig.materials()[static_cast<std::size_t>(part.material)].name;
+    if (name.rfind("photo_skin", 0) != 0) continue;
+    const RgbImage texture = PhotoSkinTexture(rig, name);
     for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
       for (const std::uint32_t v : rig.triangles()[t]) {
         if (counted[v] || rig.positions()[v].y < eye_height + 0.6f * (crown - eye_height)) continue;
@@ -319,6 +321,12 @@ TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared dat
     cheeks.push_back(nearest);
   }
   CheckCheeks(rig, cheeks[0], cheeks[1]);
+  // The back of ICT's head lies in a UV tile of its own (u in [1, 2]): it
+  // gets a texture of its own and wears the hair, not the face's texels.
+  CHECK(std::any_of(rig.materials().begin(), rig.materials().end(), [](const Material& m) { return m.name == "photo_skin_1_0"; }));
+  float eye_height = 0.0f;
+  for (int k = 36; k <= 47; ++k) eye_height += rig.positions()[descriptor["landmarks"][k].get<std::uint32_t>()].y / 12.0f;
+  CheckScalpWearsTheHair(rig, eye_height);
 }
 
 TEST_CASE("facerig photo: a strongly coloured background stays off the head's sides and back", "[cli][photo]") {
