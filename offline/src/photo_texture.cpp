@@ -141,8 +141,10 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   PhotoTexture result;
   result.main_tile = tiles.front();
   TexelLayers layers = EmptyLayers(params.size);
-  photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, result.main_tile), camera, photo, mask,
-                              mirror, cheeks, hair_source, params, layers);
+  const std::vector<std::uint8_t> main_triangles = InTile(mesh, skin_triangle, result.main_tile);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, main_triangles, camera, photo, mask, mirror, cheeks, hair_source,
+                              params, layers);
+  if (hair_source.scalp.found) photo_texture::AddPaintedHairDetail(mesh, main_triangles, layers);
   const double project_seconds = clock.Lap();
   photo_texture::BalanceMirrorLight(layers);
   result.skin_colour = photo_texture::EstimateSkinColour(layers);

@@ -93,6 +93,10 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
                   const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
                   TexelLayers& layers);
 
+// Where the baked triangles wear a painted texture (the built-in head's),
+// its local light and dark (strands, clumps) multiply the scalp's hair colours.
+void AddPaintedHairDetail(const Mesh& mesh, const std::vector<std::uint8_t>& baked, TexelLayers& layers);
+
 // Scales each side's mirror colours so that, where a texel is seen both
 // directly and in its mirror, the two agree on average: one side of a face
 // is often lit more than the other.
