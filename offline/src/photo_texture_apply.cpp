@@ -61,7 +61,7 @@ void ApplyPhotoTexture(Mesh& mesh, const PhotoTexture& texture) {
   std::vector<std::pair<glm::ivec2, std::uint32_t>> tiles;
   for (const PhotoTextureTile& tile : texture.other_tiles) {
     Material material = texture.material;
-    material.name += tile.image.name.substr(std::string("photo_skin").size(), tile.image.name.rfind('.') - std::string("photo_skin").size());
+    material.name = tile.image.name.substr(0, tile.image.name.rfind('.'));  // "photo_skin_<u>_<v>"
     tiles.emplace_back(tile.tile, AddTexturedMaterial(mesh, material, tile.image));
   }
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {

@@ -165,6 +165,24 @@ void CheckScalpWearsTheHair(const Rig& rig, float eye_height) {
   CHECK(scalp.g < cheek.g - 40.0f);
 }
 
+// The head mask of the plain photo: the hand-marked hair counts, the wall
+// beside her hair and the flag do not; the hair colour lies near the marks'.
+void CheckHairMask(const nlohmann::json& landmarks) {
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  std::vector<glm::vec2> points;
+  for (const auto& p : landmarks) points.emplace_back(p[0].get<float>(), p[1].get<float>());
+  const PhotoHair hair = FindPhotoHair(photo, points, BuildPhotoSkinMask(photo, points));
+  REQUIRE(hair.found);
+  for (const glm::ivec2 patch : kHairPatches) CHECK(hair.head.At(patch.x + 6, patch.y + 6) > 0.9f);
+  for (const glm::ivec2 wall : {glm::ivec2{120, 60}, glm::ivec2{330, 60}, glm::ivec2{320, 120}, glm::ivec2{225, 5}}) {
+    INFO("wall at " << wall.x << ", " << wall.y);
+    CHECK(hair.head.At(wall.x, wall.y) < 0.1f);
+  }
+  const glm::vec3 marked = PhotoHairColour(), found = 255.0f * hair.colour;
+  INFO("hair colour " << found.r << " " << found.g << " " << found.b << ", marked " << marked.r << " " << marked.g << " " << marked.b);
+  for (int c = 0; c < 3; ++c) CHECK(std::abs(found[c] - marked[c]) < 25.0f);
+}
+
 struct PhotoRun {
   fs::path out;
   test::CommandOutcome outcome;
@@ -280,6 +298,7 @@ TEST_CASE("facerig photo: the built-in head from a real photograph", "[cli][phot
   CHECK(rig.FindShape("viseme_aa").has_value());
   CheckCheeks(rig, features.cheeks[1], features.cheeks[0]);  // [0]: the character's left, the image's right
   CHECK(result["texture"]["hair_found"] == true);
+  CheckHairMask(result["landmarks"]);
   CheckScalpWearsTheHair(rig, 0.5f * (features.eye_centres[0].y + features.eye_centres[1].y));
   // Her mouth is open in the photo; the rest face's lips still meet as the
   // head's do (how far the mouth opens is an expression).
