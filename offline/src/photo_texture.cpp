@@ -114,6 +114,23 @@ PhotoTextureStats Measure(const TexelLayers& layers, const photo_texture::Mirror
   return stats;
 }
 
+// A skin UV tile beyond the main one (the back of a head laid out beside its
+// face): it mostly shows what the photo does not, so half the size does.
+PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, glm::ivec2 tile,
+                               const RasterView& camera, const RgbImage& photo, const PhotoSkinMask& mask,
+                               const photo_texture::MirrorPartners& mirror, const photo_texture::CheekRegion& cheeks,
+                               const photo_texture::HairSource& hair, const PhotoTextureParams& params,
+                               const glm::vec3& skin_colour) {
+  PhotoTextureParams half = params;
+  half.size = std::max(16, params.size / 2);
+  half.fill_radius = std::max(1.0f, params.fill_radius / 2.0f);
+  TexelLayers layers = EmptyLayers(half.size);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, tile), camera, photo, mask, mirror, cheeks,
+                              hair, half, layers);
+  photo_texture::BalanceMirrorLight(layers);
+  return {tile, ToImage(half.size, photo_texture::FillTexels(layers, skin_colour, half.fill_radius)), {}};
+}
+
 }  // namespace
 
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
@@ -153,18 +170,9 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   result.stats = Measure(layers, mirror);
   result.direct_weight = std::move(layers.direct_weight);
   result.mirror_weight = std::move(layers.mirror_weight);
-  // The other tiles (the back of a head laid out beside its face) mostly
-  // show what the photo does not: half the size does.
-  PhotoTextureParams other = params;
-  other.size = std::max(16, params.size / 2);
-  other.fill_radius = std::max(1.0f, params.fill_radius / 2.0f);
   for (std::size_t k = 1; k < tiles.size(); ++k) {
-    TexelLayers tile_layers = EmptyLayers(other.size);
-    photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, tiles[k]), camera, photo, mask, mirror,
-                                cheeks, hair_source, other, tile_layers);
-    photo_texture::BalanceMirrorLight(tile_layers);
-    result.other_tiles.push_back({tiles[k], ToImage(other.size, photo_texture::FillTexels(tile_layers, result.skin_colour,
-                                                                                           other.fill_radius)), {}});
+    result.other_tiles.push_back(BakeOtherTile(mesh, skin_triangle, tiles[k], camera, photo, mask, mirror, cheeks,
+                                               hair_source, params, result.skin_colour));
   }
   result.stats.fill_seconds = clock.Lap();
   result.image = EncodePng(result.texture.pixels, result.texture.width, result.texture.height, 3, "photo_skin.png",

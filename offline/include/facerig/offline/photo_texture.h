@@ -9,13 +9,16 @@
 //   1. the photo at its surface point, where the z-buffer sees that point,
 //      weighted by how squarely the surface faces the camera (fading to 0 at
 //      grazing angles) and by the skin mask there (PhotoSkinMask: no
-//      background, hair or teeth);
+//      background, hair or teeth), or on the scalp and above the brows by the
+//      head mask (PhotoHair: the photo's hair, still no background);
 //   2. the photo at its mirror point (the same barycentrics on the mirror
 //      partners of its triangle's vertices, across the face's symmetry plane),
 //      where the photo sees that side instead, scaled per side and channel so
 //      that texels seen both ways agree (one side is often lit more);
-//   3. what remains: the seen colours diffused outwards (push-pull), turning
-//      into a skin colour estimated from the cheeks over `fill_radius` texels.
+//   3. what remains: on the scalp the photo's hair colour (with the
+//      template's painted strands as detail, if it has any); elsewhere the
+//      seen colours diffused outwards (push-pull), turning into a skin colour
+//      estimated from the cheeks over `fill_radius` texels.
 // Each layer is blended over the next by its weight, so seams stay soft.
 // Eyes, teeth, gums, tongue, mouth interior, lashes and eye layers take no
 // photo pixels and keep their own materials.
