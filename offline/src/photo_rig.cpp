@@ -71,8 +71,14 @@ PhotoRig MakePhotoRig(const Rig& template_rig, Mesh surface, const PhotoFit& fit
     result.lid_margins_fitted = lids.margins;
   }
   surface.positions = posed;
-  if (!landmarks.empty()) result.skin_mask = BuildPhotoSkinMask(photo, landmarks, params.mask);
-  const PhotoTexture texture = BakePhotoTexture(surface, fit.view, photo, params.texture, result.skin_mask);
+  PhotoHair hair;
+  if (!landmarks.empty()) {
+    result.skin_mask = BuildPhotoSkinMask(photo, landmarks, params.mask);
+    hair = FindPhotoHair(photo, landmarks, result.skin_mask, params.hair);
+  }
+  const PhotoTexture texture = BakePhotoTexture(surface, fit.view, photo, params.texture, result.skin_mask, hair);
+  result.hair_found = hair.found;
+  result.hair_colour = hair.colour;
   ApplyPhotoTexture(surface, texture);
   surface.positions = rest;
   std::string problem;

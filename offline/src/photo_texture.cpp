@@ -62,11 +62,18 @@ std::vector<std::uint8_t> SkinTriangles(const Mesh& mesh) {
   return skin;
 }
 
+// The skin triangles whose UVs lie in `tile`.
+std::vector<std::uint8_t> InTile(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, glm::ivec2 tile) {
+  std::vector<std::uint8_t> in(skin_triangle.size(), 0);
+  for (std::size_t t = 0; t < in.size(); ++t) in[t] = skin_triangle[t] && photo_texture::UvTile(mesh, t) == tile ? 1 : 0;
+  return in;
+}
+
 TexelLayers EmptyLayers(int size) {
   const std::size_t count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
           std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0),
-          std::vector<std::uint8_t>(count, 0)};
+          std::vector<std::uint8_t>(count, 0), std::vector<float>(count, 0.0f), std::vector<glm::vec3>(count)};
 }
 
 std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
@@ -107,13 +114,34 @@ PhotoTextureStats Measure(const TexelLayers& layers, const photo_texture::Mirror
   return stats;
 }
 
+// A skin UV tile beyond the main one (the back of a head laid out beside its
+// face): it mostly shows what the photo does not, so half the size does.
+PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, glm::ivec2 tile,
+                               const RasterView& camera, const RgbImage& photo, const PhotoSkinMask& mask,
+                               const photo_texture::MirrorPartners& mirror, const photo_texture::CheekRegion& cheeks,
+                               const photo_texture::HairSource& hair, const PhotoTextureParams& params,
+                               const glm::vec3& skin_colour) {
+  PhotoTextureParams half = params;
+  half.size = std::max(16, params.size / 2);
+  half.fill_radius = std::max(1.0f, params.fill_radius / 2.0f);
+  TexelLayers layers = EmptyLayers(half.size);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, tile), camera, photo, mask, mirror, cheeks,
+                              hair, half, layers);
+  photo_texture::BalanceMirrorLight(layers);
+  return {tile, ToImage(half.size, photo_texture::FillTexels(layers, skin_colour, half.fill_radius)), {}};
+}
+
 }  // namespace
 
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
-                              const PhotoTextureParams& params, const PhotoSkinMask& mask) {
+                              const PhotoTextureParams& params, const PhotoSkinMask& mask, const PhotoHair& hair) {
   CheckInputs(mesh, camera, photo, params);
   if (!mask.empty() && mask.weight.size() != static_cast<std::size_t>(mask.width) * static_cast<std::size_t>(mask.height)) {
     throw InvalidInputError("photo texture: the mask's weights do not match its size", "mask");
+  }
+  if (hair.head.weight.size() != static_cast<std::size_t>(hair.head.width) * static_cast<std::size_t>(hair.head.height) &&
+      !hair.head.empty()) {
+    throw InvalidInputError("photo texture: the hair's head mask weights do not match its size", "hair");
   }
   const std::vector<std::uint8_t> skin_triangle = SkinTriangles(mesh);
   std::vector<std::uint8_t> skin_vertex(mesh.vertex_count(), 0);
@@ -123,20 +151,36 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   Stopwatch clock;
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
   const double partner_seconds = clock.Lap();
+  photo_texture::HairSource hair_source{&hair.head, {}, hair.colour};
+  if (hair.found && !hair.head.empty()) hair_source.scalp = photo_texture::FindScalp(mesh);
+  const photo_texture::CheekRegion cheeks = photo_texture::FindCheeks(mesh);
+  const std::vector<glm::ivec2> tiles = photo_texture::SkinUvTiles(mesh, skin_triangle);
+  PhotoTexture result;
+  result.main_tile = tiles.front();
   TexelLayers layers = EmptyLayers(params.size);
-  photo_texture::ProjectPhoto(mesh, skin_triangle, camera, photo, mask, mirror, photo_texture::FindCheeks(mesh), params, layers);
+  const std::vector<std::uint8_t> main_triangles = InTile(mesh, skin_triangle, result.main_tile);
+  photo_texture::ProjectPhoto(mesh, skin_triangle, main_triangles, camera, photo, mask, mirror, cheeks, hair_source,
+                              params, layers);
+  if (hair_source.scalp.found) photo_texture::AddPaintedHairDetail(mesh, main_triangles, layers);
   const double project_seconds = clock.Lap();
   photo_texture::BalanceMirrorLight(layers);
-  PhotoTexture result;
   result.skin_colour = photo_texture::EstimateSkinColour(layers);
   result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, params.fill_radius));
   result.coverage = CoverageImage(layers);
   result.stats = Measure(layers, mirror);
   result.direct_weight = std::move(layers.direct_weight);
   result.mirror_weight = std::move(layers.mirror_weight);
+  for (std::size_t k = 1; k < tiles.size(); ++k) {
+    result.other_tiles.push_back(BakeOtherTile(mesh, skin_triangle, tiles[k], camera, photo, mask, mirror, cheeks,
+                                               hair_source, params, result.skin_colour));
+  }
   result.stats.fill_seconds = clock.Lap();
   result.image = EncodePng(result.texture.pixels, result.texture.width, result.texture.height, 3, "photo_skin.png",
                            params.png_compression);
+  for (PhotoTextureTile& tile : result.other_tiles) {
+    const std::string name = "photo_skin_" + std::to_string(tile.tile.x) + "_" + std::to_string(tile.tile.y) + ".png";
+    tile.image = EncodePng(tile.texture.pixels, tile.texture.width, tile.texture.height, 3, name, params.png_compression);
+  }
   result.stats.encode_seconds = clock.Lap();
   result.stats.partner_seconds = partner_seconds;
   result.stats.project_seconds = project_seconds;

@@ -1,9 +1,12 @@
 // A baked photo texture put on a mesh's skin parts.
 #include <algorithm>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "facerig/offline/photo_texture.h"
 #include "facerig/runtime/part_roles.h"
+#include "photo_texture_internal.h"
 
 namespace facerig {
 namespace {
@@ -41,20 +44,33 @@ void DropUnused(Mesh& mesh) {
   mesh.images = std::move(images);
 }
 
+// Appends the image and a material textured by it; the material's index.
+std::uint32_t AddTexturedMaterial(Mesh& mesh, Material material, EncodedImage image) {
+  image.name = UnusedImageName(mesh, image.name);
+  mesh.images.push_back(std::move(image));
+  material.base_colour_image = static_cast<std::int32_t>(mesh.images.size() - 1);
+  mesh.materials.push_back(std::move(material));
+  return static_cast<std::uint32_t>(mesh.materials.size() - 1);
+}
+
 }  // namespace
 
 void ApplyPhotoTexture(Mesh& mesh, const PhotoTexture& texture) {
   if (mesh.triangle_materials.empty()) ReplacePlaceholderMaterials(mesh);
-  EncodedImage image = texture.image;
-  image.name = UnusedImageName(mesh, image.name);
-  mesh.images.push_back(std::move(image));
-  Material material = texture.material;
-  material.base_colour_image = static_cast<std::int32_t>(mesh.images.size() - 1);
-  mesh.materials.push_back(std::move(material));
-  const auto photo = static_cast<std::uint32_t>(mesh.materials.size() - 1);
+  const std::uint32_t photo = AddTexturedMaterial(mesh, texture.material, texture.image);
+  std::vector<std::pair<glm::ivec2, std::uint32_t>> tiles;
+  for (const PhotoTextureTile& tile : texture.other_tiles) {
+    Material material = texture.material;
+    material.name = tile.image.name.substr(0, tile.image.name.rfind('.'));  // "photo_skin_<u>_<v>"
+    tiles.emplace_back(tile.tile, AddTexturedMaterial(mesh, material, tile.image));
+  }
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
     const bool skin = mesh.triangle_parts.empty() || RoleOfPart(mesh.part_names[mesh.triangle_parts[t]]) == PartRole::kSkin;
-    if (skin) mesh.triangle_materials[t] = photo;
+    if (!skin) continue;
+    mesh.triangle_materials[t] = photo;
+    if (tiles.empty() || mesh.corner_uvs.empty()) continue;
+    const glm::ivec2 tile = photo_texture::UvTile(mesh, t);
+    for (const auto& [other, material] : tiles) mesh.triangle_materials[t] = other == tile ? material : mesh.triangle_materials[t];
   }
   DropUnused(mesh);
 }

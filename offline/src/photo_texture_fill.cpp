@@ -79,9 +79,8 @@ bool CheekRegion::Contains(const glm::vec3& p) const {
   return found && (glm::length(p - centres[0]) < radius || glm::length(p - centres[1]) < radius);
 }
 
-CheekRegion FindCheeks(const Mesh& mesh) {
-  CheekRegion cheeks;
-  if (mesh.triangle_parts.empty()) return cheeks;
+bool FindEyeCentres(const Mesh& mesh, glm::vec3& left, glm::vec3& right) {
+  if (mesh.triangle_parts.empty()) return false;
   // The eyes' centres: the eye parts' vertices either side of the midline (x = their mean).
   std::vector<std::uint8_t> eye(mesh.vertex_count(), 0);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
@@ -93,15 +92,23 @@ CheekRegion FindCheeks(const Mesh& mesh) {
   for (std::size_t v = 0; v < eye.size(); ++v) {
     if (eye[v]) sum += glm::dvec3(mesh.positions[v]), ++count;
   }
-  if (count == 0) return cheeks;
+  if (count == 0) return false;
   const double midline = sum.x / static_cast<double>(count);
   for (std::size_t v = 0; v < eye.size(); ++v) {
     if (!eye[v]) continue;
     const int side = mesh.positions[v].x > midline ? 0 : 1;
     side_sum[side] += glm::dvec3(mesh.positions[v]), ++side_count[side];
   }
-  if (side_count[0] == 0 || side_count[1] == 0) return cheeks;
-  const glm::vec3 left(side_sum[0] / static_cast<double>(side_count[0])), right(side_sum[1] / static_cast<double>(side_count[1]));
+  if (side_count[0] == 0 || side_count[1] == 0) return false;
+  left = glm::vec3(side_sum[0] / static_cast<double>(side_count[0]));
+  right = glm::vec3(side_sum[1] / static_cast<double>(side_count[1]));
+  return true;
+}
+
+CheekRegion FindCheeks(const Mesh& mesh) {
+  CheekRegion cheeks;
+  glm::vec3 left(0.0f), right(0.0f);
+  if (!FindEyeCentres(mesh, left, right)) return cheeks;
   const glm::vec3 across = left - right;
   const float spacing = glm::length(across);
   const glm::vec3 axis = across / spacing;
@@ -166,9 +173,12 @@ std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& sk
   for (std::size_t i = 0; i < layers.skin.size(); ++i) {
     const float wd = layers.skin[i] ? layers.direct_weight[i] : 0.0f;
     const float wm = layers.skin[i] ? (1.0f - wd) * layers.mirror_weight[i] : 0.0f;
-    const glm::vec3 sum = wd * layers.direct_colour[i] + wm * layers.mirror_colour[i] + lean * skin_colour;
-    base.colour[i] = sum / (wd + wm + lean);
-    base.weight[i] = std::min(wd + wm + lean, 1.0f);
+    // The scalp's hair colour fills what the photo leaves there, so no skin diffuses onto it.
+    const float wh = layers.skin[i] ? layers.scalp[i] * std::max(0.0f, 1.0f - wd - wm) : 0.0f;
+    const glm::vec3 sum = wd * layers.direct_colour[i] + wm * layers.mirror_colour[i] + wh * layers.hair_colour[i] +
+                          lean * skin_colour;
+    base.colour[i] = sum / (wd + wm + wh + lean);
+    base.weight[i] = std::min(wd + wm + wh + lean, 1.0f);
   }
   while (pyramid.back().width > 1 || pyramid.back().height > 1) pyramid.push_back(Coarser(pyramid.back()));
   Level& top = pyramid.back();

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "facerig/offline/photo_texture.h"
@@ -19,6 +20,10 @@ struct TexelLayers {
   std::vector<std::uint8_t> skin;   // 1: inside a skin triangle's UVs
   std::vector<std::uint8_t> cheek;  // 1: its surface point lies on a cheek
   std::vector<std::uint8_t> side;   // 1: its surface point lies behind the symmetry plane
+  // Where hair covers the surface (0 none, 1 full) and the hair's colour there:
+  // what the photo does not show of the scalp takes that colour instead of skin.
+  std::vector<float> scalp;
+  std::vector<glm::vec3> hair_colour;
 };
 
 // Each vertex's mirror partner across the face's symmetry plane (-1: none);
@@ -41,11 +46,56 @@ struct CheekRegion {
 };
 CheekRegion FindCheeks(const Mesh& mesh);
 
+// The centres of the eye parts' vertices either side of the midline, the
+// character's left (+X) first; false without eye parts on both sides.
+bool FindEyeCentres(const Mesh& mesh, glm::vec3& left, glm::vec3& right);
+
+// The scalp: the surface above a hairline set from the eyes (their spacing
+// the unit, the face looking along +Z): high on the forehead, over the ears,
+// down to the nape.
+struct ScalpRegion {
+  bool found = false;
+  glm::vec3 eyes{0.0f}, across{1.0f, 0.0f, 0.0f}, up{0.0f, 1.0f, 0.0f}, forward{0.0f, 0.0f, 1.0f};
+  float spacing = 1.0f;
+  // How much hair covers p, in [0, 1], with a soft edge.
+  float Coverage(const glm::vec3& p) const;
+  // Where the photo's hair may be taken: the scalp, and the forehead above
+  // the brows (a fringe); in [0, 1].
+  float HairMayShow(const glm::vec3& p) const;
+  // Degrees about the head's vertical axis from the front, + towards the character's left.
+  float Azimuth(const glm::vec3& p) const;
+  // `colour` with a little low-frequency variation over the head, as clumps of hair.
+  glm::vec3 Vary(const glm::vec3& colour, const glm::vec3& p) const;
+};
+ScalpRegion FindScalp(const Mesh& mesh);
+
+// The photo's head pixels (PhotoHair::head) and the scalp they may land on;
+// unused when `scalp.found` is false.
+struct HairSource {
+  const PhotoSkinMask* head = nullptr;
+  ScalpRegion scalp;
+  glm::vec3 colour{0.0f};
+};
+
+// The UV tile (integer part) triangle t's UVs lie in, by their centre.
+glm::ivec2 UvTile(const Mesh& mesh, std::size_t t);
+
+// The UV tiles of the skin triangles, the one with the most triangles first
+// ({0, 0} alone when there are none).
+std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle);
+
 // Fills the layers' direct and mirror samples from the photo for every texel
-// of the skin triangles, each photo pixel weighted by the mask.
-void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
+// of the `baked` triangles (skin triangles of one UV tile), each photo pixel
+// weighted by the mask; all skin triangles count as skin where they hide others.
+void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
+                  const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
-                  const CheekRegion& cheeks, const PhotoTextureParams& params, TexelLayers& layers);
+                  const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
+                  TexelLayers& layers);
+
+// Where the baked triangles wear a painted texture (the built-in head's),
+// its local light and dark (strands, clumps) multiply the scalp's hair colours.
+void AddPaintedHairDetail(const Mesh& mesh, const std::vector<std::uint8_t>& baked, TexelLayers& layers);
 
 // Scales each side's mirror colours so that, where a texel is seen both
 // directly and in its mirror, the two agree on average: one side of a face
@@ -57,7 +107,8 @@ void BalanceMirrorLight(TexelLayers& layers);
 glm::vec3 EstimateSkinColour(const TexelLayers& layers);
 
 // Every texel's colour: direct over mirror over the push-pull diffusion of
-// both, which fades into `skin_colour` over `fill_radius` texels.
+// both, which fades into `skin_colour` over `fill_radius` texels; on the
+// scalp, the hair colour takes what direct and mirror leave.
 std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, float fill_radius);
 
 }  // namespace facerig::photo_texture

@@ -39,8 +39,8 @@ Mesh Occluders(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
 class PhotoView {
  public:
   PhotoView(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
-            const RgbImage& photo, const PhotoSkinMask& mask, const PhotoTextureParams& params)
-      : camera_(camera), photo_(photo), mask_(mask), params_(params),
+            const RgbImage& photo, const PhotoSkinMask& mask, const HairSource& hair, const PhotoTextureParams& params)
+      : camera_(camera), photo_(photo), mask_(mask), hair_(hair), params_(params),
         buffers_(Rasterize(Occluders(mesh, skin_triangle, shows_skin_), camera)) {
     towards_camera_ = glm::vec3(camera.rotation[0][2], camera.rotation[1][2], camera.rotation[2][2]);
     camera_position_ = camera.centre + camera.distance * towards_camera_;
@@ -54,7 +54,8 @@ class PhotoView {
     facing_sign_ = 2 * back > covered ? -1.0f : 1.0f;
   }
 
-  // The photo's weight in [0, 1] at surface point p with normal n, and its colour there.
+  // The photo's weight in [0, 1] at surface point p with normal n, and its
+  // colour there: skin anywhere, the head's hair above the brows.
   float Sample(const glm::vec3& p, const glm::vec3& n, glm::vec3& colour) const {
     const glm::vec3 q = ProjectToImage(camera_, p);
     if (!(q.x >= 0.0f && q.y >= 0.0f && q.x < static_cast<float>(camera_.width) && q.y < static_cast<float>(camera_.height))) {
@@ -63,7 +64,9 @@ class PhotoView {
     const bool perspective = camera_.vertical_fov > 0.0f;
     const glm::vec3 towards = perspective ? glm::normalize(camera_position_ - p) : towards_camera_;
     const float facing = facing_sign_ * glm::dot(n, towards);
-    const float weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing) * MaskUnder(q.x, q.y);
+    float shown = MaskUnder(mask_, q.x, q.y);
+    if (hair_.scalp.found && shown < 1.0f) shown = std::max(shown, hair_.scalp.HairMayShow(p) * MaskUnder(*hair_.head, q.x, q.y));
+    const float weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing) * shown;
     if (weight <= 0.0f) return 0.0f;
     const std::size_t pixel = buffers_.index(static_cast<int>(q.x), static_cast<int>(q.y));
     // Where the photo shows an eye or teeth there, the skin point is behind them.
@@ -92,9 +95,9 @@ class PhotoView {
 
   // The least mask weight of the pixels Bilinear mixes at (x, y): a colour
   // with any of an excluded pixel in it counts no more than that pixel.
-  float MaskUnder(float x, float y) const {
+  static float MaskUnder(const PhotoSkinMask& mask, float x, float y) {
     const int x0 = static_cast<int>(std::floor(x - 0.5f)), y0 = static_cast<int>(std::floor(y - 0.5f));
-    return std::min(std::min(mask_.At(x0, y0), mask_.At(x0 + 1, y0)), std::min(mask_.At(x0, y0 + 1), mask_.At(x0 + 1, y0 + 1)));
+    return std::min(std::min(mask.At(x0, y0), mask.At(x0 + 1, y0)), std::min(mask.At(x0, y0 + 1), mask.At(x0 + 1, y0 + 1)));
   }
 
   bool ShowsSkin(int x, int y) const {
@@ -125,6 +128,7 @@ class PhotoView {
   const RasterView& camera_;
   const RgbImage& photo_;
   const PhotoSkinMask& mask_;
+  const HairSource& hair_;
   const PhotoTextureParams& params_;
   std::vector<std::uint8_t> shows_skin_;  // declared before buffers_: Occluders fills it
   RasterBuffers buffers_;
@@ -151,9 +155,7 @@ SurfacePoint Interpolate(const std::vector<glm::vec3>& positions, const std::vec
 
 // The triangle's UVs in texel coordinates (OBJ's v up; the UV tile its centre lies in).
 void TexelCorners(const Mesh& mesh, std::size_t t, int size, glm::dvec2 (&uv)[3]) {
-  glm::vec2 centre(0.0f);
-  for (int k = 0; k < 3; ++k) centre += mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] / 3.0f;
-  const glm::vec2 tile = glm::floor(centre);
+  const glm::vec2 tile(UvTile(mesh, t));
   for (int k = 0; k < 3; ++k) {
     const glm::vec2 local = mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] - tile;
     uv[k] = glm::dvec2(local.x, 1.0f - local.y) * static_cast<double>(size) - 0.5;
@@ -162,14 +164,38 @@ void TexelCorners(const Mesh& mesh, std::size_t t, int size, glm::dvec2 (&uv)[3]
 
 }  // namespace
 
-void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle, const RasterView& camera,
+glm::ivec2 UvTile(const Mesh& mesh, std::size_t t) {
+  glm::vec2 centre(0.0f);
+  for (int k = 0; k < 3; ++k) centre += mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] / 3.0f;
+  return glm::ivec2(glm::floor(centre));
+}
+
+std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle) {
+  std::vector<std::pair<glm::ivec2, std::size_t>> counts;
+  for (std::size_t t = 0; t < skin_triangle.size(); ++t) {
+    if (!skin_triangle[t]) continue;
+    const glm::ivec2 tile = UvTile(mesh, t);
+    auto found = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == tile; });
+    if (found == counts.end()) counts.emplace_back(tile, 1);
+    else ++found->second;
+  }
+  std::stable_sort(counts.begin(), counts.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::vector<glm::ivec2> tiles;
+  for (const auto& c : counts) tiles.push_back(c.first);
+  if (tiles.empty()) tiles.emplace_back(0, 0);
+  return tiles;
+}
+
+void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
+                  const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
-                  const CheekRegion& cheeks, const PhotoTextureParams& params, TexelLayers& layers) {
-  const PhotoView view(mesh, skin_triangle, camera, photo, mask, params);
+                  const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
+                  TexelLayers& layers) {
+  const PhotoView view(mesh, skin_triangle, camera, photo, mask, hair, params);
   std::vector<glm::vec3> normals(mesh.vertex_count());
   ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-    if (!skin_triangle[t]) continue;
+    if (!baked[t]) continue;
     const std::array<std::uint32_t, 3> v{mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
     const bool mirrored = mirror.partner[v[0]] >= 0 && mirror.partner[v[1]] >= 0 && mirror.partner[v[2]] >= 0;
     std::array<std::uint32_t, 3> m{};
@@ -195,6 +221,8 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       layers.direct_colour[i] = direct, layers.direct_weight[i] = wd;
       layers.mirror_colour[i] = reflected, layers.mirror_weight[i] = wm;
       layers.cheek[i] = cheeks.Contains(point.position) ? 1 : 0;
+      layers.scalp[i] = hair.scalp.Coverage(point.position);
+      if (layers.scalp[i] > 0.0f) layers.hair_colour[i] = hair.scalp.Vary(hair.colour, point.position);
       layers.side[i] = glm::dot(mirror.plane_normal, point.position) < mirror.plane_offset ? 1 : 0;
     });
   }

@@ -129,6 +129,8 @@ nlohmann::json TextureJson(const PhotoRig& made, int size) {
           {"mirrored_fraction", stats.mirrored_fraction},
           {"filled_fraction", stats.filled_fraction},
           {"skin_colour", {made.skin_colour.r, made.skin_colour.g, made.skin_colour.b}},
+          {"hair_found", made.hair_found},
+          {"hair_colour", {made.hair_colour.r, made.hair_colour.g, made.hair_colour.b}},
           {"eye_materials_painted", made.eye_materials_painted}};
 }
 

@@ -295,6 +295,11 @@ TEST_CASE("photo texture: photo pixels outside the skin mask are taken neither d
   PhotoSkinMask broken = mask;
   broken.weight.pop_back();
   CHECK_THROWS_AS(BakePhotoTexture(mesh, camera, photo, {.size = 64}, broken), InvalidInputError);
+  PhotoHair broken_hair{broken, glm::vec3(0.5f), true};
+  CHECK_THROWS_AS(BakePhotoTexture(mesh, camera, photo, {.size = 64}, mask, broken_hair), InvalidInputError);
+  // The hair's head mask needs dlib's 68 landmarks.
+  const std::vector<glm::vec2> too_few(10, glm::vec2(1.0f));
+  CHECK_THROWS_AS(FindPhotoHair(photo, too_few, mask), InvalidInputError);
 }
 
 TEST_CASE("photo texture: invalid inputs are refused", "[photo_texture]") {

@@ -79,10 +79,10 @@ glm::vec3 PatchMean(const RgbImage& image, glm::ivec2 corner, int size) {
   return sum / static_cast<float>(size * size);
 }
 
-// The photo's texture (the material the bake adds) on a written rig.
-RgbImage PhotoSkinTexture(const Rig& rig) {
+// The photo's texture (the material the bake adds, or the one of another UV tile) on a written rig.
+RgbImage PhotoSkinTexture(const Rig& rig, const std::string& name = "photo_skin") {
   for (const Material& material : rig.materials()) {
-    if (material.name == "photo_skin" && material.base_colour_image >= 0) {
+    if (material.name == name && material.base_colour_image >= 0) {
       return DecodeImage(rig.images()[static_cast<std::size_t>(material.base_colour_image)]);
     }
   }
@@ -114,6 +114,73 @@ void CheckCheeks(const Rig& rig, std::uint32_t image_left_cheek, std::uint32_t i
     for (int c = 0; c < 3; ++c) CHECK(std::abs(baked[c] - skin[c]) < 25.0f);
     CHECK(std::abs((baked.r - baked.b) - (skin.r - skin.b)) < 20.0f);
   }
+}
+
+// Hair patches marked by hand on astronaut.png (12 x 12 px, top-left
+// corners): the crown's lit top, the fringe, and both darker sides.
+constexpr std::array<glm::ivec2, 4> kHairPatches{{{205, 28}, {215, 45}, {170, 60}, {270, 60}}};
+
+glm::vec3 PhotoHairColour() {
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  glm::vec3 sum(0.0f);
+  for (const glm::ivec2 patch : kHairPatches) sum += PatchMean(photo, patch, 12);
+  return sum / static_cast<float>(kHairPatches.size());
+}
+
+// The top of the head (the photo's skin parts above the eyes by over 60 % of
+// the way to the crown) wears her hair: its median colour near the hand-marked
+// hair's mean, and far darker than her cheeks (a bald head wore skin there).
+void CheckScalpWearsTheHair(const Rig& rig, float eye_height) {
+  float crown = eye_height;
+  for (const glm::vec3& p : rig.positions()) crown = std::max(crown, p.y);
+  std::vector<std::uint8_t> counted(rig.vertex_count(), 0);
+  std::array<std::vector<float>, 3> channels;
+  for (const Part& part : rig.parts()) {
+    if (part.material < 0) continue;
+    const std::string& name = rig.materials()[static_cast<std::size_t>(part.material)].name;
+    if (name.rfind("photo_skin", 0) != 0) continue;
+    const RgbImage texture = PhotoSkinTexture(rig, name);
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
+      for (const std::uint32_t v : rig.triangles()[t]) {
+        if (counted[v] || rig.positions()[v].y < eye_height + 0.6f * (crown - eye_height)) continue;
+        counted[v] = 1;
+        const glm::vec3 colour = TextureAt(rig, texture, v);
+        for (int c = 0; c < 3; ++c) channels[static_cast<std::size_t>(c)].push_back(colour[c]);
+      }
+    }
+  }
+  REQUIRE(channels[0].size() > 200);
+  glm::vec3 scalp;
+  for (int c = 0; c < 3; ++c) {
+    auto& values = channels[static_cast<std::size_t>(c)];
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+    scalp[c] = values[values.size() / 2];
+  }
+  const glm::vec3 hair = PhotoHairColour();
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  const glm::vec3 cheek = PatchMean(photo, kImageLeftCheek, 8);
+  INFO("scalp " << scalp.r << " " << scalp.g << " " << scalp.b << " over " << channels[0].size() << " vertices; hair "
+                << hair.r << " " << hair.g << " " << hair.b << "; cheek " << cheek.r << " " << cheek.g << " " << cheek.b);
+  for (int c = 0; c < 3; ++c) CHECK(std::abs(scalp[c] - hair[c]) < 35.0f);
+  CHECK(scalp.g < cheek.g - 40.0f);
+}
+
+// The head mask of the plain photo: the hand-marked hair counts, the wall
+// beside her hair and the flag do not; the hair colour lies near the marks'.
+void CheckHairMask(const nlohmann::json& landmarks) {
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  std::vector<glm::vec2> points;
+  for (const auto& p : landmarks) points.emplace_back(p[0].get<float>(), p[1].get<float>());
+  const PhotoHair hair = FindPhotoHair(photo, points, BuildPhotoSkinMask(photo, points));
+  REQUIRE(hair.found);
+  for (const glm::ivec2 patch : kHairPatches) CHECK(hair.head.At(patch.x + 6, patch.y + 6) > 0.9f);
+  for (const glm::ivec2 wall : {glm::ivec2{120, 60}, glm::ivec2{330, 60}, glm::ivec2{320, 120}, glm::ivec2{225, 5}}) {
+    INFO("wall at " << wall.x << ", " << wall.y);
+    CHECK(hair.head.At(wall.x, wall.y) < 0.1f);
+  }
+  const glm::vec3 marked = PhotoHairColour(), found = 255.0f * hair.colour;
+  INFO("hair colour " << found.r << " " << found.g << " " << found.b << ", marked " << marked.r << " " << marked.g << " " << marked.b);
+  for (int c = 0; c < 3; ++c) CHECK(std::abs(found[c] - marked[c]) < 25.0f);
 }
 
 struct PhotoRun {
@@ -230,6 +297,9 @@ TEST_CASE("facerig photo: the built-in head from a real photograph", "[cli][phot
   CHECK(rig.FindShape("jawOpen").has_value());
   CHECK(rig.FindShape("viseme_aa").has_value());
   CheckCheeks(rig, features.cheeks[1], features.cheeks[0]);  // [0]: the character's left, the image's right
+  CHECK(result["texture"]["hair_found"] == true);
+  CheckHairMask(result["landmarks"]);
+  CheckScalpWearsTheHair(rig, 0.5f * (features.eye_centres[0].y + features.eye_centres[1].y));
   // Her mouth is open in the photo; the rest face's lips still meet as the
   // head's do (how far the mouth opens is an expression).
   float widest_gap = 0.0f;
@@ -270,6 +340,12 @@ TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared dat
     cheeks.push_back(nearest);
   }
   CheckCheeks(rig, cheeks[0], cheeks[1]);
+  // The back of ICT's head lies in a UV tile of its own (u in [1, 2]): it
+  // gets a texture of its own and wears the hair, not the face's texels.
+  CHECK(std::any_of(rig.materials().begin(), rig.materials().end(), [](const Material& m) { return m.name == "photo_skin_1_0"; }));
+  float eye_height = 0.0f;
+  for (int k = 36; k <= 47; ++k) eye_height += rig.positions()[descriptor["landmarks"][k].get<std::uint32_t>()].y / 12.0f;
+  CheckScalpWearsTheHair(rig, eye_height);
 }
 
 TEST_CASE("facerig photo: a strongly coloured background stays off the head's sides and back", "[cli][photo]") {

@@ -27,6 +27,7 @@ PhotoModelParams PhotoModelParamsFor(const Rig& rig);
 struct PhotoRigParams {
   PhotoTextureParams texture;
   PhotoSkinMaskParams mask;
+  PhotoHairParams hair;
 };
 
 struct PhotoRig {
@@ -37,6 +38,8 @@ struct PhotoRig {
   // A deformed fit's eye-opening rim vertices put on the photo's lids (0: none).
   std::size_t lid_margins_fitted = 0;
   PhotoSkinMask skin_mask;  // where the texture took photo pixels (empty: everywhere)
+  bool hair_found = false;  // the photo's hair told from the background: the scalp wears it
+  glm::vec3 hair_colour{0.0f};  // sRGB in [0, 1], when found
 };
 
 // `surface`: the template's surface on the rig's vertices whose triangle t is

@@ -9,13 +9,16 @@
 //   1. the photo at its surface point, where the z-buffer sees that point,
 //      weighted by how squarely the surface faces the camera (fading to 0 at
 //      grazing angles) and by the skin mask there (PhotoSkinMask: no
-//      background, hair or teeth);
+//      background, hair or teeth), or on the scalp and above the brows by the
+//      head mask (PhotoHair: the photo's hair, still no background);
 //   2. the photo at its mirror point (the same barycentrics on the mirror
 //      partners of its triangle's vertices, across the face's symmetry plane),
 //      where the photo sees that side instead, scaled per side and channel so
 //      that texels seen both ways agree (one side is often lit more);
-//   3. what remains: the seen colours diffused outwards (push-pull), turning
-//      into a skin colour estimated from the cheeks over `fill_radius` texels.
+//   3. what remains: on the scalp the photo's hair colour (with the
+//      template's painted strands as detail, if it has any); elsewhere the
+//      seen colours diffused outwards (push-pull), turning into a skin colour
+//      estimated from the cheeks over `fill_radius` texels.
 // Each layer is blended over the next by its weight, so seams stay soft.
 // Eyes, teeth, gums, tongue, mouth interior, lashes and eye layers take no
 // photo pixels and keep their own materials.
@@ -63,6 +66,14 @@ struct PhotoTextureStats {
   double partner_seconds = 0.0, project_seconds = 0.0, fill_seconds = 0.0, encode_seconds = 0.0;
 };
 
+// A skin UV tile beyond the main one (UDIM layouts: ICT-FaceKit's back of
+// the head lies at u in [1, 2]), baked into a texture of its own at half size.
+struct PhotoTextureTile {
+  glm::ivec2 tile{0};  // the UVs' integer part
+  RgbImage texture;
+  EncodedImage image;  // "photo_skin_<u>_<v>.png"
+};
+
 struct PhotoTexture {
   // size x size, sRGB, row 0 at the top (v = 1, OBJ's convention); every
   // texel set, also outside the skin's UV islands (so filtering across a
@@ -77,6 +88,9 @@ struct PhotoTexture {
   // skin's UV islands.
   RgbImage coverage;
   glm::vec3 skin_colour{0.0f};  // sRGB in [0, 1], estimated from the photo
+  // The UV tile `texture` covers (the one with the most skin triangles), and the others.
+  glm::ivec2 main_tile{0};
+  std::vector<PhotoTextureTile> other_tiles;
   EncodedImage image;           // the texture as PNG, "photo_skin.png"
   Material material;            // white, textured by `image` (index set by ApplyPhotoTexture)
   PhotoTextureStats stats;
@@ -122,15 +136,43 @@ PhotoSkinMask BuildPhotoSkinMask(const RgbImage& photo, std::span<const glm::vec
 // it out (by 1 - weight). \pre the mask empty or of this photo.
 RgbImage ShadeOutsideSkinMask(const RgbImage& photo, const PhotoSkinMask& mask);
 
+// Where the photo shows the head (face and hair, not the background), from
+// GrabCut on a scaled copy of the window round the face, seeded from the
+// landmarks (inside the jaw line: head; the window's edges inside the photo:
+// background); and the hair's colour there.
+struct PhotoHairParams {
+  int work_size = 192;  // pixels a side of the scaled copy GrabCut runs on
+  int iterations = 3;
+};
+
+struct PhotoHair {
+  // Per photo pixel, the weight with which it shows the head (hair or skin);
+  // empty when the head could not be told from the background.
+  PhotoSkinMask head;
+  glm::vec3 colour{0.0f};  // sRGB in [0, 1]: the median of the head's pixels above the brows that are not skin
+  bool found = false;      // enough such pixels for a colour
+};
+
+// `skin`: BuildPhotoSkinMask of the same photo and landmarks.
+// \throw InvalidInputError when landmarks.size() != 68 or the photo's pixels do not match its size.
+PhotoHair FindPhotoHair(const RgbImage& photo, std::span<const glm::vec2> landmarks, const PhotoSkinMask& skin,
+                        const PhotoHairParams& params = {});
+
 // \pre mesh.Validate(), corner UVs, the camera valid for Rasterize, the photo
 // width x height x 3 bytes and the same size as the camera's image.
 // \throw InvalidInputError naming the mesh, camera, photo or parameter at fault.
-// `mask`: empty, or of the photo (BuildPhotoSkinMask).
+// `mask`: empty, or of the photo (BuildPhotoSkinMask). `hair`: when found,
+// the scalp (the surface above a hairline set from the eyes: high on the
+// forehead, over the ears, down to the nape) takes the photo's head pixels
+// where the photo sees it above the brows, and elsewhere the hair's colour
+// with a little low-frequency variation, where skin would be filled in.
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
-                              const PhotoTextureParams& params = {}, const PhotoSkinMask& mask = {});
+                              const PhotoTextureParams& params = {}, const PhotoSkinMask& mask = {},
+                              const PhotoHair& hair = {});
 
 // Gives every triangle of a skin part the baked material (its image appended
-// to mesh.images); other parts keep their materials (a mesh without any gets
+// to mesh.images; a skin triangle in another UV tile that tile's own
+// material, "photo_skin_<u>_<v>"); other parts keep their materials (a mesh without any gets
 // each part its RoleMaterial); materials and images nothing uses any more are
 // dropped.
 void ApplyPhotoTexture(Mesh& mesh, const PhotoTexture& texture);
