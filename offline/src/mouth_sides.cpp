@@ -135,7 +135,7 @@ std::optional<MouthRim> RimOf(const std::vector<std::uint32_t>& loop, std::span<
 // Where the target's mouth is a hole, its own rim is the seam (the template's
 // lips, fitted a millimetre off, would put the rim's vertices on either side),
 // and its chains say each rim vertex's side.
-void UseTargetRims(std::span<const glm::vec3> in_template, std::span<const Triangle> target_triangles, Seam& seam,
+bool UseTargetRims(std::span<const glm::vec3> in_template, std::span<const Triangle> target_triangles, Seam& seam,
                    std::vector<MouthSide>& chain_side) {
   std::optional<MouthRim> front;
   for (const std::vector<std::uint32_t>& loop : BoundaryLoops(in_template, target_triangles)) {
@@ -144,12 +144,13 @@ void UseTargetRims(std::span<const glm::vec3> in_template, std::span<const Trian
     for (const auto& [v, side] : rim->chain_vertices) chain_side[v] = side;
     if (!front || rim->upper.front().z > front->upper.front().z) front = std::move(rim);
   }
-  if (!front) return;
+  if (!front) return false;
   std::vector<glm::vec3> points;
   for (const glm::vec3& p : front->upper) {
     points.push_back({p.x, 0.5f * (p.y + NearestInXHeight(front->lower, p.x)), p.z});
   }
   seam.points = std::move(points);
+  return true;
 }
 
 MouthSide SideInZone(glm::vec3 p, const Seam& seam, const MouthSideParams& params) {
@@ -184,11 +185,14 @@ MouthSides FindMouthSides(const Rig& template_rig, std::span<const glm::vec3> fi
   for (std::size_t v = 0; v < fitted.size(); ++v) fitted_in_template[v] = to_template.Apply(fitted[v]);
   Seam seam = SeamOf(lips, fitted_in_template);
   if (!(seam.width > 0.0f)) return sides;
-  sides.template_triangle = TriangleSides(template_rig, *open, lips);
   std::vector<glm::vec3> target_in_template(target_positions.size());
   for (std::size_t v = 0; v < target_positions.size(); ++v) target_in_template[v] = to_template.Apply(target_positions[v]);
   std::vector<MouthSide> chain_side(target_positions.size(), MouthSide::kEither);
-  UseTargetRims(target_in_template, target_triangles, seam, chain_side);
+  // Without a mouth rim of its own the target's seam is the fitted
+  // template's, a few millimetres off: its lips would search the wrong side
+  // (an ICT-like face's expressions measured worse), so no sides.
+  if (!UseTargetRims(target_in_template, target_triangles, seam, chain_side)) return sides;
+  sides.template_triangle = TriangleSides(template_rig, *open, lips);
   sides.target_vertex.resize(target_positions.size());
   for (std::size_t v = 0; v < target_positions.size(); ++v) {
     sides.target_vertex[v] = chain_side[v] != MouthSide::kEither ? chain_side[v]

@@ -21,10 +21,11 @@ namespace facerig {
 enum class MouthSide : std::uint8_t { kEither = 0, kUpper, kLower };
 
 struct MouthSides {
-  // Per template triangle: kLower where the template's jawOpen moves it
-  // (its vertices on average by more than half as much as its lower lip),
-  // else kUpper. Empty: no sides (the template has no jawOpen or mouthClose,
-  // or its lips meet nowhere).
+  // Per template triangle: kLower where the template's jawOpen carries it
+  // (at least two of its vertices move more than half as much as a rigid
+  // jaw turn fitted to its lower lip would), else kUpper. Empty: no sides
+  // (the template has no jawOpen or mouthClose, its lips meet nowhere, or
+  // the target's mouth is not a hole in its mesh).
   std::vector<MouthSide> template_triangle;
   // Per target vertex: above or below the lip seam inside the mouth zone,
   // kEither outside it.
