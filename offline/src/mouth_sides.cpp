@@ -38,15 +38,20 @@ struct Seam {
 
   // The seam's height at x: that of its point nearest in x.
   float HeightAt(float x) const;
+  // The seam's depth (forward coordinate) at x: that of its point nearest in x.
+  float DepthAt(float x) const;
 };
 
-float NearestInXHeight(const std::vector<glm::vec3>& points, float x) {
-  return std::min_element(points.begin(), points.end(), [x](const glm::vec3& a, const glm::vec3& b) {
-           return std::abs(a.x - x) < std::abs(b.x - x);
-         })->y;
+const glm::vec3& NearestInX(const std::vector<glm::vec3>& points, float x) {
+  return *std::min_element(points.begin(), points.end(), [x](const glm::vec3& a, const glm::vec3& b) {
+    return std::abs(a.x - x) < std::abs(b.x - x);
+  });
 }
 
+float NearestInXHeight(const std::vector<glm::vec3>& points, float x) { return NearestInX(points, x).y; }
+
 float Seam::HeightAt(float x) const { return NearestInXHeight(points, x); }
+float Seam::DepthAt(float x) const { return NearestInX(points, x).z; }
 
 Seam SeamOf(const OpeningMargins& lips, std::span<const glm::vec3> fitted_in_template) {
   Seam seam;
@@ -159,6 +164,9 @@ MouthSide SideInZone(glm::vec3 p, const Seam& seam, const MouthSideParams& param
   if (p.z > seam.front_z + params.zone_front * w || p.z < seam.front_z - params.zone_behind * w) {
     return MouthSide::kEither;
   }
+  // In front of the rim (the outer lips) the plain search is right; a lip
+  // bulging above or below the seam's height would take the other side.
+  if (p.z > seam.DepthAt(p.x) + params.rim_front * w) return MouthSide::kEither;
   const float above = p.y - seam.HeightAt(p.x);
   if (above > params.zone_above * w || above < -params.zone_below * w) return MouthSide::kEither;
   return above >= 0.0f ? MouthSide::kUpper : MouthSide::kLower;

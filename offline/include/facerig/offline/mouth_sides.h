@@ -40,6 +40,7 @@ struct MouthSideParams {
   float zone_below = 0.45f;  // the mouth floor, not the underside of the chin
   float zone_behind = 1.2f;  // from the seam's front to the back of the mouth
   float zone_front = 0.1f;   // the lips' outer side in front of the seam
+  float rim_front = 0.03f;    // sides only behind the rim (inner lips, mouth sack), not on the outer lips
 };
 
 // template_rig: the template (its frame: y up, x across the face, z
