@@ -14,6 +14,7 @@
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/landmarks.h"
+#include "facerig/offline/mouth_sides.h"
 #include "facerig/offline/self_intersection.h"
 #include "facerig/runtime/io/obj.h"
 #include "support/registration_targets.h"
@@ -95,6 +96,31 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
     // ICT itself has ~1,000 (lashes through lids, the mouth socket's rim): the
     // fit may add a few percent, not a tooth through the lip.
     CHECK(fitted <= original + original / 10 + 10);
+  }
+  {
+    // A target vertex given a mouth side lies, on the true face, on a
+    // template triangle of that side: the outer lips, whose bulge crosses the
+    // seam's height, are left to the plain search.
+    const MouthSides sides = FindMouthSides(ict, registered.registration.positions,
+                                            registered.registration.rigid.Inverse(), target.positions,
+                                            target.triangles, IctInfo().region.last + 1);
+    REQUIRE(sides.target_vertex.size() == target.positions.size());
+    const ClosestPointQuery truth(facerig::test::MeshOf(target.true_ict_positions, ict.triangles()));
+    std::size_t sided = 0, wrong_side = 0;
+    for (std::size_t v = 0; v < target.positions.size(); ++v) {
+      if (sides.target_vertex[v] == MouthSide::kEither) continue;
+      ++sided;
+      const ClosestPointHit hit = truth.Find(target.positions[v]);
+      if (hit.triangle >= 0 && sides.template_triangle[static_cast<std::size_t>(hit.triangle)] != sides.target_vertex[v]) {
+        ++wrong_side;
+      }
+    }
+    std::printf("mouth sides: %zu target vertices sided, %zu of them on the other side of the true face\n", sided,
+                wrong_side);
+    CHECK(sided > 100);
+    // A few hundred: sides by the seam's height alone gave the lower lip's
+    // bulge the upper side and made this face's expressions worse.
+    CHECK(wrong_side < 300);
   }
   for (BuildMode mode : {BuildMode::kClassic, BuildMode::kIdentityGradient, BuildMode::kDisplacement}) {
     BuildRigParams params;
