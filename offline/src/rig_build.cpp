@@ -13,6 +13,7 @@
 
 #include "facerig/offline/displacement_transfer.h"
 #include "facerig/offline/mesh_components.h"
+#include "facerig/offline/mouth_sides.h"
 #include "facerig/offline/stats.h"
 
 namespace facerig {
@@ -197,7 +198,7 @@ RawRig FittedRigInTargetFrame(const Rig& template_rig, std::span<const glm::vec3
 // The fitted rig's shapes onto the target's own vertices (result.rig), the
 // target's rims snapped to the aligned margins.
 void MapOntoTarget(const Rig& template_rig, RawRig fitted, const MarginStage& margins, RawRig target,
-                   const BuildRigParams& params, BuildRigResult& result) {
+                   std::uint32_t region_vertex_count, const BuildRigParams& params, BuildRigResult& result) {
   std::string problem;
   std::optional<Rig> fitted_rig = RigBuilder::Build(fitted, &problem);
   if (!fitted_rig) throw InvalidInputError("the transferred template rig is invalid: " + problem);
@@ -207,7 +208,10 @@ void MapOntoTarget(const Rig& template_rig, RawRig fitted, const MarginStage& ma
   mapping_params.openings = params.openings;
   const Mesh fitted_template{.positions = result.registration.positions,
                              .triangles = {template_rig.triangles().begin(), template_rig.triangles().end()}};
-  result.mapping = ComputeTopologyMapping(fitted_template, NeutralMesh(target), mapping_params, rims);
+  const MouthSides mouth_sides = FindMouthSides(template_rig, result.registration.positions,
+                                                result.registration.rigid.Inverse(), target.positions,
+                                                target.triangles, region_vertex_count);
+  result.mapping = ComputeTopologyMapping(fitted_template, NeutralMesh(target), mapping_params, rims, mouth_sides);
   result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
   result.fitted_rig = std::move(fitted);
 }
@@ -334,7 +338,7 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplat
   result.timings.transfer_seconds = stage.SecondsOf("align margins") + stage.SecondsOf("to template frame") +
                                     stage.SecondsOf("transfer") + stage.SecondsOf("to target frame");
   stage.Run("map", [&] {
-    MapOntoTarget(template_rig, std::move(fitted), margins, std::move(target), params, result);
+    MapOntoTarget(template_rig, std::move(fitted), margins, std::move(target), region_vertex_count, params, result);
     return 0;
   });
   result.timings.mapping_seconds = stage.SecondsOf("map");

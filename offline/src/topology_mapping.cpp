@@ -1,6 +1,7 @@
 #include "facerig/offline/topology_mapping.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <limits>
@@ -191,11 +192,17 @@ struct PartVotes {
   std::vector<std::map<std::uint32_t, double>> template_to_target;  // [template part][target part]
 };
 
-// One search structure per distinct set of chosen template parts; per target
-// part the one it searches (null: nothing of the template near it).
+// One search structure per distinct set of chosen template parts and mouth
+// side; per target part and side the one it searches (null: nothing of the
+// template near it; for a side: no such side).
 struct PartSurfaces {
-  std::map<std::vector<std::uint32_t>, PartSurface> surfaces;
-  std::vector<const PartSurface*> surface_of_part;
+  std::map<std::pair<std::vector<std::uint32_t>, MouthSide>, PartSurface> surfaces;
+  std::vector<std::array<const PartSurface*, 3>> surface_of_part;
+
+  const PartSurface* Of(std::uint32_t part, MouthSide side) const {
+    const PartSurface* on_side = surface_of_part[part][static_cast<std::size_t>(side)];
+    return on_side ? on_side : surface_of_part[part][0];
+  }
 };
 
 // The template parts target part `part` searches: those whose mutual score
@@ -220,30 +227,71 @@ std::vector<std::uint32_t> ChooseTemplateParts(const PartVotes& votes, std::size
   return chosen;
 }
 
+// The chosen template parts' triangles on one side of the mouth (all of
+// them for kEither), with their indices in the template.
+PartSurface MakePartSurface(std::span<const glm::vec3> fitted_template, std::span<const Triangle> template_triangles,
+                            std::span<const std::uint32_t> template_part_of_vertex,
+                            const std::vector<std::uint32_t>& chosen, MouthSide side,
+                            std::span<const MouthSide> triangle_sides) {
+  PartSurface surface;
+  std::vector<Triangle> subset;
+  for (std::size_t t = 0; t < template_triangles.size(); ++t) {
+    const bool on_side = side == MouthSide::kEither || triangle_sides[t] == side;
+    if (on_side && std::binary_search(chosen.begin(), chosen.end(), template_part_of_vertex[template_triangles[t][0]])) {
+      subset.push_back(template_triangles[t]);
+      surface.template_triangle.push_back(static_cast<std::uint32_t>(t));
+    }
+  }
+  if (subset.empty()) return surface;
+  surface.query = std::make_unique<ClosestPointQuery>(
+      Mesh{.positions = {fitted_template.begin(), fitted_template.end()}, .triangles = std::move(subset)});
+  return surface;
+}
+
+// sides_of_part: per target part, bit s set when some of its vertices lie on mouth side s.
 PartSurfaces BuildPartSurfaces(std::span<const glm::vec3> fitted_template, std::span<const Triangle> template_triangles,
                                std::span<const std::uint32_t> template_part_of_vertex, const PartVotes& votes,
-                               float min_part_vote) {
+                               float min_part_vote, std::span<const std::uint8_t> sides_of_part,
+                               std::span<const MouthSide> triangle_sides) {
   const std::size_t target_parts = votes.target_to_template.size();
   PartSurfaces result;
-  result.surface_of_part.assign(target_parts, nullptr);
+  result.surface_of_part.assign(target_parts, {nullptr, nullptr, nullptr});
   for (std::size_t part = 0; part < target_parts; ++part) {
     const std::vector<std::uint32_t> chosen = ChooseTemplateParts(votes, part, min_part_vote);
     if (chosen.empty()) continue;  // nothing of the template near this part: plain nearest, faded out
-    auto [it, inserted] = result.surfaces.try_emplace(chosen);
-    if (inserted) {
-      std::vector<Triangle> subset;
-      for (std::size_t t = 0; t < template_triangles.size(); ++t) {
-        if (std::binary_search(chosen.begin(), chosen.end(), template_part_of_vertex[template_triangles[t][0]])) {
-          subset.push_back(template_triangles[t]);
-          it->second.template_triangle.push_back(static_cast<std::uint32_t>(t));
-        }
+    for (MouthSide side : {MouthSide::kEither, MouthSide::kUpper, MouthSide::kLower}) {
+      const auto s = static_cast<std::size_t>(side);
+      if (side != MouthSide::kEither && !(sides_of_part[part] & (1u << s))) continue;
+      auto [it, inserted] = result.surfaces.try_emplace({chosen, side});
+      if (inserted) {
+        it->second = MakePartSurface(fitted_template, template_triangles, template_part_of_vertex, chosen, side,
+                                     triangle_sides);
       }
-      it->second.query = std::make_unique<ClosestPointQuery>(
-          Mesh{.positions = {fitted_template.begin(), fitted_template.end()}, .triangles = std::move(subset)});
+      // A side with none of the chosen parts' triangles searches them all.
+      if (it->second.query) result.surface_of_part[part][s] = &it->second;
     }
-    result.surface_of_part[part] = &it->second;
   }
   return result;
+}
+
+// Per target part: bit s set when some of its vertices lie on mouth side s.
+std::vector<std::uint8_t> SidesOfParts(std::span<const std::uint32_t> part_of_vertex, std::size_t parts,
+                                       std::span<const MouthSide> vertex_sides) {
+  std::vector<std::uint8_t> sides(parts, 0);
+  for (std::size_t v = 0; v < vertex_sides.size(); ++v) {
+    sides[part_of_vertex[v]] |= static_cast<std::uint8_t>(1u << static_cast<unsigned>(vertex_sides[v]));
+  }
+  return sides;
+}
+
+void CheckMouthSides(const MouthSides& sides, std::size_t template_triangles, std::size_t target_vertices) {
+  if (sides.template_triangle.empty() && sides.target_vertex.empty()) return;
+  if (sides.template_triangle.size() != template_triangles || sides.target_vertex.size() != target_vertices) {
+    throw InvalidInputError("topology mapping: mouth sides for " + std::to_string(sides.template_triangle.size()) +
+                            " template triangles and " + std::to_string(sides.target_vertex.size()) +
+                            " target vertices, not " + std::to_string(template_triangles) + " and " +
+                            std::to_string(target_vertices));
+  }
 }
 
 // The target as the per-vertex search sees it: normals, boundary flags, the
@@ -333,7 +381,8 @@ void RecordHit(TopologyMapping& mapping, std::size_t v, const ClosestPointHit& h
 
 TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const Mesh& target_mesh,
                                        const TopologyMappingParams& params,
-                                       std::span<const MarginDirection> template_margins) {
+                                       std::span<const MarginDirection> template_margins,
+                                       const MouthSides& mouth_sides) {
   const std::span<const glm::vec3> fitted_template = fitted_template_mesh.positions;
   const std::span<const Triangle> template_triangles = fitted_template_mesh.triangles;
   const std::span<const glm::vec3> target_positions = target_mesh.positions;
@@ -357,8 +406,11 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
                        template_part_of_vertex, zero),
       NearestPartAreas(fitted_template, template_triangles, template_part_of_vertex, template_parts, target_surface,
                        target_part_of_vertex, zero)};
-  const PartSurfaces surfaces =
-      BuildPartSurfaces(fitted_template, template_triangles, template_part_of_vertex, votes, params.min_part_vote);
+  CheckMouthSides(mouth_sides, template_triangles.size(), target_positions.size());
+  const std::vector<std::uint8_t> sides_of_part =
+      SidesOfParts(target_part_of_vertex, target_parts, mouth_sides.target_vertex);
+  const PartSurfaces surfaces = BuildPartSurfaces(fitted_template, template_triangles, template_part_of_vertex, votes,
+                                                  params.min_part_vote, sides_of_part, mouth_sides.template_triangle);
 
   const TargetSearchView target =
       MakeTargetSearchView(target_positions, target_triangles, params.openings.boundary_inset * diagonal);
@@ -376,11 +428,13 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
   double distance_sum = 0.0;
   for (std::size_t v = 0; v < n; ++v) {
     bool snapped = false;
-    const ClosestPointHit hit =
-        mapper.Map(v, surfaces.surface_of_part[target_part_of_vertex[v]], snapped, mapping);
+    const MouthSide side = mouth_sides.target_vertex.empty() ? MouthSide::kEither : mouth_sides.target_vertex[v];
+    const ClosestPointHit hit = mapper.Map(v, surfaces.Of(target_part_of_vertex[v], side), snapped, mapping);
     rim_snapped[v] = snapped ? 1 : 0;
     RecordHit(mapping, v, hit, full, zero, distance_sum);
   }
+  mapping.mouth_upper_vertices = mouth_sides.upper_vertices;
+  mapping.mouth_lower_vertices = mouth_sides.lower_vertices;
   mapping.mean_distance = mapping.full_vertices ? distance_sum / static_cast<double>(mapping.full_vertices) : 0.0;
   if (mapping.rim_vertices > 0) {
     AddSnappedRims(mapping, target_positions, target.inward, target_triangles, rim_snapped, params.openings, diagonal);

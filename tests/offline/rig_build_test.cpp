@@ -14,6 +14,7 @@
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/face_template.h"
 #include "facerig/offline/landmarks.h"
+#include "facerig/offline/mouth_sides.h"
 #include "facerig/offline/self_intersection.h"
 #include "facerig/runtime/io/obj.h"
 #include "support/registration_targets.h"
@@ -95,6 +96,31 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
     // ICT itself has ~1,000 (lashes through lids, the mouth socket's rim): the
     // fit may add a few percent, not a tooth through the lip.
     CHECK(fitted <= original + original / 10 + 10);
+  }
+  {
+    // A target vertex given a mouth side lies, on the true face, on a
+    // template triangle of that side: the outer lips, whose bulge crosses the
+    // seam's height, are left to the plain search.
+    const MouthSides sides = FindMouthSides(ict, registered.registration.positions,
+                                            registered.registration.rigid.Inverse(), target.positions,
+                                            target.triangles, IctInfo().region.last + 1);
+    REQUIRE(sides.target_vertex.size() == target.positions.size());
+    const ClosestPointQuery truth(facerig::test::MeshOf(target.true_ict_positions, ict.triangles()));
+    std::size_t sided = 0, wrong_side = 0;
+    for (std::size_t v = 0; v < target.positions.size(); ++v) {
+      if (sides.target_vertex[v] == MouthSide::kEither) continue;
+      ++sided;
+      const ClosestPointHit hit = truth.Find(target.positions[v]);
+      if (hit.triangle >= 0 && sides.template_triangle[static_cast<std::size_t>(hit.triangle)] != sides.target_vertex[v]) {
+        ++wrong_side;
+      }
+    }
+    std::printf("mouth sides: %zu target vertices sided, %zu of them on the other side of the true face\n", sided,
+                wrong_side);
+    CHECK(sided > 100);
+    // A few hundred: sides by the seam's height alone gave the lower lip's
+    // bulge the upper side and made this face's expressions worse.
+    CHECK(wrong_side < 300);
   }
   for (BuildMode mode : {BuildMode::kClassic, BuildMode::kIdentityGradient, BuildMode::kDisplacement}) {
     BuildRigParams params;
@@ -187,6 +213,55 @@ std::vector<glm::vec3> ApplyShape(const Rig& rig, std::string_view name) {
   return positions;
 }
 
+float MedianMotion(std::span<const glm::vec3> neutral, std::span<const glm::vec3> moved,
+                   const std::vector<std::uint32_t>& vertices) {
+  std::vector<float> motion;
+  for (std::uint32_t v : vertices) motion.push_back(glm::length(moved[v] - neutral[v]));
+  std::nth_element(motion.begin(), motion.begin() + static_cast<std::ptrdiff_t>(motion.size() / 2), motion.end());
+  return motion[motion.size() / 2];
+}
+
+// The curtain: vertices above the head's lip seam and between its mouth
+// corners that its own jawOpen leaves (less than a tenth of its lower lip's
+// motion: the upper lip, the palate of its mouth sack) but that the built
+// jawOpen moves by more than half as much as its lower lip; its skin and its
+// mouth sack ("mouth_inner") counted, not its tongue and teeth.
+struct UpperMouthOnJaw {
+  std::size_t skin = 0;      // the upper lip (mostly its inner side)
+  std::size_t interior = 0;  // the mouth sack's palate
+  std::size_t upper_vertices = 0;
+};
+
+UpperMouthOnJaw CountUpperMouthOnJaw(const Rig& head, const Rig& built, const DefaultHeadFeatures& features) {
+  const std::span<const glm::vec3> neutral = head.positions();
+  const std::vector<glm::vec3> own_open = ApplyShape(head, "jawOpen");
+  const std::vector<glm::vec3> built_open = ApplyShape(built, "jawOpen");
+  const float own_lower_lip = MedianMotion(neutral, own_open, features.lower_lip);
+  const float built_lower_lip = MedianMotion(neutral, built_open, features.lower_lip);
+  const glm::vec3 corner_a = neutral[features.mouth_corners[0]], corner_b = neutral[features.mouth_corners[1]];
+  const float seam_y = 0.5f * (corner_a.y + corner_b.y);
+  const float half_width = 0.5f * std::abs(corner_a.x - corner_b.x);
+  const float centre_x = 0.5f * (corner_a.x + corner_b.x);
+  std::vector<std::uint8_t> in_sack(neutral.size(), 0);
+  for (const Part& part : head.parts()) {
+    if (part.name != "mouth_inner") continue;
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
+      for (std::uint32_t v : head.triangles()[t]) in_sack[v] = 1;
+    }
+  }
+  UpperMouthOnJaw count;
+  for (std::uint32_t v = 0; v < neutral.size(); ++v) {
+    const glm::vec3 p = neutral[v];
+    if (p.y < seam_y || std::abs(p.x - centre_x) > half_width) continue;
+    if (!(glm::length(own_open[v] - p) < 0.1f * own_lower_lip)) continue;
+    ++count.upper_vertices;
+    if (!(glm::length(built_open[v] - p) > 0.5f * built_lower_lip)) continue;
+    if (v < features.skin_vertex_count) ++count.skin;
+    if (in_sack[v]) ++count.interior;
+  }
+  return count;
+}
+
 // +1 when the template's shape moves vertices on the +x side of the face.
 float SideOfShape(const Rig& rig, std::string_view name) {
   const BlendShapeView shape = rig.shape(rig.FindShape(name).value());
@@ -250,7 +325,8 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
           "[shared-data]") {
   const Rig& ict = test::IctRig();
   DefaultHeadFeatures features;
-  RawRig head = RigBuilder::ToRaw(BuildDefaultHead(&features));
+  const Rig own_rig = BuildDefaultHead(&features);
+  RawRig head = RigBuilder::ToRaw(own_rig);
   head.shapes.clear();  // only the template's shapes, none of the head's own
 
   // dlib misses this stylized head's eyes (2.8 cm wide against 2.1, the
@@ -308,6 +384,33 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
   const double lips_open = MeanPairGap(jaw_open, features.upper_lip, features.lower_lip);
   std::printf("default head jawOpen: lip gap %.3f -> %.3f cm\n", lips_rest, lips_open);
   CHECK(lips_open > lips_rest + 1.0);  // centimetres: ICT's jawOpen opens the lips by ~2 cm
+  // No curtain across the opened mouth: the upper lip and the palate stay
+  // with the head (the mapping searches each side of the mouth only on the
+  // template's same side); without it they took ICT's lower lip and tongue.
+  const UpperMouthOnJaw on_jaw = CountUpperMouthOnJaw(own_rig, *rig, features);
+  std::printf("default head jawOpen: %zu upper-lip and %zu palate vertices of %zu above the lip seam follow the jaw "
+              "(mouth sides: %zu upper, %zu lower vertices)\n",
+              on_jaw.skin, on_jaw.interior, on_jaw.upper_vertices, built.mapping.mouth_upper_vertices,
+              built.mapping.mouth_lower_vertices);
+  CHECK(on_jaw.upper_vertices > 100);
+  CHECK(on_jaw.skin == 0);
+  // Half the palate still follows the jaw: its sack's sides beyond the lip
+  // corners, and vertices whose nearest upper template triangle is far.
+  CHECK(on_jaw.interior < 50);
+  // The same mapping without the mouth's sides hangs the curtain.
+  const std::optional<Rig> fitted_rig = RigBuilder::Build(built.fitted_rig);
+  REQUIRE(fitted_rig.has_value());
+  TopologyMappingParams mapping_params = BuildRigParams{}.mapping;
+  mapping_params.openings = BuildRigParams{}.openings;
+  const Mesh fitted_template{.positions = built.registration.positions,
+                             .triangles = {ict.triangles().begin(), ict.triangles().end()}};
+  const TopologyMapping unsided = ComputeTopologyMapping(fitted_template, NeutralMesh(head), mapping_params);
+  const std::optional<Rig> curtained = RigBuilder::Build(MapRigToTarget(*fitted_rig, unsided, head));
+  REQUIRE(curtained.has_value());
+  const UpperMouthOnJaw unsided_on_jaw = CountUpperMouthOnJaw(own_rig, *curtained, features);
+  std::printf("default head jawOpen without mouth sides: %zu upper-lip and %zu palate vertices follow the jaw\n",
+              unsided_on_jaw.skin, unsided_on_jaw.interior);
+  CHECK(unsided_on_jaw.skin + unsided_on_jaw.interior > 20);
 
   for (const char* smile : {"mouthSmile_L", "mouthSmile_R"}) {
     const std::size_t corner =

@@ -247,3 +247,41 @@ TEST_CASE("Topology mapping: template shapes replace the target's own of the sam
   for (const facerig::RawBlendShape& shape : mapped.shapes) names.push_back(shape.name);
   CHECK(names == std::vector<std::string>{"eyeBlink_L", "browInnerUp_R", "eyeBlinkRight", "viseme_aa"});
 }
+
+namespace {
+
+// A flat sheet of two quads, one above the other (rows y = -1, 0, 1),
+// triangles 0-1 below, 2-3 above; shifted by `offset`.
+facerig::Mesh TwoQuadSheet(glm::vec3 offset) {
+  facerig::Mesh sheet;
+  for (float y : {-1.0f, 0.0f, 1.0f}) {
+    for (float x : {0.0f, 1.0f}) sheet.positions.push_back(glm::vec3(x, y, 0.0f) + offset);
+  }
+  sheet.triangles = {{0, 1, 3}, {0, 3, 2}, {2, 3, 5}, {2, 5, 4}};
+  return sheet;
+}
+
+}  // namespace
+
+TEST_CASE("Topology mapping: a vertex on one side of the mouth searches only the template's same side",
+          "[topology_mapping]") {
+  using facerig::MouthSide;
+  const facerig::Mesh fitted_template = TwoQuadSheet(glm::vec3(0.0f));
+  // The target's middle row lies just below the template's: nearest to its lower quad.
+  const facerig::Mesh target = TwoQuadSheet(glm::vec3(0.0f, -0.1f, 0.01f));
+  facerig::MouthSides sides;
+  sides.template_triangle = {MouthSide::kLower, MouthSide::kLower, MouthSide::kUpper, MouthSide::kUpper};
+  sides.target_vertex = {MouthSide::kLower, MouthSide::kLower, MouthSide::kUpper,
+                         MouthSide::kUpper, MouthSide::kUpper, MouthSide::kUpper};
+  const facerig::TopologyMapping plain = facerig::ComputeTopologyMapping(fitted_template, target);
+  const facerig::TopologyMapping sided = facerig::ComputeTopologyMapping(fitted_template, target, {}, {}, sides);
+  for (std::uint32_t v : {2u, 3u}) {
+    INFO("target vertex " << v);
+    CHECK(plain.triangle[v] < 2);   // the lower quad, nearest
+    CHECK(sided.triangle[v] >= 2);  // the upper quad, its own side
+  }
+  CHECK(sided.triangle[0] < 2);
+  sides.target_vertex.pop_back();
+  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(fitted_template, target, {}, {}, sides),
+                    Catch::Contains("mouth sides"));
+}

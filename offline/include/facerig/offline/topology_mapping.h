@@ -8,7 +8,9 @@
 // Which template surface a target vertex may land on: each connected part of
 // the target is matched to the template parts (skin, eyeballs, teeth...)
 // that are nearest to it and it to them, by area both ways, and only those
-// are searched, so an eyelid vertex does not take the eyeball's deltas. Within them the
+// are searched, so an eyelid vertex does not take the eyeball's deltas; in the
+// mouth, only the template's triangles on the vertex's side of the lip seam
+// (mouth_sides.h), so the upper lip and palate do not follow the jaw. Within them the
 // nearest triangle facing the same way as the target vertex's normal wins, so
 // lips that touch in the neutral do not swap their motion; and a vertex on the
 // rim of an opening looks from slightly inside its own lip or lid.
@@ -21,6 +23,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/mouth_sides.h"
 #include "facerig/offline/openings.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
@@ -69,6 +72,8 @@ struct TopologyMapping {
   std::size_t unmapped_vertices = 0;  // weight 0
   std::size_t facing_fallbacks = 0;  // no facing triangle near: plain nearest used
   std::size_t rim_vertices = 0;      // target boundary vertices mapped onto a template rim edge
+  std::size_t mouth_upper_vertices = 0;  // target vertices that searched the template's upper mouth side
+  std::size_t mouth_lower_vertices = 0;  // ... its lower (jaw) side
   // The target's rims with snapped vertices (its eye openings, found by the
   // template's margins), smoothed by MapVertexValues and closed by CloseRims
   // (OpeningParams::rim_smoothing_radius, rim_closing_ratio).
@@ -80,11 +85,16 @@ struct TopologyMapping {
 // fitted_template: the template registered onto the target (target frame
 // and units);
 // template_margins: the fitted template's margins with their directions
-// across the opening (MarginDirections), by increasing vertex, or empty.
-// \throw InvalidInputError on empty meshes, indices out of range, NaN.
+// across the opening (MarginDirections), by increasing vertex, or empty;
+// mouth_sides: per template triangle and target vertex (FindMouthSides), or
+// empty: a target vertex on one side of the mouth searches only the
+// template's triangles on that side.
+// \throw InvalidInputError on empty meshes, indices out of range, NaN,
+// mouth sides of other sizes.
 TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template, const Mesh& target,
                                        const TopologyMappingParams& params = {},
-                                       std::span<const MarginDirection> template_margins = {});
+                                       std::span<const MarginDirection> template_margins = {},
+                                       const MouthSides& mouth_sides = {});
 
 // Per-vertex template values (deltas: #template vertices) -> per target vertex
 // (weight * barycentric interpolation, then smoothed along the rims).
