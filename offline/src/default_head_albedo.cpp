@@ -5,6 +5,7 @@
 // brings in black), then hair, brows, lids and lips are painted from the
 // geometry's UVs. Deterministic: fixed seeds, no threads.
 #include "default_head_albedo.h"
+#include "value_noise.h"
 #include "uv_raster.h"
 #include "facerig/offline/default_head.h"
 #include "facerig/offline/png_encode.h"
@@ -114,31 +115,9 @@ cv::Vec3f SkinTone(const glm::vec3& p, float jaw, float coarse_noise) {
   return colour * (1.0f + coarse_noise);
 }
 
-// Value noise on the surface (not in the texture, whose texels stretch
-// towards the neck): a hashed lattice of `cell` cm, smoothly interpolated, in [-1, 1].
-float LatticeValue(int x, int y, int z, std::uint32_t seed) {
-  std::uint32_t h = seed;
-  for (const int c : {x, y, z}) {
-    h ^= static_cast<std::uint32_t>(c) + 0x9e3779b9u + (h << 6) + (h >> 2);
-    h *= 0x85ebca6bu;
-    h ^= h >> 13;
-  }
-  return static_cast<float>(h & 0xffffu) / 32767.5f - 1.0f;
-}
-
+// Value noise on the surface, cells of `cell` cm.
 float SurfaceNoise(const cv::Vec3f& p, float cell, std::uint32_t seed) {
-  const glm::vec3 q = glm::vec3(p[0], p[1], p[2]) / cell;
-  const glm::vec3 base = glm::floor(q);
-  glm::vec3 f = q - base;
-  f = f * f * (3.0f - 2.0f * f);
-  const int x = static_cast<int>(base.x), y = static_cast<int>(base.y), z = static_cast<int>(base.z);
-  float value = 0.0f;
-  for (int corner = 0; corner < 8; ++corner) {
-    const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
-    const float w = (dx ? f.x : 1.0f - f.x) * (dy ? f.y : 1.0f - f.y) * (dz ? f.z : 1.0f - f.z);
-    value += w * LatticeValue(x + dx, y + dy, z + dz, seed);
-  }
-  return value;
+  return ValueNoise(glm::vec3(p[0], p[1], p[2]) / cell, seed);
 }
 
 void PaintSkinTone(SkinCanvas& canvas) {

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "default_head_albedo.h"
+#include "piecewise_linear.h"
 
 namespace facerig::default_head {
 namespace {
@@ -25,14 +26,7 @@ double HairlineHeight(double azimuth_degrees) {
   static constexpr double kLine[][2] = {{0, 7.6},   {20, 7.3},  {40, 6.2},  {55, 4.6},  {68, 3.0},
                                         {78, 0.5},  {85, -1.2}, {90, 0.8},  {97, 2.0},  {108, 1.2},
                                         {125, -3.0}, {150, -6.5}, {180, -7.5}};
-  const double a = std::min(std::abs(azimuth_degrees), 180.0);
-  for (std::size_t i = 1; i < std::size(kLine); ++i) {
-    if (a <= kLine[i][0]) {
-      const double t = (a - kLine[i - 1][0]) / (kLine[i][0] - kLine[i - 1][0]);
-      return kLine[i - 1][1] + t * (kLine[i][1] - kLine[i - 1][1]);
-    }
-  }
-  return kLine[std::size(kLine) - 1][1];
+  return PiecewiseLinear(kLine, std::min(std::abs(azimuth_degrees), 180.0));
 }
 
 // Height above the hairline (cm, negative below) and 0 on the ears, 1 away from them.

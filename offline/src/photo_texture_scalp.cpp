@@ -10,6 +10,8 @@
 #include <glm/geometric.hpp>
 
 #include "photo_texture_internal.h"
+#include "piecewise_linear.h"
+#include "value_noise.h"
 
 namespace facerig::photo_texture {
 namespace {
@@ -25,34 +27,7 @@ float SmoothStep(float edge0, float edge1, float x) {
 float HairlineHeight(float azimuth_degrees) {
   static constexpr float kLine[][2] = {{0, 1.05f}, {35, 0.95f}, {60, 0.6f},   {80, 0.35f},
                                        {110, 0.3f}, {135, -0.1f}, {160, -0.7f}, {180, -0.9f}};
-  const float a = std::min(std::abs(azimuth_degrees), 180.0f);
-  for (std::size_t i = 1; i < std::size(kLine); ++i) {
-    if (a <= kLine[i][0]) {
-      const float t = (a - kLine[i - 1][0]) / (kLine[i][0] - kLine[i - 1][0]);
-      return kLine[i - 1][1] + t * (kLine[i][1] - kLine[i - 1][1]);
-    }
-  }
-  return kLine[std::size(kLine) - 1][1];
-}
-
-// Smooth noise in [-1, 1]: random values on a unit lattice, blended trilinearly.
-float LatticeValue(int x, int y, int z) {
-  std::uint32_t h = static_cast<std::uint32_t>(x) * 73856093u ^ static_cast<std::uint32_t>(y) * 19349663u ^
-                    static_cast<std::uint32_t>(z) * 83492791u;
-  h ^= h >> 13, h *= 0x5bd1e995u, h ^= h >> 15;
-  return static_cast<float>(h & 0xffffu) / 32767.5f - 1.0f;
-}
-
-float ValueNoise(const glm::vec3& p) {
-  const glm::vec3 cell = glm::floor(p), f = p - cell, s = f * f * (3.0f - 2.0f * f);
-  const int x = static_cast<int>(cell.x), y = static_cast<int>(cell.y), z = static_cast<int>(cell.z);
-  float result = 0.0f;
-  for (int k = 0; k < 8; ++k) {
-    const int dx = k & 1, dy = (k >> 1) & 1, dz = (k >> 2) & 1;
-    const float w = (dx ? s.x : 1.0f - s.x) * (dy ? s.y : 1.0f - s.y) * (dz ? s.z : 1.0f - s.z);
-    result += w * LatticeValue(x + dx, y + dy, z + dz);
-  }
-  return result;
+  return PiecewiseLinear(kLine, std::min(std::abs(azimuth_degrees), 180.0f));
 }
 
 }  // namespace
@@ -79,7 +54,7 @@ float ScalpRegion::HairMayShow(const glm::vec3& p) const {
 
 glm::vec3 ScalpRegion::Vary(const glm::vec3& colour, const glm::vec3& p) const {
   const glm::vec3 d = (p - eyes) / spacing;
-  const float broad = ValueNoise(4.0f * d), fine = ValueNoise(13.0f * d + glm::vec3(17.0f));
+  const float broad = ValueNoise(4.0f * d, 21), fine = ValueNoise(13.0f * d + glm::vec3(17.0f), 22);
   return glm::clamp(colour * (1.0f + 0.12f * broad + 0.07f * fine), glm::vec3(0.0f), glm::vec3(1.0f));
 }
 
