@@ -64,15 +64,22 @@ std::vector<std::uint32_t> LandmarkVertices(const DefaultHeadFeatures& features)
   return vertices;
 }
 
-}  // namespace
-
-TEST_CASE("photo rig: the built-in head's lid rims move onto a photo's lids, the eyeballs with them", "[photo_rig]") {
+// The built-in head seen from the front, with its landmark vertices' projections.
+struct FrontHead {
   DefaultHeadFeatures features;
   const Rig& head = test::DefaultHead(&features);
   const Mesh surface = NeutralMesh(head);
   const std::vector<std::uint32_t> landmark_vertices = LandmarkVertices(features);
   const ScaledOrthoCamera camera = FrontCamera(head, landmark_vertices);
-  std::vector<glm::vec3> posed(head.positions().begin(), head.positions().end()), rest = posed;
+  std::vector<glm::vec3> posed{head.positions().begin(), head.positions().end()};
+  std::vector<glm::vec3> rest = posed;
+};
+
+}  // namespace
+
+TEST_CASE("photo rig: the built-in head's lid rims move onto a photo's lids, the eyeballs with them", "[photo_rig]") {
+  FrontHead front;
+  auto& [features, head, surface, landmark_vertices, camera, posed, rest] = front;
   // The photo's lids: its upper lid points 3 px higher than the head's, its
   // lower lid points 2 px lower (a wider opening), the corners where they are.
   std::vector<glm::vec2> landmarks;
@@ -108,12 +115,8 @@ TEST_CASE("photo rig: the built-in head's lid rims move onto a photo's lids, the
 }
 
 TEST_CASE("photo rig: closed eyes in the photo, or no eye openings near its landmarks, leave the lids", "[photo_rig]") {
-  DefaultHeadFeatures features;
-  const Rig& head = test::DefaultHead(&features);
-  const Mesh surface = NeutralMesh(head);
-  const std::vector<std::uint32_t> landmark_vertices = LandmarkVertices(features);
-  const ScaledOrthoCamera camera = FrontCamera(head, landmark_vertices);
-  std::vector<glm::vec3> posed(head.positions().begin(), head.positions().end()), rest = posed;
+  FrontHead front;
+  auto& [features, head, surface, landmark_vertices, camera, posed, rest] = front;
   std::vector<glm::vec2> on_face;
   for (const std::uint32_t v : landmark_vertices) on_face.push_back(Project(camera, posed[v]));
   // Closed: every lid point on the line between its eye's corners.
