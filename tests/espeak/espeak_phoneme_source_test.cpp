@@ -226,12 +226,19 @@ TEST_CASE("espeak: streaming gives the same phonemes as schedule-ahead", "[espea
     CHECK(std::abs(double(recorder.audio.size()) - double(line.audio.size())) <
           0.02 * double(line.audio.size()));
     REQUIRE(recorder.phonemes.size() == line.phonemes.size());
+    // espeak-ng 1.51's durations depend on what it synthesized before (the
+    // same text, called twice, differs by up to 50 ms after some voices, in
+    // its audio as much as in its events): the starts may differ by as much
+    // as the two audio lengths do.
+    const double length_difference =
+        std::abs(double(recorder.audio.size()) - double(line.audio.size())) / EspeakPhonemeSource::kSampleRate;
     for (std::size_t i = 0; i < line.phonemes.size(); ++i) {
       INFO(i);
       CHECK(recorder.phonemes[i].symbol == line.phonemes[i].symbol);
       CHECK(recorder.phonemes[i].language == line.phonemes[i].language);
       CHECK(recorder.phonemes[i].word_start == line.phonemes[i].word_start);
-      CHECK(recorder.phonemes[i].start.count() == Approx(line.phonemes[i].start.count()).margin(0.02));
+      CHECK(recorder.phonemes[i].start.count() ==
+            Approx(line.phonemes[i].start.count()).margin(0.02 + length_difference));
     }
   }
 }

@@ -71,7 +71,9 @@ class EspeakPhonemeSource final : public PhonemeSource {
   // OnEnd. A phoneme is delivered once its duration is known, i.e. when the
   // next phoneme's event arrives (the last one before OnEnd); each chunk of
   // audio is delivered after the phonemes completed within it. The phonemes
-  // equal those Synthesize returns for the same text and voice. A receiver
+  // are those Synthesize returns for the same text and voice, their times
+  // those of this call's audio (espeak-ng's durations vary slightly with
+  // what it synthesized before, in its audio as in its events). A receiver
   // that throws aborts the line; the exception is rethrown to the caller.
   // The receiver must not call back into an EspeakPhonemeSource (deadlock).
   void SynthesizeStreaming(std::string_view text, std::string_view voice,
