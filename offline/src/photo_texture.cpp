@@ -152,7 +152,12 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
   const double partner_seconds = clock.Lap();
   photo_texture::HairSource hair_source{&hair.head, {}, hair.colour};
-  if (hair.found && !hair.head.empty()) hair_source.scalp = photo_texture::FindScalp(mesh);
+  if (hair.found && !hair.head.empty()) {
+    hair_source.scalp = photo_texture::FindScalp(mesh);
+    glm::vec3 photo_skin(0.0f);
+    if (photo_texture::PhotoSkinMedian(photo, mask, photo_skin)) hair_source.skin_colour = photo_skin;
+    photo_texture::FitHairlineToPhoto(mesh, skin_vertex, camera, photo, mask, hair_source);
+  }
   const photo_texture::CheekRegion cheeks = photo_texture::FindCheeks(mesh);
   const std::vector<glm::ivec2> tiles = photo_texture::SkinUvTiles(mesh, skin_triangle);
   PhotoTexture result;

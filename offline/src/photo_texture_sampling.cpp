@@ -66,7 +66,8 @@ class PhotoView {
     const float facing = facing_sign_ * glm::dot(n, towards);
     float shown = MaskUnder(mask_, q.x, q.y);
     if (hair_.scalp.found && shown < 1.0f) shown = std::max(shown, hair_.scalp.HairMayShow(p) * MaskUnder(*hair_.head, q.x, q.y));
-    const float weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing) * shown;
+    const float facing_weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing);
+    float weight = facing_weight * shown;
     if (weight <= 0.0f) return 0.0f;
     const std::size_t pixel = buffers_.index(static_cast<int>(q.x), static_cast<int>(q.y));
     // Where the photo shows an eye or teeth there, the skin point is behind them.
@@ -76,6 +77,7 @@ class PhotoView {
     const float slope = std::min(std::sqrt(std::max(0.0f, 1.0f - facing * facing)) / facing, 8.0f);
     if (q.z < buffers_.depths[pixel] - PixelSize(p) * (params_.depth_tolerance_pixels + slope)) return 0.0f;
     colour = Bilinear(q.x - 0.5f, q.y - 0.5f);
+    if (hair_.IsHairAt(p, colour)) weight = facing_weight * hair_.scalp.HairMayShow(p) * MaskUnder(*hair_.head, q.x, q.y);
     return weight;
   }
 
