@@ -171,7 +171,8 @@ glm::vec3 EstimateSkinColour(const TexelLayers& layers) {
   return {LinearToSrgb(linear.r), LinearToSrgb(linear.g), LinearToSrgb(linear.b)};
 }
 
-std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, float fill_radius) {
+std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, const SkinShading& shading,
+                                  float fill_radius) {
   // Every texel leans a little on the skin colour: over `fill_radius` texels
   // that lean adds up to full weight in the pyramid.
   const float lean = 1.0f / std::max(fill_radius * fill_radius, 1.0f);
@@ -190,8 +191,9 @@ std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& sk
     const float rest = std::max(0.0f, 1.0f - wd - wm);
     const float wh = coverage * rest;
     const float ws = (1.0f - coverage) * rest * std::min(1.0f, coverage / 0.1f) + lean;
+    const glm::vec3 shaded_skin = glm::min(skin_colour * (layers.skin[i] ? shading.At(layers.tilt[i]) : 1.0f), glm::vec3(1.0f));
     const glm::vec3 sum = wd * layers.direct_colour[i] + wm * layers.mirror_colour[i] + wh * layers.hair_colour[i] +
-                          ws * skin_colour;
+                          ws * shaded_skin;
     base.colour[i] = sum / (wd + wm + wh + ws);
     base.weight[i] = std::min(wd + wm + wh + ws, 1.0f);
   }

@@ -24,6 +24,7 @@ struct TexelLayers {
   // what the photo does not show of the scalp takes that colour instead of skin.
   std::vector<float> scalp;
   std::vector<glm::vec3> hair_colour;
+  std::vector<float> tilt;  // its surface normal's up (+Y) component, in [-1, 1]
 };
 
 // Each vertex's mirror partner across the face's symmetry plane (-1: none);
@@ -141,9 +142,22 @@ void BalanceMirrorLight(TexelLayers& layers);
 // skin texels; else RoleMaterial's skin), sRGB in [0, 1].
 glm::vec3 EstimateSkinColour(const TexelLayers& layers);
 
+// How the photo's light falls on the skin by the surface's tilt (its
+// normal's up component): the seen skin's brightness over the skin colour's,
+// per tilt bin (1 where the photo shows too little).
+struct SkinShading {
+  static constexpr int kBins = 8;
+  std::array<float, kBins> gain{1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
+  // Linear between the bins' centres, held beyond the outer ones.
+  float At(float tilt) const;
+};
+SkinShading EstimateSkinShading(const TexelLayers& layers, const glm::vec3& skin_colour);
+
 // Every texel's colour: direct over mirror over the push-pull diffusion of
-// both, which fades into `skin_colour` over `fill_radius` texels; on the
-// scalp, the hair colour takes what direct and mirror leave.
-std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, float fill_radius);
+// both, which fades over `fill_radius` texels into `skin_colour` shaded by
+// the texel's tilt as the photo shades the skin; on the scalp, the hair
+// colour takes what direct and mirror leave.
+std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, const SkinShading& shading,
+                                  float fill_radius);
 
 }  // namespace facerig::photo_texture

@@ -54,6 +54,9 @@ class PhotoView {
     facing_sign_ = 2 * back > covered ? -1.0f : 1.0f;
   }
 
+  // +1, or -1 for a mesh wound clockwise (its normals point inwards).
+  float facing_sign() const { return facing_sign_; }
+
   // The photo's weight in [0, 1] at surface point p with normal n, and its
   // colour there: skin anywhere, the head's hair above the brows.
   float Sample(const glm::vec3& p, const glm::vec3& n, glm::vec3& colour) const {
@@ -226,6 +229,7 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       layers.scalp[i] = hair.scalp.Coverage(point.position);
       if (layers.scalp[i] > 0.0f) layers.hair_colour[i] = hair.scalp.Vary(hair.colour, point.position);
       layers.side[i] = glm::dot(mirror.plane_normal, point.position) < mirror.plane_offset ? 1 : 0;
+      layers.tilt[i] = view.facing_sign() * point.normal.y;
     });
   }
 }
