@@ -153,11 +153,12 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
   const double partner_seconds = clock.Lap();
   photo_texture::HairSource hair_source{&hair.head, {}, hair.colour};
+  int hairline_bins = 0;
   if (hair.found && !hair.head.empty()) {
     hair_source.scalp = photo_texture::FindScalp(mesh);
     glm::vec3 photo_skin(0.0f);
     if (photo_texture::PhotoSkinMedian(photo, mask, photo_skin)) hair_source.skin_colour = photo_skin;
-    photo_texture::FitHairlineToPhoto(mesh, skin_vertex, camera, photo, mask, hair_source);
+    hairline_bins = photo_texture::FitHairlineToPhoto(mesh, skin_vertex, camera, photo, mask, hair_source);
   }
   const photo_texture::CheekRegion cheeks = photo_texture::FindCheeks(mesh);
   const std::vector<glm::ivec2> tiles = photo_texture::SkinUvTiles(mesh, skin_triangle);
@@ -175,6 +176,8 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, shading, params.fill_radius));
   result.coverage = CoverageImage(layers);
   result.stats = Measure(layers, mirror);
+  result.stats.hairline_front = hair_source.scalp.found ? hair_source.scalp.Hairline(0.0f) : 0.0;
+  result.stats.hairline_bins_from_photo = hairline_bins;
   result.direct_weight = std::move(layers.direct_weight);
   result.mirror_weight = std::move(layers.mirror_weight);
   for (std::size_t k = 1; k < tiles.size(); ++k) {

@@ -91,10 +91,10 @@ bool HairSource::IsHairAt(const glm::vec3& p, const glm::vec3& photo_colour, flo
   return glm::length(photo_colour - colour) < glm::length(photo_colour - skin_colour);
 }
 
-void FitHairlineToPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_vertex, const RasterView& camera,
-                        const RgbImage& photo, const PhotoSkinMask& skin, HairSource& hair) {
+int FitHairlineToPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_vertex, const RasterView& camera,
+                       const RgbImage& photo, const PhotoSkinMask& skin, HairSource& hair) {
   ScalpRegion& scalp = hair.scalp;
-  if (!scalp.found || hair.head == nullptr || hair.head->empty() || hair.skin_colour.x < 0.0f) return;
+  if (!scalp.found || hair.head == nullptr || hair.head->empty() || hair.skin_colour.x < 0.0f) return 0;
   const glm::vec3 towards_camera(camera.rotation[0][2], camera.rotation[1][2], camera.rotation[2][2]);
   // The head's centre at eye height: the scalp's azimuths turn about it.
   const glm::vec3 centre = scalp.eyes - 1.3f * scalp.spacing * scalp.forward;
@@ -115,13 +115,15 @@ void FitHairlineToPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_
     bins[static_cast<std::size_t>(bin)].push_back({height - ScalpRegion::RuleHairline(azimuth), is_hair});
   }
   std::array<bool, ScalpRegion::kShiftBins> measured{};
+  int placed = 0;
   for (std::size_t b = 0; b < bins.size(); ++b) {
     float split = 0.0f;
     measured[b] = BestSplit(bins[b], split);
     // A hairline the photo puts far from any head's is more likely a mask's mistake.
-    if (measured[b]) scalp.hairline_shift[b] = std::clamp(split, -0.8f, 0.4f);
+    if (measured[b]) scalp.hairline_shift[b] = std::clamp(split, -0.8f, 0.4f), ++placed;
   }
   Spread(measured, scalp.hairline_shift);
+  return placed;
 }
 
 }  // namespace facerig::photo_texture

@@ -109,8 +109,8 @@ bool PhotoSkinMedian(const RgbImage& photo, const PhotoSkinMask& skin, glm::vec3
 // the forehead meet the hair (the head mask, not the skin mask, nearer the
 // hair's colour than the skin's) on the skin vertices facing the camera;
 // where the photo shows no clear boundary the rule stays. Nothing without
-// the photo's skin colour.
-void FitHairlineToPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_vertex, const RasterView& camera,
+// the photo's skin colour. Returns how many azimuth bins the photo placed.
+int FitHairlineToPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_vertex, const RasterView& camera,
                         const RgbImage& photo, const PhotoSkinMask& skin, HairSource& hair);
 
 // The UV tile (integer part) triangle t's UVs lie in, by their centre.
