@@ -123,6 +123,7 @@ int FitHairlineToPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_v
     if (measured[b]) scalp.hairline_shift[b] = std::clamp(split, -0.8f, 0.4f), ++placed;
   }
   Spread(measured, scalp.hairline_shift);
+  scalp.hairline_from_photo = placed > 0;
   return placed;
 }
 

@@ -67,6 +67,7 @@ struct ScalpRegion {
   // Eye spacings the hairline lies above (+) or below (-) the rule, per bin
   // (0: the rule); set where the photo shows it by FitHairlineToPhoto.
   std::array<float, kShiftBins> hairline_shift{};
+  bool hairline_from_photo = false;  // some bin placed by the photo
   // The rule's hairline: its height above the eyes (eye spacings) by azimuth.
   static float RuleHairline(float azimuth_degrees);
   // The hairline's height above the eyes at an azimuth: the rule, shifted.
@@ -77,8 +78,8 @@ struct ScalpRegion {
   float Height(const glm::vec3& p) const;
   // How much hair covers p, in [0, 1], with a soft edge.
   float Coverage(const glm::vec3& p) const;
-  // Where the photo's hair may be taken: the scalp, and the forehead above
-  // the brows (a fringe); in [0, 1].
+  // Where the photo's hair may be taken: the scalp, and unless the photo
+  // placed the hairline, the forehead above the brows (a fringe); in [0, 1].
   float HairMayShow(const glm::vec3& p) const;
   // Degrees about the head's vertical axis from the front, + towards the character's left.
   float Azimuth(const glm::vec3& p) const;

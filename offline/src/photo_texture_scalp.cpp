@@ -65,6 +65,8 @@ float ScalpRegion::Coverage(const glm::vec3& p) const {
 
 float ScalpRegion::HairMayShow(const glm::vec3& p) const {
   if (!found) return 0.0f;
+  // A hairline the photo placed has the fringe above it already.
+  if (hairline_from_photo) return Coverage(p);
   // A fringe over the forehead, not hair hanging beside the temples.
   const float forehead = SmoothStep(0.4f, 0.6f, Height(p)) *
                          SmoothStep(70.0f, 40.0f, std::abs(Azimuth(p)));
