@@ -73,7 +73,8 @@ TexelLayers EmptyLayers(int size) {
   const std::size_t count = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
           std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0),
-          std::vector<std::uint8_t>(count, 0), std::vector<float>(count, 0.0f), std::vector<glm::vec3>(count)};
+          std::vector<std::uint8_t>(count, 0), std::vector<float>(count, 0.0f), std::vector<glm::vec3>(count),
+          std::vector<float>(count, 0.0f)};
 }
 
 std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
@@ -120,7 +121,7 @@ PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>
                                const RasterView& camera, const RgbImage& photo, const PhotoSkinMask& mask,
                                const photo_texture::MirrorPartners& mirror, const photo_texture::CheekRegion& cheeks,
                                const photo_texture::HairSource& hair, const PhotoTextureParams& params,
-                               const glm::vec3& skin_colour) {
+                               const glm::vec3& skin_colour, const photo_texture::SkinShading& shading) {
   PhotoTextureParams half = params;
   half.size = std::max(16, params.size / 2);
   half.fill_radius = std::max(1.0f, params.fill_radius / 2.0f);
@@ -128,7 +129,7 @@ PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>
   photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, tile), camera, photo, mask, mirror, cheeks,
                               hair, half, layers);
   photo_texture::BalanceMirrorLight(layers);
-  return {tile, ToImage(half.size, photo_texture::FillTexels(layers, skin_colour, half.fill_radius)), {}};
+  return {tile, ToImage(half.size, photo_texture::FillTexels(layers, skin_colour, shading, half.fill_radius)), {}};
 }
 
 }  // namespace
@@ -152,7 +153,13 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   const photo_texture::MirrorPartners mirror = photo_texture::FindMirrorPartners(mesh, skin_vertex);
   const double partner_seconds = clock.Lap();
   photo_texture::HairSource hair_source{&hair.head, {}, hair.colour};
-  if (hair.found && !hair.head.empty()) hair_source.scalp = photo_texture::FindScalp(mesh);
+  int hairline_bins = 0;
+  if (hair.found && !hair.head.empty()) {
+    hair_source.scalp = photo_texture::FindScalp(mesh);
+    glm::vec3 photo_skin(0.0f);
+    if (photo_texture::PhotoSkinMedian(photo, mask, photo_skin)) hair_source.skin_colour = photo_skin;
+    hairline_bins = photo_texture::FitHairlineToPhoto(mesh, skin_vertex, camera, photo, mask, hair_source);
+  }
   const photo_texture::CheekRegion cheeks = photo_texture::FindCheeks(mesh);
   const std::vector<glm::ivec2> tiles = photo_texture::SkinUvTiles(mesh, skin_triangle);
   PhotoTexture result;
@@ -165,14 +172,17 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   const double project_seconds = clock.Lap();
   photo_texture::BalanceMirrorLight(layers);
   result.skin_colour = photo_texture::EstimateSkinColour(layers);
-  result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, params.fill_radius));
+  const photo_texture::SkinShading shading = photo_texture::EstimateSkinShading(layers, result.skin_colour);
+  result.texture = ToImage(params.size, photo_texture::FillTexels(layers, result.skin_colour, shading, params.fill_radius));
   result.coverage = CoverageImage(layers);
   result.stats = Measure(layers, mirror);
+  result.stats.hairline_front = hair_source.scalp.found ? hair_source.scalp.Hairline(0.0f) : 0.0;
+  result.stats.hairline_bins_from_photo = hairline_bins;
   result.direct_weight = std::move(layers.direct_weight);
   result.mirror_weight = std::move(layers.mirror_weight);
   for (std::size_t k = 1; k < tiles.size(); ++k) {
     result.other_tiles.push_back(BakeOtherTile(mesh, skin_triangle, tiles[k], camera, photo, mask, mirror, cheeks,
-                                               hair_source, params, result.skin_colour));
+                                               hair_source, params, result.skin_colour, shading));
   }
   result.stats.fill_seconds = clock.Lap();
   result.image = EncodePng(result.texture.pixels, result.texture.width, result.texture.height, 3, "photo_skin.png",

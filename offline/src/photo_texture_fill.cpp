@@ -15,6 +15,16 @@
 namespace facerig::photo_texture {
 namespace {
 
+// A sample's weight in the fill. The pyramid averages by weight, so over an
+// unseen region even a faint sample colours everything round it; and a sample
+// the photo barely vouches for (a grazing view, a pixel the masks mostly leave
+// out) is more often hair, shadow or background than skin: below a fair
+// weight it counts for nothing.
+float Trusted(float weight) {
+  const float t = std::clamp((weight - 0.15f) / 0.35f, 0.0f, 1.0f);
+  return weight * t * t * (3.0f - 2.0f * t);
+}
+
 bool IsEyePart(PartRole role) { return role == PartRole::kSclera || role == PartRole::kIris || role == PartRole::kPupil; }
 
 // One level of the push-pull pyramid: colours and weights in [0, 1].
@@ -161,7 +171,8 @@ glm::vec3 EstimateSkinColour(const TexelLayers& layers) {
   return {LinearToSrgb(linear.r), LinearToSrgb(linear.g), LinearToSrgb(linear.b)};
 }
 
-std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, float fill_radius) {
+std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, const SkinShading& shading,
+                                  float fill_radius) {
   // Every texel leans a little on the skin colour: over `fill_radius` texels
   // that lean adds up to full weight in the pyramid.
   const float lean = 1.0f / std::max(fill_radius * fill_radius, 1.0f);
@@ -171,14 +182,20 @@ std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& sk
   base.colour.resize(layers.skin.size());
   base.weight.resize(layers.skin.size());
   for (std::size_t i = 0; i < layers.skin.size(); ++i) {
-    const float wd = layers.skin[i] ? layers.direct_weight[i] : 0.0f;
-    const float wm = layers.skin[i] ? (1.0f - wd) * layers.mirror_weight[i] : 0.0f;
-    // The scalp's hair colour fills what the photo leaves there, so no skin diffuses onto it.
-    const float wh = layers.skin[i] ? layers.scalp[i] * std::max(0.0f, 1.0f - wd - wm) : 0.0f;
+    const float wd = layers.skin[i] ? Trusted(layers.direct_weight[i]) : 0.0f;
+    const float wm = layers.skin[i] ? (1.0f - wd) * Trusted(layers.mirror_weight[i]) : 0.0f;
+    // The scalp's hair colour fills what the photo leaves there, so no skin
+    // diffuses onto it; under its soft edge the skin colour fills the rest,
+    // so the hair does not diffuse down the temples either.
+    const float coverage = layers.skin[i] ? layers.scalp[i] : 0.0f;
+    const float rest = std::max(0.0f, 1.0f - wd - wm);
+    const float wh = coverage * rest;
+    const float ws = (1.0f - coverage) * rest * std::min(1.0f, coverage / 0.1f) + lean;
+    const glm::vec3 shaded_skin = glm::min(skin_colour * (layers.skin[i] ? shading.At(layers.tilt[i]) : 1.0f), glm::vec3(1.0f));
     const glm::vec3 sum = wd * layers.direct_colour[i] + wm * layers.mirror_colour[i] + wh * layers.hair_colour[i] +
-                          lean * skin_colour;
-    base.colour[i] = sum / (wd + wm + wh + lean);
-    base.weight[i] = std::min(wd + wm + wh + lean, 1.0f);
+                          ws * shaded_skin;
+    base.colour[i] = sum / (wd + wm + wh + ws);
+    base.weight[i] = std::min(wd + wm + wh + ws, 1.0f);
   }
   while (pyramid.back().width > 1 || pyramid.back().height > 1) pyramid.push_back(Coarser(pyramid.back()));
   Level& top = pyramid.back();

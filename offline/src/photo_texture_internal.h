@@ -24,6 +24,7 @@ struct TexelLayers {
   // what the photo does not show of the scalp takes that colour instead of skin.
   std::vector<float> scalp;
   std::vector<glm::vec3> hair_colour;
+  std::vector<float> tilt;  // its surface normal's up (+Y) component, in [-1, 1]
 };
 
 // Each vertex's mirror partner across the face's symmetry plane (-1: none);
@@ -54,13 +55,31 @@ bool FindEyeCentres(const Mesh& mesh, glm::vec3& left, glm::vec3& right);
 // the unit, the face looking along +Z): high on the forehead, over the ears,
 // down to the nape.
 struct ScalpRegion {
+  // The hairline's shift from the rule is kept per azimuth bin, bins of
+  // kShiftBinDegrees centred from -kShiftReach to +kShiftReach.
+  static constexpr int kShiftBins = 14;
+  static constexpr float kShiftBinDegrees = 10.0f;
+  static constexpr float kShiftReach = 65.0f;
+
   bool found = false;
   glm::vec3 eyes{0.0f}, across{1.0f, 0.0f, 0.0f}, up{0.0f, 1.0f, 0.0f}, forward{0.0f, 0.0f, 1.0f};
   float spacing = 1.0f;
+  // Eye spacings the hairline lies above (+) or below (-) the rule, per bin
+  // (0: the rule); set where the photo shows it by FitHairlineToPhoto.
+  std::array<float, kShiftBins> hairline_shift{};
+  bool hairline_from_photo = false;  // some bin placed by the photo
+  // The rule's hairline: its height above the eyes (eye spacings) by azimuth.
+  static float RuleHairline(float azimuth_degrees);
+  // The hairline's height above the eyes at an azimuth: the rule, shifted.
+  float Hairline(float azimuth_degrees) const;
+  // The centre of a shift bin, degrees.
+  static float BinCentre(int bin) { return -kShiftReach + kShiftBinDegrees * static_cast<float>(bin); }
+  // A point's height above the eyes, eye spacings.
+  float Height(const glm::vec3& p) const;
   // How much hair covers p, in [0, 1], with a soft edge.
   float Coverage(const glm::vec3& p) const;
-  // Where the photo's hair may be taken: the scalp, and the forehead above
-  // the brows (a fringe); in [0, 1].
+  // Where the photo's hair may be taken: the scalp, and unless the photo
+  // placed the hairline, the forehead above the brows (a fringe); in [0, 1].
   float HairMayShow(const glm::vec3& p) const;
   // Degrees about the head's vertical axis from the front, + towards the character's left.
   float Azimuth(const glm::vec3& p) const;
@@ -69,13 +88,31 @@ struct ScalpRegion {
 };
 ScalpRegion FindScalp(const Mesh& mesh);
 
+
 // The photo's head pixels (PhotoHair::head) and the scalp they may land on;
 // unused when `scalp.found` is false.
 struct HairSource {
   const PhotoSkinMask* head = nullptr;
   ScalpRegion scalp;
   glm::vec3 colour{0.0f};
+  glm::vec3 skin_colour{-1.0f};  // the photo's skin (PhotoSkinMedian); negative: unknown
+  // Just below the hairline (within `reach` eye spacings of it, or above it)
+  // a photo colour nearer the hair's than the skin's is hair, whatever the
+  // skin mask's soft edge says: the fringe and its shadow.
+  bool IsHairAt(const glm::vec3& p, const glm::vec3& photo_colour, float reach = 0.2f) const;
 };
+
+// Median colour of the photo pixels the skin mask surely takes; false when
+// there are too few (or no mask).
+bool PhotoSkinMedian(const RgbImage& photo, const PhotoSkinMask& skin, glm::vec3& colour);
+
+// Moves the scalp's hairline, azimuth by azimuth, to where the photo shows
+// the forehead meet the hair (the head mask, not the skin mask, nearer the
+// hair's colour than the skin's) on the skin vertices facing the camera;
+// where the photo shows no clear boundary the rule stays. Nothing without
+// the photo's skin colour. Returns how many azimuth bins the photo placed.
+int FitHairlineToPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_vertex, const RasterView& camera,
+                        const RgbImage& photo, const PhotoSkinMask& skin, HairSource& hair);
 
 // The UV tile (integer part) triangle t's UVs lie in, by their centre.
 glm::ivec2 UvTile(const Mesh& mesh, std::size_t t);
@@ -106,9 +143,22 @@ void BalanceMirrorLight(TexelLayers& layers);
 // skin texels; else RoleMaterial's skin), sRGB in [0, 1].
 glm::vec3 EstimateSkinColour(const TexelLayers& layers);
 
+// How the photo's light falls on the skin by the surface's tilt (its
+// normal's up component): the seen skin's brightness over the skin colour's,
+// per tilt bin (1 where the photo shows too little).
+struct SkinShading {
+  static constexpr int kBins = 8;
+  std::array<float, kBins> gain{1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
+  // Linear between the bins' centres, held beyond the outer ones.
+  float At(float tilt) const;
+};
+SkinShading EstimateSkinShading(const TexelLayers& layers, const glm::vec3& skin_colour);
+
 // Every texel's colour: direct over mirror over the push-pull diffusion of
-// both, which fades into `skin_colour` over `fill_radius` texels; on the
-// scalp, the hair colour takes what direct and mirror leave.
-std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, float fill_radius);
+// both, which fades over `fill_radius` texels into `skin_colour` shaded by
+// the texel's tilt as the photo shades the skin; on the scalp, the hair
+// colour takes what direct and mirror leave.
+std::vector<glm::vec3> FillTexels(const TexelLayers& layers, const glm::vec3& skin_colour, const SkinShading& shading,
+                                  float fill_radius);
 
 }  // namespace facerig::photo_texture

@@ -54,9 +54,15 @@ class PhotoView {
     facing_sign_ = 2 * back > covered ? -1.0f : 1.0f;
   }
 
+  // +1, or -1 for a mesh wound clockwise (its normals point inwards).
+  float facing_sign() const { return facing_sign_; }
+
   // The photo's weight in [0, 1] at surface point p with normal n, and its
   // colour there: skin anywhere, the head's hair above the brows.
-  float Sample(const glm::vec3& p, const glm::vec3& n, glm::vec3& colour) const {
+  // Hair counts by where the colour lands (`lands_on`: p itself, or the
+  // point a mirror sample is for), so the hair one side shows lower does not
+  // land on the other side's skin.
+  float Sample(const glm::vec3& p, const glm::vec3& n, const glm::vec3& lands_on, glm::vec3& colour) const {
     const glm::vec3 q = ProjectToImage(camera_, p);
     if (!(q.x >= 0.0f && q.y >= 0.0f && q.x < static_cast<float>(camera_.width) && q.y < static_cast<float>(camera_.height))) {
       return 0.0f;
@@ -65,8 +71,9 @@ class PhotoView {
     const glm::vec3 towards = perspective ? glm::normalize(camera_position_ - p) : towards_camera_;
     const float facing = facing_sign_ * glm::dot(n, towards);
     float shown = MaskUnder(mask_, q.x, q.y);
-    if (hair_.scalp.found && shown < 1.0f) shown = std::max(shown, hair_.scalp.HairMayShow(p) * MaskUnder(*hair_.head, q.x, q.y));
-    const float weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing) * shown;
+    if (hair_.scalp.found && shown < 1.0f) shown = std::max(shown, hair_.scalp.HairMayShow(lands_on) * MaskUnder(*hair_.head, q.x, q.y));
+    const float facing_weight = SmoothStep(params_.grazing_cos, params_.full_cos, facing);
+    float weight = facing_weight * shown;
     if (weight <= 0.0f) return 0.0f;
     const std::size_t pixel = buffers_.index(static_cast<int>(q.x), static_cast<int>(q.y));
     // Where the photo shows an eye or teeth there, the skin point is behind them.
@@ -76,6 +83,9 @@ class PhotoView {
     const float slope = std::min(std::sqrt(std::max(0.0f, 1.0f - facing * facing)) / facing, 8.0f);
     if (q.z < buffers_.depths[pixel] - PixelSize(p) * (params_.depth_tolerance_pixels + slope)) return 0.0f;
     colour = Bilinear(q.x - 0.5f, q.y - 0.5f);
+    if (hair_.IsHairAt(lands_on, colour)) {
+      weight = facing_weight * hair_.scalp.HairMayShow(lands_on) * MaskUnder(*hair_.head, q.x, q.y);
+    }
     return weight;
   }
 
@@ -205,11 +215,11 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
     ForEachTexelIn(uv, layers.size, [&](int x, int y, double w0, double w1, double w2) {
       const SurfacePoint point = Interpolate(mesh.positions, normals, v, w0, w1, w2);
       glm::vec3 direct(0.0f), reflected(0.0f);
-      const float wd = view.Sample(point.position, point.normal, direct);
+      const float wd = view.Sample(point.position, point.normal, point.position, direct);
       float wm = 0.0f;
       if (mirrored) {
         const SurfacePoint partner = Interpolate(mesh.positions, normals, m, w0, w1, w2);
-        wm = view.Sample(partner.position, partner.normal, reflected);
+        wm = view.Sample(partner.position, partner.normal, point.position, reflected);
       }
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(layers.size) + static_cast<std::size_t>(x);
       // Where UV islands overlap, the better seen surface wins.
@@ -224,6 +234,7 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       layers.scalp[i] = hair.scalp.Coverage(point.position);
       if (layers.scalp[i] > 0.0f) layers.hair_colour[i] = hair.scalp.Vary(hair.colour, point.position);
       layers.side[i] = glm::dot(mirror.plane_normal, point.position) < mirror.plane_offset ? 1 : 0;
+      layers.tilt[i] = view.facing_sign() * point.normal.y;
     });
   }
 }

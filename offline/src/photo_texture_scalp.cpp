@@ -21,16 +21,35 @@ float SmoothStep(float edge0, float edge1, float x) {
   return t * t * (3.0f - 2.0f * t);
 }
 
-// The hairline's height above the eyes (eye spacings) by azimuth about the
-// head's vertical axis (degrees from the front): high on the forehead, just
-// above the ears at the sides, down to the nape behind.
-float HairlineHeight(float azimuth_degrees) {
+}  // namespace
+
+// High on the forehead, just above the ears at the sides, down to the nape
+// behind (azimuth: degrees about the head's vertical axis from the front).
+float ScalpRegion::RuleHairline(float azimuth_degrees) {
   static constexpr float kLine[][2] = {{0, 1.05f}, {35, 0.95f}, {60, 0.6f},   {80, 0.35f},
                                        {110, 0.3f}, {135, -0.1f}, {160, -0.7f}, {180, -0.9f}};
   return PiecewiseLinear(kLine, std::min(std::abs(azimuth_degrees), 180.0f));
 }
 
-}  // namespace
+float ScalpRegion::Hairline(float azimuth_degrees) const {
+  // Linear between the bins' centres; beyond the outer ones the shift fades
+  // out over three bins.
+  const float at = (azimuth_degrees + kShiftReach) / kShiftBinDegrees;
+  const float last = static_cast<float>(kShiftBins - 1);
+  float shift = 0.0f;
+  if (at < 0.0f) {
+    shift = hairline_shift.front() * std::max(0.0f, 1.0f + at / 3.0f);
+  } else if (at > last) {
+    shift = hairline_shift.back() * std::max(0.0f, 1.0f - (at - last) / 3.0f);
+  } else {
+    const int low = std::min(static_cast<int>(at), kShiftBins - 2);
+    const float t = at - static_cast<float>(low);
+    shift = (1.0f - t) * hairline_shift[static_cast<std::size_t>(low)] + t * hairline_shift[static_cast<std::size_t>(low + 1)];
+  }
+  return RuleHairline(azimuth_degrees) + shift;
+}
+
+float ScalpRegion::Height(const glm::vec3& p) const { return glm::dot(p - eyes, up) / spacing; }
 
 float ScalpRegion::Azimuth(const glm::vec3& p) const {
   const glm::vec3 d = (p - eyes) / spacing;
@@ -40,14 +59,16 @@ float ScalpRegion::Azimuth(const glm::vec3& p) const {
 
 float ScalpRegion::Coverage(const glm::vec3& p) const {
   if (!found) return 0.0f;
-  const float above = glm::dot(p - eyes, up) / spacing - HairlineHeight(Azimuth(p));
+  const float above = Height(p) - Hairline(Azimuth(p));
   return SmoothStep(-0.1f, 0.15f, above);
 }
 
 float ScalpRegion::HairMayShow(const glm::vec3& p) const {
   if (!found) return 0.0f;
+  // A hairline the photo placed has the fringe above it already.
+  if (hairline_from_photo) return Coverage(p);
   // A fringe over the forehead, not hair hanging beside the temples.
-  const float forehead = SmoothStep(0.4f, 0.6f, glm::dot(p - eyes, up) / spacing) *
+  const float forehead = SmoothStep(0.4f, 0.6f, Height(p)) *
                          SmoothStep(70.0f, 40.0f, std::abs(Azimuth(p)));
   return std::max(forehead, Coverage(p));
 }

@@ -131,6 +131,8 @@ nlohmann::json TextureJson(const PhotoRig& made, int size) {
           {"skin_colour", {made.skin_colour.r, made.skin_colour.g, made.skin_colour.b}},
           {"hair_found", made.hair_found},
           {"hair_colour", {made.hair_colour.r, made.hair_colour.g, made.hair_colour.b}},
+          {"hairline_front", stats.hairline_front},
+          {"hairline_bins_from_photo", stats.hairline_bins_from_photo},
           {"eye_materials_painted", made.eye_materials_painted}};
 }
 

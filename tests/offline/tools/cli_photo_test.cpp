@@ -5,6 +5,7 @@
 // and bad input (not an image, a face too small, no face) fails with a clear
 // message and writes nothing.
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -23,6 +24,7 @@
 #include "facerig/offline/photo_texture.h"
 #include "facerig/offline/rasterizer.h"
 #include "facerig/runtime/io/rig_file.h"
+#include "facerig/runtime/part_roles.h"
 #include "output_set_files.h"
 #include "support/command_runner.h"
 #include "support/default_head_poses.h"
@@ -183,6 +185,138 @@ void CheckHairMask(const nlohmann::json& landmarks) {
   for (int c = 0; c < 3; ++c) CHECK(std::abs(found[c] - marked[c]) < 25.0f);
 }
 
+// The head's frame as the texture's scalp takes it: the eyes' centres (the
+// eye parts' vertices either side of their midline), heights above them in
+// eye spacings, azimuths (degrees) round a vertical axis 1.3 spacings behind.
+struct HeadFrame {
+  glm::vec3 eyes{0.0f}, across{1.0f, 0.0f, 0.0f}, up{0.0f, 1.0f, 0.0f}, forward{0.0f, 0.0f, 1.0f};
+  float spacing = 1.0f;
+  float Height(const glm::vec3& p) const { return glm::dot(p - eyes, up) / spacing; }
+  float Azimuth(const glm::vec3& p) const {
+    const glm::vec3 d = (p - eyes) / spacing;
+    return std::atan2(glm::dot(d, across), glm::dot(d, forward) + 1.3f) * 57.29578f;
+  }
+};
+
+HeadFrame FrameOf(const Rig& rig) {
+  std::vector<std::uint32_t> eye;
+  for (const Part& part : rig.parts()) {
+    const PartRole role = RoleOfPart(part.name);
+    if (role != PartRole::kSclera && role != PartRole::kIris && role != PartRole::kPupil) continue;
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
+      for (const std::uint32_t v : rig.triangles()[t]) eye.push_back(v);
+    }
+  }
+  REQUIRE(!eye.empty());
+  float midline = 0.0f;
+  for (const std::uint32_t v : eye) midline += rig.positions()[v].x / static_cast<float>(eye.size());
+  glm::vec3 sum[2] = {glm::vec3(0.0f), glm::vec3(0.0f)};
+  float count[2] = {0.0f, 0.0f};
+  for (const std::uint32_t v : eye) {
+    const int side = rig.positions()[v].x > midline ? 0 : 1;
+    sum[side] += rig.positions()[v], count[side] += 1.0f;
+  }
+  REQUIRE((count[0] > 0.0f && count[1] > 0.0f));
+  const glm::vec3 left = sum[0] / count[0], right = sum[1] / count[1];
+  HeadFrame frame;
+  frame.spacing = glm::distance(left, right);
+  frame.eyes = 0.5f * (left + right);
+  frame.across = (left - right) / frame.spacing;
+  frame.up = glm::normalize(glm::vec3(0.0f, 1.0f, 0.0f) - frame.across * frame.across.y);
+  frame.forward = glm::cross(frame.across, frame.up);
+  return frame;
+}
+
+// The photo_skin texture's colour (levels) at each skin vertex `pick` takes.
+std::vector<glm::vec3> PhotoSkinColours(const Rig& rig, const std::function<bool(const glm::vec3&)>& pick) {
+  const RgbImage texture = PhotoSkinTexture(rig);
+  std::vector<std::uint8_t> counted(rig.vertex_count(), 0);
+  std::vector<glm::vec3> colours;
+  for (const Part& part : rig.parts()) {
+    if (part.material < 0 || rig.materials()[static_cast<std::size_t>(part.material)].name != "photo_skin") continue;
+    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
+      for (const std::uint32_t v : rig.triangles()[t]) {
+        if (counted[v] || !pick(rig.positions()[v])) continue;
+        counted[v] = 1;
+        colours.push_back(TextureAt(rig, texture, v));
+      }
+    }
+  }
+  return colours;
+}
+
+float Luma(const glm::vec3& c) { return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b; }
+
+float MedianLuma(const std::vector<glm::vec3>& colours) {
+  std::vector<float> lumas;
+  for (const glm::vec3& c : colours) lumas.push_back(Luma(c));
+  std::nth_element(lumas.begin(), lumas.begin() + static_cast<std::ptrdiff_t>(lumas.size() / 2), lumas.end());
+  return lumas[lumas.size() / 2];
+}
+
+// The photo's cheeks (both hand-marked patches), levels.
+glm::vec3 PhotoCheekColour() {
+  const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
+  return 0.5f * (PatchMean(photo, kImageLeftCheek, 8) + PatchMean(photo, kImageRightCheek, 8));
+}
+
+// The temples (below the hairline, beside the eyes, in front of the ears)
+// wear skin: no texel there darker than the photo's cheeks by 60 levels of
+// luma. A grey smudge of the fringe's shadow, taken at a grazing angle and
+// spread by the fill, or of the hair spreading down from the scalp's soft
+// edge, left texels 79-81 levels darker.
+void CheckTemplesWearSkin(const Rig& rig) {
+  const HeadFrame frame = FrameOf(rig);
+  const std::vector<glm::vec3> temples = PhotoSkinColours(rig, [&](const glm::vec3& p) {
+    const float height = frame.Height(p), azimuth = std::abs(frame.Azimuth(p));
+    return height > 0.0f && height < 0.25f && azimuth > 55.0f && azimuth < 80.0f;
+  });
+  REQUIRE(temples.size() >= 10);
+  float darkest = 255.0f;
+  for (const glm::vec3& c : temples) darkest = std::min(darkest, Luma(c));
+  const float cheek = Luma(PhotoCheekColour());
+  INFO("darkest of " << temples.size() << " temple vertices: luma " << darkest << ", the photo's cheeks " << cheek);
+  CHECK(darkest > cheek - 60.0f);
+}
+
+// The neck (which the photo does not show) meets the jaw without a band:
+// just under the jaw its median luma within 20 levels of the jaw's underside
+// (which the photo shows, in its shadow; a fill of the lit cheeks' colour was
+// 23-28 levels lighter), and its hue the skin's: red minus blue over luma
+// within 0.08 of the photo's cheeks'.
+void CheckNeckMeetsTheJaw(const Rig& rig) {
+  const HeadFrame frame = FrameOf(rig);
+  const auto band = [&](float low, float high) {
+    return PhotoSkinColours(rig, [&, low, high](const glm::vec3& p) {
+      const float height = frame.Height(p);
+      return height > low && height < high && std::abs(frame.Azimuth(p)) < 30.0f;
+    });
+  };
+  const std::vector<glm::vec3> neck = band(-2.6f, -2.1f), jaw = band(-1.9f, -1.7f);
+  REQUIRE((neck.size() >= 20 && jaw.size() >= 20));
+  const float neck_luma = MedianLuma(neck), jaw_luma = MedianLuma(jaw);
+  glm::vec3 neck_mean(0.0f);
+  for (const glm::vec3& c : neck) neck_mean += c / static_cast<float>(neck.size());
+  const glm::vec3 cheek = PhotoCheekColour();
+  const float neck_redness = (neck_mean.r - neck_mean.b) / Luma(neck_mean), cheek_redness = (cheek.r - cheek.b) / Luma(cheek);
+  INFO("neck luma " << neck_luma << " over " << neck.size() << " vertices, jaw " << jaw_luma << " over " << jaw.size()
+                    << "; redness neck " << neck_redness << ", cheeks " << cheek_redness);
+  CHECK(std::abs(neck_luma - jaw_luma) < 20.0f);
+  CHECK(std::abs(neck_redness - cheek_redness) < 0.08f);
+}
+
+// Her fringe comes down to about 0.55-0.6 eye spacings above the eyes'
+// centres (measured on the photo, eye spacing 43 px, the fringe's edge 24-27
+// px above the eyes at the middle): the hairline follows it in most azimuth
+// bins round the front, not the eye-spacing rule's 1.05.
+void CheckHairlineFromThePhoto(const nlohmann::json& texture) {
+  INFO(texture.dump());
+  CHECK(texture["hairline_bins_from_photo"].get<int>() >= 5);
+  const double front = texture["hairline_front"].get<double>();
+  CHECK(front > 0.4);
+  CHECK(front < 0.8);
+}
+
 struct PhotoRun {
   fs::path out;
   test::CommandOutcome outcome;
@@ -300,6 +434,9 @@ TEST_CASE("facerig photo: the built-in head from a real photograph", "[cli][phot
   CHECK(result["texture"]["hair_found"] == true);
   CheckHairMask(result["landmarks"]);
   CheckScalpWearsTheHair(rig, 0.5f * (features.eye_centres[0].y + features.eye_centres[1].y));
+  CheckTemplesWearSkin(rig);
+  CheckNeckMeetsTheJaw(rig);
+  CheckHairlineFromThePhoto(result["texture"]);
   // Her mouth is open in the photo; the rest face's lips still meet as the
   // head's do (how far the mouth opens is an expression).
   float widest_gap = 0.0f;
@@ -346,6 +483,9 @@ TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared dat
   float eye_height = 0.0f;
   for (int k = 36; k <= 47; ++k) eye_height += rig.positions()[descriptor["landmarks"][k].get<std::uint32_t>()].y / 12.0f;
   CheckScalpWearsTheHair(rig, eye_height);
+  CheckTemplesWearSkin(rig);
+  CheckNeckMeetsTheJaw(rig);
+  CheckHairlineFromThePhoto(result["texture"]);
 }
 
 TEST_CASE("facerig photo: a strongly coloured background stays off the head's sides and back", "[cli][photo]") {

@@ -61,6 +61,12 @@ struct PhotoTextureStats {
   double filled_fraction = 0.0;    // neither: diffusion and skin colour only
   std::size_t mirror_pairs = 0;    // skin vertices with a mirror partner
   double mirror_partner_error = 0.0;  // mean distance (mesh units) from a reflected vertex to its partner
+  // The scalp's hairline at the front, eye spacings above the eyes (0 without
+  // a scalp), and how many of its 14 azimuth bins (10 degrees each, round the
+  // front) the photo's forehead/hair boundary placed (the rest: a rule from
+  // the eye spacing).
+  double hairline_front = 0.0;
+  int hairline_bins_from_photo = 0;
   // Wall-clock seconds of the steps: mirror partners, z-buffer and texel walk,
   // skin colour and fill, PNG encoding.
   double partner_seconds = 0.0, project_seconds = 0.0, fill_seconds = 0.0, encode_seconds = 0.0;
