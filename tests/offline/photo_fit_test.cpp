@@ -219,7 +219,7 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
     errors.mean_face += FaceErrorMm(setup.model.neutral, truth, face);
     errors.best += FaceErrorMm(ProjectOnModes(setup.model, truth, face), truth, face);
     errors.fit_seconds = std::max(errors.fit_seconds, fit.seconds);
-    errors.camera_distance += fit.camera_distance / faces;
+    errors.camera_distance += fit.camera_distance / double(faces);
     CheckCameraMatchesRasterView(fit);
     CHECK(std::abs(Yaw(fit.camera) - yaw_degrees) < 4.0f);
     if (jaw_open > 0.0f) CHECK(ExpressionWeight(fit, "jawOpen") > 0.5f * jaw_open);
