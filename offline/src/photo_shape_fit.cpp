@@ -312,10 +312,11 @@ void Alternate(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks
   FitCamera(model, weights, landmarks, camera_weights, width, height, seen, fit);
 }
 
-// The camera's landmark residual (weighted as the camera's fit weighs them)
-// in the photo, through the perspective view when there is one.
-double CameraResidual(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
-                      std::span<const float> camera_weights, int width, int height, const PhotoFit& fit) {
+// What the fit minimises: the landmark residuals in the photo (through the
+// perspective view when there is one) over their variances, plus the prior.
+double FitObjective(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
+                    std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
+                    const PhotoFit& fit) {
   const std::vector<glm::vec3> points = PointsAt(model, weights, fit.landmark_vertices);
   glm::vec3 centre(0.0f);
   for (const glm::vec3 p : points) centre += p;
@@ -324,28 +325,34 @@ double CameraResidual(const PhotoFaceModel& model, const Eigen::VectorXd& weight
   double sum = 0.0;
   for (std::size_t k = 0; k < points.size(); ++k) {
     const glm::vec2 d = glm::vec2(ProjectToImage(view, points[k])) - landmarks[k];
-    sum += camera_weights[k] * glm::dot(d, d);
+    sum += precisions[k].x * d.x * d.x + precisions[k].y * d.y * d.y;
+  }
+  const double expression_precision = 1.0 / (params.expression_sigma * params.expression_sigma);
+  for (Eigen::Index i = 0; i < weights.size(); ++i) {
+    const bool identity = static_cast<std::size_t>(i) < model.identity_modes.size();
+    sum += (identity ? 1.0 : expression_precision) * weights[i] * weights[i];
   }
   return sum;
 }
 
 // The orthographic fit in `weights` and `fit` replaced by the perspective
-// one of params.camera_distances whose camera residual is lowest, if lower.
+// one of params.camera_distances whose FitObjective is lowest, if lower.
 void ChooseCameraDistance(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks,
                           std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
                           Eigen::VectorXd& weights, PhotoFit& fit) {
-  const std::vector<float> camera_weights = CameraWeights(precisions);
-  double best = CameraResidual(model, weights, landmarks, camera_weights, width, height, fit);
-  for (const float distance : params.camera_distances) {
-    if (!(distance > 0.0f)) continue;
+  double best = FitObjective(model, weights, landmarks, precisions, width, height, params, fit);
+  std::vector<float> distances{0.0f};
+  distances.insert(distances.end(), params.camera_distances.begin(), params.camera_distances.end());
+  for (const float distance : distances) {
+    if (distance < 0.0f || distance == fit.camera_distance) continue;
     Eigen::VectorXd trial_weights = Eigen::VectorXd::Zero(weights.size());
     PhotoFit trial;
     trial.landmark_vertices = model.landmark_vertices;
     trial.camera_distance = distance;
     Alternate(model, landmarks, precisions, params.iterations, width, height, params, trial_weights, trial);
-    const double residual = CameraResidual(model, trial_weights, landmarks, camera_weights, width, height, trial);
-    if (residual < best) {
-      best = residual;
+    const double objective = FitObjective(model, trial_weights, landmarks, precisions, width, height, params, trial);
+    if (objective < best) {
+      best = objective;
       weights = trial_weights;
       fit = std::move(trial);
     }

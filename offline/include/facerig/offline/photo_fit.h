@@ -1,7 +1,8 @@
 // A face model fitted to one photograph: dlib's 68 landmarks on the photo,
 // then a linear face model (the template's neutral plus identity modes plus a
-// few of its expressions) and a scaled orthographic camera fitted to them,
-// alternating camera and shape (the method of Aldrian & Smith as the eos
+// few of its expressions) and a scaled orthographic camera fitted to them
+// (the photo's points first corrected for a perspective camera's distance when
+// one fits them better), alternating camera and shape (the method of Aldrian & Smith as the eos
 // library uses it: closed-form camera, regularised linear least squares for
 // the shape, jaw-line landmarks matched to the model's moving contour).
 //
@@ -178,9 +179,10 @@ struct PhotoFitParams {
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;
   // Camera distances from the face (model units: cm for ICT) tried with a
-  // perspective camera besides the orthographic one; the fit keeps the one
-  // whose landmark residual is lowest. Empty: orthographic only.
-  std::vector<float> camera_distances;
+  // perspective camera besides the orthographic one, from a selfie's to a far
+  // portrait's; the fit keeps the one whose objective (landmark residuals over
+  // their variances plus the prior) is lowest. Empty: orthographic only.
+  std::vector<float> camera_distances{25.0f, 35.0f, 50.0f, 70.0f, 100.0f, 150.0f, 250.0f};
 };
 
 struct PhotoFit {
