@@ -265,17 +265,32 @@ void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std
 
 // model_pixels, rms_pixels and the view from the posed positions.
 void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit) {
+  glm::vec3 centre(0.0f);
+  for (const std::uint32_t v : fit.landmark_vertices) centre += fit.posed_positions[v];
+  centre /= static_cast<float>(fit.landmark_vertices.size());
+  fit.view = ToPerspectiveView(fit.camera, width, height, centre, fit.camera_distance);
   fit.model_pixels.clear();
   double squared = 0.0;
   for (std::size_t k = 0; k < landmarks.size(); ++k) {
-    fit.model_pixels.push_back(ProjectPixel(fit.camera, fit.posed_positions[fit.landmark_vertices[k]], width, height));
+    const glm::vec3 p = fit.posed_positions[fit.landmark_vertices[k]];
+    fit.model_pixels.push_back(fit.camera_distance > 0.0f ? glm::vec2(ProjectToImage(fit.view, p))
+                                                          : ProjectPixel(fit.camera, p, width, height));
     const glm::vec2 d = fit.model_pixels.back() - landmarks[k];
     squared += glm::dot(d, d);
   }
   fit.rms_pixels = std::sqrt(squared / static_cast<double>(landmarks.size()));
-  glm::vec3 centre(0.0f);
-  for (const std::uint32_t v : fit.landmark_vertices) centre += fit.posed_positions[v];
-  fit.view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
+}
+
+// The camera from the current shape; with a perspective camera `seen`
+// becomes the landmarks as the orthographic camera would see them.
+void FitCamera(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
+               std::span<const float> camera_weights, int width, int height, std::vector<glm::vec2>& seen,
+               PhotoFit& fit) {
+  const std::vector<glm::vec3> points = PointsAt(model, weights, fit.landmark_vertices);
+  fit.camera = FitScaledOrthoCamera(points, seen, camera_weights, width, height);
+  if (fit.camera_distance <= 0.0f) return;
+  seen = OrthographicPixels(landmarks, points, fit.camera, fit.camera_distance, width, height);
+  fit.camera = FitScaledOrthoCamera(points, seen, camera_weights, width, height);
 }
 
 // Camera and shape in turn from `weights` on; the camera last.
@@ -283,19 +298,65 @@ void Alternate(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks
                int iterations, int width, int height, const PhotoFitParams& params, Eigen::VectorXd& weights,
                PhotoFit& fit) {
   const std::vector<float> camera_weights = CameraWeights(precisions);
+  std::vector<glm::vec2> seen(landmarks.begin(), landmarks.end());
   for (int iteration = 0; iteration < std::max(1, iterations); ++iteration) {
-    fit.camera = FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, camera_weights,
-                                      width, height);
+    FitCamera(model, weights, landmarks, camera_weights, width, height, seen, fit);
     if (params.moving_contour) {
-      ChooseContourVertices(model, weights, fit.camera, landmarks, width, height, params.silhouette_cosine,
+      ChooseContourVertices(model, weights, fit.camera, seen, width, height, params.silhouette_cosine,
                             fit.landmark_vertices);
     }
     const LinearSystem system =
-        BuildSystem(model, fit.camera, landmarks, fit.landmark_vertices, precisions, width, height, params);
+        BuildSystem(model, fit.camera, seen, fit.landmark_vertices, precisions, width, height, params);
     weights = SolveBounded(system, model.identity_modes.size());
   }
-  fit.camera =
-      FitScaledOrthoCamera(PointsAt(model, weights, fit.landmark_vertices), landmarks, camera_weights, width, height);
+  FitCamera(model, weights, landmarks, camera_weights, width, height, seen, fit);
+}
+
+// What the fit minimises: the landmark residuals in the photo (through the
+// perspective view when there is one) over their variances, plus the prior.
+double FitObjective(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
+                    std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
+                    const PhotoFit& fit) {
+  const std::vector<glm::vec3> points = PointsAt(model, weights, fit.landmark_vertices);
+  glm::vec3 centre(0.0f);
+  for (const glm::vec3 p : points) centre += p;
+  const RasterView view =
+      ToPerspectiveView(fit.camera, width, height, centre / static_cast<float>(points.size()), fit.camera_distance);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const glm::vec2 d = glm::vec2(ProjectToImage(view, points[k])) - landmarks[k];
+    sum += precisions[k].x * d.x * d.x + precisions[k].y * d.y * d.y;
+  }
+  const double expression_precision = 1.0 / (params.expression_sigma * params.expression_sigma);
+  for (Eigen::Index i = 0; i < weights.size(); ++i) {
+    const bool identity = static_cast<std::size_t>(i) < model.identity_modes.size();
+    sum += (identity ? 1.0 : expression_precision) * weights[i] * weights[i];
+  }
+  return sum;
+}
+
+// The orthographic fit in `weights` and `fit` replaced by the perspective
+// one of params.camera_distances whose FitObjective is lowest, if lower.
+void ChooseCameraDistance(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks,
+                          std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
+                          Eigen::VectorXd& weights, PhotoFit& fit) {
+  double best = FitObjective(model, weights, landmarks, precisions, width, height, params, fit);
+  std::vector<float> distances{0.0f};
+  distances.insert(distances.end(), params.camera_distances.begin(), params.camera_distances.end());
+  for (const float distance : distances) {
+    if (distance < 0.0f || distance == fit.camera_distance) continue;
+    Eigen::VectorXd trial_weights = Eigen::VectorXd::Zero(weights.size());
+    PhotoFit trial;
+    trial.landmark_vertices = model.landmark_vertices;
+    trial.camera_distance = distance;
+    Alternate(model, landmarks, precisions, params.iterations, width, height, params, trial_weights, trial);
+    const double objective = FitObjective(model, trial_weights, landmarks, precisions, width, height, params, trial);
+    if (objective < best) {
+      best = objective;
+      weights = trial_weights;
+      fit = std::move(trial);
+    }
+  }
 }
 
 // The photo's camera as a view of at most kSelfCalibrationSize pixels (dlib's
@@ -306,7 +367,8 @@ RasterView SelfCalibrationView(const PhotoFaceModel& model, const Eigen::VectorX
                                int width, int height) {
   glm::vec3 centre(0.0f);
   for (const std::uint32_t v : fit.landmark_vertices) centre += ShapeAt(model, weights, v);
-  RasterView view = ToRasterView(fit.camera, width, height, centre / static_cast<float>(fit.landmark_vertices.size()));
+  RasterView view = ToPerspectiveView(fit.camera, width, height,
+                                      centre / static_cast<float>(fit.landmark_vertices.size()), fit.camera_distance);
   const float shrink =
       std::min(1.0f, static_cast<float>(kSelfCalibrationSize) / static_cast<float>(std::max(width, height)));
   view.width = std::max(1, static_cast<int>(std::lround(static_cast<float>(width) * shrink)));
@@ -352,6 +414,9 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> detect
   PhotoFit fit;
   fit.landmark_vertices = model.landmark_vertices;
   Alternate(model, landmarks, precisions, params.iterations, width, height, params, weights, fit);
+  if (!model.identity_modes.empty()) {
+    ChooseCameraDistance(model, landmarks, precisions, width, height, params, weights, fit);
+  }
   if (model.detector != nullptr && !model.identity_modes.empty() && params.remove_landmark_offsets) {
     SelfCalibrate(model, detected, precisions, width, height, params, landmarks, weights, fit);
   }

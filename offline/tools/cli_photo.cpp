@@ -119,7 +119,8 @@ nlohmann::json FitJson(const PhotoFit& fit) {
           {"expression_weights", expressions},
           {"landmark_rms_pixels", fit.rms_pixels},
           {"deformed", fit.deformed},
-          {"camera_scale", fit.camera.scale}};
+          {"camera_scale", fit.camera.scale},
+          {"camera_distance", fit.camera_distance}};
 }
 
 nlohmann::json TextureJson(const PhotoRig& made, int size) {

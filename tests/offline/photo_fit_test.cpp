@@ -67,9 +67,23 @@ glm::vec3 PartColour(const std::string& name) {
   return {0.45f, 0.20f, 0.20f};  // mouth and eye sockets, gums
 }
 
+// Half the height the photo frames at the nose tip's depth (cm).
+constexpr float kHalfFrame = 16.0f;
+
+// The photo's camera looking at the nose tip: orthographic (distance 0) or a
+// perspective camera `distance_cm` away, framing the same +-kHalfFrame at the nose tip.
+facerig::RasterView PhotoView(glm::vec3 nose, float yaw_degrees, int size, float distance_cm) {
+  facerig::RasterView view = facerig::RasterView::Orbit(nose, kHalfFrame, size, size, yaw_degrees * kPi / 180.0f);
+  if (distance_cm > 0.0f) {
+    view.vertical_fov = 2.0f * std::atan(kHalfFrame / distance_cm);
+    view.distance = distance_cm;
+  }
+  return view;
+}
+
 // The head rendered with a flat skin colour and Lambert light; the eye films (transparent in ICT) left out.
 RgbImage RenderFace(const facerig::FaceTemplateInfo& info, const std::vector<glm::vec3>& positions, float yaw_degrees,
-                    int size) {
+                    int size, float distance_cm = 0.0f) {
   facerig::Mesh mesh{.positions = positions};
   std::vector<glm::vec3> albedo;
   for (const facerig::Triangle& t : facerig::test::IctRig().triangles()) {
@@ -89,9 +103,7 @@ RgbImage RenderFace(const facerig::FaceTemplateInfo& info, const std::vector<glm
   for (const facerig::Triangle& t : mesh.triangles) {
     for (const std::uint32_t v : t) mesh.corner_normals.push_back(normals[v]);
   }
-  const glm::vec3 nose = positions[info.landmark_vertices[30]];
-  const facerig::RasterView view =
-      facerig::RasterView::Orbit(nose, 16.0f, size, size, yaw_degrees * kPi / 180.0f);
+  const facerig::RasterView view = PhotoView(positions[info.landmark_vertices[30]], yaw_degrees, size, distance_cm);
   return facerig::Shade(facerig::Rasterize(mesh, view), mesh, albedo, view);
 }
 
@@ -156,15 +168,15 @@ void CheckCameraMatchesRasterView(const facerig::PhotoFit& fit) {
 
 struct Errors {
   double fit = 0.0, mean_face = 0.0, best = 0.0, fit_seconds = 0.0;
+  double camera_distance = 0.0;  // the fits' mean (0: orthographic)
   int count = 0;
 };
 
 // The landmark vertices' exact projections into a render of `rendered`: what
 // a perfect detector would give (the jaw at its fixed vertices).
 std::vector<glm::vec2> ExactLandmarks(const facerig::FaceTemplateInfo& info, const std::vector<glm::vec3>& rendered,
-                                      float yaw_degrees, int size) {
-  const facerig::RasterView view =
-      facerig::RasterView::Orbit(rendered[info.landmark_vertices[30]], 16.0f, size, size, yaw_degrees * kPi / 180.0f);
+                                      float yaw_degrees, int size, float distance_cm) {
+  const facerig::RasterView view = PhotoView(rendered[info.landmark_vertices[30]], yaw_degrees, size, distance_cm);
   std::vector<glm::vec2> pixels;
   for (const std::uint32_t v : info.landmark_vertices) pixels.emplace_back(facerig::ProjectToImage(view, rendered[v]));
   return pixels;
@@ -172,8 +184,9 @@ std::vector<glm::vec2> ExactLandmarks(const facerig::FaceTemplateInfo& info, con
 
 // jaw_open: the photo's jawOpen weight (the fit must still give the rest face).
 // exact: the fit takes ExactLandmarks instead of dlib's (no offsets, fixed jaw).
+// distance_cm: a perspective photo from this far (0: orthographic).
 Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facerig::PhotoFitParams& params = {},
-                   float jaw_open = 0.0f, bool exact = false) {
+                   float jaw_open = 0.0f, bool exact = false, float distance_cm = 0.0f) {
   const IctPhotoSetup& setup = Setup();
   const facerig::VertexRange face = setup.info.Group("face");
   facerig::LandmarkDetector& detector = Detector();
@@ -184,11 +197,11 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
     for (double& w : weights) w = rng.NextNormal();
     const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
     const std::vector<glm::vec3> rendered = WithExpression(setup.model, truth, "jawOpen", jaw_open);
-    const RgbImage photo = RenderFace(setup.info, rendered, yaw_degrees, 512);
+    const RgbImage photo = RenderFace(setup.info, rendered, yaw_degrees, 512, distance_cm);
     facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
     facerig::PhotoFitParams used = params;
     if (exact) {
-      landmarks.pixels = ExactLandmarks(setup.info, rendered, yaw_degrees, photo.width);
+      landmarks.pixels = ExactLandmarks(setup.info, rendered, yaw_degrees, photo.width, distance_cm);
       used.remove_landmark_offsets = false;
       used.moving_contour = false;
       // Noise-free points: only the prior holds the shape back.
@@ -197,13 +210,16 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
     }
     const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, used);
     if (f == 0) {
-      facerig::WritePhotoFitPng(facerig::test::OutputPath("photo_fit_yaw" + std::to_string(int(yaw_degrees)) + ".png"),
-                                photo, landmarks, fit);
+      const std::string distance = distance_cm > 0.0f ? "_" + std::to_string(int(distance_cm)) + "cm" : "";
+      facerig::WritePhotoFitPng(
+          facerig::test::OutputPath("photo_fit_yaw" + std::to_string(int(yaw_degrees)) + distance + ".png"), photo,
+          landmarks, fit);
     }
     errors.fit += FaceErrorMm(fit.rest_positions, truth, face);
     errors.mean_face += FaceErrorMm(setup.model.neutral, truth, face);
     errors.best += FaceErrorMm(ProjectOnModes(setup.model, truth, face), truth, face);
     errors.fit_seconds = std::max(errors.fit_seconds, fit.seconds);
+    errors.camera_distance += fit.camera_distance / double(faces);
     CheckCameraMatchesRasterView(fit);
     CHECK(std::abs(Yaw(fit.camera) - yaw_degrees) < 4.0f);
     if (jaw_open > 0.0f) CHECK(ExpressionWeight(fit, "jawOpen") > 0.5f * jaw_open);
@@ -212,8 +228,10 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
   errors.fit /= faces;
   errors.mean_face /= faces;
   errors.best /= faces;
-  std::printf("photo fit, yaw %2.0f, %d faces: fit %.2f mm, mean face %.2f mm, best %.3f mm; slowest fit %.1f ms\n",
-              double(yaw_degrees), faces, errors.fit, errors.mean_face, errors.best, 1e3 * errors.fit_seconds);
+  std::printf("photo fit, yaw %2.0f, %s, %d faces: fit %.3f mm, mean face %.2f mm, best %.3f mm; slowest fit %.1f ms; "
+              "fitted camera distance %.0f\n",
+              double(yaw_degrees), distance_cm > 0.0f ? (std::to_string(int(distance_cm)) + " cm").c_str() : "ortho",
+              faces, errors.fit, errors.mean_face, errors.best, 1e3 * errors.fit_seconds, errors.camera_distance);
   return errors;
 }
 
@@ -229,6 +247,21 @@ TEST_CASE("Photo fit recovers random ICT identities from renders (shared data)",
     CHECK(e.best < 0.05);
     CHECK(e.fit < 0.9 * e.mean_face);
   }
+}
+
+// A selfie: at 35 cm the orthographic fit of the exact landmark projections
+// is several times worse than the perspective one, which finds the distance
+// (from the landmarks' centroid, a few cm behind the nose tip the render is 35 cm from).
+TEST_CASE("Photo fit of a selfie-distance render picks a perspective camera (shared data)",
+          "[photo_fit][photo_perspective][shared-data]") {
+  facerig::PhotoFitParams orthographic;
+  orthographic.camera_distances.clear();
+  const Errors flat = MeasureFits(2, 0.0f, 17, orthographic, 0.0f, true, 35.0f);
+  const Errors perspective = MeasureFits(2, 0.0f, 17, {}, 0.0f, true, 35.0f);
+  CHECK(flat.camera_distance == 0.0);
+  CHECK(perspective.fit < 0.5 * flat.fit);
+  CHECK(perspective.camera_distance > 30.0);
+  CHECK(perspective.camera_distance < 50.0);
 }
 
 TEST_CASE("Photo fit of an open mouth gives the rest face (shared data)", "[photo_fit][shared-data]") {
@@ -381,6 +414,24 @@ TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_
   const double detect = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const facerig::PhotoFit fit = facerig::FitPhoto(Setup().model, landmarks.pixels, photo.width, photo.height);
   std::printf("1024 px photo: detection %.0f ms, fit %.1f ms\n", 1e3 * detect, 1e3 * fit.seconds);
+}
+
+// What a perspective photo costs the fit: the same identities rendered from
+// a selfie's, a portrait's and a far distance, framed alike, against the
+// orthographic render; dlib's points and the exact projections.
+TEST_CASE("Photo fit on perspective renders (shared data)", "[.measure][photo_perspective][shared-data]") {
+  facerig::PhotoFitParams orthographic;
+  orthographic.camera_distances.clear();
+  for (const bool exact : {false, true}) {
+    for (const float yaw : {0.0f, 15.0f}) {
+      std::printf("%s landmarks:\n", exact ? "exact" : "dlib");
+      for (const float distance : {0.0f, 35.0f, 60.0f, 100.0f, 300.0f}) {
+        MeasureFits(20, yaw, 1234, orthographic, 0.0f, exact, distance);
+        std::printf("  perspective:\n");
+        MeasureFits(20, yaw, 1234, {}, 0.0f, exact, distance);
+      }
+    }
+  }
 }
 
 // How many self-calibration rounds, on training identities (seed 2001).

@@ -1,7 +1,8 @@
 // A face model fitted to one photograph: dlib's 68 landmarks on the photo,
 // then a linear face model (the template's neutral plus identity modes plus a
-// few of its expressions) and a scaled orthographic camera fitted to them,
-// alternating camera and shape (the method of Aldrian & Smith as the eos
+// few of its expressions) and a scaled orthographic camera fitted to them
+// (the photo's points first corrected for a perspective camera's distance when
+// one fits them better), alternating camera and shape (the method of Aldrian & Smith as the eos
 // library uses it: closed-form camera, regularised linear least squares for
 // the shape, jaw-line landmarks matched to the model's moving contour).
 //
@@ -130,6 +131,23 @@ glm::vec2 ProjectPixel(const ScaledOrthoCamera& camera, glm::vec3 point, int wid
 // (its depth sets the view's centre along the viewing axis).
 RasterView ToRasterView(const ScaledOrthoCamera& camera, int width, int height, glm::vec3 depth_centre);
 
+// --- a perspective camera (photo_perspective.cpp) ---
+
+// Where a scaled orthographic camera along `camera`'s axis would see each of
+// `points` that a perspective camera `distance` (model units) from their
+// centroid shows at `pixels`: each pixel moved from the image centre (the
+// principal point) by its point's depth over the centroid's. `distance` <= 0
+// or mismatched sizes: the pixels unchanged.
+std::vector<glm::vec2> OrthographicPixels(std::span<const glm::vec2> pixels, std::span<const glm::vec3> points,
+                                          const ScaledOrthoCamera& camera, float distance, int width, int height);
+
+// The perspective view `distance` from `depth_centre` (on the camera's axis
+// through the image centre) with the camera's rotation and, at depth_centre's
+// depth, its scale: it projects as the photo's camera when the fit used
+// OrthographicPixels. `distance` <= 0: ToRasterView.
+RasterView ToPerspectiveView(const ScaledOrthoCamera& camera, int width, int height, glm::vec3 depth_centre,
+                             float distance);
+
 struct PhotoFitParams {
   int iterations = 5;
   // Landmark noise as a fraction of the face size (the box of the 68 points):
@@ -160,11 +178,19 @@ struct PhotoFitParams {
   bool deform_without_identity = true;
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;
+  // Camera distances from the face (model units: cm for ICT) tried with a
+  // perspective camera besides the orthographic one, from a selfie's to a far
+  // portrait's; the fit keeps the one whose objective (landmark residuals over
+  // their variances plus the prior) is lowest. Empty: orthographic only.
+  std::vector<float> camera_distances{25.0f, 35.0f, 50.0f, 70.0f, 100.0f, 150.0f, 250.0f};
 };
 
 struct PhotoFit {
   ScaledOrthoCamera camera;
-  RasterView view;  // the camera as a RasterView of the photo
+  RasterView view;  // the camera as a RasterView of the photo (perspective when camera_distance > 0)
+  // The perspective camera's distance from the landmarks' centroid (model
+  // units); 0: orthographic. `camera` then sees OrthographicPixels of the photo's points.
+  float camera_distance = 0.0f;
   std::vector<float> identity_weights;
   std::vector<std::string> expression_names;
   std::vector<float> expression_weights;
