@@ -39,6 +39,7 @@ struct PhotoOptions {
   std::string image, output, template_path, frig, obj_dir, report, debug_png;
   LandmarkParams landmark_params;
   StandardShapesOptions naming;
+  PhotoFitParams fit_params;
 };
 
 void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
@@ -51,6 +52,8 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
   photo.add_option("--debug-png", options.debug_png,
                    "draw the face box, the landmarks and the fitted model's landmarks over the photo, shaded blue\n"
                    "where the texture takes no photo pixels");
+  photo.add_flag("--shading-fit", options.fit_params.shading,
+                 "refine the fitted face by the photo's shading (spherical-harmonic lighting; templates with identity modes)");
   AddShapePredictorOption(photo, options.landmark_params);
   AddShapeNamingOptions(photo, options.naming);
 }
@@ -250,7 +253,10 @@ int MakePhotoHead(const PhotoOptions& options) {
   std::fputs("fitting the face...\n", stderr);
   run.fit = timer.Run("fit", [&] {
     const PhotoFaceModel model = BuildPhotoModel(run.photo_template, *detector);
-    return FitPhoto(model, run.landmarks.pixels, run.photo.image.width, run.photo.image.height);
+    const PhotoFit fit =
+        FitPhoto(model, run.landmarks.pixels, run.photo.image.width, run.photo.image.height, options.fit_params);
+    if (!options.fit_params.shading) return fit;
+    return RefinePhotoFitByShading(model, run.photo.image, run.landmarks.pixels, fit, options.fit_params);
   });
   std::fprintf(stderr, "fit: landmark residual %.2f px%s\n", run.fit.rms_pixels,
                run.fit.deformed ? " (the head deformed onto the landmarks)" : "");

@@ -67,9 +67,69 @@ glm::vec3 PartColour(const std::string& name) {
   return {0.45f, 0.20f, 0.20f};  // mouth and eye sockets, gums
 }
 
-// The head rendered with a flat skin colour and Lambert light; the eye films (transparent in ICT) left out.
+// How a test photo is lit and painted: the default is one light 30 degrees
+// above the view axis on a flat skin colour; `blotchy` paints the skin with
+// smooth +-10 % blotches and darker brows and lips.
+struct RenderStyle {
+  glm::vec3 light{0.0f, 0.5f, 0.8660254f};
+  float ambient = 0.25f;
+  bool blotchy = false;
+};
+
+// 40 degrees off the view axis, from the upper left, and little ambient light.
+RenderStyle SideLight() {
+  const float off = 40.0f * kPi / 180.0f;
+  return {glm::vec3(-std::sin(off) * 0.7071f, std::sin(off) * 0.7071f, std::cos(off)), 0.1f, false};
+}
+
+RenderStyle Blotchy() { return {.blotchy = true}; }
+
+// Smooth blotches in [-1, 1] over the head (cm): a few random plane waves.
+float Blotches(glm::vec3 p) {
+  static const std::vector<glm::vec4> waves = [] {
+    Pcg32 rng(77);
+    std::vector<glm::vec4> w;
+    for (int k = 0; k < 6; ++k) {
+      const glm::vec3 direction = glm::normalize(glm::vec3(rng.NextNormal(), rng.NextNormal(), rng.NextNormal()));
+      w.emplace_back(direction * (2.0f * kPi / (3.0f + 2.0f * float(k % 3))), 6.0f * float(rng.NextNormal()));
+    }
+    return w;
+  }();
+  float sum = 0.0f;
+  for (const glm::vec4& w : waves) sum += std::sin(glm::dot(glm::vec3(w), p) + w.w);
+  return std::clamp(sum / 2.5f, -1.0f, 1.0f);
+}
+
+float DistanceToSegments(glm::vec3 p, const std::vector<glm::vec3>& points) {
+  float best = 1e9f;
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+    const glm::vec3 d = points[k + 1] - points[k];
+    const float t = std::clamp(glm::dot(p - points[k], d) / glm::dot(d, d), 0.0f, 1.0f);
+    best = std::min(best, glm::length(p - points[k] - t * d));
+  }
+  return best;
+}
+
+// The skin's colour at triangle centre `p` of a blotchy face: darker brows and lips.
+glm::vec3 BlotchySkin(glm::vec3 skin, glm::vec3 p, const facerig::FaceTemplateInfo& info,
+                      const std::vector<glm::vec3>& positions) {
+  const auto chain = [&](int first, int last, bool closed) {
+    std::vector<glm::vec3> points;
+    for (int k = first; k <= last; ++k) points.push_back(positions[info.landmark_vertices[std::size_t(k)]]);
+    if (closed) points.push_back(points.front());
+    return points;
+  };
+  glm::vec3 colour = skin * (1.0f + 0.1f * Blotches(p));
+  if (std::min(DistanceToSegments(p, chain(17, 21, false)), DistanceToSegments(p, chain(22, 26, false))) < 0.5f) {
+    colour *= glm::vec3(0.55f, 0.5f, 0.5f);
+  }
+  if (DistanceToSegments(p, chain(48, 59, true)) < 0.35f) colour *= glm::vec3(0.85f, 0.65f, 0.65f);
+  return colour;
+}
+
+// The head rendered with Lambert light; the eye films (transparent in ICT) left out.
 RgbImage RenderFace(const facerig::FaceTemplateInfo& info, const std::vector<glm::vec3>& positions, float yaw_degrees,
-                    int size) {
+                    int size, const RenderStyle& style = {}) {
   facerig::Mesh mesh{.positions = positions};
   std::vector<glm::vec3> albedo;
   for (const facerig::Triangle& t : facerig::test::IctRig().triangles()) {
@@ -83,6 +143,10 @@ RgbImage RenderFace(const facerig::FaceTemplateInfo& info, const std::vector<glm
     }
     mesh.triangles.push_back(t);
     albedo.push_back(PartColour(part->name));
+    if (style.blotchy && part->name.starts_with("skin")) {
+      albedo.back() = BlotchySkin(albedo.back(), (positions[t[0]] + positions[t[1]] + positions[t[2]]) / 3.0f, info,
+                                  positions);
+    }
   }
   std::vector<glm::vec3> normals(positions.size());
   facerig::ComputeVertexNormals(positions, mesh.triangles, normals);
@@ -92,7 +156,10 @@ RgbImage RenderFace(const facerig::FaceTemplateInfo& info, const std::vector<glm
   const glm::vec3 nose = positions[info.landmark_vertices[30]];
   const facerig::RasterView view =
       facerig::RasterView::Orbit(nose, 16.0f, size, size, yaw_degrees * kPi / 180.0f);
-  return facerig::Shade(facerig::Rasterize(mesh, view), mesh, albedo, view);
+  facerig::ShadeParams shade;
+  shade.light = style.light;
+  shade.ambient = style.ambient;
+  return facerig::Shade(facerig::Rasterize(mesh, view), mesh, albedo, view, shade);
 }
 
 // Mean distance (mm; ICT is in cm) over the face group after the best similarity alignment.
@@ -172,8 +239,9 @@ std::vector<glm::vec2> ExactLandmarks(const facerig::FaceTemplateInfo& info, con
 
 // jaw_open: the photo's jawOpen weight (the fit must still give the rest face).
 // exact: the fit takes ExactLandmarks instead of dlib's (no offsets, fixed jaw).
+// params.shading: the fit refined by RefinePhotoFitByShading.
 Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facerig::PhotoFitParams& params = {},
-                   float jaw_open = 0.0f, bool exact = false) {
+                   float jaw_open = 0.0f, bool exact = false, const RenderStyle& style = {}) {
   const IctPhotoSetup& setup = Setup();
   const facerig::VertexRange face = setup.info.Group("face");
   facerig::LandmarkDetector& detector = Detector();
@@ -184,7 +252,7 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
     for (double& w : weights) w = rng.NextNormal();
     const std::vector<glm::vec3> truth = FaceWithWeights(setup.model, weights);
     const std::vector<glm::vec3> rendered = WithExpression(setup.model, truth, "jawOpen", jaw_open);
-    const RgbImage photo = RenderFace(setup.info, rendered, yaw_degrees, 512);
+    const RgbImage photo = RenderFace(setup.info, rendered, yaw_degrees, 512, style);
     facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(detector, photo);
     facerig::PhotoFitParams used = params;
     if (exact) {
@@ -195,7 +263,8 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
       used.landmark_sigma_fraction = 0.004;
       used.jaw_weight = used.brow_weight = used.eye_weight = 1.0f;
     }
-    const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, used);
+    facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, used);
+    if (used.shading) fit = facerig::RefinePhotoFitByShading(setup.model, photo, landmarks.pixels, fit, used);
     if (f == 0) {
       facerig::WritePhotoFitPng(facerig::test::OutputPath("photo_fit_yaw" + std::to_string(int(yaw_degrees)) + ".png"),
                                 photo, landmarks, fit);
@@ -229,6 +298,37 @@ TEST_CASE("Photo fit recovers random ICT identities from renders (shared data)",
     CHECK(e.best < 0.05);
     CHECK(e.fit < 0.9 * e.mean_face);
   }
+}
+
+// On renders (one light, flat skin: the shading term's best case) the
+// refinement removes a good part of the landmark fit's error.
+TEST_CASE("Photo fit refined by the shading beats the landmark fit on renders (shared data)",
+          "[photo_fit][shared-data]") {
+  facerig::PhotoFitParams shading;
+  shading.shading = true;
+  const Errors landmarks_only = MeasureFits(2, 0.0f, 17);
+  const Errors refined = MeasureFits(2, 0.0f, 17, shading);
+  CHECK(refined.fit < 0.85 * landmarks_only.fit);
+}
+
+TEST_CASE("Photo shading fit refuses bad input and leaves a deformed fit as it is (shared data)",
+          "[photo_fit][shared-data]") {
+  const IctPhotoSetup& setup = Setup();
+  const RgbImage photo = RenderFace(setup.info, setup.model.neutral, 0.0f, 256);
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(Detector(), photo);
+  const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height);
+  CHECK_THROWS_AS(facerig::RefinePhotoFitByShading(setup.model, photo, std::span(landmarks.pixels).first(10), fit),
+                  facerig::InvalidInputError);
+  RgbImage broken = photo;
+  broken.pixels.resize(10);
+  CHECK_THROWS_AS(facerig::RefinePhotoFitByShading(setup.model, broken, landmarks.pixels, fit),
+                  facerig::InvalidInputError);
+  PhotoFaceModel expressions_only = setup.model;
+  expressions_only.identity_modes.clear();
+  const facerig::PhotoFit deformed = facerig::FitPhoto(expressions_only, landmarks.pixels, photo.width, photo.height);
+  const facerig::PhotoFit same =
+      facerig::RefinePhotoFitByShading(expressions_only, photo, landmarks.pixels, deformed);
+  CHECK(same.posed_positions == deformed.posed_positions);
 }
 
 TEST_CASE("Photo fit of an open mouth gives the rest face (shared data)", "[photo_fit][shared-data]") {
@@ -356,9 +456,18 @@ TEST_CASE("Photo landmarks refuse an image without a face (shared data)", "[phot
 TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_fit][shared-data]") {
   facerig::PhotoFitParams no_self_calibration;
   no_self_calibration.self_calibration_rounds = 0;
+  facerig::PhotoFitParams shading;
+  shading.shading = true;
   for (const float yaw : {0.0f, 15.0f}) {
     std::printf("the default:\n");
     MeasureFits(30, yaw, 1234);
+    std::printf("refined by the shading:\n");
+    MeasureFits(30, yaw, 1234, shading);
+    for (const auto& [name, style] : {std::pair("side light", SideLight()), std::pair("blotchy albedo", Blotchy())}) {
+      std::printf("%s, without and with the shading term:\n", name);
+      MeasureFits(30, yaw, 1234, {}, 0.0f, false, style);
+      MeasureFits(30, yaw, 1234, shading, 0.0f, false, style);
+    }
     std::printf("without the self-calibration:\n");
     MeasureFits(30, yaw, 1234, no_self_calibration);
     std::printf("the landmark vertices' exact projections instead of dlib's:\n");
@@ -381,6 +490,36 @@ TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_
   const double detect = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const facerig::PhotoFit fit = facerig::FitPhoto(Setup().model, landmarks.pixels, photo.width, photo.height);
   std::printf("1024 px photo: detection %.0f ms, fit %.1f ms\n", 1e3 * detect, 1e3 * fit.seconds);
+}
+
+// The shading term's weight and iterations, on training identities (seeds 2001 and 99).
+TEST_CASE("Photo shading fit sweep (shared data)", "[.tune_shading][photo_fit][shared-data]") {
+  const auto measure = [](const facerig::PhotoFitParams& params) {
+    for (const float yaw : {0.0f, 15.0f}) {
+      MeasureFits(8, yaw, 2001, params);
+      MeasureFits(8, yaw, 99, params);
+    }
+  };
+  std::printf("without\n");
+  measure({});
+  for (const bool camera : {false, true}) {
+    for (const double weight : {0.03, 0.1, 0.3}) {
+      for (const float blur : {0.05f, 0.15f}) {
+        facerig::PhotoFitParams params;
+        params.shading = true;
+        params.shading_params.weight = weight;
+        params.shading_params.blur_edges = blur;
+        params.shading_params.camera = camera;
+        std::printf("shading weight %.3f blur %.2f camera %d\n", weight, double(blur), int(camera));
+        measure(params);
+      }
+    }
+  }
+  facerig::PhotoFitParams more;
+  more.shading = true;
+  more.shading_params.iterations = 8;
+  std::printf("8 iterations\n");
+  measure(more);
 }
 
 // How many self-calibration rounds, on training identities (seed 2001).
@@ -473,3 +612,4 @@ TEST_CASE("Photo landmark noise on training identities (shared data)", "[.tune_n
     std::printf("%2zu bias (%+.4f %+.4f) sigma (%.4f %.4f)\n", k, mean.x, mean.y, sigma.x, sigma.y);
   }
 }
+

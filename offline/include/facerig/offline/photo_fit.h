@@ -130,6 +130,22 @@ glm::vec2 ProjectPixel(const ScaledOrthoCamera& camera, glm::vec3 point, int wid
 // (its depth sets the view's centre along the viewing axis).
 RasterView ToRasterView(const ScaledOrthoCamera& camera, int width, int height, glm::vec3 depth_centre);
 
+struct PhotoShadingParams {
+  int iterations = 4;
+  // The shading term's weight: each sampled vertex counts this fraction of
+  // one independent observation at the estimated pixel noise (neighbouring
+  // samples of a blurred photo are not independent).
+  double weight = 0.03;
+  int max_samples = 3000;
+  // The photo's blur (Gaussian sigma) in mean edge lengths of the face
+  // region's triangles: more biases the shading at the nose and the masks' edges.
+  float blur_edges = 0.05f;
+  // Refine the camera too (else the landmark fit's stays).
+  bool camera = true;
+  // Vertices whose normal is nearer the image plane than this are left out.
+  float min_facing = 0.3f;
+};
+
 struct PhotoFitParams {
   int iterations = 5;
   // Landmark noise as a fraction of the face size (the box of the 68 points):
@@ -160,6 +176,10 @@ struct PhotoFitParams {
   bool deform_without_identity = true;
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;
+  // Refine the landmark fit by the photo's shading (RefinePhotoFitByShading;
+  // its caller runs it: FitPhoto has no photo).
+  bool shading = false;
+  PhotoShadingParams shading_params;
 };
 
 struct PhotoFit {
@@ -172,6 +192,7 @@ struct PhotoFit {
   std::vector<glm::vec3> posed_positions;  // rest + the fitted expressions: as in the photo
   std::vector<std::uint32_t> landmark_vertices;  // the 68 vertices used last (jaw on the contour)
   std::vector<glm::vec2> model_pixels;  // those vertices projected into the photo
+  std::vector<glm::vec2> target_pixels;  // the points they were fitted to: dlib's moved by its offsets
   double rms_pixels = 0.0;  // landmark residual
   bool deformed = false;  // the RBF fallback moved the face (no identity modes)
   double seconds = 0.0;
@@ -181,6 +202,23 @@ struct PhotoFit {
 //        or the image size is not positive.
 PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> landmarks, int width, int height,
                   const PhotoFitParams& params = {});
+
+// --- the shading refinement (photo_shading_fit.cpp) ---
+
+// Analysis by synthesis after the landmark fit: identity and expression
+// weights refined by Gauss-Newton on the landmark term and prior (as
+// FitPhoto's, camera and jaw vertices fixed) plus the photo's shading at
+// visible face-skin vertices (inside the 68 points' face outline, away from
+// the eyes, brows, mouth and nostrils): the blurred photo's colour at each
+// vertex against second-order spherical-harmonic lighting of its normal (a
+// constant albedo; the 9 x 3 lighting re-solved each step), residuals
+// Huber-weighted. `detected`: dlib's 68 points on `photo` (the masks).
+// Without identity modes, or a fit the RBF deformed, `fit` is returned as is.
+// \throw InvalidInputError when the photo's pixels do not match its size or
+//        detected.size() != 68.
+PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& photo,
+                                 std::span<const glm::vec2> detected, const PhotoFit& fit,
+                                 const PhotoFitParams& params = {});
 
 // --- the fallback without identity modes (photo_rbf_fit.cpp) ---
 
