@@ -2,17 +2,16 @@
 // Blanz & Vetter's morphable model fits): Gauss-Newton on the landmark term
 // and prior plus the colour at visible face-skin vertices against spherical-
 // harmonic lighting of their normals.
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <string>
-#include <vector>
-
-#include <Eigen/Dense>
 #include <glm/geometric.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
 
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo_fit.h"
@@ -34,9 +33,15 @@ constexpr double kMinNoise = 1.0 / 255.0;
 // lighting absorbs each constant), and their gradients in the normal.
 void Harmonics(glm::vec3 n, std::array<float, kHarmonics>& y, std::array<glm::vec3, kHarmonics>& dy) {
   y = {1.0f, n.x, n.y, n.z, n.x * n.y, n.x * n.z, n.y * n.z, n.x * n.x - n.y * n.y, 3.0f * n.z * n.z - 1.0f};
-  dy = {glm::vec3(0.0f),           glm::vec3(1.0f, 0.0f, 0.0f),       glm::vec3(0.0f, 1.0f, 0.0f),
-        glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(n.y, n.x, 0.0f),         glm::vec3(n.z, 0.0f, n.x),
-        glm::vec3(0.0f, n.z, n.y),   glm::vec3(2.0f * n.x, -2.0f * n.y, 0.0f), glm::vec3(0.0f, 0.0f, 6.0f * n.z)};
+  dy = {glm::vec3(0.0f),
+        glm::vec3(1.0f, 0.0f, 0.0f),
+        glm::vec3(0.0f, 1.0f, 0.0f),
+        glm::vec3(0.0f, 0.0f, 1.0f),
+        glm::vec3(n.y, n.x, 0.0f),
+        glm::vec3(n.z, 0.0f, n.x),
+        glm::vec3(0.0f, n.z, n.y),
+        glm::vec3(2.0f * n.x, -2.0f * n.y, 0.0f),
+        glm::vec3(0.0f, 0.0f, 6.0f * n.z)};
 }
 
 // The photo's window round the face, blurred, in [0, 1].
@@ -58,7 +63,8 @@ struct BlurredWindow {
   // a photo position (pixel centres at +0.5); false too near the window's edge.
   bool Sample(glm::vec2 p, glm::vec3& value, glm::vec3& dx, glm::vec3& dy) const {
     const float u = p.x - 0.5f - static_cast<float>(window.x), v = p.y - 0.5f - static_cast<float>(window.y);
-    if (!(u >= 1.0f && v >= 1.0f && u < static_cast<float>(colour.cols - 2) && v < static_cast<float>(colour.rows - 2))) {
+    if (!(u >= 1.0f && v >= 1.0f && u < static_cast<float>(colour.cols - 2) &&
+          v < static_cast<float>(colour.rows - 2))) {
       return false;
     }
     value = At(u, v);
@@ -76,7 +82,8 @@ BlurredWindow BlurPhoto(const RgbImage& photo, cv::Rect window, double sigma) {
   return blurred;
 }
 
-std::vector<cv::Point> Polygon(std::span<const glm::vec2> landmarks, std::initializer_list<int> indices, cv::Point origin) {
+std::vector<cv::Point> Polygon(std::span<const glm::vec2> landmarks, std::initializer_list<int> indices,
+                               cv::Point origin) {
   std::vector<cv::Point> points;
   for (const int k : indices) {
     const glm::vec2 p = landmarks[static_cast<std::size_t>(k)];
@@ -95,8 +102,9 @@ cv::Mat SkinMask(std::span<const glm::vec2> landmarks, cv::Rect window, int marg
   std::vector<glm::vec2> outline(landmarks.begin(), landmarks.begin() + 17);
   for (int k = 26; k >= 17; --k) outline.push_back(landmarks[static_cast<std::size_t>(k)] + lift);
   std::vector<cv::Point> outline_points;
-  for (const glm::vec2 p : outline) outline_points.emplace_back(static_cast<int>(std::lround(p.x)) - origin.x,
-                                                                 static_cast<int>(std::lround(p.y)) - origin.y);
+  for (const glm::vec2 p : outline)
+    outline_points.emplace_back(static_cast<int>(std::lround(p.x)) - origin.x,
+                                static_cast<int>(std::lround(p.y)) - origin.y);
   cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{outline_points}, cv::Scalar(255));
   cv::polylines(mask, std::vector<std::vector<cv::Point>>{outline_points}, true, cv::Scalar(0), 2 * margin);
   const std::vector<std::vector<cv::Point>> holes{
@@ -138,12 +146,14 @@ std::vector<Sample> SelectSamples(const PhotoFaceModel& model, const PhotoFit& f
     const glm::vec3 p = ProjectToImage(fit.view, fit.posed_positions[v]);
     const int x = static_cast<int>(std::floor(p.x)), y = static_cast<int>(std::floor(p.y));
     if (!window.contains(cv::Point(x, y)) || mask.at<std::uint8_t>(y - window.y, x - window.x) == 0) continue;
-    if (depth.triangle_ids[depth.index(x, y)] == kNoTriangle || depth.depths[depth.index(x, y)] > p.z + tolerance) continue;
+    if (depth.triangle_ids[depth.index(x, y)] == kNoTriangle || depth.depths[depth.index(x, y)] > p.z + tolerance)
+      continue;
     if ((fit.camera.rotation * normals[v]).z < params.min_facing) continue;
     chosen.push_back(v);
   }
-  const std::size_t stride = std::max<std::size_t>(1, (chosen.size() + static_cast<std::size_t>(params.max_samples) - 1) /
-                                                          static_cast<std::size_t>(std::max(1, params.max_samples)));
+  const std::size_t stride =
+      std::max<std::size_t>(1, (chosen.size() + static_cast<std::size_t>(params.max_samples) - 1) /
+                                   static_cast<std::size_t>(std::max(1, params.max_samples)));
   std::vector<int> slot(static_cast<std::size_t>(model.region.last) + 1, -1);
   std::vector<Sample> samples;
   for (std::size_t i = 0; i < chosen.size(); i += stride) {
@@ -162,8 +172,8 @@ std::vector<Sample> SelectSamples(const PhotoFaceModel& model, const PhotoFit& f
 struct Observation {
   bool valid = false;
   glm::vec3 colour{0.0f}, dx{0.0f}, dy{0.0f};  // blurred photo and its gradient
-  glm::vec3 normal{0.0f};  // unit, camera space
-  glm::vec3 unnormalised{0.0f};  // world-space sum of the ring's face normals
+  glm::vec3 normal{0.0f};                      // unit, camera space
+  glm::vec3 unnormalised{0.0f};                // world-space sum of the ring's face normals
   std::array<float, kHarmonics> y{};
   std::array<glm::vec3, kHarmonics> dy_dn{};
 };
@@ -329,7 +339,8 @@ photo_shape::LinearSystem LandmarkSystem(const PhotoFaceModel& model, const Scal
     const Eigen::MatrixXd cross = by_camera.transpose() * precision * by_weights;
     system.normal.topRightCorner(kCameraUnknowns, n) += cross;
     system.normal.bottomLeftCorner(n, kCameraUnknowns) += cross.transpose();
-    system.rhs.head(kCameraUnknowns) += by_camera.transpose() * precision * Eigen::Vector2d(from_neutral.x, from_neutral.y);
+    system.rhs.head(kCameraUnknowns) +=
+        by_camera.transpose() * precision * Eigen::Vector2d(from_neutral.x, from_neutral.y);
   }
   return system;
 }
@@ -343,8 +354,8 @@ void AddShadingTerm(const ShadingContext& context, const ScaledOrthoCamera& came
                     const Lighting& lighting, const std::vector<double>& weights, double precision,
                     const Eigen::VectorXd& current, photo_shape::LinearSystem& system) {
   const auto n = static_cast<Eigen::Index>(context.model.unknown_count());
-  const auto valid = static_cast<Eigen::Index>(std::count_if(observations.begin(), observations.end(),
-                                                             [](const Observation& o) { return o.valid; }));
+  const auto valid = static_cast<Eigen::Index>(
+      std::count_if(observations.begin(), observations.end(), [](const Observation& o) { return o.valid; }));
   Eigen::MatrixXd jacobian(3 * valid, kCameraUnknowns + n);
   Eigen::VectorXd residual(3 * valid), row_weights(3 * valid);
   Eigen::Index row = 0;
@@ -369,11 +380,13 @@ void AddShadingTerm(const ShadingContext& context, const ScaledOrthoCamera& came
       const glm::vec3 turned = glm::cross(axis, o.normal);
       normal_by_rotation.col(j) << turned.x, turned.y, turned.z;
     }
-    jacobian.block(row, 0, 3, kCameraUnknowns) = image_gradient * PixelByCamera(camera.rotation * positions[vertex], camera.scale);
+    jacobian.block(row, 0, 3, kCameraUnknowns) =
+        image_gradient * PixelByCamera(camera.rotation * positions[vertex], camera.scale);
     jacobian.block(row, 0, 3, 3) -= shade_gradient * normal_by_rotation;
     const Eigen::MatrixXd by_weights = PixelByWeights(context.model, camera, vertex);
     for (Eigen::Index i = 0; i < n; ++i) {
-      const glm::vec3 raw = NormalChange(context.samples[s], positions, photo_shape::Mode(context.model, static_cast<std::size_t>(i)));
+      const glm::vec3 raw =
+          NormalChange(context.samples[s], positions, photo_shape::Mode(context.model, static_cast<std::size_t>(i)));
       const glm::vec3 turned = camera.rotation * ((raw - unit * glm::dot(unit, raw)) / length);
       jacobian.block(row, kCameraUnknowns + i, 3, 1) =
           image_gradient * by_weights.col(i) - shade_gradient * Eigen::Vector3d(turned.x, turned.y, turned.z);
@@ -398,7 +411,8 @@ void FixCamera(photo_shape::LinearSystem& system) {
 
 // The camera moved by the solved unknowns.
 ScaledOrthoCamera MovedCamera(const ScaledOrthoCamera& camera, const Eigen::VectorXd& step) {
-  const glm::vec3 rotation_vector(static_cast<float>(step[0]), static_cast<float>(step[1]), static_cast<float>(step[2]));
+  const glm::vec3 rotation_vector(static_cast<float>(step[0]), static_cast<float>(step[1]),
+                                  static_cast<float>(step[2]));
   const float angle = glm::length(rotation_vector);
   glm::mat3 turn(1.0f);
   if (angle > 0.0f) {
@@ -456,14 +470,15 @@ PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& ph
   const std::span<const glm::vec2> targets =
       fit.target_pixels.size() == kDlibLandmarkCount ? std::span<const glm::vec2>(fit.target_pixels) : detected;
   const double face_size = photo_shape::FaceSize(detected);
-  const double blur = std::max(0.5, static_cast<double>(params.shading_params.blur_edges * MeanEdge(model, fit.posed_positions) *
-                                                           fit.camera.scale));
+  const double blur = std::max(0.5, static_cast<double>(params.shading_params.blur_edges *
+                                                        MeanEdge(model, fit.posed_positions) * fit.camera.scale));
   const int margin = std::max(1, static_cast<int>(std::lround(0.03 * face_size)));
   const cv::Rect window =
       FaceWindow(detected, photo.width, photo.height, face_size, margin + static_cast<int>(std::ceil(3.0 * blur)));
   if (window.width < 8 || window.height < 8) return fit;
   const BlurredWindow blurred = BlurPhoto(photo, window, blur);
-  const std::vector<Sample> samples = SelectSamples(model, fit, SkinMask(detected, window, margin), window, params.shading_params);
+  const std::vector<Sample> samples =
+      SelectSamples(model, fit, SkinMask(detected, window, margin), window, params.shading_params);
   if (samples.size() < kMinSamples) return fit;
   const std::vector<glm::vec2> precisions = photo_shape::LandmarkPrecisions(params, face_size);
   const ShadingContext context{model, samples};
@@ -473,7 +488,8 @@ PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& ph
   ScaledOrthoCamera camera = fit.camera;
   for (int iteration = 0; iteration < params.shading_params.iterations; ++iteration) {
     const std::vector<glm::vec3> positions = PosedRegion(model, current.tail(n));
-    const std::vector<Observation> observations = Observe(samples, positions, camera, blurred, photo.width, photo.height);
+    const std::vector<Observation> observations =
+        Observe(samples, positions, camera, blurred, photo.width, photo.height);
     std::vector<double> robust(observations.size(), 1.0);
     Lighting lighting = SolveLighting(observations, robust);
     const double noise = RobustWeights(observations, lighting, robust);

@@ -77,6 +77,8 @@ struct RenderStyle {
   bool blotchy = false;
   // How far the fitted camera's yaw may be off (degrees).
   float yaw_tolerance = 4.0f;
+  // Gaussian pixel noise (standard deviation, fractions of full scale).
+  float noise = 0.0f;
 };
 
 // 40 degrees off the view axis, from the upper left, and little ambient light.
@@ -87,6 +89,21 @@ RenderStyle SideLight() {
 }
 
 RenderStyle Blotchy() { return {.blotchy = true}; }
+
+// All at once: side light, blotchy skin and pixel noise (a camera's at ISO 800 or so).
+RenderStyle Hard() {
+  RenderStyle style = SideLight();
+  style.blotchy = true;
+  style.noise = 0.02f;
+  return style;
+}
+
+void AddNoise(RgbImage& image, float sigma) {
+  Pcg32 rng(4242);
+  for (std::uint8_t& v : image.pixels) {
+    v = static_cast<std::uint8_t>(std::clamp(std::lround(v + 255.0 * sigma * rng.NextNormal()), 0L, 255L));
+  }
+}
 
 // Smooth blotches in [-1, 1] over the head (cm): a few random plane waves.
 float Blotches(glm::vec3 p) {
@@ -163,7 +180,9 @@ RgbImage RenderFace(const facerig::FaceTemplateInfo& info, const std::vector<glm
   facerig::ShadeParams shade;
   shade.light = style.light;
   shade.ambient = style.ambient;
-  return facerig::Shade(facerig::Rasterize(mesh, view), mesh, albedo, view, shade);
+  RgbImage image = facerig::Shade(facerig::Rasterize(mesh, view), mesh, albedo, view, shade);
+  if (style.noise > 0.0f) AddNoise(image, style.noise);
+  return image;
 }
 
 // Mean distance (mm; ICT is in cm) over the face group after the best similarity alignment.
@@ -467,7 +486,8 @@ TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_
     MeasureFits(30, yaw, 1234);
     std::printf("refined by the shading:\n");
     MeasureFits(30, yaw, 1234, shading);
-    for (const auto& [name, style] : {std::pair("side light", SideLight()), std::pair("blotchy albedo", Blotchy())}) {
+    for (const auto& [name, style] : {std::pair("side light", SideLight()), std::pair("blotchy albedo", Blotchy()),
+                                      std::pair("side light, blotchy albedo and noise", Hard())}) {
       std::printf("%s, without and with the shading term:\n", name);
       MeasureFits(30, yaw, 1234, {}, 0.0f, false, style);
       MeasureFits(30, yaw, 1234, shading, 0.0f, false, style);
@@ -648,4 +668,14 @@ TEST_CASE("Photo shading fit on a real photograph (shared data)", "[.measure_rea
   std::printf("astronaut: landmark residual %.2f -> %.2f px, rest face moved %.2f mm, %.1f ms\n", fit.rms_pixels,
               refined.rms_pixels, FaceErrorMm(refined.rest_positions, fit.rest_positions, setup.info.Group("face")),
               1e3 * (refined.seconds - fit.seconds));
+}
+
+// The measurement's render styles, written for looking at.
+TEST_CASE("Photo fit render styles (shared data)", "[.look_styles][shared-data]") {
+  const std::vector<glm::vec3>& face = Setup().model.neutral;
+  for (const auto& [name, style] : {std::pair("flat", RenderStyle{}), std::pair("side_light", SideLight()),
+                                    std::pair("blotchy", Blotchy()), std::pair("hard", Hard())}) {
+    facerig::WritePng(facerig::test::OutputPath(std::string("photo_fit_style_") + name + ".png"),
+                      RenderFace(Setup().info, face, 15.0f, 512, style));
+  }
 }

@@ -205,15 +205,16 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> landma
 
 // --- the shading refinement (photo_shading_fit.cpp) ---
 
-// Analysis by synthesis after the landmark fit: identity and expression
-// weights refined by Gauss-Newton on the landmark term and prior (as
-// FitPhoto's, camera and jaw vertices fixed) plus the photo's shading at
-// visible face-skin vertices (inside the 68 points' face outline, away from
-// the eyes, brows, mouth and nostrils): the blurred photo's colour at each
+// Analysis by synthesis after the landmark fit: the camera and the identity
+// and expression weights refined by Gauss-Newton on the landmark term and
+// prior (FitPhoto's, jaw vertices fixed) plus the photo's shading at visible
+// face-skin vertices (inside the 68 points' face outline, away from the eyes,
+// brows, mouth and nostrils): the lightly blurred photo's colour at each
 // vertex against second-order spherical-harmonic lighting of its normal (a
 // constant albedo; the 9 x 3 lighting re-solved each step), residuals
-// Huber-weighted. `detected`: dlib's 68 points on `photo` (the masks).
-// Without identity modes, or a fit the RBF deformed, `fit` is returned as is.
+// Huber-weighted, their weight from the robust pixel noise. `detected`:
+// dlib's 68 points on `photo` (the masks). Without identity modes, a fit the
+// RBF deformed, or too few skin vertices in view, `fit` is returned as is.
 // \throw InvalidInputError when the photo's pixels do not match its size or
 //        detected.size() != 68.
 PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& photo,
