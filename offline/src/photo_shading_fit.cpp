@@ -15,6 +15,7 @@
 
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo_fit.h"
+#include "facerig/offline/photo_texture.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/rig_builder.h"
 #include "photo_shape_system.h"
@@ -117,6 +118,18 @@ cv::Mat SkinMask(std::span<const glm::vec2> landmarks, cv::Rect window, int marg
                                                   Polygon(landmarks, {22, 23, 24, 25, 26}, origin)};
   cv::polylines(mask, brows, false, cv::Scalar(0), 3 * margin);
   return mask;
+}
+
+// The mask without what the photo's colours say is not skin (hair over the
+// forehead, a beard, the background past the cheeks): BuildPhotoSkinMask,
+// which keeps the inner face whatever its colour.
+void KeepSkinColoured(const RgbImage& photo, std::span<const glm::vec2> landmarks, cv::Rect window, cv::Mat& mask) {
+  const PhotoSkinMask skin = BuildPhotoSkinMask(photo, landmarks);
+  for (int y = 0; y < mask.rows; ++y) {
+    for (int x = 0; x < mask.cols; ++x) {
+      if (skin.At(x + window.x, y + window.y) < 0.5f) mask.at<std::uint8_t>(y, x) = 0;
+    }
+  }
 }
 
 // A sampled vertex and the region triangles round it (its normal's support).
@@ -477,8 +490,9 @@ PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& ph
       FaceWindow(detected, photo.width, photo.height, face_size, margin + static_cast<int>(std::ceil(3.0 * blur)));
   if (window.width < 8 || window.height < 8) return fit;
   const BlurredWindow blurred = BlurPhoto(photo, window, blur);
-  const std::vector<Sample> samples =
-      SelectSamples(model, fit, SkinMask(detected, window, margin), window, params.shading_params);
+  cv::Mat mask = SkinMask(detected, window, margin);
+  KeepSkinColoured(photo, detected, window, mask);
+  const std::vector<Sample> samples = SelectSamples(model, fit, mask, window, params.shading_params);
   if (samples.size() < kMinSamples) return fit;
   const std::vector<glm::vec2> precisions = photo_shape::LandmarkPrecisions(params, face_size);
   const ShadingContext context{model, samples};
