@@ -177,7 +177,10 @@ struct PhotoFitParams {
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;
   // Refine the landmark fit by the photo's shading (RefinePhotoFitByShading;
-  // its caller runs it: FitPhoto has no photo).
+  // its caller runs it: FitPhoto has no photo). Off: on Lambert renders it
+  // halves the error, but on a real photo (specular skin, perspective,
+  // make-up) how far it moves the face depends on its weight, untested
+  // against a real face's shape.
   bool shading = false;
   PhotoShadingParams shading_params;
 };
