@@ -183,6 +183,7 @@ std::vector<float> GroupWeights(const PhotoFitParams& params) {
   for (std::size_t k = 0; k < kJawCount; ++k) weights[k] = params.jaw_weight;
   for (std::size_t k = 17; k <= 26; ++k) weights[k] = params.brow_weight;
   for (std::size_t k = 36; k <= 47; ++k) weights[k] = params.eye_weight;
+  for (std::size_t k = 27; k <= 35; ++k) weights[k] = params.nose_weight;
   return weights;
 }
 

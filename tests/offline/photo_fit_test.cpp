@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -693,4 +694,50 @@ TEST_CASE("Photo fit render styles (shared data)", "[.look_styles][shared-data]"
     facerig::WritePng(facerig::test::OutputPath(std::string("photo_fit_style_") + name + ".png"),
                       RenderFace(Setup().info, face, 15.0f, 512, style));
   }
+}
+
+// Real photographs have no true shape to compare with; dlib's nose points
+// (27..35) held out of the fit are one: how far the fitted nose vertices
+// project from them (after dlib's offsets), fractions of the face size, with
+// and without the shading term, on dlib's example photos and the astronaut.
+TEST_CASE("Photo shading fit predicts held-out nose points on real photographs (shared data)",
+          "[.measure_real][shared-data]") {
+  const IctPhotoSetup& setup = Setup();
+  std::vector<std::filesystem::path> paths{"/usr/lib/python3/dist-packages/skimage/data/astronaut.png"};
+  for (const auto& entry : std::filesystem::directory_iterator("/usr/share/doc/libdlib19.1/examples/faces")) {
+    if (entry.path().extension() == ".jpg") paths.push_back(entry.path());
+  }
+  std::sort(paths.begin(), paths.end());
+  facerig::PhotoFitParams held_out;
+  held_out.nose_weight = 0.0f;
+  double sum_without = 0.0, sum_with = 0.0;
+  int count = 0;
+  for (const std::filesystem::path& path : paths) {
+    const RgbImage photo = facerig::ReadPhoto(path).image;
+    facerig::PhotoLandmarks landmarks;
+    try {
+      landmarks = facerig::DetectPhotoLandmarks(Detector(), photo);
+    } catch (const facerig::LandmarkDetectionError&) {
+      continue;
+    }
+    const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, held_out);
+    const facerig::PhotoFit refined =
+        facerig::RefinePhotoFitByShading(setup.model, photo, landmarks.pixels, fit, held_out);
+    const auto nose_error = [&](const facerig::PhotoFit& f) {
+      double squared = 0.0;
+      for (std::size_t k = 27; k <= 35; ++k) {
+        const glm::vec2 d = f.model_pixels[k] - f.target_pixels[k];
+        squared += glm::dot(d, d);
+      }
+      return std::sqrt(squared / 9.0) / std::max(landmarks.box.width(), landmarks.box.height());
+    };
+    const double without = nose_error(fit), with = nose_error(refined);
+    std::printf("%-28s face %4d px: held-out nose points %.4f -> %.4f of the face\n", path.filename().c_str(),
+                std::max(landmarks.box.width(), landmarks.box.height()), without, with);
+    sum_without += without;
+    sum_with += with;
+    ++count;
+  }
+  std::printf("mean over %d photos: %.4f without, %.4f with the shading term\n", count, sum_without / count,
+              sum_with / count);
 }

@@ -160,6 +160,8 @@ struct PhotoFitParams {
   // as its nose and mouth points on renders of random faces.
   float brow_weight = 0.5f;
   float eye_weight = 0.3f;
+  // The nose's points (27..35); 0 holds them out, to see how well a fit predicts them.
+  float nose_weight = 1.0f;
   // With identity modes and the model's detector: rounds of dlib's offsets
   // measured on a render of the fit itself (from the photo's camera) in place
   // of the neutral's, each followed by a re-fit.
