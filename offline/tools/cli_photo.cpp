@@ -33,7 +33,7 @@ constexpr const char* kPhotoDescription =
     "the photo baked into the skin's UVs (hidden parts from the mirror side, then the photo's skin colour).\n"
     "The result is the template's whole rig on the fitted face. Without --template: the built-in head,\n"
     "deformed smoothly onto the landmarks; a template folder with identity meshes (ICT-FaceKit's\n"
-    "identityNNN.obj) fits the face with them.";
+    "identityNNN.obj) fits the face with them (--shading-fit: then refines it by the photo's shading).";
 
 struct PhotoOptions {
   std::string image, output, template_path, frig, obj_dir, report, debug_png;

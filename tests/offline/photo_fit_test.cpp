@@ -286,6 +286,7 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
       // Noise-free points: only the prior holds the shape back.
       used.landmark_sigma_fraction = 0.004;
       used.jaw_weight = used.brow_weight = used.eye_weight = 1.0f;
+      used.shading = false;
     }
     facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, used);
     if (used.shading) fit = facerig::RefinePhotoFitByShading(setup.model, photo, landmarks.pixels, fit, used);
@@ -479,22 +480,24 @@ TEST_CASE("Photo landmarks refuse an image without a face (shared data)", "[phot
 }
 
 TEST_CASE("Photo fit accuracy over many faces (shared data)", "[.measure][photo_fit][shared-data]") {
-  facerig::PhotoFitParams no_self_calibration;
-  no_self_calibration.self_calibration_rounds = 0;
+  facerig::PhotoFitParams landmarks_only;
+  landmarks_only.shading = false;
   facerig::PhotoFitParams shading;
   shading.shading = true;
+  facerig::PhotoFitParams no_self_calibration = landmarks_only;
+  no_self_calibration.self_calibration_rounds = 0;
   for (const float yaw : {0.0f, 15.0f}) {
-    std::printf("the default:\n");
-    MeasureFits(30, yaw, 1234);
+    std::printf("the landmarks only:\n");
+    MeasureFits(30, yaw, 1234, landmarks_only);
     std::printf("refined by the shading:\n");
     MeasureFits(30, yaw, 1234, shading);
     for (const auto& [name, style] : {std::pair("side light", SideLight()), std::pair("blotchy albedo", Blotchy()),
                                       std::pair("side light, blotchy albedo and noise", Hard())}) {
       std::printf("%s, without and with the shading term:\n", name);
-      MeasureFits(30, yaw, 1234, {}, 0.0f, false, style);
+      MeasureFits(30, yaw, 1234, landmarks_only, 0.0f, false, style);
       MeasureFits(30, yaw, 1234, shading, 0.0f, false, style);
     }
-    std::printf("without the self-calibration:\n");
+    std::printf("the landmarks only, without the self-calibration:\n");
     MeasureFits(30, yaw, 1234, no_self_calibration);
     std::printf("the landmark vertices' exact projections instead of dlib's:\n");
     MeasureFits(30, yaw, 1234, {}, 0.0f, true);
@@ -535,8 +538,10 @@ TEST_CASE("Photo shading fit sweep (shared data)", "[.tune_shading][photo_fit][s
       MeasureFits(8, yaw, 99, params);
     }
   };
+  facerig::PhotoFitParams without;
+  without.shading = false;
   std::printf("without\n");
-  measure({});
+  measure(without);
   for (const bool camera : {false, true}) {
     for (const double weight : {0.03, 0.1, 0.3}) {
       for (const float blur : {0.05f, 0.15f}) {

@@ -179,10 +179,10 @@ struct PhotoFitParams {
   // A contour candidate is on the silhouette when |normal . view| is below this.
   float silhouette_cosine = 0.35f;
   // Refine the landmark fit by the photo's shading (RefinePhotoFitByShading;
-  // its caller runs it: FitPhoto has no photo). Off: on Lambert renders it
-  // halves the error, but on a real photo (specular skin, perspective,
-  // make-up) how far it moves the face depends on its weight, untested
-  // against a real face's shape.
+  // its caller runs it: FitPhoto has no photo). On renders it halves the
+  // error, on real photos it predicts dlib's held-out nose points better;
+  // off until its effect on the baked texture of real photos is checked (the
+  // astronaut's cheek texel moves by a few levels).
   bool shading = false;
   PhotoShadingParams shading_params;
 };
