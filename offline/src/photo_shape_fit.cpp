@@ -15,8 +15,26 @@
 #include "facerig/offline/photo_fit.h"
 #include "facerig/offline/stats.h"
 #include "facerig/runtime/rig_builder.h"
+#include "photo_shape_system.h"
 
 namespace facerig {
+
+namespace photo_shape {
+
+const std::vector<glm::vec3>& Mode(const PhotoFaceModel& model, std::size_t i) {
+  const std::size_t identities = model.identity_modes.size();
+  return i < identities ? model.identity_modes[i] : model.expression_deltas[i - identities];
+}
+
+}  // namespace photo_shape
+
+using photo_shape::BuildSystem;
+using photo_shape::FaceSize;
+using photo_shape::FillResult;
+using photo_shape::LandmarkPrecisions;
+using photo_shape::LinearSystem;
+using photo_shape::Mode;
+using photo_shape::SolveBounded;
 
 namespace {
 
@@ -36,12 +54,6 @@ void CheckInput(std::span<const glm::vec2> landmarks, int width, int height) {
       throw InvalidInputError("photo fit: a landmark is not finite", "landmarks");
     }
   }
-}
-
-// The mode (identity modes first, then expressions) `i` of the model.
-const std::vector<glm::vec3>& Mode(const PhotoFaceModel& model, std::size_t i) {
-  const std::size_t identities = model.identity_modes.size();
-  return i < identities ? model.identity_modes[i] : model.expression_deltas[i - identities];
 }
 
 glm::vec3 ShapeAt(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::uint32_t v) {
@@ -100,12 +112,10 @@ bool OnContour(std::size_t k, const PhotoFitParams& params) {
   return params.moving_contour && k < kJawCount && (k < kChinFirst || k > kChinLast);
 }
 
-struct LinearSystem {
-  Eigen::MatrixXd normal;
-  Eigen::VectorXd rhs;
-};
+}  // namespace
 
-// Weighted normal equations of the landmark residuals in the weights, plus the Gaussian prior.
+namespace photo_shape {
+
 LinearSystem BuildSystem(const PhotoFaceModel& model, const ScaledOrthoCamera& camera,
                          std::span<const glm::vec2> landmarks, std::span<const std::uint32_t> vertices,
                          std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params) {
@@ -164,22 +174,30 @@ Eigen::VectorXd SolveBounded(const LinearSystem& system, std::size_t identity_co
   return x;
 }
 
+}  // namespace photo_shape
+
+namespace {
+
 std::vector<float> GroupWeights(const PhotoFitParams& params) {
   std::vector<float> weights(kDlibLandmarkCount, 1.0f);
   for (std::size_t k = 0; k < kJawCount; ++k) weights[k] = params.jaw_weight;
   for (std::size_t k = 17; k <= 26; ++k) weights[k] = params.brow_weight;
   for (std::size_t k = 36; k <= 47; ++k) weights[k] = params.eye_weight;
+  for (std::size_t k = 27; k <= 35; ++k) weights[k] = params.nose_weight;
   return weights;
 }
 
-// 1 / sigma^2 per landmark and axis, in 1/pixels^2.
-std::vector<glm::vec2> LandmarkPrecisions(const PhotoFitParams& params, double face_size) {
+}  // namespace
+
+std::vector<glm::vec2> photo_shape::LandmarkPrecisions(const PhotoFitParams& params, double face_size) {
   const std::vector<float> weights = GroupWeights(params);
   const double sigma = params.landmark_sigma_fraction * face_size;
   std::vector<glm::vec2> precisions;
   for (const float w : weights) precisions.emplace_back(static_cast<float>(w / (sigma * sigma)));
   return precisions;
 }
+
+namespace {
 
 // The camera takes one weight per point: the mean of its two axes' precisions.
 std::vector<float> CameraWeights(std::span<const glm::vec2> precisions) {
@@ -200,7 +218,9 @@ std::vector<glm::vec2> CorrectedLandmarks(const PhotoFaceModel& model, std::span
   return landmarks;
 }
 
-double FaceSize(std::span<const glm::vec2> landmarks) {
+}  // namespace
+
+double photo_shape::FaceSize(std::span<const glm::vec2> landmarks) {
   glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
   for (const glm::vec2 p : landmarks) {
     low = glm::min(low, p);
@@ -208,6 +228,8 @@ double FaceSize(std::span<const glm::vec2> landmarks) {
   }
   return std::max(1.0f, std::max(high.x - low.x, high.y - low.y));
 }
+
+namespace {
 
 std::vector<glm::vec3> PointsAt(const PhotoFaceModel& model, const Eigen::VectorXd& weights,
                                 std::span<const std::uint32_t> vertices) {
@@ -250,8 +272,12 @@ std::vector<glm::vec2> OpeningsAsModelled(std::span<const glm::vec2> landmarks, 
   return kept;
 }
 
-void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::span<const glm::vec2> landmarks,
-                int width, int height, PhotoFit& fit) {
+}  // namespace
+
+void photo_shape::FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights,
+                             std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit) {
+  fit.identity_weights.clear();
+  fit.expression_weights.clear();
   const std::size_t identities = model.identity_modes.size();
   for (std::size_t i = 0; i < model.unknown_count(); ++i) {
     const auto w = static_cast<float>(weights[static_cast<Eigen::Index>(i)]);
@@ -263,6 +289,8 @@ void FillResult(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std
   RefreshProjection(landmarks, width, height, fit);
 }
 
+namespace {
+
 // model_pixels, rms_pixels and the view from the posed positions.
 void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int height, PhotoFit& fit) {
   glm::vec3 centre(0.0f);
@@ -270,6 +298,7 @@ void RefreshProjection(std::span<const glm::vec2> landmarks, int width, int heig
   centre /= static_cast<float>(fit.landmark_vertices.size());
   fit.view = ToPerspectiveView(fit.camera, width, height, centre, fit.camera_distance);
   fit.model_pixels.clear();
+  fit.target_pixels.assign(landmarks.begin(), landmarks.end());
   double squared = 0.0;
   for (std::size_t k = 0; k < landmarks.size(); ++k) {
     const glm::vec3 p = fit.posed_positions[fit.landmark_vertices[k]];

@@ -33,12 +33,13 @@ constexpr const char* kPhotoDescription =
     "the photo baked into the skin's UVs (hidden parts from the mirror side, then the photo's skin colour).\n"
     "The result is the template's whole rig on the fitted face. Without --template: the built-in head,\n"
     "deformed smoothly onto the landmarks; a template folder with identity meshes (ICT-FaceKit's\n"
-    "identityNNN.obj) fits the face with them.";
+    "identityNNN.obj) fits the face with them, then refines it by the photo's shading (--no-shading-fit: not).";
 
 struct PhotoOptions {
   std::string image, output, template_path, frig, obj_dir, report, debug_png;
   LandmarkParams landmark_params;
   StandardShapesOptions naming;
+  PhotoFitParams fit_params;
 };
 
 void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
@@ -51,6 +52,9 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
   photo.add_option("--debug-png", options.debug_png,
                    "draw the face box, the landmarks and the fitted model's landmarks over the photo, shaded blue\n"
                    "where the texture takes no photo pixels");
+  photo.add_flag("--shading-fit,!--no-shading-fit", options.fit_params.shading,
+                 "refine the fitted face by the photo's shading (spherical-harmonic lighting; templates with identity\n"
+                 "modes; the default)");
   AddShapePredictorOption(photo, options.landmark_params);
   AddShapeNamingOptions(photo, options.naming);
 }
@@ -253,7 +257,10 @@ int MakePhotoHead(const PhotoOptions& options) {
   std::fputs("fitting the face...\n", stderr);
   run.fit = timer.Run("fit", [&] {
     const PhotoFaceModel model = BuildPhotoModel(run.photo_template, *detector);
-    return FitPhoto(model, run.landmarks.pixels, run.photo.image.width, run.photo.image.height);
+    const PhotoFit fit =
+        FitPhoto(model, run.landmarks.pixels, run.photo.image.width, run.photo.image.height, options.fit_params);
+    if (!options.fit_params.shading) return fit;
+    return RefinePhotoFitByShading(model, run.photo.image, run.landmarks.pixels, fit, options.fit_params);
   });
   std::fprintf(stderr, "fit: landmark residual %.2f px%s\n", run.fit.rms_pixels,
                run.fit.deformed ? " (the head deformed onto the landmarks)" : "");
