@@ -8,6 +8,7 @@
 
 #include "bench_blend.h"
 #include "bench_build.h"
+#include "bench_photo.h"
 #include "bench_register.h"
 #include "bench_transfer.h"
 #include "cli_options.h"
@@ -36,6 +37,8 @@ const std::vector<Entry>& Benchmarks() {
       {"build", "the whole facerig build on re-meshed random ICT faces, each mode", RunBuildBenchmark},
       {"register", "landmarks + registration of the ICT template onto re-meshed random ICT faces",
        RunRegisterBenchmark},
+      {"photo", "facerig photo on a 1024 px portrait with ICT-FaceKit, per step, with and without the shading fit",
+       RunPhotoBenchmark},
 #if FACERIG_BENCH_LIPSYNC
       {"lipsync", "closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)", RunLipsyncBenchmark},
       {"crowd", "N characters' update + blend per 60 fps frame on one core (needs espeak-ng)", RunCrowdBenchmark},
