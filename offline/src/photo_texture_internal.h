@@ -121,14 +121,33 @@ glm::ivec2 UvTile(const Mesh& mesh, std::size_t t);
 // ({0, 0} alone when there are none).
 std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle);
 
+// The factor a photo colour is divided by to take the photo's light out:
+// the fitted lighting's brightness (luma) at the surface normal over its
+// brightness at the face's front, clamped; 1 without a lighting.
+class Delighting {
+ public:
+  // `facing_sign`: -1 for a mesh wound clockwise (its normals point inwards).
+  Delighting(const PhotoLighting& lighting, const PhotoTextureParams& params, float facing_sign);
+  float Factor(const glm::vec3& world_normal) const;
+
+ private:
+  float Shade(glm::vec3 camera_normal) const;
+
+  const PhotoLighting& lighting_;
+  const PhotoTextureParams& params_;
+  float facing_sign_ = 1.0f;
+  float reference_ = 0.0f;  // 0: no de-lighting
+};
+
 // Fills the layers' direct and mirror samples from the photo for every texel
 // of the `baked` triangles (skin triangles of one UV tile), each photo pixel
-// weighted by the mask; all skin triangles count as skin where they hide others.
+// weighted by the mask and de-lit by `lighting`; all skin triangles count as
+// skin where they hide others.
 void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
                   const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
                   const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
-                  TexelLayers& layers);
+                  const PhotoLighting& lighting, TexelLayers& layers);
 
 // Where the baked triangles wear a painted texture (the built-in head's),
 // its local light and dark (strands, clumps) multiply the scalp's hair colours.

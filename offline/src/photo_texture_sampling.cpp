@@ -200,8 +200,9 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
                   const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
                   const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
-                  TexelLayers& layers) {
+                  const PhotoLighting& lighting, TexelLayers& layers) {
   const PhotoView view(mesh, skin_triangle, camera, photo, mask, hair, params);
+  const Delighting delighting(lighting, params, view.facing_sign());
   std::vector<glm::vec3> normals(mesh.vertex_count());
   ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
@@ -216,10 +217,12 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       const SurfacePoint point = Interpolate(mesh.positions, normals, v, w0, w1, w2);
       glm::vec3 direct(0.0f), reflected(0.0f);
       const float wd = view.Sample(point.position, point.normal, point.position, direct);
+      if (wd > 0.0f) direct /= delighting.Factor(point.normal);
       float wm = 0.0f;
       if (mirrored) {
         const SurfacePoint partner = Interpolate(mesh.positions, normals, m, w0, w1, w2);
         wm = view.Sample(partner.position, partner.normal, point.position, reflected);
+        if (wm > 0.0f) reflected /= delighting.Factor(partner.normal);
       }
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(layers.size) + static_cast<std::size_t>(x);
       // Where UV islands overlap, the better seen surface wins.

@@ -104,12 +104,15 @@ glm::vec3 TextureAt(const Rig& rig, const RgbImage& texture, std::uint32_t v) {
 // (the light comes from her left: the sides differ by about 15 levels; over
 // one cheek the skin varies by 40): per channel within `levels` of the
 // patch's mean, and as red as the skin (red minus blue within 20 levels: not
-// the grey background).
-void CheckCheeks(const Rig& rig, std::uint32_t image_left_cheek, std::uint32_t image_right_cheek, float levels) {
+// the grey background). `delit`: the photo's light was divided out, so each
+// side is held to the mean of both patches instead of its own.
+void CheckCheeks(const Rig& rig, std::uint32_t image_left_cheek, std::uint32_t image_right_cheek, float levels,
+                 bool delit = false) {
   const RgbImage photo = ReadPhoto(SamplePhoto("astronaut.png")).image;
   const RgbImage texture = PhotoSkinTexture(rig);
+  const glm::vec3 both = 0.5f * (PatchMean(photo, kImageLeftCheek, 8) + PatchMean(photo, kImageRightCheek, 8));
   for (const auto& [v, patch] : {std::pair{image_left_cheek, kImageLeftCheek}, std::pair{image_right_cheek, kImageRightCheek}}) {
-    const glm::vec3 skin = PatchMean(photo, patch, 8);
+    const glm::vec3 skin = delit ? both : PatchMean(photo, patch, 8);
     const glm::vec3 baked = TextureAt(rig, texture, v);
     INFO("vertex " << v << ": baked " << baked.r << " " << baked.g << " " << baked.b << ", photo " << skin.r << " "
                    << skin.g << " " << skin.b);
@@ -305,6 +308,23 @@ void CheckNeckMeetsTheJaw(const Rig& rig, float levels) {
   CHECK(std::abs(neck_redness - cheek_redness) < 0.08f);
 }
 
+// The photo's light taken out: the median luma of the texture over the face
+// vertices within `radius` (cm) of each cheek vertex differs by less than
+// `levels` between her two cheeks (about 15 with the photo's light in).
+void CheckCheeksBalanced(const Rig& rig, std::uint32_t first, std::uint32_t second, float radius, float levels) {
+  const auto around = [&](std::uint32_t centre) {
+    return PhotoSkinColours(rig, [&, centre](const glm::vec3& p) {
+      return glm::distance(p, rig.positions()[centre]) < radius;
+    });
+  };
+  const std::vector<glm::vec3> one = around(first), other = around(second);
+  REQUIRE((one.size() >= 20 && other.size() >= 20));
+  const float difference = MedianLuma(one) - MedianLuma(other);
+  INFO("cheek luma " << MedianLuma(one) << " over " << one.size() << " vertices, " << MedianLuma(other) << " over "
+                     << other.size() << ": difference " << difference);
+  CHECK(std::abs(difference) < levels);
+}
+
 // Her fringe comes down to about 0.55-0.6 eye spacings above the eyes'
 // centres (measured on the photo, eye spacing 43 px, the fringe's edge 24-27
 // px above the eyes at the middle): the hairline follows it in most azimuth
@@ -479,7 +499,8 @@ TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared dat
   }
   // The shading refinement puts ICT's cheek vertex about 2 px from where the
   // landmark fit did, onto a darker part of her cheek: 28 levels (25 before).
-  CheckCheeks(rig, cheeks[0], cheeks[1], 32.0f);
+  CheckCheeks(rig, cheeks[0], cheeks[1], 32.0f, true);
+  CheckCheeksBalanced(rig, cheeks[0], cheeks[1], 1.5f, 8.0f);
   // The back of ICT's head lies in a UV tile of its own (u in [1, 2]): it
   // gets a texture of its own and wears the hair, not the face's texels.
   CHECK(std::any_of(rig.materials().begin(), rig.materials().end(), [](const Material& m) { return m.name == "photo_skin_1_0"; }));
