@@ -79,7 +79,7 @@ TexelLayers EmptyLayers(int size) {
   return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
           std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0),
           std::vector<std::uint8_t>(count, 0), std::vector<float>(count, 0.0f), std::vector<glm::vec3>(count),
-          std::vector<float>(count, 0.0f)};
+          std::vector<float>(count, 0.0f), std::vector<float>(count, 0.0f), std::vector<float>(count, 0.0f)};
 }
 
 std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
@@ -126,7 +126,7 @@ PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>
                                const RasterView& camera, const RgbImage& photo, const PhotoSkinMask& mask,
                                const photo_texture::MirrorPartners& mirror, const photo_texture::CheekRegion& cheeks,
                                const photo_texture::HairSource& hair, const PhotoTextureParams& params,
-                               const PhotoLighting& lighting, const glm::vec3& skin_colour,
+                               const PhotoLighting& lighting, float light_reference, const glm::vec3& skin_colour,
                                const photo_texture::SkinShading& shading) {
   PhotoTextureParams half = params;
   half.size = std::max(16, params.size / 2);
@@ -134,6 +134,7 @@ PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>
   TexelLayers layers = EmptyLayers(half.size);
   photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, tile), camera, photo, mask, mirror, cheeks,
                               hair, half, lighting, layers);
+  photo_texture::DivideOutLight(layers, light_reference, params);
   photo_texture::BalanceMirrorLight(layers);
   return {tile, ToImage(half.size, photo_texture::FillTexels(layers, skin_colour, shading, half.fill_radius)), {}};
 }
@@ -177,6 +178,8 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
                               params, lighting, layers);
   if (hair_source.scalp.found) photo_texture::AddPaintedHairDetail(mesh, main_triangles, layers);
   const double project_seconds = clock.Lap();
+  const float light_reference = photo_texture::MedianSeenShade(layers);
+  photo_texture::DivideOutLight(layers, light_reference, params);
   photo_texture::BalanceMirrorLight(layers);
   result.skin_colour = photo_texture::EstimateSkinColour(layers);
   const photo_texture::SkinShading shading = photo_texture::EstimateSkinShading(layers, result.skin_colour);
@@ -189,7 +192,8 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   result.mirror_weight = std::move(layers.mirror_weight);
   for (std::size_t k = 1; k < tiles.size(); ++k) {
     result.other_tiles.push_back(BakeOtherTile(mesh, skin_triangle, tiles[k], camera, photo, mask, mirror, cheeks,
-                                               hair_source, params, lighting, result.skin_colour, shading));
+                                               hair_source, params, lighting, light_reference, result.skin_colour,
+                                               shading));
   }
   result.stats.fill_seconds = clock.Lap();
   result.image = EncodePng(result.texture.pixels, result.texture.width, result.texture.height, 3, "photo_skin.png",

@@ -22,8 +22,10 @@
 // Each layer is blended over the next by its weight, so seams stay soft.
 // With the photo's fitted lighting (PhotoLighting) each photo colour is first
 // divided by that light's shading at its surface normal relative to the
-// face's front: the player lights the head again, so the photo's own light
-// (one cheek brighter, the jaw's shadow) should not be baked in.
+// median shading of the squarely seen skin (clamped, and so that no channel
+// clips): the player lights the head again, so the photo's own light (one
+// cheek brighter, the jaw's shadow) should not be baked in. The skin colour
+// and the tilt shading of the fill are then estimated from de-lit colours.
 // Eyes, teeth, gums, tongue, mouth interior, lashes and eye layers take no
 // photo pixels and keep their own materials.
 #pragma once
@@ -61,7 +63,8 @@ struct PhotoTextureParams {
   bool delight = true;
   // De-lighting: normals nearer the image plane than this are shaded as if
   // at this facing (the lighting was fitted on normals facing the camera),
-  // and the factor a colour is divided by is clamped to [least, most].
+  // and the factor a colour is divided by (its shade over the median's) is
+  // clamped to [least, most].
   float delight_min_facing = 0.3f;
   float delight_least = 0.6f, delight_most = 1.6f;
 };
@@ -70,7 +73,6 @@ struct PhotoTextureParams {
 struct PhotoLighting {
   std::vector<glm::vec3> coefficients;  // PhotoFit::lighting; empty: no de-lighting
   glm::mat3 rotation{1.0f};  // world to camera space (ScaledOrthoCamera::rotation)
-  glm::vec3 front{0.0f, 0.0f, 1.0f};  // where the face looks (world): the reference normal
 };
 
 // What a bake measured: fractions of the skin parts' texels.
