@@ -66,7 +66,7 @@ struct PhotoTextureParams {
   // and the factor a colour is divided by (its shade over the median's) is
   // clamped to [least, most].
   float delight_min_facing = 0.3f;
-  float delight_least = 0.6f, delight_most = 1.6f;
+  float delight_least = 0.75f, delight_most = 1.6f;
 };
 
 // The photo's light to take out of the texture.
