@@ -76,7 +76,9 @@ PhotoRig MakePhotoRig(const Rig& template_rig, Mesh surface, const PhotoFit& fit
     result.skin_mask = BuildPhotoSkinMask(photo, landmarks, params.mask);
     hair = FindPhotoHair(photo, landmarks, result.skin_mask, params.hair);
   }
-  const PhotoTexture texture = BakePhotoTexture(surface, fit.view, photo, params.texture, result.skin_mask, hair);
+  const PhotoLighting lighting{.coefficients = fit.lighting, .rotation = fit.camera.rotation};
+  const PhotoTexture texture =
+      BakePhotoTexture(surface, fit.view, photo, params.texture, result.skin_mask, hair, lighting);
   result.hair_found = hair.found;
   result.hair_colour = hair.colour;
   ApplyPhotoTexture(surface, texture);

@@ -485,7 +485,32 @@ Eigen::VectorXd WeightsOf(const PhotoFit& fit) {
 // The fewest skin samples worth a shading term.
 constexpr std::size_t kMinSamples = 100;
 
+// The lighting at the final weights and camera, robustly weighted.
+std::vector<glm::vec3> FinalLighting(const PhotoFaceModel& model, const std::vector<Sample>& samples,
+                                     const Eigen::VectorXd& weights, const PhotoFit& refined, const BlurredWindow& blurred) {
+  const std::vector<glm::vec3> positions = PosedRegion(model, weights);
+  const std::vector<Observation> observations = Observe(samples, positions, refined.camera, refined.view, blurred);
+  std::vector<double> robust(observations.size(), 1.0);
+  RobustWeights(observations, SolveLighting(observations, robust), robust);
+  const Lighting lighting = SolveLighting(observations, robust);
+  std::vector<glm::vec3> coefficients(kHarmonics);
+  for (int k = 0; k < kHarmonics; ++k) {
+    coefficients[static_cast<std::size_t>(k)] = glm::vec3(lighting(k, 0), lighting(k, 1), lighting(k, 2));
+  }
+  return coefficients;
+}
+
 }  // namespace
+
+glm::vec3 EvaluatePhotoLighting(std::span<const glm::vec3> lighting, glm::vec3 camera_normal) {
+  if (lighting.size() != static_cast<std::size_t>(kHarmonics)) return glm::vec3(0.0f);
+  std::array<float, kHarmonics> y{};
+  std::array<glm::vec3, kHarmonics> dy{};
+  Harmonics(camera_normal, y, dy);
+  glm::vec3 colour(0.0f);
+  for (std::size_t k = 0; k < y.size(); ++k) colour += y[k] * lighting[k];
+  return colour;
+}
 
 PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& photo,
                                  std::span<const glm::vec2> detected, const PhotoFit& fit,
@@ -539,6 +564,7 @@ PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& ph
   PhotoFit refined = fit;
   refined.camera = camera;
   photo_shape::FillResult(model, current.tail(n), targets, photo.width, photo.height, refined);
+  refined.lighting = FinalLighting(model, samples, current.tail(n), refined, blurred);
   refined.seconds = fit.seconds + SecondsSince(start);
   return refined;
 }

@@ -48,6 +48,11 @@ void CheckInputs(const Mesh& mesh, const RasterView& camera, const RgbImage& pho
   if (!(params.depth_tolerance_pixels >= 0.0f) || !(params.fill_radius >= 1.0f)) {
     throw InvalidInputError("photo texture: depth tolerance must be >= 0 and fill radius >= 1", "params");
   }
+  if (!(params.delight_min_facing >= 0.0f && params.delight_min_facing < 1.0f) ||
+      !(params.delight_least > 0.0f && params.delight_least <= 1.0f && params.delight_most >= 1.0f)) {
+    throw InvalidInputError("photo texture: need 0 <= delight_min_facing < 1 and 0 < delight_least <= 1 <= delight_most",
+                            "delight");
+  }
   if (params.png_compression < 0 || params.png_compression > 9) {
     throw InvalidInputError("photo texture: png_compression out of [0, 9]", "png_compression");
   }
@@ -74,7 +79,7 @@ TexelLayers EmptyLayers(int size) {
   return {size, std::vector<glm::vec3>(count), std::vector<glm::vec3>(count), std::vector<float>(count, 0.0f),
           std::vector<float>(count, 0.0f), std::vector<std::uint8_t>(count, 0), std::vector<std::uint8_t>(count, 0),
           std::vector<std::uint8_t>(count, 0), std::vector<float>(count, 0.0f), std::vector<glm::vec3>(count),
-          std::vector<float>(count, 0.0f)};
+          std::vector<float>(count, 0.0f), std::vector<float>(count, 0.0f), std::vector<float>(count, 0.0f)};
 }
 
 std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
@@ -121,13 +126,15 @@ PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>
                                const RasterView& camera, const RgbImage& photo, const PhotoSkinMask& mask,
                                const photo_texture::MirrorPartners& mirror, const photo_texture::CheekRegion& cheeks,
                                const photo_texture::HairSource& hair, const PhotoTextureParams& params,
-                               const glm::vec3& skin_colour, const photo_texture::SkinShading& shading) {
+                               const PhotoLighting& lighting, float light_reference, const glm::vec3& skin_colour,
+                               const photo_texture::SkinShading& shading) {
   PhotoTextureParams half = params;
   half.size = std::max(16, params.size / 2);
   half.fill_radius = std::max(1.0f, params.fill_radius / 2.0f);
   TexelLayers layers = EmptyLayers(half.size);
   photo_texture::ProjectPhoto(mesh, skin_triangle, InTile(mesh, skin_triangle, tile), camera, photo, mask, mirror, cheeks,
-                              hair, half, layers);
+                              hair, half, lighting, layers);
+  photo_texture::DivideOutLight(layers, light_reference, params);
   photo_texture::BalanceMirrorLight(layers);
   return {tile, ToImage(half.size, photo_texture::FillTexels(layers, skin_colour, shading, half.fill_radius)), {}};
 }
@@ -135,7 +142,8 @@ PhotoTextureTile BakeOtherTile(const Mesh& mesh, const std::vector<std::uint8_t>
 }  // namespace
 
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
-                              const PhotoTextureParams& params, const PhotoSkinMask& mask, const PhotoHair& hair) {
+                              const PhotoTextureParams& params, const PhotoSkinMask& mask, const PhotoHair& hair,
+                              const PhotoLighting& lighting) {
   CheckInputs(mesh, camera, photo, params);
   if (!mask.empty() && mask.weight.size() != static_cast<std::size_t>(mask.width) * static_cast<std::size_t>(mask.height)) {
     throw InvalidInputError("photo texture: the mask's weights do not match its size", "mask");
@@ -167,9 +175,11 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   TexelLayers layers = EmptyLayers(params.size);
   const std::vector<std::uint8_t> main_triangles = InTile(mesh, skin_triangle, result.main_tile);
   photo_texture::ProjectPhoto(mesh, skin_triangle, main_triangles, camera, photo, mask, mirror, cheeks, hair_source,
-                              params, layers);
+                              params, lighting, layers);
   if (hair_source.scalp.found) photo_texture::AddPaintedHairDetail(mesh, main_triangles, layers);
   const double project_seconds = clock.Lap();
+  const float light_reference = photo_texture::MedianSeenShade(layers);
+  photo_texture::DivideOutLight(layers, light_reference, params);
   photo_texture::BalanceMirrorLight(layers);
   result.skin_colour = photo_texture::EstimateSkinColour(layers);
   const photo_texture::SkinShading shading = photo_texture::EstimateSkinShading(layers, result.skin_colour);
@@ -182,7 +192,8 @@ PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const 
   result.mirror_weight = std::move(layers.mirror_weight);
   for (std::size_t k = 1; k < tiles.size(); ++k) {
     result.other_tiles.push_back(BakeOtherTile(mesh, skin_triangle, tiles[k], camera, photo, mask, mirror, cheeks,
-                                               hair_source, params, result.skin_colour, shading));
+                                               hair_source, params, lighting, light_reference, result.skin_colour,
+                                               shading));
   }
   result.stats.fill_seconds = clock.Lap();
   result.image = EncodePng(result.texture.pixels, result.texture.width, result.texture.height, 3, "photo_skin.png",

@@ -25,6 +25,8 @@ struct TexelLayers {
   std::vector<float> scalp;
   std::vector<glm::vec3> hair_colour;
   std::vector<float> tilt;  // its surface normal's up (+Y) component, in [-1, 1]
+  // The photo's fitted light at the direct and the mirror sample (PhotoShade; 0: none).
+  std::vector<float> direct_shade, mirror_shade;
 };
 
 // Each vertex's mirror partner across the face's symmetry plane (-1: none);
@@ -121,14 +123,41 @@ glm::ivec2 UvTile(const Mesh& mesh, std::size_t t);
 // ({0, 0} alone when there are none).
 std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle);
 
+// The photo's fitted light at a surface normal: its brightness (luma), with
+// normals turned further from the camera than the fit saw shaded as at the
+// edge of what it saw; 0 without a lighting (or with de-lighting off).
+class PhotoShade {
+ public:
+  // `facing_sign`: -1 for a mesh wound clockwise (its normals point inwards).
+  PhotoShade(const PhotoLighting& lighting, const PhotoTextureParams& params, float facing_sign);
+  float At(const glm::vec3& world_normal) const;
+
+ private:
+  const PhotoLighting& lighting_;
+  const PhotoTextureParams& params_;
+  float facing_sign_ = 1.0f;
+  bool active_ = false;
+};
+
+// The shade the photo's light is divided by relative to: the median shade of
+// the squarely seen skin texels, so the face keeps the photo's brightness
+// overall; 0 when no texel has a shade.
+float MedianSeenShade(const TexelLayers& layers);
+
+// Divides each direct and mirror colour by its shade over `reference`,
+// clamped to [delight_least, delight_most] and so that no channel clips
+// (a clipped channel would turn the hue). Nothing when reference <= 0.
+void DivideOutLight(TexelLayers& layers, float reference, const PhotoTextureParams& params);
+
 // Fills the layers' direct and mirror samples from the photo for every texel
 // of the `baked` triangles (skin triangles of one UV tile), each photo pixel
-// weighted by the mask; all skin triangles count as skin where they hide others.
+// weighted by the mask, and the photo's light there (`lighting`); all skin
+// triangles count as skin where they hide others.
 void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
                   const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
                   const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
-                  TexelLayers& layers);
+                  const PhotoLighting& lighting, TexelLayers& layers);
 
 // Where the baked triangles wear a painted texture (the built-in head's),
 // its local light and dark (strands, clumps) multiply the scalp's hair colours.

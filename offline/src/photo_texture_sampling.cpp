@@ -200,8 +200,9 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
                   const std::vector<std::uint8_t>& baked, const RasterView& camera,
                   const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
                   const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
-                  TexelLayers& layers) {
+                  const PhotoLighting& lighting, TexelLayers& layers) {
   const PhotoView view(mesh, skin_triangle, camera, photo, mask, hair, params);
+  const PhotoShade shade(lighting, params, view.facing_sign());
   std::vector<glm::vec3> normals(mesh.vertex_count());
   ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
@@ -216,10 +217,11 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       const SurfacePoint point = Interpolate(mesh.positions, normals, v, w0, w1, w2);
       glm::vec3 direct(0.0f), reflected(0.0f);
       const float wd = view.Sample(point.position, point.normal, point.position, direct);
-      float wm = 0.0f;
+      float wm = 0.0f, partner_shade = 0.0f;
       if (mirrored) {
         const SurfacePoint partner = Interpolate(mesh.positions, normals, m, w0, w1, w2);
         wm = view.Sample(partner.position, partner.normal, point.position, reflected);
+        if (wm > 0.0f) partner_shade = shade.At(partner.normal);
       }
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(layers.size) + static_cast<std::size_t>(x);
       // Where UV islands overlap, the better seen surface wins.
@@ -230,6 +232,7 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       layers.skin[i] = 1;
       layers.direct_colour[i] = direct, layers.direct_weight[i] = wd;
       layers.mirror_colour[i] = reflected, layers.mirror_weight[i] = wm;
+      layers.direct_shade[i] = wd > 0.0f ? shade.At(point.normal) : 0.0f, layers.mirror_shade[i] = partner_shade;
       layers.cheek[i] = cheeks.Contains(point.position) ? 1 : 0;
       layers.scalp[i] = hair.scalp.Coverage(point.position);
       if (layers.scalp[i] > 0.0f) layers.hair_colour[i] = hair.scalp.Vary(hair.colour, point.position);

@@ -40,6 +40,7 @@ struct PhotoOptions {
   LandmarkParams landmark_params;
   StandardShapesOptions naming;
   PhotoFitParams fit_params;
+  PhotoRigParams rig_params;
 };
 
 void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
@@ -55,6 +56,9 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
   photo.add_flag("--shading-fit,!--no-shading-fit", options.fit_params.shading,
                  "refine the fitted face by the photo's shading (spherical-harmonic lighting; templates with identity\n"
                  "modes; the default)");
+  photo.add_flag("--delight,!--no-delight", options.rig_params.texture.delight,
+                 "divide the photo's own light (the shading fit's) out of the skin texture: the player lights the\n"
+                 "head again (the default; needs the shading fit)");
   AddShapePredictorOption(photo, options.landmark_params);
   AddShapeNamingOptions(photo, options.naming);
 }
@@ -267,7 +271,7 @@ int MakePhotoHead(const PhotoOptions& options) {
   std::fputs("baking the photo into the texture...\n", stderr);
   run.made = timer.Run("texture", [&] {
     return MakePhotoRig(run.photo_template.rig, run.photo_template.surface, run.fit, run.photo.image,
-                        run.landmarks.pixels);
+                        run.landmarks.pixels, options.rig_params);
   });
   run.rig = NameShapesForWriting(run.made.rig, options.naming, &run.names);
   std::fputs("writing...\n", stderr);

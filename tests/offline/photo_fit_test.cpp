@@ -385,6 +385,25 @@ TEST_CASE("Photo shading fit refuses bad input and leaves a deformed fit as it i
   const facerig::PhotoFit same =
       facerig::RefinePhotoFitByShading(expressions_only, photo, landmarks.pixels, deformed);
   CHECK(same.posed_positions == deformed.posed_positions);
+  CHECK(same.lighting.empty());
+}
+
+TEST_CASE("Photo shading fit gives the photo's lighting (shared data)", "[photo_fit][shared-data]") {
+  const IctPhotoSetup& setup = Setup();
+  const RenderStyle style = SideLight();
+  const RgbImage photo = RenderFace(setup.info, setup.model.neutral, 0.0f, 384, style);
+  const facerig::PhotoLandmarks landmarks = facerig::DetectPhotoLandmarks(Detector(), photo);
+  const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height);
+  CHECK(fit.lighting.empty());
+  const facerig::PhotoFit refined = facerig::RefinePhotoFitByShading(setup.model, photo, landmarks.pixels, fit);
+  REQUIRE(refined.lighting.size() == 9);
+  // Brighter towards the light (from the upper left) than mirrored to the right.
+  const glm::vec3 towards = glm::normalize(style.light), away(-towards.x, towards.y, towards.z);
+  const auto luma = [](glm::vec3 c) { return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b; };
+  const float lit = luma(facerig::EvaluatePhotoLighting(refined.lighting, towards));
+  const float unlit = luma(facerig::EvaluatePhotoLighting(refined.lighting, away));
+  INFO("shade towards the light " << lit << ", mirrored " << unlit);
+  CHECK(lit > unlit + 0.1f);
 }
 
 TEST_CASE("Photo fit of an open mouth gives the rest face (shared data)", "[photo_fit][shared-data]") {

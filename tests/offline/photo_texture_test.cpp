@@ -17,6 +17,7 @@
 #include "facerig/offline/error.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/part_roles.h"
+#include "facerig/runtime/rig_builder.h"
 #include "support/default_head_poses.h"
 #include "support/test_meshes.h"
 #include "support/textured_assets.h"
@@ -50,8 +51,10 @@ bool IsSkinPart(const Mesh& mesh, std::size_t t) { return RoleOfPart(mesh.part_n
 
 // The mesh as a camera sees it with its textures (repeated), without the
 // transparent layers over the eyes and the lashes: a photo with known albedo.
-// Unlit, or lit by `light` (a factor at each surface point).
-RgbImage RenderTextured(const Mesh& full, const RasterView& view, const std::function<float(glm::vec3)>& light = {}) {
+// Unlit, or lit by `light` (a factor at each surface point and its normal,
+// interpolated from the vertices' as the bake does).
+using Light = std::function<float(glm::vec3 point, glm::vec3 normal)>;
+RgbImage RenderTextured(const Mesh& full, const RasterView& view, const Light& light = {}) {
   Mesh mesh = full;
   mesh.triangles.clear(), mesh.corner_uvs.clear(), mesh.triangle_parts.clear(), mesh.triangle_materials.clear();
   for (std::size_t t = 0; t < full.triangle_count(); ++t) {
@@ -63,6 +66,8 @@ RgbImage RenderTextured(const Mesh& full, const RasterView& view, const std::fun
     mesh.triangle_materials.push_back(full.triangle_materials[t]);
   }
   const RasterBuffers buffers = Rasterize(mesh, view);
+  std::vector<glm::vec3> normals(full.vertex_count());
+  ComputeVertexNormals(full.positions, full.triangles, normals);
   std::map<std::int32_t, RgbImage> decoded;
   for (const Material& m : mesh.materials) {
     if (m.base_colour_image >= 0 && !decoded.count(m.base_colour_image)) {
@@ -84,7 +89,10 @@ RgbImage RenderTextured(const Mesh& full, const RasterView& view, const std::fun
     glm::vec3 p(0.0f);
     if (light && buffers.SurfacePoint(static_cast<int>(i % static_cast<std::size_t>(view.width)),
                                       static_cast<int>(i / static_cast<std::size_t>(view.width)), mesh, p)) {
-      colour = glm::min(colour * light(p), glm::vec3(255.0f));
+      const glm::vec3 b = buffers.barycentrics[i];
+      const Triangle& v = mesh.triangles[t];
+      const glm::vec3 n = glm::normalize(b.x * normals[v[0]] + b.y * normals[v[1]] + b.z * normals[v[2]]);
+      colour = glm::min(colour * light(p, n), glm::vec3(255.0f));
     }
     for (int k = 0; k < 3; ++k) photo.pixels[3 * i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(colour[k]));
   }
@@ -196,7 +204,7 @@ TEST_CASE("photo texture: a side lit brighter than the other does not brighten t
   const Mesh& mesh = HeadMesh();
   const RgbImage source = SkinAlbedo(mesh);
   // The character's left (+X, towards the camera) lit 1.2, the right 0.8.
-  const auto light = [](glm::vec3 p) { return 1.0f + 0.2f * std::tanh(p.x / 0.5f); };
+  const auto light = [](glm::vec3 p, glm::vec3) { return 1.0f + 0.2f * std::tanh(p.x / 0.5f); };
   const RasterView camera = Portrait(30.0f, 512);
   const PhotoTexture bake = BakePhotoTexture(mesh, camera, RenderTextured(mesh, camera, light), {.size = source.width});
   // Hidden texels (all on the right) should show the right side's light.
@@ -211,6 +219,52 @@ TEST_CASE("photo texture: a side lit brighter than the other does not brighten t
   const double error = sum / (3.0 * static_cast<double>(count));
   INFO("mirrored texels: " << count << ", mean error against the right side's light " << error << " levels");
   CHECK(error < 8.0);
+}
+
+// Mean absolute difference (levels) between the bake and the source albedo
+// times the gain that fits them best, over the texels `use` picks: the
+// de-lit texture keeps the photo's overall brightness, not the albedo's.
+double ScaledError(const PhotoTexture& bake, const RgbImage& source, const std::function<bool(std::size_t)>& use) {
+  double cross = 0.0, square = 0.0;
+  for (std::size_t i = 0; i < bake.direct_weight.size(); ++i) {
+    for (std::size_t k = 0; use(i) && k < 3; ++k) {
+      cross += static_cast<double>(bake.texture.pixels[3 * i + k]) * source.pixels[3 * i + k];
+      square += static_cast<double>(source.pixels[3 * i + k]) * source.pixels[3 * i + k];
+    }
+  }
+  const double gain = square > 0.0 ? cross / square : 1.0;
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < bake.direct_weight.size(); ++i) {
+    for (std::size_t k = 0; use(i) && k < 3; ++k, ++count) {
+      sum += std::abs(bake.texture.pixels[3 * i + k] - gain * source.pixels[3 * i + k]);
+    }
+  }
+  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+}
+
+TEST_CASE("photo texture: the photo's fitted light is divided out of the texture", "[photo_texture]") {
+  const Mesh& mesh = HeadMesh();
+  const RgbImage source = SkinAlbedo(mesh);
+  const RasterView camera = Portrait(0.0f, 512);
+  // Light from the character's left (+X) over an ambient, as spherical
+  // harmonics of camera-space normals.
+  PhotoLighting lighting{.coefficients = std::vector<glm::vec3>(9, glm::vec3(0.0f)), .rotation = camera.rotation};
+  lighting.coefficients[0] = glm::vec3(0.7f), lighting.coefficients[1] = glm::vec3(0.25f);
+  const auto light = [&](glm::vec3, glm::vec3 n) { return 0.7f + 0.25f * (camera.rotation * n).x; };
+  const RgbImage photo = RenderTextured(mesh, camera, light);
+  const PhotoTexture lit = BakePhotoTexture(mesh, camera, photo, {.size = source.width});
+  const PhotoTexture delit = BakePhotoTexture(mesh, camera, photo, {.size = source.width}, {}, {}, lighting);
+  const auto seen = [&](std::size_t i) { return delit.direct_weight[i] >= 0.99f; };
+  const double lit_error = ScaledError(lit, source, seen), delit_error = ScaledError(delit, source, seen);
+  INFO("front texels: mean error against the albedo " << lit_error << " levels lit, " << delit_error << " de-lit");
+  CHECK(lit_error > 8.0);
+  CHECK(delit_error < 3.0);
+  // Switched off, the light stays in.
+  PhotoTextureParams kept{.size = source.width};
+  kept.delight = false;
+  CHECK(ScaledError(BakePhotoTexture(mesh, camera, photo, kept, {}, {}, lighting), source, seen) > 8.0);
+  WriteBytes(test::OutputPath("photo_texture_delit.png"), delit.image.bytes);
 }
 
 TEST_CASE("photo texture: applied, the skin shows the photo and eyes, teeth and mouth keep their materials",

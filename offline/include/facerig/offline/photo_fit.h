@@ -225,7 +225,17 @@ struct PhotoFit {
   double rms_pixels = 0.0;  // landmark residual
   bool deformed = false;  // the RBF fallback moved the face (no identity modes)
   double seconds = 0.0;
+  // The photo's light as the shading refinement fitted it at the final face
+  // and camera: 9 second-order spherical-harmonic coefficients (the basis of
+  // EvaluatePhotoLighting) per colour channel, sRGB in [0, 1], a constant skin
+  // albedo absorbed, of camera-space normals (camera.rotation * world normal).
+  // Empty when no shading fit ran.
+  std::vector<glm::vec3> lighting;
 };
+
+// The fitted lighting's colour at a camera-space unit normal (zero when
+// `lighting` does not hold 9 coefficients).
+glm::vec3 EvaluatePhotoLighting(std::span<const glm::vec3> lighting, glm::vec3 camera_normal);
 
 // \throw InvalidInputError when landmarks.size() != 68, a pixel is not finite,
 //        or the image size is not positive.

@@ -20,6 +20,12 @@
 //      seen colours diffused outwards (push-pull), turning into a skin colour
 //      estimated from the cheeks over `fill_radius` texels.
 // Each layer is blended over the next by its weight, so seams stay soft.
+// With the photo's fitted lighting (PhotoLighting) each photo colour is first
+// divided by that light's shading at its surface normal relative to the
+// median shading of the squarely seen skin (clamped, and so that no channel
+// clips): the player lights the head again, so the photo's own light (one
+// cheek brighter, the jaw's shadow) should not be baked in. The skin colour
+// and the tilt shading of the fill are then estimated from de-lit colours.
 // Eyes, teeth, gums, tongue, mouth interior, lashes and eye layers take no
 // photo pixels and keep their own materials.
 #pragma once
@@ -28,6 +34,7 @@
 #include <span>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -52,6 +59,20 @@ struct PhotoTextureParams {
   // Texels over which seen colours fade into the estimated skin colour.
   float fill_radius = 48.0f;
   int png_compression = 3;  // 0-9: zlib level of the encoded texture
+  // Take the photo's fitted light out of its colours (with a PhotoLighting).
+  bool delight = true;
+  // De-lighting: normals nearer the image plane than this are shaded as if
+  // at this facing (the lighting was fitted on normals facing the camera),
+  // and the factor a colour is divided by (its shade over the median's) is
+  // clamped to [least, most].
+  float delight_min_facing = 0.3f;
+  float delight_least = 0.75f, delight_most = 1.6f;
+};
+
+// The photo's light to take out of the texture.
+struct PhotoLighting {
+  std::vector<glm::vec3> coefficients;  // PhotoFit::lighting; empty: no de-lighting
+  glm::mat3 rotation{1.0f};  // world to camera space (ScaledOrthoCamera::rotation)
 };
 
 // What a bake measured: fractions of the skin parts' texels.
@@ -174,7 +195,7 @@ PhotoHair FindPhotoHair(const RgbImage& photo, std::span<const glm::vec2> landma
 // with a little low-frequency variation, where skin would be filled in.
 PhotoTexture BakePhotoTexture(const Mesh& mesh, const RasterView& camera, const RgbImage& photo,
                               const PhotoTextureParams& params = {}, const PhotoSkinMask& mask = {},
-                              const PhotoHair& hair = {});
+                              const PhotoHair& hair = {}, const PhotoLighting& lighting = {});
 
 // Gives every triangle of a skin part the baked material (its image appended
 // to mesh.images; a skin triangle in another UV tile that tile's own
