@@ -268,10 +268,6 @@ double RobustWeights(const std::vector<Observation>& observations, const Lightin
   return scale / std::sqrt(3.0);
 }
 
-}  // namespace
-
-namespace {
-
 std::vector<glm::vec3> PosedRegion(const PhotoFaceModel& model, const Eigen::VectorXd& weights) {
   const std::size_t count = static_cast<std::size_t>(model.region.last) + 1;
   std::vector<glm::vec3> positions(model.neutral.begin(), model.neutral.begin() + static_cast<std::ptrdiff_t>(count));
