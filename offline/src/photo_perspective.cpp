@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/photo_fit.h"
+#include "photo_shape_system.h"
 
 namespace facerig {
 
@@ -15,12 +16,6 @@ namespace {
 
 glm::vec3 Forward(const ScaledOrthoCamera& camera) {
   return {camera.rotation[0][2], camera.rotation[1][2], camera.rotation[2][2]};
-}
-
-glm::vec3 Centroid(std::span<const glm::vec3> points) {
-  glm::vec3 sum(0.0f);
-  for (const glm::vec3 p : points) sum += p;
-  return sum / static_cast<float>(std::max<std::size_t>(1, points.size()));
 }
 
 // A point nearer than this fraction of the distance is treated as this near
@@ -34,7 +29,7 @@ std::vector<glm::vec2> OrthographicPixels(std::span<const glm::vec2> pixels, std
   std::vector<glm::vec2> moved(pixels.begin(), pixels.end());
   if (!(distance > 0.0f) || points.size() != pixels.size()) return moved;
   const glm::vec3 forward = Forward(camera);
-  const glm::vec3 centre = Centroid(points);
+  const glm::vec3 centre = photo_shape::Centroid(points);
   const glm::vec2 image_centre(0.5f * static_cast<float>(width), 0.5f * static_cast<float>(height));
   for (std::size_t k = 0; k < moved.size(); ++k) {
     // The point's distance from the camera along its axis, over the centroid's.

@@ -268,16 +268,10 @@ double RobustWeights(const std::vector<Observation>& observations, const Lightin
   return scale / std::sqrt(3.0);
 }
 
+// The posed shape's face region (vertices 0 .. region.last).
 std::vector<glm::vec3> PosedRegion(const PhotoFaceModel& model, const Eigen::VectorXd& weights) {
-  const std::size_t count = static_cast<std::size_t>(model.region.last) + 1;
-  std::vector<glm::vec3> positions(model.neutral.begin(), model.neutral.begin() + static_cast<std::ptrdiff_t>(count));
-  for (std::size_t i = 0; i < model.unknown_count(); ++i) {
-    const auto w = static_cast<float>(weights[static_cast<Eigen::Index>(i)]);
-    if (w == 0.0f) continue;
-    const std::vector<glm::vec3>& mode = photo_shape::Mode(model, i);
-    for (std::size_t v = 0; v < count; ++v) positions[v] += w * mode[v];
-  }
-  return positions;
+  return photo_shape::ShapeOf(model, weights, 0, static_cast<std::size_t>(model.region.last) + 1,
+                              model.unknown_count());
 }
 
 // How the ring's unnormalised normal moves along `mode`.
@@ -464,12 +458,6 @@ std::vector<glm::vec3> PointsOf(std::span<const glm::vec3> positions, std::span<
   return points;
 }
 
-glm::vec3 Centroid(std::span<const glm::vec3> points) {
-  glm::vec3 sum(0.0f);
-  for (const glm::vec3 p : points) sum += p;
-  return sum / static_cast<float>(points.size());
-}
-
 Eigen::VectorXd WeightsOf(const PhotoFit& fit) {
   Eigen::VectorXd weights(static_cast<Eigen::Index>(fit.identity_weights.size() + fit.expression_weights.size()));
   Eigen::Index i = 0;
@@ -541,7 +529,7 @@ PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& ph
     const std::vector<glm::vec2> seen =
         OrthographicPixels(targets, landmark_points, camera, fit.camera_distance, photo.width, photo.height);
     const RasterView view =
-        ToPerspectiveView(camera, photo.width, photo.height, Centroid(landmark_points), fit.camera_distance);
+        ToPerspectiveView(camera, photo.width, photo.height, photo_shape::Centroid(landmark_points), fit.camera_distance);
     const std::vector<Observation> observations = Observe(samples, positions, camera, view, blurred);
     std::vector<double> robust(observations.size(), 1.0);
     Lighting lighting = SolveLighting(observations, robust);
@@ -563,6 +551,12 @@ PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& ph
   refined.lighting = FinalLighting(model, samples, current.tail(n), refined, blurred);
   refined.seconds = fit.seconds + SecondsSince(start);
   return refined;
+}
+
+PhotoFit FitPhoto(const PhotoFaceModel& model, const RgbImage& photo, std::span<const glm::vec2> landmarks,
+                  const PhotoFitParams& params) {
+  const PhotoFit fit = FitPhoto(model, landmarks, photo.width, photo.height, params);
+  return params.shading ? RefinePhotoFitByShading(model, photo, landmarks, fit, params) : fit;
 }
 
 }  // namespace facerig

@@ -26,6 +26,29 @@ const std::vector<glm::vec3>& Mode(const PhotoFaceModel& model, std::size_t i) {
   return i < identities ? model.identity_modes[i] : model.expression_deltas[i - identities];
 }
 
+double PriorPrecision(const PhotoFaceModel& model, const PhotoFitParams& params, std::size_t i) {
+  return i < model.identity_modes.size() ? 1.0 : 1.0 / (params.expression_sigma * params.expression_sigma);
+}
+
+std::vector<glm::vec3> ShapeOf(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::size_t first,
+                               std::size_t count, std::size_t mode_count) {
+  std::vector<glm::vec3> shape(model.neutral.begin() + static_cast<std::ptrdiff_t>(first),
+                               model.neutral.begin() + static_cast<std::ptrdiff_t>(first + count));
+  for (std::size_t i = 0; i < mode_count; ++i) {
+    const float w = static_cast<float>(weights[static_cast<Eigen::Index>(i)]);
+    if (w == 0.0f) continue;
+    const std::vector<glm::vec3>& mode = Mode(model, i);
+    for (std::size_t v = 0; v < count; ++v) shape[v] += w * mode[first + v];
+  }
+  return shape;
+}
+
+glm::vec3 Centroid(std::span<const glm::vec3> points) {
+  glm::vec3 sum(0.0f);
+  for (const glm::vec3 p : points) sum += p;
+  return sum / static_cast<float>(std::max<std::size_t>(1, points.size()));
+}
+
 }  // namespace photo_shape
 
 using photo_shape::BuildSystem;
@@ -34,6 +57,8 @@ using photo_shape::FillResult;
 using photo_shape::LandmarkPrecisions;
 using photo_shape::LinearSystem;
 using photo_shape::Mode;
+using photo_shape::PriorPrecision;
+using photo_shape::ShapeOf;
 using photo_shape::SolveBounded;
 
 namespace {
@@ -64,18 +89,6 @@ glm::vec3 ShapeAt(const PhotoFaceModel& model, const Eigen::VectorXd& weights, s
   return p;
 }
 
-std::vector<glm::vec3> ShapeOf(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::size_t first,
-                               std::size_t count, std::size_t mode_count) {
-  std::vector<glm::vec3> shape(model.neutral.begin() + static_cast<std::ptrdiff_t>(first),
-                               model.neutral.begin() + static_cast<std::ptrdiff_t>(first + count));
-  for (std::size_t i = 0; i < mode_count; ++i) {
-    const float w = static_cast<float>(weights[static_cast<Eigen::Index>(i)]);
-    if (w == 0.0f) continue;
-    const std::vector<glm::vec3>& mode = Mode(model, i);
-    for (std::size_t v = 0; v < count; ++v) shape[v] += w * mode[first + v];
-  }
-  return shape;
-}
 
 // For each jaw landmark but the chin's, the contour candidate on the current
 // silhouette (on the landmark's side of the face) nearest to it in the image;
@@ -136,10 +149,7 @@ LinearSystem BuildSystem(const PhotoFaceModel& model, const ScaledOrthoCamera& c
     system.normal += jacobian.transpose() * w * jacobian;
     system.rhs += jacobian.transpose() * w * Eigen::Vector2d(r.x, r.y);
   }
-  const double expression_precision = 1.0 / (params.expression_sigma * params.expression_sigma);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    system.normal(i, i) += static_cast<std::size_t>(i) < model.identity_modes.size() ? 1.0 : expression_precision;
-  }
+  for (Eigen::Index i = 0; i < n; ++i) system.normal(i, i) += PriorPrecision(model, params, static_cast<std::size_t>(i));
   return system;
 }
 
@@ -347,19 +357,15 @@ double FitObjective(const PhotoFaceModel& model, const Eigen::VectorXd& weights,
                     std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
                     const PhotoFit& fit) {
   const std::vector<glm::vec3> points = PointsAt(model, weights, fit.landmark_vertices);
-  glm::vec3 centre(0.0f);
-  for (const glm::vec3 p : points) centre += p;
   const RasterView view =
-      ToPerspectiveView(fit.camera, width, height, centre / static_cast<float>(points.size()), fit.camera_distance);
+      ToPerspectiveView(fit.camera, width, height, photo_shape::Centroid(points), fit.camera_distance);
   double sum = 0.0;
   for (std::size_t k = 0; k < points.size(); ++k) {
     const glm::vec2 d = glm::vec2(ProjectToImage(view, points[k])) - landmarks[k];
     sum += precisions[k].x * d.x * d.x + precisions[k].y * d.y * d.y;
   }
-  const double expression_precision = 1.0 / (params.expression_sigma * params.expression_sigma);
   for (Eigen::Index i = 0; i < weights.size(); ++i) {
-    const bool identity = static_cast<std::size_t>(i) < model.identity_modes.size();
-    sum += (identity ? 1.0 : expression_precision) * weights[i] * weights[i];
+    sum += PriorPrecision(model, params, static_cast<std::size_t>(i)) * weights[i] * weights[i];
   }
   return sum;
 }
@@ -370,10 +376,8 @@ void ChooseCameraDistance(const PhotoFaceModel& model, std::span<const glm::vec2
                           std::span<const glm::vec2> precisions, int width, int height, const PhotoFitParams& params,
                           Eigen::VectorXd& weights, PhotoFit& fit) {
   double best = FitObjective(model, weights, landmarks, precisions, width, height, params, fit);
-  std::vector<float> distances{0.0f};
-  distances.insert(distances.end(), params.camera_distances.begin(), params.camera_distances.end());
-  for (const float distance : distances) {
-    if (distance < 0.0f || distance == fit.camera_distance) continue;
+  for (const float distance : params.camera_distances) {
+    if (!(distance > 0.0f) || distance == fit.camera_distance) continue;
     Eigen::VectorXd trial_weights = Eigen::VectorXd::Zero(weights.size());
     PhotoFit trial;
     trial.landmark_vertices = model.landmark_vertices;

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 #include "facerig/offline/photo_fit.h"
 
@@ -35,6 +36,18 @@ double FaceSize(std::span<const glm::vec2> landmarks);
 
 // The mode (identity modes first, then expressions) `i` of the model.
 const std::vector<glm::vec3>& Mode(const PhotoFaceModel& model, std::size_t i);
+
+// The prior's precision on weight `i`: 1 for an identity mode (unit
+// Gaussian), 1 / expression_sigma^2 for an expression.
+double PriorPrecision(const PhotoFaceModel& model, const PhotoFitParams& params, std::size_t i);
+
+// Vertices first .. first + count - 1 of the model's shape with the first
+// `mode_count` modes at `weights`.
+std::vector<glm::vec3> ShapeOf(const PhotoFaceModel& model, const Eigen::VectorXd& weights, std::size_t first,
+                               std::size_t count, std::size_t mode_count);
+
+// The mean of `points` (the origin when there are none).
+glm::vec3 Centroid(std::span<const glm::vec3> points);
 
 // Weights, rest and posed positions, projections and view of `fit` from
 // `weights` (fit.camera and fit.landmark_vertices as they are).

@@ -261,10 +261,7 @@ int MakePhotoHead(const PhotoOptions& options) {
   std::fputs("fitting the face...\n", stderr);
   run.fit = timer.Run("fit", [&] {
     const PhotoFaceModel model = BuildPhotoModel(run.photo_template, *detector);
-    const PhotoFit fit =
-        FitPhoto(model, run.landmarks.pixels, run.photo.image.width, run.photo.image.height, options.fit_params);
-    if (!options.fit_params.shading) return fit;
-    return RefinePhotoFitByShading(model, run.photo.image, run.landmarks.pixels, fit, options.fit_params);
+    return FitPhoto(model, run.photo.image, run.landmarks.pixels, options.fit_params);
   });
   std::fprintf(stderr, "fit: landmark residual %.2f px%s\n", run.fit.rms_pixels,
                run.fit.deformed ? " (the head deformed onto the landmarks)" : "");

@@ -303,8 +303,7 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
       used.jaw_weight = used.brow_weight = used.eye_weight = 1.0f;
       used.shading = false;
     }
-    facerig::PhotoFit fit = facerig::FitPhoto(setup.model, landmarks.pixels, photo.width, photo.height, used);
-    if (used.shading) fit = facerig::RefinePhotoFitByShading(setup.model, photo, landmarks.pixels, fit, used);
+    const facerig::PhotoFit fit = facerig::FitPhoto(setup.model, photo, landmarks.pixels, used);
     if (f == 0) {
       const std::string distance = distance_cm > 0.0f ? "_" + std::to_string(int(distance_cm)) + "cm" : "";
       facerig::WritePhotoFitPng(

@@ -201,8 +201,8 @@ struct PhotoFitParams {
   // portrait's; the fit keeps the one whose objective (landmark residuals over
   // their variances plus the prior) is lowest. Empty: orthographic only.
   std::vector<float> camera_distances{25.0f, 35.0f, 50.0f, 70.0f, 100.0f, 150.0f, 250.0f};
-  // Refine the landmark fit by the photo's shading (RefinePhotoFitByShading;
-  // its caller runs it: FitPhoto has no photo). On renders it halves the
+  // Refine the landmark fit by the photo's shading (RefinePhotoFitByShading,
+  // run by the FitPhoto that takes the photo). On renders it halves the
   // error; on real photos it predicts dlib's held-out nose points better.
   bool shading = true;
   PhotoShadingParams shading_params;
@@ -259,6 +259,12 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, std::span<const glm::vec2> landma
 PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& photo,
                                  std::span<const glm::vec2> detected, const PhotoFit& fit,
                                  const PhotoFitParams& params = {});
+
+// FitPhoto on the photo's landmarks, then, when params.shading,
+// RefinePhotoFitByShading: the whole fit `facerig photo` runs.
+// \throw InvalidInputError as those two.
+PhotoFit FitPhoto(const PhotoFaceModel& model, const RgbImage& photo, std::span<const glm::vec2> landmarks,
+                  const PhotoFitParams& params = {});
 
 // --- the fallback without identity modes (photo_rbf_fit.cpp) ---
 
