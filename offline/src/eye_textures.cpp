@@ -18,6 +18,7 @@
 #include "facerig/runtime/part_roles.h"
 #include "srgb.h"
 #include "uv_raster.h"
+#include "smooth_step.h"
 
 namespace facerig {
 namespace {
@@ -168,11 +169,6 @@ std::map<std::uint32_t, EyeFrame> EyeFrames(const Mesh& mesh, const std::vector<
     frames[static_cast<std::uint32_t>(i)] = frame;
   }
   return frames;
-}
-
-float SmoothStep(float edge0, float edge1, float x) {
-  const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
 }
 
 glm::vec3 Mix(const glm::vec3& a, const glm::vec3& b, float t) { return a + (b - a) * t; }

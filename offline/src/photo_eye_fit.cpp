@@ -10,17 +10,13 @@
 
 #include "facerig/offline/openings.h"
 #include "facerig/runtime/part_roles.h"
+#include "smooth_step.h"
 
 namespace facerig {
 namespace {
 
 // An eye whose lids are less than this many eye widths apart is not fitted.
 constexpr float kMinOpening = 0.12f;
-
-float SmoothStep(float edge0, float edge1, float x) {
-  const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
 
 bool IsEyeballPart(PartRole role) {
   return role == PartRole::kSclera || role == PartRole::kIris || role == PartRole::kPupil || role == PartRole::kEyeLayer;

@@ -11,14 +11,10 @@
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo_texture.h"
 #include "facerig/offline/stats.h"
+#include "smooth_step.h"
 
 namespace facerig {
 namespace {
-
-float SmoothStep(float edge0, float edge1, float x) {
-  const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
 
 // The landmarks' box: x from the jaw's sides, y from the brows to the chin.
 struct FaceBox {

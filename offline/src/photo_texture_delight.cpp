@@ -14,8 +14,6 @@
 namespace facerig::photo_texture {
 namespace {
 
-float Luma(const glm::vec3& c) { return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b; }
-
 // A shade this low is not the skin's light: the harmonics went astray.
 constexpr float kLeastShade = 0.02f;
 

@@ -12,6 +12,9 @@
 
 namespace facerig::photo_texture {
 
+// Rec. 601 luma of an RGB colour in [0, 1].
+inline float Luma(const glm::vec3& c) { return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b; }
+
 // Per texel of the texture being baked, row-major; colours sRGB in [0, 1].
 struct TexelLayers {
   int size = 0;

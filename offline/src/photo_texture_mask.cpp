@@ -11,14 +11,10 @@
 
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo_texture.h"
+#include "smooth_step.h"
 
 namespace facerig {
 namespace {
-
-float SmoothStep(float edge0, float edge1, float x) {
-  const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
 
 std::vector<cv::Point> ToPoints(const std::vector<glm::vec2>& pixels, cv::Point origin) {
   std::vector<cv::Point> points;

@@ -12,14 +12,10 @@
 #include "facerig/runtime/rig_builder.h"
 #include "photo_texture_internal.h"
 #include "uv_raster.h"
+#include "smooth_step.h"
 
 namespace facerig::photo_texture {
 namespace {
-
-float SmoothStep(float edge0, float edge1, float x) {
-  const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
 
 // Opaque parts only: lashes and the transparent layers over the eyes do not
 // hide the skin behind them. `shows_skin`: per occluder, whether it is skin.

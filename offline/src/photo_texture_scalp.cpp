@@ -11,17 +11,10 @@
 
 #include "photo_texture_internal.h"
 #include "piecewise_linear.h"
+#include "smooth_step.h"
 #include "value_noise.h"
 
 namespace facerig::photo_texture {
-namespace {
-
-float SmoothStep(float edge0, float edge1, float x) {
-  const float t = std::clamp((x - edge0) / (edge1 - edge0), 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
-
-}  // namespace
 
 // High on the forehead, just above the ears at the sides, down to the nape
 // behind (azimuth: degrees about the head's vertical axis from the front).

@@ -13,8 +13,6 @@
 namespace facerig::photo_texture {
 namespace {
 
-float Luma(const glm::vec3& c) { return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b; }
-
 int BinOf(float tilt) {
   const float at = 0.5f * (std::clamp(tilt, -1.0f, 1.0f) + 1.0f) * static_cast<float>(SkinShading::kBins);
   return std::min(static_cast<int>(at), SkinShading::kBins - 1);
