@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "facerig/offline/png_encode.h"
+#include "facerig/offline/render/png_encode.h"
 #include "output_set.h"
 
 namespace facerig::player {

@@ -3,12 +3,12 @@
 #include <stdexcept>
 
 #include "facerig/espeak/espeak_phoneme_source.h"
-#include "facerig/offline/recording_alignment.h"
+#include "facerig/offline/speech/recording_alignment.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/audio_file.h"
-#include "facerig/runtime/io/input_file.h"
-#include "facerig/runtime/speech/audio_mouth.h"
-#include "facerig/runtime/speech/phoneme_track_file.h"
+#include "facerig/runtime/files/input_file.h"
+#include "facerig/runtime/audio/mouth.h"
+#include "facerig/runtime/io/phoneme_track_file.h"
 
 namespace facerig::player {
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/frig.h"
+#include "facerig/runtime/files/frig.h"
 #include "fuzz_input.h"
 
 namespace {

@@ -3,7 +3,7 @@
 #include <cstdlib>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/image_file.h"
+#include "facerig/runtime/files/image_file.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

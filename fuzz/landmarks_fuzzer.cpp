@@ -1,5 +1,5 @@
 // Landmark JSON (landmarks.h).
-#include "facerig/offline/landmarks.h"
+#include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/runtime/error.h"
 #include "fuzz_input.h"
 

@@ -1,6 +1,6 @@
 // Phoneme-track JSON.
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/speech/phoneme_track_file.h"
+#include "facerig/runtime/io/phoneme_track_file.h"
 #include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -3,7 +3,7 @@
 // must return an RGB image as large as it says, or throw IoError.
 #include <cstdlib>
 
-#include "facerig/offline/photo_image.h"
+#include "facerig/offline/photo/image.h"
 #include "facerig/runtime/error.h"
 #include "fuzz_input.h"
 

@@ -18,7 +18,7 @@ if [[ ! -e $rig ]]; then
   rig=../shared/data/ict-facekit
 fi
 text=${2:-"Hello! I am a talking face. Type a line and I will say it."}
-player="$build/demo/facerig-player"
+player="$build/bin/facerig-player"
 
 if [[ -z ${DISPLAY:-} && -z ${WAYLAND_DISPLAY:-} ]]; then
   frames="$build/player_frames"

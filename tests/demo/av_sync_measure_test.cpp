@@ -1,7 +1,7 @@
 // The audio-visual sync measure itself (tests/support/av_sync.h) on signals
 // with a known answer: a mouth series that is the sound's envelope shifted,
 // a silence inside noise, a moving box in still frames.
-#include "support/av_sync.h"
+#include "measure/av_sync.h"
 
 #include <cmath>
 #include <random>

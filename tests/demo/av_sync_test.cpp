@@ -14,13 +14,13 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/io/template_folder.h"
-#include "facerig/offline/recording_alignment.h"
+#include "facerig/offline/speech/recording_alignment.h"
 #include "facerig/runtime/io/audio_file.h"
-#include "facerig/runtime/speech/phoneme_track_file.h"
+#include "facerig/runtime/io/phoneme_track_file.h"
 #include "headless_player.h"
 #include "media_writer.h"
 #include "player_options.h"
-#include "support/av_sync.h"
+#include "measure/av_sync.h"
 
 namespace facerig {
 namespace {

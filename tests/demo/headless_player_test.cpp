@@ -166,7 +166,7 @@ TEST_CASE("Player: a bad rig path or voice is a clear error", "[demo]") {
   CHECK(output.find("/nonexistent/head.frig") != std::string::npos);
 
   output.clear();
-  const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/io/data/reference_v1.frig";
+  const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/files/data/reference_v1.frig";
   CHECK(RunShell(exe + " --headless --frames " + frames + " --rig " + rig + " --voice no-such-voice --say hi", &output) == 1);
   INFO(output);
   CHECK(output.find("no-such-voice") != std::string::npos);
@@ -199,7 +199,7 @@ TEST_CASE("Player: the window path draws under Xvfb with a dummy audio device", 
   }
   const std::string screenshot = std::string(FACERIG_TEST_OUTPUT_DIR) + "/player_window.png";
   std::filesystem::remove(screenshot);
-  const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/io/data/reference_v1.frig";
+  const std::string rig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/files/data/reference_v1.frig";
   std::string output;
   // Under the sanitizers, no leak check in this one child: the window path
   // loads Mesa's GLX/DRI drivers, which are unloaded at exit, and LeakSanitizer

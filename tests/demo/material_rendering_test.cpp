@@ -20,7 +20,7 @@
 #include "gl_textures.h"
 #include "headless_player.h"
 #include "media_writer.h"
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 #include "support/test_images.h"
 #include "support/test_meshes.h"
 

@@ -32,7 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kRig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/io/data/reference_v1.frig";
+const std::string kRig = std::string(FACERIG_SOURCE_DIR) + "/tests/runtime/files/data/reference_v1.frig";
 
 std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

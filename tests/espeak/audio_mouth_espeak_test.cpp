@@ -12,8 +12,8 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/espeak/espeak_phoneme_source.h"
-#include "facerig/runtime/speech/audio_mouth.h"
-#include "facerig/runtime/speech/audio_mouth_stream.h"
+#include "facerig/runtime/audio/mouth.h"
+#include "facerig/runtime/audio/mouth_stream.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 
 namespace facerig {

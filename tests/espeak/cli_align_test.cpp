@@ -1,6 +1,6 @@
 // `facerig align` in-process: a recording and its transcript give a track the
 // player reads; a bad recording or command line writes nothing.
-#include "cli_app.h"
+#include "cli/app.h"
 
 #include <filesystem>
 #include <fstream>
@@ -12,9 +12,9 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/runtime/io/audio_file.h"
-#include "facerig/runtime/io/input_file.h"
-#include "facerig/runtime/speech/audio_features.h"
-#include "facerig/runtime/speech/phoneme_track_file.h"
+#include "facerig/runtime/files/input_file.h"
+#include "facerig/runtime/audio/features.h"
+#include "facerig/runtime/io/phoneme_track_file.h"
 #include "support/command_runner.h"
 #include "support/test_audio.h"
 #include "support/test_meshes.h"

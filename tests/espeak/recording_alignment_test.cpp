@@ -2,7 +2,7 @@
 // in for the recording; the transcript is aligned to it through a synthetic
 // rendition in another voice variant, pitch and rate, and the boundaries found
 // are compared with the ones the first synthesis reported.
-#include "facerig/offline/recording_alignment.h"
+#include "facerig/offline/speech/recording_alignment.h"
 
 #include <iostream>
 #include <string>
@@ -13,7 +13,7 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "alignment_sentences.h"
-#include "support/alignment_scoring.h"
+#include "measure/alignment_scoring.h"
 
 namespace facerig {
 namespace {

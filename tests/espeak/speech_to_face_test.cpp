@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/espeak/espeak_phoneme_source.h"
-#include "facerig/offline/lip_probe.h"
+#include "measure/lip_probe.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 #include "support/test_meshes.h"

@@ -1,9 +1,9 @@
 // Streaming alignment with exact truth (as recording_alignment_test.cpp):
 // espeak-ng speech in one voice arrives in chunks and is aligned to a
 // synthetic rendition of its transcript in another voice, pitch and rate.
-#include "facerig/runtime/speech/streaming_alignment.h"
+#include "facerig/runtime/alignment/streaming_alignment.h"
 
-#include "facerig/runtime/speech/dtw_align.h"
+#include "facerig/runtime/alignment/dtw_align.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +16,8 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "alignment_sentences.h"
-#include "support/alignment_scoring.h"
-#include "support/allocation_counter.h"
+#include "measure/alignment_scoring.h"
+#include "measure/allocation_counter.h"
 
 namespace facerig {
 namespace {

@@ -4,7 +4,7 @@
 # runtime, with tinygltf and nlohmann_json unfindable) against it with
 # find_package(facerig); then runs the installed player, when there is one,
 # headless from another folder on its default rig: the built-in head
-# installed beside it; and checks facerig-bench's help texts.
+# installed beside it; and checks facerig-bench's help texts (build tree).
 # -D BUILD_DIR=... -D SOURCE_DIR=... -D WORK_DIR=... -D RIG=... [-D PLAYER=ON]
 file(REMOVE_RECURSE ${WORK_DIR})
 function(run)
@@ -38,9 +38,14 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/package/runtime_only -B ${WORK_DIR}/
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build_runtime_only)
 run(${WORK_DIR}/build_runtime_only/runtime_only ${RIG})
 
-# The installed benchmark tool's help texts speak to users, not of the project's issues.
+# The benchmark tool (a developer's tool: built, not installed) speaks to
+# users in its help texts, not of the project's issues.
 if(EXISTS ${prefix}/bin/facerig-bench)
-  run(${prefix}/bin/facerig-bench --help)
+  message(FATAL_ERROR "facerig-bench is installed: it is a developer's tool")
+endif()
+set(bench ${BUILD_DIR}/bin/facerig-bench)
+if(EXISTS ${bench})
+  run(${bench} --help)
   string(REGEX MATCHALL "\n  [a-z]+" benchmarks "${run_output}")  # the listed subcommands
   if(NOT benchmarks)
     message(FATAL_ERROR "facerig-bench --help lists no benchmarks:\n${run_output}")
@@ -48,7 +53,7 @@ if(EXISTS ${prefix}/bin/facerig-bench)
   set(help "${run_output}")
   foreach(benchmark ${benchmarks})
     string(STRIP "${benchmark}" benchmark)
-    run(${prefix}/bin/facerig-bench ${benchmark} --help)
+    run(${bench} ${benchmark} --help)
     string(APPEND help "${run_output}")
   endforeach()
   if(help MATCHES "[Ii]ssue")

@@ -13,7 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/runtime/behaviour/blink.h"  // Pcg32 for the jitter
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 
 using facerig::AudioClock;
 using facerig::AudioClockParams;

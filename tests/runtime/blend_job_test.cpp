@@ -8,7 +8,7 @@
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 #include "support/test_meshes.h"
 
 using facerig::BlendJob;

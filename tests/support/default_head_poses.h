@@ -10,7 +10,7 @@
 #include <catch2/catch.hpp>
 #include <glm/vec3.hpp>
 
-#include "facerig/offline/default_head.h"
+#include "facerig/offline/default_head/default_head.h"
 #include "facerig/runtime/blend_job.h"
 
 namespace facerig::test {

@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/frig.h"
+#include "facerig/runtime/files/frig.h"
 #if FACERIG_TEST_TEMPLATE_FOLDERS
 #include "facerig/offline/io/template_folder.h"
 #endif

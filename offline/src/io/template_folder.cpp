@@ -7,12 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
-#include "facerig/runtime/io/input_file.h"
+#include "facerig/runtime/files/atomic_file.h"
+#include "facerig/runtime/files/input_file.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
-#include "../parallel_for.h"
+#include "geometry/parallel_for.h"
 
 namespace facerig {
 namespace {

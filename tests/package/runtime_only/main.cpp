@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "facerig/runtime/blend_job.h"
-#include "facerig/runtime/io/frig.h"
+#include "facerig/runtime/files/frig.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) return 2;

@@ -9,7 +9,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 
 using facerig::BlinkActivity;
 using facerig::BlinkError;

@@ -12,12 +12,12 @@
 
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/shape_mapping_files.h"
 #include "facerig/runtime/rig_builder.h"
 #include "facerig/runtime/speech/coarticulation.h"
 #include "facerig/runtime/speech/viseme_mapping.h"
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 #include "support/test_meshes.h"
 
 namespace facerig {

@@ -6,7 +6,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 
 using facerig::GazeChannels;
 using facerig::GazeError;

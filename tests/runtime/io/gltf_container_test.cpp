@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/gltf.h"
-#include "facerig/runtime/io/gltf_internal.h"
+#include "gltf_internal.h"
 #include "facerig/runtime/rig_builder.h"
 #include "support/base64.h"
 #include "support/hostile_files.h"

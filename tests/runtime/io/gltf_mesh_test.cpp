@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/gltf.h"
-#include "facerig/runtime/io/input_file.h"
+#include "facerig/runtime/files/input_file.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig_builder.h"
 #include "support/gltf_validator.h"

@@ -13,7 +13,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/gltf.h"
 #include "facerig/runtime/error.h"
 #include "support/base64.h"

@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/rig_builder.h"
 #include "support/base64.h"
 #include "support/gltf_validator.h"

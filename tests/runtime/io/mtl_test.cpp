@@ -9,7 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/input_file.h"
+#include "facerig/runtime/files/input_file.h"
 #include "support/test_images.h"
 #include "support/test_meshes.h"
 

@@ -7,9 +7,9 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
-#include "facerig/runtime/io/image_file.h"
-#include "facerig/runtime/io/input_file.h"
+#include "facerig/runtime/files/atomic_file.h"
+#include "facerig/runtime/files/image_file.h"
+#include "facerig/runtime/files/input_file.h"
 #include "facerig/runtime/io/mtl.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/rig_builder.h"

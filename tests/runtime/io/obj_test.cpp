@@ -5,7 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/files/atomic_file.h"
 #include "support/test_meshes.h"
 
 using facerig::IoError;

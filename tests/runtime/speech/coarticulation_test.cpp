@@ -6,7 +6,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 #include "support/test_meshes.h"
 
 namespace facerig {

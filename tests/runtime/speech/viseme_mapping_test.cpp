@@ -9,10 +9,10 @@
 #include <catch2/catch.hpp>
 
 #include "facerig/runtime/error.h"
-#include "facerig/runtime/io/atomic_file.h"
+#include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/shape_mapping_files.h"
 #include "facerig/runtime/rig_builder.h"
-#include "support/allocation_counter.h"
+#include "measure/allocation_counter.h"
 #include "support/test_meshes.h"
 
 using facerig::MappingChannel;

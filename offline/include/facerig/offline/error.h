@@ -32,6 +32,19 @@ class InvalidInputError : public OfflineError {
   using OfflineError::OfflineError;
 };
 
+// A mesh given to an offline step cannot be used (mismatched vertex counts,
+// out-of-range triangle or anchor indices, non-finite positions). mesh() names
+// the input, e.g. "target neutral" or "source expression 3".
+class MeshInputError : public InvalidInputError {
+ public:
+  MeshInputError(std::string mesh, const std::string& message)
+      : InvalidInputError(mesh + ": " + message, mesh), mesh_(std::move(mesh)) {}
+  const std::string& mesh() const { return mesh_; }
+
+ private:
+  std::string mesh_;
+};
+
 // The automatic landmark detector found no face; the message suggests a
 // landmark file.
 class LandmarkDetectionError : public OfflineError {

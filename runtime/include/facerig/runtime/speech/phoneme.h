@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "facerig/runtime/speech/seconds.h"
+#include "facerig/runtime/seconds.h"
 
 namespace facerig {
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string_view>
 
-#include "facerig/runtime/speech/seconds.h"
+#include "facerig/runtime/seconds.h"
 
 namespace facerig {
 

@@ -1,0 +1,171 @@
+#include "facerig/runtime/alignment/phoneme_alignment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "facerig/runtime/alignment/release_landmark.h"
+#include "audio/percentile.h"
+
+namespace facerig {
+namespace {
+
+// Frames louder than this share of the way from the quiet end of the
+// energies (5th percentile) to the loud end (95th) count as speech.
+constexpr double kSpeechEnergyShare = 0.35;
+
+// First and last frame of speech (the whole range when no frame stands out).
+std::pair<double, double> SpeechEndpoints(const AudioFeatures& features) {
+  const std::vector<float>& energy = features.log_energy;
+  std::vector<float> sorted = energy;
+  const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
+  const double threshold = low + kSpeechEnergyShare * (high - low);
+  std::size_t first = 0, last = energy.size() - 1;
+  while (first < last && energy[first] < threshold) ++first;
+  while (last > first && energy[last] < threshold) --last;
+  if (high - low < 1e-3) return {0.0, static_cast<double>(energy.size() - 1)};
+  return {static_cast<double>(first), static_cast<double>(last)};
+}
+
+// The band's centre: straight lines through the corners and both speech endpoints.
+std::vector<double> GuideLine(const AudioFeatures& reference, const AudioFeatures& recording) {
+  const auto [ref_start, ref_end] = SpeechEndpoints(reference);
+  const auto [rec_start, rec_end] = SpeechEndpoints(recording);
+  const double n = static_cast<double>(reference.frame_count() - 1), m = static_cast<double>(recording.frame_count() - 1);
+  const double xs[4] = {0.0, ref_start, ref_end, n}, ys[4] = {0.0, rec_start, rec_end, m};
+  std::vector<double> centre(reference.frame_count());
+  for (std::size_t i = 0; i < centre.size(); ++i) {
+    const double x = static_cast<double>(i);
+    std::size_t s = 0;
+    while (s < 2 && x > xs[s + 1]) ++s;
+    const double span = xs[s + 1] - xs[s];
+    centre[i] = span > 0.0 ? ys[s] + (x - xs[s]) / span * (ys[s + 1] - ys[s]) : ys[s + 1];
+  }
+  return centre;
+}
+
+std::size_t BandRadiusFrames(const AudioFeatures& recording, const PhonemeAlignmentParams& params) {
+  const double duration = static_cast<double>(recording.frame_count()) * recording.hop_seconds();
+  const double seconds = std::min(params.max_band_radius_seconds,
+                                  std::max(params.band_radius_seconds, params.band_radius_fraction * duration));
+  return static_cast<std::size_t>(std::ceil(std::max(0.0, seconds) / recording.hop_seconds()));
+}
+
+void CheckInputs(const SpeechLine& reference, std::span<const float> recording) {
+  if (reference.audio.empty() || reference.sample_rate <= 0) {
+    throw AlignmentError("the reference line has no audio to align with");
+  }
+  if (reference.phonemes.empty()) throw AlignmentError("the reference line has no phonemes");
+  if (recording.empty()) throw AlignmentError("the recording is empty");
+}
+
+// Fractional frame index of a time (the inverse of FrameTime).
+double FrameAt(const AudioFeatures& features, double seconds) {
+  return (seconds * features.sample_rate - 0.5 * features.window_samples) / features.hop_samples;
+}
+
+// Recording seconds per reference second around [start, end] along the path.
+double LocalTempo(double start, double end, const DtwPath& path, const AudioFeatures& ref, const AudioFeatures& rec) {
+  constexpr double kContext = 0.100;
+  const double from = std::max(0.0, start - kContext), to = end + kContext;
+  const double mapped = MapReferenceTime(to, path, ref, rec) - MapReferenceTime(from, path, ref, rec);
+  return std::clamp(mapped / (to - from), 0.5, 2.0);
+}
+
+// Each squeezed /p b m/ onto the recording's own release: the reference's
+// release (its steepest energy rise near the phoneme's ReleaseTime) is warped
+// across, the recording's steepest rise within reach of it taken instead when
+// it is a clear one, and the phoneme placed around it with the reference's
+// timing at the local tempo. Its neighbours give or take the time.
+void SnapBilabialsToReleases(const SpeechLine& reference, const DtwPath& path, const AudioFeatures& ref,
+                             const AudioFeatures& rec, double recording_end, std::vector<Phoneme>& phonemes) {
+  for (std::size_t i = 0; i < phonemes.size(); ++i) {
+    const Phoneme& source = reference.phonemes[i];
+    if (!IsBilabial(source, reference.language.view())) continue;
+    const double ref_start = source.start.count(), ref_end = (source.start + source.duration).count();
+    if (phonemes[i].duration.count() >= kSqueezedFrames * rec.hop_seconds()) continue;
+    const double expected = ReleaseTime(source, reference.language.view());
+    const auto ref_rise = SteepestRise(ref.log_energy, FrameAt(ref, expected - kReferenceReleaseReach),
+                                       FrameAt(ref, expected + kReferenceReleaseReach));
+    if (!ref_rise || ref_rise->rise < kMinReleaseRise) continue;
+    const double ref_release = ref.FrameTime(ref_rise->position);
+    const double warped = MapReferenceTime(ref_release, path, ref, rec);
+    const auto rec_rise = SteepestRise(rec.log_energy, FrameAt(rec, warped - kReleaseReachSeconds),
+                                       FrameAt(rec, warped + kReleaseReachSeconds));
+    if (!rec_rise || rec_rise->rise < kReleaseRiseShare * ref_rise->rise) continue;
+    const double release = rec.FrameTime(rec_rise->position);
+    const double tempo = LocalTempo(ref_start, ref_end, path, ref, rec);
+    const double lowest = i > 0 ? phonemes[i - 1].start.count() : 0.0;
+    const double highest = i + 2 < phonemes.size() ? phonemes[i + 2].start.count() : recording_end;
+    const double start = std::clamp(release - tempo * (ref_release - ref_start), lowest, release);
+    const double end = std::clamp(release + tempo * (ref_end - ref_release), std::max(start, release), highest);
+    if (i > 0) phonemes[i - 1].duration = Seconds(start - lowest);
+    if (i + 1 < phonemes.size()) {
+      Phoneme& next = phonemes[i + 1];
+      const double next_end = std::max(end, (next.start + next.duration).count());
+      next.start = Seconds(end);
+      next.duration = Seconds(next_end - end);
+    }
+    phonemes[i].start = Seconds(start);
+    phonemes[i].duration = Seconds(end - start);
+  }
+}
+
+}  // namespace
+
+double MapReferenceTime(double reference_seconds, const DtwPath& path, const AudioFeatures& reference,
+                        const AudioFeatures& recording) {
+  const std::size_t n = path.first_column.size();
+  // Rows and columns as positions on a frame-centre axis; row i spans [i - 0.5, i + 0.5].
+  const double row = (reference_seconds * reference.sample_rate - 0.5 * reference.window_samples) /
+                     reference.hop_samples;
+  // Column at the boundary between rows k - 1 and k (k in 0..n).
+  const auto boundary = [&](std::size_t k) {
+    if (k == 0) return -0.5;
+    if (k == n) return static_cast<double>(path.last_column[n - 1]) + 0.5;
+    return 0.5 * static_cast<double>(path.last_column[k - 1] + path.first_column[k]);
+  };
+  double column = 0.0;
+  if (row < -0.5) {
+    column = row;  // before the first frame: the two timelines run at the same pace
+  } else if (row >= static_cast<double>(n) - 0.5) {
+    column = boundary(n) + (row - (static_cast<double>(n) - 0.5));
+  } else {
+    const auto k = static_cast<std::size_t>(std::floor(row + 0.5));
+    const double share = row + 0.5 - static_cast<double>(k);
+    column = boundary(k) + share * (boundary(k + 1) - boundary(k));
+  }
+  return std::max(0.0, recording.FrameTime(column));
+}
+
+PhonemeAlignment AlignPhonemesToRecording(const SpeechLine& reference, std::span<const float> recording,
+                                          const PhonemeAlignmentParams& params) {
+  CheckInputs(reference, recording);
+  const std::vector<float> reference_audio = PcmToFloat(reference.audio);
+  const AudioFeatures ref = ComputeAudioFeatures(reference_audio, reference.sample_rate, params.features);
+  const AudioFeatures rec = ComputeAudioFeatures(recording, reference.sample_rate, params.features);
+  const DtwBand band = MakeDtwBand(GuideLine(ref, rec), rec.frame_count(), BandRadiusFrames(rec, params));
+  const DtwPath path = AlignFeatureSequences(ref, rec, band, params.max_cells);
+
+  const double recording_end = static_cast<double>(recording.size()) / reference.sample_rate;
+  PhonemeAlignment result;
+  result.cost = path.cost;
+  result.line.text = reference.text;
+  result.line.language = reference.language;
+  result.line.phonemes = reference.phonemes;
+  double previous_start = 0.0;
+  for (Phoneme& phoneme : result.line.phonemes) {
+    const double start = std::clamp(MapReferenceTime(phoneme.start.count(), path, ref, rec), previous_start, recording_end);
+    const double end = phoneme.duration.count() > 0.0
+                           ? MapReferenceTime((phoneme.start + phoneme.duration).count(), path, ref, rec)
+                           : start;
+    phoneme.start = Seconds(start);
+    phoneme.duration = Seconds(std::clamp(end, start, recording_end) - start);
+    previous_start = start;
+  }
+  SnapBilabialsToReleases(reference, path, ref, rec, recording_end, result.line.phonemes);
+  return result;
+}
+
+}  // namespace facerig

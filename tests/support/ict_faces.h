@@ -1,0 +1,26 @@
+// The tests' shortcuts to the registration targets (measure/registration_targets.h):
+// ICT-FaceKit read from the tests' IctDir() (../shared/data), once per process.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "measure/registration_targets.h"
+#include "support/test_meshes.h"
+
+namespace facerig::test {
+
+inline const IctFaceModel& IctFaces() {
+  static const IctFaceModel model = LoadIctFaces(IctDir());
+  return model;
+}
+inline std::vector<glm::vec3> RandomIctFace(std::uint32_t seed, double sigma = 1.0) {
+  return RandomIctFace(IctFaces(), seed, sigma);
+}
+inline RegistrationTarget MakeRegistrationTarget(const RegistrationTargetOptions& options) {
+  return MakeRegistrationTarget(IctFaces(), options);
+}
+
+}  // namespace facerig::test
