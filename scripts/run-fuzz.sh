@@ -30,7 +30,7 @@ run_target() {
   local target=$1 corpus="$build/corpus/$1" log="$build/findings/$1.log" status=0
   mkdir -p "$corpus"
   # -rss_limit_mb: a reader may allocate what the input's size justifies, not more.
-  "$build/fuzz/${target}_fuzzer" "$corpus" "fuzz/seeds/$target" -max_total_time="$seconds" \
+  "$build/bin/${target}_fuzzer" "$corpus" "fuzz/seeds/$target" -max_total_time="$seconds" \
     -max_len=65536 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$build/findings/${target}-" >"$log" 2>&1 || status=$?
   echo "$status" >"$build/findings/$target.status"
