@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "facerig/offline/openings/gaps.h"
 #include "facerig/offline/transfer/deformation_transfer.h"
 #include "facerig/offline/transfer/displacement_transfer.h"
 #include "facerig/runtime/error.h"

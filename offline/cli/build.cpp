@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -19,6 +18,7 @@
 #include "cli/obj_folder.h"
 #include "cli/options.h"
 #include "cli/template_info.h"
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/offline/render/eye_textures.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/build/rig_build.h"
@@ -79,9 +79,7 @@ void AddBuildOptions(CLI::App& build, BuildOptions& options) {
 }
 
 bool IsGltf(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = LowerExtension(path);
   return extension == ".glb" || extension == ".gltf";
 }
 
@@ -300,9 +298,7 @@ void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const
                    std::vector<BuildStage>& stages) {
   WriteOutputSet([&](OutputSet& set) {
     const BuildOutputPaths paths = AddBuildOutputs(options, set);
-    const auto start = std::chrono::steady_clock::now();
-    WriteBuildOutputs(options, paths, rig, built, set);
-    stages.push_back({"write", SecondsSince(start)});
+    TimeStage(stages, "write", [&] { WriteBuildOutputs(options, paths, rig, built, set); });
     if (!paths.report.empty()) {
       WriteCommandReport(paths.report, BuildReport(options, inputs, landmarks, built, rig, names, stages));
       CheckAfterWrite("report", paths.report);
@@ -312,17 +308,11 @@ void WriteBuildSet(const BuildOptions& options, const BuildInputs& inputs, const
 
 int BuildAndWrite(const BuildOptions& options) {
   std::vector<BuildStage> stages;
-  auto timed = [&stages](const char* name, auto&& body) {
-    const auto start = std::chrono::steady_clock::now();
-    auto value = body();
-    stages.push_back({name, SecondsSince(start)});
-    return value;
-  };
-  BuildInputs inputs = timed("load", [&] { return LoadBuildInputs(options); });
+  BuildInputs inputs = TimeStage(stages, "load", [&] { return LoadBuildInputs(options); });
   std::fprintf(stderr, "template %zu vertices, %zu shapes; target %zu vertices (%.2f s to load)\n",
                inputs.template_rig.vertex_count(), inputs.template_rig.shape_count(), inputs.target_vertices,
                stages.back().seconds);
-  const BuildLandmarks landmarks = timed("landmarks", [&] { return FindBuildLandmarks(options, inputs); });
+  const BuildLandmarks landmarks = TimeStage(stages, "landmarks", [&] { return FindBuildLandmarks(options, inputs); });
 
   BuildRigParams params;
   params.mode = options.mode;

@@ -20,6 +20,7 @@
 #include "cli/common.h"
 #include "cli/names.h"
 #include "cli/options.h"
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/offline/identity/caricature.h"
 #include "facerig/offline/transfer/displacement_transfer.h"
 #include "facerig/runtime/error.h"
@@ -49,12 +50,6 @@ struct MorphOptions {
   std::string template_path, target_path, output, report_path;
   StandardShapesOptions naming;
 };
-
-std::string LowerExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension;
-}
 
 // False (after printing why) when the output cannot hold what the command makes.
 bool CheckOutputExtension(const std::string& path, bool allow_obj) {

@@ -1,3 +1,4 @@
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/part_roles.h"
 
 #include <map>
@@ -10,12 +11,6 @@
 
 namespace facerig {
 namespace {
-
-std::string Lower(std::string_view text) {
-  std::string lower(text);
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return lower;
-}
 
 Material Opaque(PartRole role, glm::vec3 colour, float roughness) {
   return Material{.name = ToString(role), .base_colour = glm::vec4(colour, 1.0f), .roughness = roughness};
@@ -32,7 +27,7 @@ Material Blended(PartRole role, glm::vec3 colour, float alpha, float roughness) 
 }  // namespace
 
 PartRole RoleOfPart(std::string_view part_name) {
-  const std::string name = Lower(part_name);
+  const std::string name = LowerAscii(part_name);
   const auto has = [&](const char* word) { return name.find(word) != std::string::npos; };
   if (has("occlusion") || has("lacrimal") || has("eyeblend") || has("eye_blend") || has("tear")) {
     return PartRole::kEyeLayer;

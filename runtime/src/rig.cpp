@@ -1,3 +1,4 @@
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/rig.h"
 
 #include <algorithm>
@@ -28,9 +29,7 @@ const char* ToString(Units units) {
 const char* ToString(UpAxis up) { return up == UpAxis::kZ ? "+Z" : "+Y"; }
 
 std::optional<Units> ParseUnits(std::string_view text) {
-  std::string lower(text);
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string lower = LowerAscii(text);
   if (lower == "mm" || lower == "millimetres" || lower == "millimeters") return Units::kMillimetres;
   if (lower == "cm" || lower == "centimetres" || lower == "centimeters") return Units::kCentimetres;
   if (lower == "m" || lower == "metres" || lower == "meters") return Units::kMetres;

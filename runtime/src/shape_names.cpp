@@ -1,3 +1,4 @@
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/shape_names.h"
 
 #include <algorithm>
@@ -33,12 +34,6 @@ std::string IctShapeName(std::string_view arkit_name) {
     }
   }
   return std::string(arkit_name);
-}
-
-std::string LowerAscii(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
 }
 
 CanonicalShapeName CanonicalShapeNameOf(std::string_view name) {

@@ -1,3 +1,4 @@
+#include "facerig/offline/openings/margins.h"
 #include "facerig/offline/build/rig_build.h"
 
 #include <chrono>
@@ -15,6 +16,7 @@
 #include "facerig/offline/geometry/mesh_components.h"
 #include "facerig/offline/mapping/mouth_sides.h"
 #include "facerig/offline/geometry/stats.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 namespace {
@@ -70,14 +72,9 @@ std::vector<RawBlendShape> TransferExpressions(const Rig& template_rig, std::spa
 // the template's frame), as a percentage of the region's bounding-box diagonal.
 double MeanDeformationPercent(std::span<const glm::vec3> template_positions, std::span<const glm::vec3> fitted,
                               std::uint32_t region_vertex_count) {
-  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
   double sum = 0.0;
-  for (std::uint32_t v = 0; v < region_vertex_count; ++v) {
-    lo = glm::min(lo, template_positions[v]);
-    hi = glm::max(hi, template_positions[v]);
-    sum += glm::length(fitted[v] - template_positions[v]);
-  }
-  const double diagonal = glm::length(hi - lo);
+  for (std::uint32_t v = 0; v < region_vertex_count; ++v) sum += glm::length(fitted[v] - template_positions[v]);
+  const double diagonal = BoxAround(template_positions.first(region_vertex_count)).diagonal();
   return region_vertex_count > 0 && diagonal > 0.0 ? 100.0 * sum / region_vertex_count / diagonal : 0.0;
 }
 
@@ -102,9 +99,7 @@ class StageRunner {
   template <typename Body>
   auto Run(const char* name, Body&& body) {
     if (params_.progress) params_.progress(name, 0, 1);
-    const auto start = std::chrono::steady_clock::now();
-    auto value = body();
-    result_.stages.push_back({name, SecondsSince(start)});
+    auto value = TimeStage(result_.stages, name, std::forward<Body>(body));
     if (params_.progress) params_.progress(name, 1, 1);
     return value;
   }
@@ -235,19 +230,6 @@ std::optional<BuildMode> ParseBuildMode(std::string_view text) {
     if (text == ToString(mode)) return mode;
   }
   return std::nullopt;
-}
-
-double StageSeconds(std::span<const BuildStage> stages, std::string_view name) {
-  for (const BuildStage& stage : stages) {
-    if (stage.name == name) return stage.seconds;
-  }
-  return 0.0;
-}
-
-double TotalSeconds(std::span<const BuildStage> stages) {
-  double total = 0.0;
-  for (const BuildStage& stage : stages) total += stage.seconds;
-  return total;
 }
 
 RegistrationLandmarks PairLandmarks(const std::vector<std::uint32_t>& template_vertex_of,

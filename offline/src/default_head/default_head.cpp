@@ -12,6 +12,7 @@
 
 #include "default_head/internal.h"
 #include "facerig/runtime/rig_builder.h"
+#include "geometry/mesh_edges.h"
 
 namespace facerig {
 namespace default_head {
@@ -21,18 +22,10 @@ namespace {
 // returns the way that passes through `through` (corners excluded).
 std::vector<std::uint32_t> BoundaryChain(const std::vector<Triangle>& triangles, std::uint32_t from,
                                          std::uint32_t to, std::uint32_t through) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
-  for (const Triangle& t : triangles) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-      ++uses[{std::min(a, b), std::max(a, b)}];
-    }
-  }
   std::map<std::uint32_t, std::vector<std::uint32_t>> next;
-  for (const auto& [edge, count] : uses) {
-    if (count != 1) continue;
-    next[edge.first].push_back(edge.second);
-    next[edge.second].push_back(edge.first);
+  for (const BoundarySide& side : BoundarySides(triangles)) {
+    next[side.a].push_back(side.b);
+    next[side.b].push_back(side.a);
   }
   for (std::uint32_t start : next.at(from)) {
     std::vector<std::uint32_t> chain;

@@ -138,7 +138,9 @@ class SkinSmoother {
  private:
   template <typename T>
   void SmoothField(std::vector<T>& field, int iterations) const;
-  std::vector<std::vector<std::uint32_t>> neighbours_;
+  // Each skin vertex's neighbours: neighbours_[neighbour_begin_[v] .. neighbour_begin_[v + 1]).
+  std::vector<std::uint32_t> neighbour_begin_;
+  std::vector<std::uint32_t> neighbours_;
   std::vector<std::uint8_t> fixed_;  // 1: on a boundary, kept
 };
 // Moves the lip margins of a shape's dense deltas so that at weight 1 the

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "default_head/internal.h"
+#include "geometry/mesh_edges.h"
 
 namespace facerig::default_head {
 namespace {
@@ -21,33 +22,24 @@ constexpr double kStep = 0.5;  // of the way to the neighbours' mean, per iterat
 
 }  // namespace
 
-SkinSmoother::SkinSmoother(const HeadGeometry& head)
-    : neighbours_(head.skin_count), fixed_(head.skin_count, 0) {
+SkinSmoother::SkinSmoother(const HeadGeometry& head) : fixed_(head.skin_count, 0) {
   const RawPart& skin = head.parts.front();
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edge_use;
-  for (std::uint32_t t = skin.first_triangle; t < skin.first_triangle + skin.triangle_count; ++t) {
-    const Triangle& tri = head.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
-      ++edge_use[{std::min(a, b), std::max(a, b)}];
-    }
-  }
-  for (const auto& [edge, uses] : edge_use) {
-    neighbours_[edge.first].push_back(edge.second);
-    neighbours_[edge.second].push_back(edge.first);
-    if (uses == 1) fixed_[edge.first] = fixed_[edge.second] = 1;
-  }
+  const auto skin_triangles =
+      std::span<const Triangle>(head.triangles).subspan(skin.first_triangle, skin.triangle_count);
+  VertexNeighbours(head.skin_count, skin_triangles, neighbour_begin_, neighbours_);
+  for (const BoundarySide& side : BoundarySides(skin_triangles)) fixed_[side.a] = fixed_[side.b] = 1;
 }
 
 template <typename T>
 void SkinSmoother::SmoothField(std::vector<T>& field, int iterations) const {
-  std::vector<T> next(field.begin(), field.begin() + static_cast<std::ptrdiff_t>(neighbours_.size()));
+  std::vector<T> next(field.begin(), field.begin() + static_cast<std::ptrdiff_t>(fixed_.size()));
   for (int i = 0; i < iterations; ++i) {
-    for (std::size_t v = 0; v < neighbours_.size(); ++v) {
-      if (fixed_[v] || neighbours_[v].empty()) continue;
+    for (std::size_t v = 0; v < fixed_.size(); ++v) {
+      const std::uint32_t begin = neighbour_begin_[v], end = neighbour_begin_[v + 1];
+      if (fixed_[v] || begin == end) continue;
       T mean = T(0.0);
-      for (std::uint32_t u : neighbours_[v]) mean += field[u];
-      mean /= static_cast<double>(neighbours_[v].size());
+      for (std::uint32_t k = begin; k < end; ++k) mean += field[neighbours_[k]];
+      mean /= static_cast<double>(end - begin);
       next[v] = field[v] + kStep * (mean - field[v]);
     }
     std::copy(next.begin(), next.end(), field.begin());

@@ -1,3 +1,4 @@
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/offline/io/build_target.h"
 
 #include <algorithm>
@@ -13,9 +14,7 @@
 namespace facerig {
 
 BuildTarget LoadBuildTarget(const std::filesystem::path& path, Units units) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = LowerExtension(path);
   const bool file = !std::filesystem::is_directory(path);
   BuildTarget target;
   if (file && extension == ".obj") {

@@ -13,6 +13,7 @@
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/rig_builder.h"
 #include "geometry/parallel_for.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 namespace {
@@ -83,12 +84,7 @@ std::vector<Mesh> ReadExpressionMeshes(const fs::path& folder, const std::vector
 }
 
 float BoundingDiagonal(const std::vector<glm::vec3>& positions) {
-  glm::vec3 lo = positions.front(), hi = lo;
-  for (const glm::vec3& p : positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  return glm::length(hi - lo);
+  return BoxAround(std::span<const glm::vec3>(positions)).diagonal();
 }
 
 // An expression must be the neutral moved: same vertex count, same faces.

@@ -19,7 +19,7 @@
 #include "facerig/offline/geometry/closest_point.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/geometry/mesh_components.h"
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/eyes.h"
 #include "facerig/offline/registration/rigid_align.h"
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/error.h"

@@ -8,7 +8,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/eyes.h"
+#include "facerig/offline/openings/gaps.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/shape_names.h"

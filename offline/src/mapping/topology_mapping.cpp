@@ -19,6 +19,7 @@
 #include "facerig/offline/error.h"
 #include "geometry/mesh_edges.h"
 #include "openings/rims.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 namespace {
@@ -44,14 +45,7 @@ void CheckTarget(std::span<const glm::vec3> positions, std::span<const Triangle>
   }
 }
 
-float BoundingDiagonalOf(std::span<const glm::vec3> positions) {
-  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-  for (const glm::vec3& p : positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  return glm::length(hi - lo);
-}
+float BoundingDiagonalOf(std::span<const glm::vec3> positions) { return BoxAround(positions).diagonal(); }
 
 // 1 at distance <= full, 0 at >= zero, smoothstep between.
 float Falloff(float distance, float full, float zero) {

@@ -1,4 +1,4 @@
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/eyes.h"
 
 #include <algorithm>
 #include <array>

@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "facerig/offline/error.h"
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/gaps.h"
 
 namespace facerig {
 

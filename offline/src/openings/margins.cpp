@@ -1,4 +1,4 @@
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/margins.h"
 #include "facerig/offline/geometry/stats.h"
 
 #include <algorithm>

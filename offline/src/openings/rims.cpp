@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "geometry/mesh_edges.h"
+#include "facerig/offline/openings/eyes.h"
 
 namespace facerig {
 namespace {

@@ -5,6 +5,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "facerig/offline/photo/debug.h"
+#include "facerig/offline/photo/landmarks.h"
 #include "facerig/offline/photo/fit.h"
 
 namespace facerig {

@@ -9,9 +9,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/landmarks/dlib68.h"
 #include "facerig/offline/photo/texture.h"
 #include "facerig/offline/geometry/stats.h"
 #include "geometry/smooth_step.h"
+#include "photo/face_outline.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 namespace {
@@ -24,9 +27,8 @@ struct FaceBox {
 };
 
 FaceBox BoxOf(std::span<const glm::vec2> landmarks) {
-  FaceBox box{landmarks[0], landmarks[0]};
-  for (const glm::vec2& p : landmarks) box.low = glm::min(box.low, p), box.high = glm::max(box.high, p);
-  return box;
+  const PixelBox box = BoxAround(landmarks);
+  return {box.low, box.high};
 }
 
 // The part of the photo a head round this face can cover: hair reaches about
@@ -50,10 +52,8 @@ cv::Mat Seeds(cv::Size size, const cv::Rect& window, const RgbImage& photo, std:
   const glm::vec2 top_left(face.low.x - 0.1f * face.width(), face.low.y - 0.8f * face.height());
   const glm::vec2 bottom_right(face.high.x + 0.1f * face.width(), face.low.y);
   cv::rectangle(seeds, at(top_left), at(bottom_right), cv::Scalar(cv::GC_PR_FGD), cv::FILLED);
-  const glm::vec2 lift = 0.2f * (0.5f * (landmarks[19] + landmarks[24]) - landmarks[8]);
   std::vector<cv::Point> outline;
-  for (int k = 0; k <= 16; ++k) outline.push_back(at(landmarks[static_cast<std::size_t>(k)]));
-  for (int k = 26; k >= 17; --k) outline.push_back(at(landmarks[static_cast<std::size_t>(k)] + lift));
+  for (const glm::vec2 p : FaceOutline(landmarks, 0.2f)) outline.push_back(at(p));
   cv::fillPoly(seeds, std::vector<std::vector<cv::Point>>{outline}, cv::Scalar(cv::GC_FGD));
   const int band = std::max(2, size.width / 40);
   const auto background = [&](cv::Rect r) { cv::rectangle(seeds, r & cv::Rect(cv::Point(0, 0), size), cv::Scalar(cv::GC_BGD), cv::FILLED); };
@@ -127,7 +127,7 @@ PhotoHair FindPhotoHair(const RgbImage& photo, std::span<const glm::vec2> landma
           SmoothStep(0.3f, 0.7f, head.at<float>(y, x));
     }
   }
-  const float brows_y = std::min(landmarks[19].y, landmarks[24].y);
+  const float brows_y = std::min(landmarks[dlib68::kRightBrowPeak].y, landmarks[dlib68::kLeftBrowPeak].y);
   hair.found = HairColour(photo, hair.head, skin, brows_y, hair.colour);
   return hair;
 }

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <string>
 
+#include "facerig/offline/photo/landmarks.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo/fit.h"
 

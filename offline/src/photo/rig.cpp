@@ -1,4 +1,6 @@
 // The template rig on a photo's fitted face, wearing the photo.
+#include "facerig/offline/photo/hair.h"
+#include "facerig/offline/photo/skin_mask.h"
 #include "facerig/offline/photo/rig.h"
 
 #include <optional>

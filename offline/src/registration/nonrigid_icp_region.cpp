@@ -11,18 +11,15 @@
 #include "facerig/offline/error.h"
 #include "facerig/offline/geometry/stats.h"
 #include "registration/nonrigid_icp_impl.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig::nonrigid_icp_detail {
 namespace {
 
 glm::vec3 BoundsDiagonalVector(std::span<const glm::vec3> points, glm::vec3* lo_out = nullptr) {
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : points) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
-  if (lo_out != nullptr) *lo_out = lo;
-  return hi - lo;
+  const BoundingBox box = BoxAround(points);
+  if (lo_out != nullptr) *lo_out = box.low;
+  return box.extent();
 }
 
 // RMS distance of the points from their centroid.

@@ -19,6 +19,7 @@
 #include "render/srgb.h"
 #include "render/uv_raster.h"
 #include "geometry/smooth_step.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 namespace {
@@ -55,12 +56,7 @@ std::vector<std::vector<std::uint32_t>> VerticesOfParts(const Mesh& mesh) {
 }
 
 glm::vec3 BoxCentre(const Mesh& mesh, const std::vector<std::uint32_t>& vertices) {
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (std::uint32_t v : vertices) {
-    lo = glm::min(lo, mesh.positions[v]);
-    hi = glm::max(hi, mesh.positions[v]);
-  }
-  return 0.5f * (lo + hi);
+  return BoxAround(mesh.positions, vertices).centre();
 }
 
 float MedianDistance(const Mesh& mesh, const std::vector<std::uint32_t>& vertices, const glm::vec3& centre) {

@@ -191,30 +191,33 @@ Eigen::Matrix2d PrepareTriangle(const Mat32& source_edges, double mean_edge2, co
   return w * w.transpose();  // (E^T E)^-1, regularized
 }
 
-// A triangle's 3x3 block of the normal equations: into the free system, its
-// coupling to the anchors, and (with still pinning) the whole system.
+// The normal equations U^T U as triplets: the whole #V x #V system (still
+// pinning), or the free vertices' system and their coupling to the anchors.
+struct NormalEquations {
+  std::vector<Eigen::Triplet<double>> free;
+  std::vector<Eigen::Triplet<double>> coupling;
+  std::vector<Eigen::Triplet<double>> full;
+  std::size_t regularized = 0;  // triangles clamped or with a degenerate source
+};
+
+// A triangle's 3x3 block of the normal equations. With still pinning, into
+// the whole system (each expression restricts it to what it moves); without,
+// into the free vertices' shared system and its coupling to the anchors.
 void AddTriangleBlock(const Triangle& t, const Eigen::Matrix3d& local, std::span<const std::int32_t> free_index,
-                      std::span<const std::int32_t> anchor_index,
-                      std::vector<Eigen::Triplet<double>>& free_triplets,
-                      std::vector<Eigen::Triplet<double>>& coupling_triplets,
-                      std::vector<Eigen::Triplet<double>>* full_triplets) {
-  if (full_triplets != nullptr) {
-    for (int row = 0; row < 3; ++row) {
-      for (int col = 0; col < 3; ++col) {
-        full_triplets->emplace_back(t[static_cast<std::size_t>(row)], t[static_cast<std::size_t>(col)],
-                                    local(row, col));
-      }
-    }
-  }
+                      std::span<const std::int32_t> anchor_index, bool still_pinning,
+                      NormalEquations& equations) {
   for (int row = 0; row < 3; ++row) {
-    const std::int32_t fr = free_index[t[static_cast<std::size_t>(row)]];
-    if (fr < 0) continue;
+    const std::uint32_t vr = t[static_cast<std::size_t>(row)];
     for (int col = 0; col < 3; ++col) {
       const std::uint32_t vc = t[static_cast<std::size_t>(col)];
-      if (free_index[vc] >= 0) {
-        free_triplets.emplace_back(fr, free_index[vc], local(row, col));
-      } else {
-        coupling_triplets.emplace_back(fr, anchor_index[vc], local(row, col));
+      if (still_pinning) {
+        equations.full.emplace_back(vr, vc, local(row, col));
+      } else if (free_index[vr] >= 0) {
+        if (free_index[vc] >= 0) {
+          equations.free.emplace_back(free_index[vr], free_index[vc], local(row, col));
+        } else {
+          equations.coupling.emplace_back(free_index[vr], anchor_index[vc], local(row, col));
+        }
       }
     }
   }
@@ -276,15 +279,6 @@ TargetScale MeasureTarget(std::span<const glm::vec3> target_neutral, std::span<c
   return scale;
 }
 
-// The normal equations U^T U as triplets: restricted to the free vertices,
-// their coupling to the anchors and (with still pinning) the whole #V x #V system.
-struct NormalEquations {
-  std::vector<Eigen::Triplet<double>> free;
-  std::vector<Eigen::Triplet<double>> coupling;
-  std::vector<Eigen::Triplet<double>> full;
-  std::size_t regularized = 0;  // triangles clamped or with a degenerate source
-};
-
 // Fills impl.triangle_data and impl.total_weight, and returns the triangles' blocks.
 NormalEquations AssembleNormalEquations(std::span<const glm::vec3> source_neutral,
                                         std::span<const glm::vec3> target_neutral,
@@ -296,8 +290,7 @@ NormalEquations AssembleNormalEquations(std::span<const glm::vec3> source_neutra
   Mat23 b;  // edge operator: (e1, e2) = X * B^T over the triangle's 3 vertices
   b << -1.0, 1.0, 0.0, -1.0, 0.0, 1.0;
   NormalEquations equations;
-  equations.free.reserve(triangles.size() * 9);
-  if (still_pinning) equations.full.reserve(triangles.size() * 9);
+  (still_pinning ? equations.full : equations.free).reserve(triangles.size() * 9);
   impl.triangle_data.resize(triangles.size());
   for (std::size_t j = 0; j < triangles.size(); ++j) {
     const Triangle& t = triangles[j];
@@ -316,14 +309,13 @@ NormalEquations AssembleNormalEquations(std::span<const glm::vec3> source_neutra
     impl.total_weight += weight;
     d.rhs_operator = weight * metric * b;
     const Eigen::Matrix3d local = b.transpose() * d.rhs_operator;  // w B^T M B
-    AddTriangleBlock(t, local, impl.free_index, anchor_index, equations.free, equations.coupling,
-                     still_pinning ? &equations.full : nullptr);
+    AddTriangleBlock(t, local, impl.free_index, anchor_index, still_pinning, equations);
   }
   return equations;
 }
 
-// The free vertices' system (with the displacement prior on its diagonal) and
-// impl.coupling to the anchors.
+// Without still pinning: the free vertices' system shared by every expression
+// (with the displacement prior on its diagonal) and impl.coupling to the anchors.
 Eigen::SparseMatrix<double> BuildFreeSystem(const NormalEquations& equations, std::int32_t free_count,
                                             const DeformationTransferParams& params,
                                             DeformationTransferData::Impl& impl) {
@@ -385,13 +377,15 @@ void PrecomputeDeformationTransfer(const Mesh& source, std::span<const glm::vec3
 
   const NormalEquations equations = AssembleNormalEquations(source_neutral, target_neutral, triangles,
                                                             anchor_index, still_pinning, params, *impl);
-  const Eigen::SparseMatrix<double> system = BuildFreeSystem(equations, free_count, params, *impl);
-  if (still_pinning) SetUpStillPinning(equations, params, *impl);
-
-  const Clock::time_point factorize_start = Clock::now();
-  // With still pinning each expression factorizes its own system.
-  if (free_count > 0 && !still_pinning) Factorize(system, *impl);
-  data.factorize_seconds = SecondsSince(factorize_start);
+  if (still_pinning) {
+    // Each expression factorizes its own system (SolveDeformationTransfer).
+    SetUpStillPinning(equations, params, *impl);
+  } else {
+    const Eigen::SparseMatrix<double> system = BuildFreeSystem(equations, free_count, params, *impl);
+    const Clock::time_point factorize_start = Clock::now();
+    if (free_count > 0) Factorize(system, *impl);
+    data.factorize_seconds = SecondsSince(factorize_start);
+  }
 
   data.vertex_count = source_neutral.size();
   data.triangle_count = triangles.size();

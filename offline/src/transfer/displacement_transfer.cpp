@@ -14,22 +14,14 @@
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/files/atomic_file.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 
 namespace {
 
 glm::vec3 Extent(std::span<const glm::vec3> positions, std::span<const std::uint32_t> subset) {
-  const std::size_t count = subset.empty() ? positions.size() : subset.size();
-  if (count == 0) return glm::vec3(0.0f);
-  auto at = [&](std::size_t i) { return subset.empty() ? positions[i] : positions[subset[i]]; };
-  glm::vec3 lo = at(0);
-  glm::vec3 hi = lo;
-  for (std::size_t i = 1; i < count; ++i) {
-    lo = glm::min(lo, at(i));
-    hi = glm::max(hi, at(i));
-  }
-  return hi - lo;
+  return (subset.empty() ? BoxAround(positions) : BoxAround(positions, subset)).extent();
 }
 
 void CheckSize(std::size_t size, std::size_t expected, const std::string& mesh) {

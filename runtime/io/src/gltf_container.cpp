@@ -13,6 +13,7 @@
 
 #include <sys/stat.h>
 
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "gltf_internal.h"
@@ -26,11 +27,6 @@ constexpr std::uint32_t kGlbBinChunk = 0x004E4942;   // "BIN\0"
 constexpr std::size_t kGlbHeaderSize = 12;
 constexpr std::size_t kGlbChunkHeaderSize = 8;
 
-std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
 
 // Images are never needed for a rig; this keeps tinygltf from decoding any.
 bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
@@ -314,7 +310,7 @@ std::string SanitizedUtf8(std::string_view text) {
 }
 
 Format FormatFromExtension(const std::filesystem::path& path) {
-  const std::string extension = Lowercase(path.extension().string());
+  const std::string extension = LowerExtension(path);
   if (extension == ".glb") return Format::kBinary;
   if (extension == ".gltf") return Format::kText;
   throw IoError(IoErrorKind::kUnsupportedFormat, path.string(),

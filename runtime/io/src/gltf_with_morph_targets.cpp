@@ -1,3 +1,4 @@
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/io/gltf_with_morph_targets.h"
 
 #include <algorithm>
@@ -54,9 +55,8 @@ void MergeBuffers(tinygltf::Model* model) {
 }
 
 std::optional<std::string> MimeTypeOfFile(const std::string& uri) {
-  std::string extension = uri.substr(uri.find_last_of('.') == std::string::npos ? uri.size() : uri.find_last_of('.'));
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension =
+      LowerAscii(uri.substr(uri.find_last_of('.') == std::string::npos ? uri.size() : uri.find_last_of('.')));
   if (extension == ".png") return "image/png";
   if (extension == ".jpg" || extension == ".jpeg") return "image/jpeg";
   if (extension == ".webp") return "image/webp";

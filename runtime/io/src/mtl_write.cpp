@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/mtl.h"
@@ -13,19 +14,12 @@ namespace {
 // The longest name written (file systems take 255 bytes; a suffix may follow).
 constexpr std::size_t kMaxNameBytes = 100;
 
-char Lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
-
-std::string Lowered(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), Lower);
-  return text;
-}
-
 // `stem` + `extension`, or with "_2", "_3", ... before the extension, the first
 // that `taken` (lower case) does not hold; the chosen name is added to it.
 std::string Unique(const std::string& stem, const std::string& extension, std::set<std::string>& taken) {
   std::string name = stem + extension;
-  for (int n = 2; taken.contains(Lowered(name)); ++n) name = stem + "_" + std::to_string(n) + extension;
-  taken.insert(Lowered(name));
+  for (int n = 2; taken.contains(LowerAscii(name)); ++n) name = stem + "_" + std::to_string(n) + extension;
+  taken.insert(LowerAscii(name));
   return name;
 }
 

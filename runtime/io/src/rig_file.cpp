@@ -1,3 +1,4 @@
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/io/rig_file.h"
 
 #include <algorithm>
@@ -13,12 +14,6 @@
 namespace facerig {
 namespace {
 
-std::string LowerExtension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 }  // namespace
 

@@ -1,3 +1,4 @@
+#include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/speech/viseme.h"
 
 #include <array>
@@ -14,13 +15,6 @@ constexpr std::array<std::string_view, kVisemeCount> kOculusTargets = {
     "viseme_sil", "viseme_PP", "viseme_FF", "viseme_TH", "viseme_DD", "viseme_kk", "viseme_CH", "viseme_SS",
     "viseme_nn",  "viseme_RR", "viseme_aa", "viseme_E",  "viseme_I",  "viseme_O",  "viseme_U"};
 
-bool SameIgnoringCase(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
-  }
-  return true;
-}
 }  // namespace
 
 std::string_view ToString(Viseme viseme) { return EnumName(kNames, viseme); }
@@ -33,13 +27,13 @@ std::optional<Viseme> VisemeOfTargetName(std::string_view name) {
   if (const std::size_t prefix = name.find_last_of(".:|"); prefix != std::string_view::npos) {
     name.remove_prefix(prefix + 1);
   }
-  if (name.size() > 6 && SameIgnoringCase(name.substr(0, 6), "viseme")) {
+  if (name.size() > 6 && EqualIgnoringAsciiCase(name.substr(0, 6), "viseme")) {
     name.remove_prefix(6);
     if (name.starts_with('_')) name.remove_prefix(1);
   }
   for (std::size_t v = 0; v < kVisemeCount; ++v) {
     const std::string_view oculus_short = kOculusTargets[v].substr(7);  // "I", "O", "U" for ih, oh, ou
-    if (SameIgnoringCase(name, kNames[v]) || SameIgnoringCase(name, oculus_short)) return static_cast<Viseme>(v);
+    if (EqualIgnoringAsciiCase(name, kNames[v]) || EqualIgnoringAsciiCase(name, oculus_short)) return static_cast<Viseme>(v);
   }
   return std::nullopt;
 }

@@ -1,3 +1,4 @@
+#include "facerig/offline/openings/gaps.h"
 #include "facerig/offline/landmarks/landmarks.h"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 // Eye landmarks fitted to a mesh's eye openings (openings.h)
 // on a sheet with an elliptical eye hole 2 wide and 0.8 tall, centred at
 // (-3, 0), with an iris ring (a smaller hole of its own) inside it.
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/eyes.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/gaps.h"
 
 #include "facerig/offline/error.h"
 #include "support/test_meshes.h"

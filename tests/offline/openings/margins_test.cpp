@@ -2,7 +2,7 @@
 // (openings.h), on sheets with a slit: the template's
 // slit closes in its one expression; the target's slit is the same hole with
 // its rims moved.
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/openings/margins.h"
 
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>

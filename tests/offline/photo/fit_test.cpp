@@ -12,6 +12,8 @@
 #include <Eigen/Dense>
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/photo/debug.h"
+#include "facerig/offline/photo/landmarks.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo/fit.h"
 #include "facerig/offline/photo/image.h"

@@ -1,3 +1,4 @@
+#include "facerig/offline/openings/gaps.h"
 #include "facerig/offline/transfer/deformation_transfer.h"
 
 #include <algorithm>

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "facerig/offline/openings/gaps.h"
 #include "facerig/offline/transfer/deformation_transfer.h"
 #include "facerig/offline/geometry/self_intersection.h"
 #include "measure/ict_vertex_ranges.h"

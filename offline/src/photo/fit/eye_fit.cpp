@@ -8,7 +8,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/landmarks/dlib68.h"
+#include "facerig/offline/openings/eyes.h"
 #include "facerig/runtime/part_roles.h"
 #include "geometry/smooth_step.h"
 
@@ -172,7 +173,7 @@ LidMarginFit FitLidMarginsToPhoto(const Mesh& surface, std::span<const glm::vec2
   std::vector<std::uint32_t> vertices;
   std::vector<glm::vec2> targets;
   std::vector<EyeTargets> eyes;
-  for (const std::size_t first : {std::size_t{36}, std::size_t{42}}) {
+  for (const std::size_t first : {dlib68::kRightEyeFirst, dlib68::kLeftEyeFirst}) {
     const LidLines lids(landmarks.subspan(first, 6));
     // A closed or squeezed eye says where the lids are in that expression,
     // not at rest (the rest face takes the same offsets): left as it is.
@@ -190,7 +191,7 @@ LidMarginFit FitLidMarginsToPhoto(const Mesh& surface, std::span<const glm::vec2
   if (eyes.empty()) return fit;
   // The other landmark vertices stay where the deformation put them.
   for (std::size_t k = 0; k < 68; ++k) {
-    if (k >= 36 && k < 48) continue;
+    if (k >= dlib68::kRightEyeFirst && k <= dlib68::kLeftEyeLast) continue;
     vertices.push_back(landmark_vertices[k]);
     targets.push_back(pixels[landmark_vertices[k]]);
   }

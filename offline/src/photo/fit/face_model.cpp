@@ -7,11 +7,14 @@
 
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/photo/landmarks.h"
+#include "facerig/offline/landmarks/dlib68.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo/fit.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/part_roles.h"
 #include "facerig/runtime/rig_builder.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 
@@ -29,10 +32,11 @@ std::vector<glm::vec3> DenseDeltas(const Rig& rig, std::size_t shape) {
 // the template may lie in any orientation.
 std::vector<std::uint32_t> ContourCandidates(std::span<const glm::vec3> neutral, VertexRange face,
                                              std::span<const std::uint32_t> landmarks) {
-  const glm::vec3 chin = neutral[landmarks[8]];
-  const glm::vec3 brows = 0.5f * (neutral[landmarks[19]] + neutral[landmarks[24]]);
+  const glm::vec3 chin = neutral[landmarks[dlib68::kChin]];
+  const glm::vec3 brows = 0.5f * (neutral[landmarks[dlib68::kRightBrowPeak]] + neutral[landmarks[dlib68::kLeftBrowPeak]]);
   const glm::vec3 up = glm::normalize(brows - chin);
-  const float top = std::max(glm::dot(neutral[landmarks[0]] - chin, up), glm::dot(neutral[landmarks[16]] - chin, up));
+  const float top = std::max(glm::dot(neutral[landmarks[dlib68::kJawFirst]] - chin, up),
+                             glm::dot(neutral[landmarks[dlib68::kJawLast]] - chin, up));
   const float bottom = -0.15f * glm::length(brows - chin);
   std::vector<std::uint32_t> candidates;
   for (std::uint32_t v = face.first; v <= face.last && v < neutral.size(); ++v) {
@@ -104,12 +108,8 @@ std::vector<glm::vec2> MeasureDlibOffsets(const PhotoFaceModel& model, std::span
   }
   const RgbImage photo = Shade(Rasterize(mesh, view), mesh, model.visible_albedo, view);
   const std::vector<glm::vec2> detected = DetectPhotoLandmarks(detector, photo).pixels;
-  glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
-  for (const glm::vec2 p : detected) {
-    low = glm::min(low, p);
-    high = glm::max(high, p);
-  }
-  const float size = std::max(1.0f, std::max(high.x - low.x, high.y - low.y));
+  const glm::vec2 extent = BoxAround(std::span<const glm::vec2>(detected)).extent();
+  const float size = std::max(1.0f, std::max(extent.x, extent.y));
   std::vector<glm::vec2> offsets(kDlibLandmarkCount, glm::vec2(0.0f));
   for (std::size_t k = 0; k < kDlibLandmarkCount; ++k) {
     if (k < 17 && (k < 7 || k > 9)) continue;

@@ -14,11 +14,14 @@
 #include <vector>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/landmarks/dlib68.h"
 #include "facerig/offline/photo/fit.h"
 #include "facerig/offline/photo/texture.h"
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/rig_builder.h"
+#include "photo/face_outline.h"
 #include "photo/fit/shape_system.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 
@@ -83,14 +86,19 @@ BlurredWindow BlurPhoto(const RgbImage& photo, cv::Rect window, double sigma) {
   return blurred;
 }
 
-std::vector<cv::Point> Polygon(std::span<const glm::vec2> landmarks, std::initializer_list<int> indices,
-                               cv::Point origin) {
+// Pixels relative to origin.
+std::vector<cv::Point> ToPoints(std::span<const glm::vec2> pixels, cv::Point origin) {
   std::vector<cv::Point> points;
-  for (const int k : indices) {
-    const glm::vec2 p = landmarks[static_cast<std::size_t>(k)];
+  for (const glm::vec2 p : pixels) {
     points.emplace_back(static_cast<int>(std::lround(p.x)) - origin.x, static_cast<int>(std::lround(p.y)) - origin.y);
   }
   return points;
+}
+
+// Landmarks first..last (dlib68 numbers) as a polygon relative to origin.
+std::vector<cv::Point> Polygon(std::span<const glm::vec2> landmarks, std::size_t first, std::size_t last,
+                               cv::Point origin) {
+  return ToPoints(landmarks.subspan(first, last - first + 1), origin);
 }
 
 // 255 where the photo shows the face's skin by dlib's points: inside the jaw
@@ -99,23 +107,19 @@ std::vector<cv::Point> Polygon(std::span<const glm::vec2> landmarks, std::initia
 cv::Mat SkinMask(std::span<const glm::vec2> landmarks, cv::Rect window, int margin) {
   const cv::Point origin = window.tl();
   cv::Mat mask = cv::Mat::zeros(window.size(), CV_8U);
-  const glm::vec2 lift = 0.35f * (0.5f * (landmarks[19] + landmarks[24]) - landmarks[8]);
-  std::vector<glm::vec2> outline(landmarks.begin(), landmarks.begin() + 17);
-  for (int k = 26; k >= 17; --k) outline.push_back(landmarks[static_cast<std::size_t>(k)] + lift);
-  std::vector<cv::Point> outline_points;
-  for (const glm::vec2 p : outline)
-    outline_points.emplace_back(static_cast<int>(std::lround(p.x)) - origin.x,
-                                static_cast<int>(std::lround(p.y)) - origin.y);
+  const std::vector<cv::Point> outline_points = ToPoints(FaceOutline(landmarks, 0.35f), origin);
   cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{outline_points}, cv::Scalar(255));
   cv::polylines(mask, std::vector<std::vector<cv::Point>>{outline_points}, true, cv::Scalar(0), 2 * margin);
   const std::vector<std::vector<cv::Point>> holes{
-      Polygon(landmarks, {36, 37, 38, 39, 40, 41}, origin), Polygon(landmarks, {42, 43, 44, 45, 46, 47}, origin),
-      Polygon(landmarks, {48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59}, origin),
-      Polygon(landmarks, {30, 31, 32, 33, 34, 35}, origin)};
+      Polygon(landmarks, dlib68::kRightEyeFirst, dlib68::kRightEyeLast, origin),
+      Polygon(landmarks, dlib68::kLeftEyeFirst, dlib68::kLeftEyeLast, origin),
+      Polygon(landmarks, dlib68::kOuterLipsFirst, dlib68::kOuterLipsLast, origin),
+      Polygon(landmarks, dlib68::kNoseTip, dlib68::kNostrilsLast, origin)};
   cv::fillPoly(mask, holes, cv::Scalar(0));
   cv::polylines(mask, holes, true, cv::Scalar(0), 2 * margin);
-  const std::vector<std::vector<cv::Point>> brows{Polygon(landmarks, {17, 18, 19, 20, 21}, origin),
-                                                  Polygon(landmarks, {22, 23, 24, 25, 26}, origin)};
+  const std::vector<std::vector<cv::Point>> brows{
+      Polygon(landmarks, dlib68::kRightBrowFirst, dlib68::kRightBrowLast, origin),
+      Polygon(landmarks, dlib68::kLeftBrowFirst, dlib68::kLeftBrowLast, origin)};
   cv::polylines(mask, brows, false, cv::Scalar(0), 3 * margin);
   return mask;
 }
@@ -444,8 +448,9 @@ void CheckInputs(const RgbImage& photo, std::span<const glm::vec2> detected) {
 
 // The landmarks' box grown to the forehead and by `margin`, within the photo.
 cv::Rect FaceWindow(std::span<const glm::vec2> landmarks, int width, int height, double face_size, int margin) {
-  glm::vec2 low(landmarks[0]), high(landmarks[0]);
-  for (const glm::vec2 p : landmarks) low = glm::min(low, p), high = glm::max(high, p);
+  const PixelBox box = BoxAround(landmarks);
+  glm::vec2 low = box.low;
+  const glm::vec2 high = box.high;
   low.y -= 0.4f * static_cast<float>(face_size);
   return cv::Rect(cv::Point(static_cast<int>(low.x) - margin, static_cast<int>(low.y) - margin),
                   cv::Point(static_cast<int>(high.x) + margin + 1, static_cast<int>(high.y) + margin + 1)) &

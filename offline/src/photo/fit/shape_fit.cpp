@@ -11,11 +11,13 @@
 #include <Eigen/Dense>
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/landmarks/dlib68.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/photo/fit.h"
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/rig_builder.h"
 #include "photo/fit/shape_system.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 
@@ -192,7 +194,7 @@ std::vector<float> GroupWeights(const PhotoFitParams& params) {
   std::vector<float> weights(kDlibLandmarkCount, 1.0f);
   for (std::size_t k = 0; k < kJawCount; ++k) weights[k] = params.jaw_weight;
   for (std::size_t k = 17; k <= 26; ++k) weights[k] = params.brow_weight;
-  for (std::size_t k = 36; k <= 47; ++k) weights[k] = params.eye_weight;
+  for (std::size_t k = dlib68::kRightEyeFirst; k <= dlib68::kLeftEyeLast; ++k) weights[k] = params.eye_weight;
   for (std::size_t k = 27; k <= 35; ++k) weights[k] = params.nose_weight;
   return weights;
 }
@@ -231,12 +233,8 @@ std::vector<glm::vec2> CorrectedLandmarks(const PhotoFaceModel& model, std::span
 }  // namespace
 
 double photo_shape::FaceSize(std::span<const glm::vec2> landmarks) {
-  glm::vec2 low(std::numeric_limits<float>::max()), high(std::numeric_limits<float>::lowest());
-  for (const glm::vec2 p : landmarks) {
-    low = glm::min(low, p);
-    high = glm::max(high, p);
-  }
-  return std::max(1.0f, std::max(high.x - low.x, high.y - low.y));
+  const glm::vec2 extent = BoxAround(landmarks).extent();
+  return std::max(1.0f, std::max(extent.x, extent.y));
 }
 
 namespace {

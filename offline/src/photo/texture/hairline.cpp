@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/photo/skin_mask.h"
 #include "facerig/offline/geometry/stats.h"
 #include "photo/texture/internal.h"
 

@@ -10,8 +10,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/landmarks/dlib68.h"
 #include "facerig/offline/photo/texture.h"
 #include "geometry/smooth_step.h"
+#include "photo/face_outline.h"
+#include "geometry/bounding_box.h"
 
 namespace facerig {
 namespace {
@@ -22,16 +25,6 @@ std::vector<cv::Point> ToPoints(const std::vector<glm::vec2>& pixels, cv::Point 
     points.emplace_back(static_cast<int>(std::lround(p.x)) - origin.x, static_cast<int>(std::lround(p.y)) - origin.y);
   }
   return points;
-}
-
-// The jaw line (0-16), then the brows (26 back to 17) lifted up the face to
-// the forehead.
-std::vector<glm::vec2> FaceOutline(std::span<const glm::vec2> landmarks, float forehead) {
-  const glm::vec2 brows = 0.5f * (landmarks[19] + landmarks[24]);
-  const glm::vec2 lift = forehead * (brows - landmarks[8]);
-  std::vector<glm::vec2> outline(landmarks.begin(), landmarks.begin() + 17);
-  for (int k = 26; k >= 17; --k) outline.push_back(landmarks[static_cast<std::size_t>(k)] + lift);
-  return outline;
 }
 
 // The polygon filled with 1 in a float image, blurred, then mapped from
@@ -50,8 +43,10 @@ cv::Mat SoftPolygon(cv::Size size, const std::vector<cv::Point>& polygon, double
 cv::Vec3f CheekColour(const cv::Mat& lab, std::span<const glm::vec2> landmarks, cv::Point origin, float radius) {
   std::array<std::vector<float>, 3> channels;
   const std::array<glm::vec2, 2> centres{
-      (landmarks[41] + landmarks[40] + landmarks[31] + landmarks[2] + landmarks[48]) / 5.0f,
-      (landmarks[46] + landmarks[47] + landmarks[35] + landmarks[14] + landmarks[54]) / 5.0f};
+      (landmarks[41] + landmarks[40] + landmarks[dlib68::kNostrilsFirst] + landmarks[2] +
+       landmarks[dlib68::kOuterLipsFirst]) / 5.0f,
+      (landmarks[46] + landmarks[47] + landmarks[dlib68::kNostrilsLast] + landmarks[14] +
+       landmarks[dlib68::kLeftMouthCorner]) / 5.0f};
   const int r = std::max(1, static_cast<int>(radius));
   for (const glm::vec2& centre : centres) {
     const int cx = static_cast<int>(centre.x) - origin.x, cy = static_cast<int>(centre.y) - origin.y;
@@ -117,8 +112,8 @@ PhotoSkinMask BuildPhotoSkinMask(const RgbImage& photo, std::span<const glm::vec
                                  const PhotoSkinMaskParams& params) {
   CheckInputs(photo, landmarks);
   const std::vector<glm::vec2> outline = FaceOutline(landmarks, params.forehead);
-  glm::vec2 low(outline[0]), high(outline[0]);
-  for (const glm::vec2& p : outline) low = glm::min(low, p), high = glm::max(high, p);
+  const PixelBox box = BoxAround(std::span<const glm::vec2>(outline));
+  const glm::vec2 low = box.low, high = box.high;
   const float face_size = std::max(high.x - low.x, high.y - low.y);
   const double sigma = std::max(1.0, static_cast<double>(params.softness * face_size));
   // The outline's box and a margin for the blur, clipped to the photo.

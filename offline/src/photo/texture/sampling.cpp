@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
+#include "facerig/offline/photo/skin_mask.h"
 #include "facerig/runtime/part_roles.h"
 #include "facerig/runtime/rig_builder.h"
 #include "photo/texture/internal.h"

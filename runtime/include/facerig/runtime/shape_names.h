@@ -14,8 +14,6 @@
 
 namespace facerig {
 
-std::string LowerAscii(std::string_view text);
-
 // Apple ARKit's 52 blend-shape names (ARFaceAnchor.BlendShapeLocation), in
 // Apple's order. "Left" is the character's left (+X on the built-in head).
 inline constexpr std::size_t kArkitShapeCount = 52;

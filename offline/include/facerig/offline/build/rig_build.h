@@ -20,8 +20,9 @@
 #include <string_view>
 #include <vector>
 
-#include "facerig/offline/transfer/deformation_transfer.h"
+#include "facerig/offline/build/build_stages.h"
 #include "facerig/offline/build/face_template.h"
+#include "facerig/offline/transfer/deformation_transfer.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/registration/nonrigid_icp.h"
 #include "facerig/offline/openings/openings.h"
@@ -85,14 +86,6 @@ struct BuildRigTimings {
   double total_seconds = 0.0;
 };
 
-// One named stage of the build and its wall-clock time.
-struct BuildStage {
-  std::string name;
-  double seconds = 0.0;
-};
-// The time of the stage with this name (0 when absent), and of all stages.
-double StageSeconds(std::span<const BuildStage> stages, std::string_view name);
-double TotalSeconds(std::span<const BuildStage> stages);
 
 // A build's target as loaded (LoadBuildTarget, offline/io/build_target.h):
 // the rig data the stages work on, and its mesh as the file has it (corner

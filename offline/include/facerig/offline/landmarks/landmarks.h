@@ -24,12 +24,13 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/landmarks/dlib68.h"
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
 
-inline constexpr std::size_t kDlibLandmarkCount = 68;
+inline constexpr std::size_t kDlibLandmarkCount = dlib68::kCount;
 
 // 3D landmarks with a confidence in [0, 1] each. `indices` names each point's
 // dlib landmark (0..67): a detected set has all 68 in order; a manual file may

@@ -4,14 +4,15 @@
 //    hole in its mesh (BoundaryLoops, OpeningRim);
 //  - its margins: the template vertices that meet the vertex across the
 //    opening when an expression closes it (OpeningMargin, from the contacts
-//    of ContactFinder, openings_contacts.h);
+//    of ContactFinder, contacts.h);
 //  - the contacts themselves (OpeningContact), which deformation transfer
 //    keeps so that a transferred blink closes;
 //  - how closed an opening is in a pose (OpeningMargins, OpeningGap).
 // Registration moves the fitted template's margins onto the target's rims
-// (AlignMarginsToOpenings), transfer keeps the contacts, topology mapping
-// snaps, smooths and closes the target's rims (topology_mapping.h); all take
-// their thresholds from one OpeningParams.
+// (AlignMarginsToOpenings, margins.h), transfer keeps the contacts, topology
+// mapping snaps, smooths and closes the target's rims (topology_mapping.h);
+// all take their thresholds from one OpeningParams. eyes.h puts eye landmarks
+// on the lid margins; gaps.h measures how closed an opening is.
 //
 // Why margins need care (README, "Measurements behind the defaults"):
 // registration fits surfaces, not rims, and per-triangle gradients only say
@@ -20,7 +21,6 @@
 // template.
 #pragma once
 
-#include <bitset>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -29,7 +29,6 @@
 #include <glm/vec3.hpp>
 
 #include "facerig/runtime/mesh.h"
-#include "facerig/runtime/rig.h"
 
 namespace facerig {
 
@@ -166,137 +165,5 @@ struct OpeningRim {
   std::vector<RimBand> band;
   int passes = 0;
 };
-
-// --- Rims and eye landmarks (openings_eyes.cpp) ---
-
-// Boundary loops of the mesh (holes: eye openings, an open mouth, the neck),
-// as vertex chains of at least 6 vertices. Non-manifold corners end a chain early.
-std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3> positions,
-                                                     std::span<const Triangle> triangles);
-
-// Where an eye is a hole in the face mesh (a separate eyeball behind it: most
-// game and scanned heads), the hole's boundary is the lid margins, a better
-// guide than a 2D detector trained on photographs, which misplaces a stylized
-// head's eyes.
-//
-// Where an eye is an opening in the mesh, its corners (dlib 36/39, 42/45) are
-// the ends of the opening's first principal axis. Moves only corners within
-// 0.3 eye widths. Returns how many moved.
-int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                      std::vector<glm::vec3>& points);
-
-// Which of the 68 landmarks (bit k: dlib point k).
-using LandmarkMask = std::bitset<68>;
-
-struct EyeOpeningFit {
-  int eyes = 0;  // eyes fitted to an opening
-  LandmarkMask moved;  // points put on a margin
-};
-
-// Each eye (dlib 36-41, 42-47) onto the opening near them: the corners go to
-// the ends of its principal axis; a lid point goes onto its upper or lower
-// chain, at its place along that axis, when the detector missed the eye (its
-// lid points far from the margins) or when `inside` marks it (it landed on
-// the eyeball or tear film seen through the opening). Other lid points stay:
-// a template's lid landmarks need not lie on its margin. An eye is fitted to
-// the largest opening whose centre lies within 0.75 of the detected eye width
-// of the detected eye's centre and whose size is 0.2 to 0.8 of that width
-// (an iris may be a hole too), unless a point would move farther than 0.75
-// of the width (the opening is then not this eye). points: the 68 landmarks.
-EyeOpeningFit FitEyesToOpenings(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
-                                std::vector<glm::vec3>& points, const LandmarkMask& inside = {});
-
-// --- Margins and their alignment onto the target's rims (openings_margins.cpp) ---
-
-// Both ends of every contact of every expression (ContactFinder), each vertex
-// once (with its first partner), by increasing vertex. ICT-FaceKit: its
-// eyelids (the blinks), and a few lip vertices of mouthRoll and jaw shapes
-// that the alignment leaves (their partners meet no rim across a like
-// opening). Its lips touch at rest: not an opening here.
-std::vector<OpeningMargin> FindOpeningMargins(const Rig& template_rig, const OpeningParams& params = {});
-
-struct MarginAlignmentResult {
-  std::vector<std::uint32_t> aligned;  // margin vertices moved onto a rim (sorted)
-  std::size_t aligned_vertices = 0;  // their count
-  std::size_t moved_vertices = 0;    // all vertices the correction moved
-  double mean_correction = 0.0;      // over the aligned margin vertices, target units
-  double max_correction = 0.0;
-};
-
-// The fitted template's margins onto the target's rims where the target's
-// opening is a hole in its mesh (its rim is then exact): each margin vertex
-// goes onto the nearest rim edge that faces the same way, and the vertices
-// around follow smoothly (a harmonic field over the template's edges that
-// fades to nothing one opening away). Deformation transfer then closes the
-// fitted template's corrected opening, and the target's rim vertices map onto
-// its margins. fitted: the template registered onto the target (template
-// topology, target frame), corrected in place; template_triangles: the
-// template's. Targets without holes near the margins are left as they are.
-MarginAlignmentResult AlignMarginsToOpenings(std::span<glm::vec3> fitted, std::span<const Triangle> template_triangles,
-                                             std::span<const OpeningMargin> margins,
-                                             std::span<const glm::vec3> target_positions,
-                                             std::span<const Triangle> target_triangles,
-                                             const OpeningParams& params = {});
-
-// The margins that the mapping snaps the target's rims to: those in `aligned`
-// (sorted), with the direction towards their partner in `fitted`.
-std::vector<MarginDirection> MarginDirections(std::span<const OpeningMargin> margins,
-                                              std::span<const std::uint32_t> aligned,
-                                              std::span<const glm::vec3> fitted);
-
-// --- Measuring how closed an opening is (openings_gaps.cpp; tests and the bench) ---
-
-// The margins of one opening, found from the template's closing expression:
-// upper[i] meets lower[i]. Eyes: lower_margin is the lower lid's margin as a
-// polyline (the lid slides as it closes, so the partners mark where the lower
-// margin is, not what each upper vertex meets); mouths: empty. width: the
-// opening's x extent in the neutral (eye: of the upper lid's moving vertices;
-// mouth: of the paired vertices).
-struct OpeningMargins {
-  OpeningKind kind = OpeningKind::kEye;
-  std::vector<std::uint32_t> upper;
-  std::vector<std::uint32_t> lower;
-  std::vector<std::uint32_t> lower_margin;
-  double width = 0.0;
-};
-
-// The eyelid margins of one eye, found from the template's blink. upper: the
-// upper-lid vertices (moving more than half the blink's largest motion) that
-// meet a lower-lid vertex (apart in the neutral, within 10% of the upper
-// vertex's motion in the blink); lower: those partners; lower_margin: the
-// shortest mesh-edge path (neutral lengths, avoiding the upper lid) from the
-// partner of smallest x to that of largest x. Vertices searched:
-// [region_first, region_last) (ICT: 0-17038, face and eye sockets, where the
-// lid margins are).
-// \throw MeshInputError when the blink closes nothing or no mesh path
-// joins the lower partners.
-OpeningMargins FindEyelidMargins(const Mesh& neutral_mesh, std::span<const glm::vec3> blink,
-                                 std::size_t region_first, std::size_t region_last);
-
-// The lip margins, found from the template's closed mouth: ICT's mouthClose is
-// made to be added to jawOpen (alone it pushes the lips through each other), so
-// open = neutral + jawOpen, closed = neutral + jawOpen + mouthClose. Pairs of a
-// vertex that mouthClose moves (more than 0.3 of its largest motion in the
-// region) and the vertex it meets: apart in the open pose (by more than 0.3 of
-// that motion), within 10% of their open distance in the closed pose. Each
-// pair once, upper = the higher of the two in the open pose. Vertices searched:
-// [region_first, region_last) (ICT: the face, 0-9408).
-// \throw MeshInputError on a vertex count mismatch or when the lips meet nowhere.
-OpeningMargins FindLipMargins(std::span<const glm::vec3> neutral, std::span<const glm::vec3> open,
-                              std::span<const glm::vec3> closed, std::size_t region_first,
-                              std::size_t region_last);
-
-// How closed an opening is on a (transferred) mesh, over its width.
-// Eyes: for the upper margin vertices whose x lies within the lower margin's
-// x extent in that pose (the lid corners, where the lower polyline ends, are
-// left out), the distance to the lower margin polyline, and crossing below it
-// (along y). Mouths: the distance of each pair, and lower above upper (y).
-struct OpeningGap {
-  double mean_gap = 0.0;      // mean distance
-  double max_gap = 0.0;       // largest such distance
-  double max_crossing = 0.0;  // deepest crossing, >= 0
-  std::size_t measured_vertices = 0;  // upper margin vertices (eyes) or pairs (mouths) measured
-};
-OpeningGap MeasureOpeningGap(std::span<const glm::vec3> positions, const OpeningMargins& margins);
 
 }  // namespace facerig

@@ -6,11 +6,9 @@
 // library uses it: closed-form camera, regularised linear least squares for
 // the shape, jaw-line landmarks matched to the model's moving contour).
 //
-// Identity modes are the template's identity meshes minus its neutral
-// (ICT-FaceKit's identityNNN.obj): each is one mode at one standard deviation,
-// so the prior on each weight is N(0, 1). Expressions are the template's own
-// blend shapes, fitted with weights in [0, 1], so that a smiling or
-// open-mouthed photo still yields a neutral rest face.
+// The model (face_model.h), the camera (camera.h) and the landmarks
+// (landmarks.h) have their own headers; the fallback for a template without
+// identity modes (RbfDeformToLandmarks) is here.
 #pragma once
 
 #include <cstdint>
@@ -19,134 +17,15 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "facerig/offline/build/face_template.h"
-#include "facerig/offline/landmarks/landmarks.h"
-#include "facerig/offline/render/rasterizer.h"
-#include "facerig/runtime/rig.h"
+#include "facerig/offline/photo/camera.h"
+#include "facerig/offline/photo/face_model.h"
+#include "facerig/offline/photo/image.h"
 
 namespace facerig {
-
-// --- landmarks on a photograph (photo_landmarks.cpp) ---
-
-struct PhotoLandmarkParams {
-  // Faces smaller than this (the detection box's larger side) are refused:
-  // the 68 points are unreliable below it, and dlib's detector window is 80 px.
-  int min_face_pixels = 80;
-};
-
-struct PhotoLandmarks {
-  std::vector<glm::vec2> pixels;  // dlib's 68 points, pixel centres (row 0 at the top)
-  ImageFaceBox box;  // the face they were read from
-  int faces_found = 0;
-  std::vector<std::string> notes;  // e.g. "3 faces found; the largest was used"
-};
-
-// The largest face of the photo and its 68 landmarks.
-// \throw InvalidInputError on an empty or inconsistent image.
-// \throw LandmarkDetectionError when no face is found, or the face is smaller
-//        than min_face_pixels (the message gives its size).
-PhotoLandmarks DetectPhotoLandmarks(LandmarkDetector& detector, const RgbImage& photo,
-                                    const PhotoLandmarkParams& params = {});
-
-// --- the linear face model (photo_face_model.cpp) ---
-
-struct PhotoModelParams {
-  // Template blend shapes fitted along with the identity (those the rig lacks are skipped).
-  std::vector<std::string> expressions{"jawOpen",       "mouthSmile_L", "mouthSmile_R", "mouthStretch_L",
-                                       "mouthStretch_R", "mouthFunnel",  "mouthPucker",  "eyeBlink_L",
-                                       "eyeBlink_R",     "browInnerUp",  "browDown_L",   "browDown_R"};
-};
-
-struct PhotoFaceModel {
-  std::vector<glm::vec3> neutral;  // every vertex of the template
-  std::vector<std::vector<glm::vec3>> identity_modes;  // identity mesh - neutral, every vertex
-  std::vector<std::string> expression_names;
-  std::vector<std::vector<glm::vec3>> expression_deltas;  // dense, every vertex
-  std::vector<std::uint32_t> landmark_vertices;  // dlib's 68
-  // Face-region vertices the jaw-line landmarks may move to (the lower face's sides and chin).
-  std::vector<std::uint32_t> contour_candidates;
-  std::vector<Triangle> region_triangles;  // triangles of the face region (contour normals)
-  VertexRange region;
-  // dlib's systematic offset from each landmark vertex (image x right, y down,
-  // fractions of the 68 points' box size), measured on the template's own
-  // neutral; zero when not calibrated. The fit moves each detected point by
-  // it: the model's landmark vertices are not exactly where dlib puts them.
-  std::vector<glm::vec2> landmark_offsets;
-  // What a photo shows of the model (the transparent eye layers left out): the detector's renders.
-  std::vector<Triangle> visible_triangles;
-  std::vector<glm::vec3> visible_albedo;  // per visible triangle: skin, white eyes, dark lashes and mouth
-  // The detector the offsets were measured with (not owned; null: none). With
-  // it FitPhoto measures dlib's offsets again on a render of its own fit.
-  LandmarkDetector* detector = nullptr;
-
-  std::size_t unknown_count() const { return identity_modes.size() + expression_deltas.size(); }
-};
-
-// `identities`: whole meshes with the rig's vertex count (may be empty: the
-// model then has expressions only). With a detector, landmark_offsets are
-// measured on a render of the rig's neutral (LandmarkDetector::Detect).
-// \throw InvalidInputError when the descriptor has no 68 landmark vertices or
-//        an identity mesh has the wrong vertex count; LandmarkDetectionError
-//        when the detector finds no face on the neutral.
-PhotoFaceModel BuildPhotoFaceModel(const Rig& rig, const FaceTemplateInfo& info,
-                                   std::span<const std::vector<glm::vec3>> identities,
-                                   const PhotoModelParams& params = {}, LandmarkDetector* detector = nullptr);
-
-// dlib's offsets (each landmark vertex's projection - dlib's point, in
-// fractions of the 68 points' box; zero for the jaw but the chin) on a
-// render of `positions` (the model's vertices) in the model's visible_albedo through `view`.
-// \throw LandmarkDetectionError when dlib finds no face on the render.
-std::vector<glm::vec2> MeasureDlibOffsets(const PhotoFaceModel& model, std::span<const glm::vec3> positions,
-                                          RasterView view, LandmarkDetector& detector);
-
-// identity000.obj, identity001.obj, ... from `folder` while they exist (at most
-// max_count), read through ReadObj (input_file.h checks).
-// \throw IoError on an unreadable file; InvalidInputError when one's vertex
-//        count differs from `vertex_count`.
-std::vector<std::vector<glm::vec3>> LoadIdentityMeshes(const std::filesystem::path& folder, std::size_t vertex_count,
-                                                       std::size_t max_count = 100);
-
-// --- the fit (photo_camera_fit.cpp, photo_shape_fit.cpp) ---
-
-// Scaled orthographic camera: pixel = (w/2 + s r0.x + tx, h/2 - (s r1.x + ty)).
-struct ScaledOrthoCamera {
-  glm::mat3 rotation{1.0f};  // rows: camera right, up, towards the viewer (world coordinates)
-  float scale = 1.0f;  // pixels per model unit
-  glm::vec2 translation{0.0f};  // pixels, y up, from the image centre
-};
-
-// The least-squares affine camera from 2D-3D pairs, then the nearest scaled
-// rotation (SVD) and its translation. \pre points.size() == pixels.size() >= 4.
-// \throw InvalidInputError on mismatched sizes, too few points or a degenerate configuration.
-ScaledOrthoCamera FitScaledOrthoCamera(std::span<const glm::vec3> points, std::span<const glm::vec2> pixels,
-                                       std::span<const float> weights, int width, int height);
-
-glm::vec2 ProjectPixel(const ScaledOrthoCamera& camera, glm::vec3 point, int width, int height);
-
-// The same camera as a RasterView of a width x height image: Rasterize(mesh,
-// view) overlays the mesh on the photo. `depth_centre`: a point of the model
-// (its depth sets the view's centre along the viewing axis).
-RasterView ToRasterView(const ScaledOrthoCamera& camera, int width, int height, glm::vec3 depth_centre);
-
-// --- a perspective camera (photo_perspective.cpp) ---
-
-// Where a scaled orthographic camera along `camera`'s axis would see each of
-// `points` that a perspective camera `distance` (model units) from their
-// centroid shows at `pixels`: each pixel moved from the image centre (the
-// principal point) by its point's depth over the centroid's. `distance` <= 0
-// or mismatched sizes: the pixels unchanged.
-std::vector<glm::vec2> OrthographicPixels(std::span<const glm::vec2> pixels, std::span<const glm::vec3> points,
-                                          const ScaledOrthoCamera& camera, float distance, int width, int height);
-
-// The perspective view `distance` from `depth_centre` (on the camera's axis
-// through the image centre) with the camera's rotation and, at depth_centre's
-// depth, its scale: it projects as the photo's camera when the fit used
-// OrthographicPixels. `distance` <= 0: ToRasterView.
-RasterView ToPerspectiveView(const ScaledOrthoCamera& camera, int width, int height, glm::vec3 depth_centre,
-                             float distance);
 
 struct PhotoShadingParams {
   int iterations = 4;
@@ -266,7 +145,7 @@ PhotoFit RefinePhotoFitByShading(const PhotoFaceModel& model, const RgbImage& ph
 PhotoFit FitPhoto(const PhotoFaceModel& model, const RgbImage& photo, std::span<const glm::vec2> landmarks,
                   const PhotoFitParams& params = {});
 
-// --- the fallback without identity modes (photo_rbf_fit.cpp) ---
+// The fallback without identity modes (rbf_fit.cpp).
 
 // Moves `positions` so that each landmark vertex projects onto its pixel:
 // the image-plane offsets at the landmark vertices (depth unchanged, from the
@@ -276,14 +155,5 @@ PhotoFit FitPhoto(const PhotoFaceModel& model, const RgbImage& photo, std::span<
 // \throw InvalidInputError on mismatched sizes or an index out of range.
 void RbfDeformToLandmarks(std::span<glm::vec3> positions, std::span<const std::uint32_t> vertices,
                           std::span<const glm::vec2> pixels, const ScaledOrthoCamera& camera, int width, int height);
-
-// --- debug picture (photo_debug.cpp) ---
-
-// The photo with the detection box (yellow), dlib's 68 landmarks (green; jaw
-// cyan) and the fitted model's projected landmarks (red), joined by lines.
-RgbImage DrawPhotoFit(const RgbImage& photo, const PhotoLandmarks& landmarks, const PhotoFit& fit);
-// DrawPhotoFit written as PNG. \throw std::runtime_error when writing fails.
-void WritePhotoFitPng(const std::filesystem::path& path, const RgbImage& photo, const PhotoLandmarks& landmarks,
-                      const PhotoFit& fit);
 
 }  // namespace facerig

@@ -38,6 +38,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/photo/hair.h"
+#include "facerig/offline/photo/skin_mask.h"
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/runtime/material.h"
 #include "facerig/runtime/mesh.h"
@@ -122,68 +124,6 @@ struct PhotoTexture {
   Material material;            // white, textured by `image` (index set by ApplyPhotoTexture)
   PhotoTextureStats stats;
 };
-
-// Where the photo shows the face's skin: a weight in [0, 1] per photo pixel
-// over a window of the photo (0 outside it). Photo pixels count for the
-// texture (directly and mirrored) only by this weight, so the background
-// beside the face, hair and the inside of an open mouth never land on the
-// skin. An empty mask lets every pixel count.
-struct PhotoSkinMask {
-  int left = 0, top = 0, width = 0, height = 0;  // the window, photo pixels
-  std::vector<float> weight;  // width x height, row-major
-
-  bool empty() const { return weight.empty(); }
-  float At(int x, int y) const;
-};
-
-struct PhotoSkinMaskParams {
-  // How far the forehead reaches above the brows, as a fraction of the
-  // brows' height above the chin (a face's thirds: about one half).
-  float forehead = 0.5f;
-  // The soft edge's width as a fraction of the face size (the 68 points' box).
-  float softness = 0.025f;
-  // CIELAB distance from the cheeks' colour at which a pixel outside the
-  // inner face stops counting as skin, from full to none. Lightness counts
-  // less (shading), a* and b* more: blond or brown hair is as light as
-  // shaded skin but yellower and less red.
-  float skin_distance_full = 12.0f, skin_distance_none = 20.0f;
-  float lightness_weight = 0.4f, chroma_weight = 1.5f;
-};
-
-// The mask of dlib's 68 landmarks on the photo: inside the jaw line extended
-// up to the forehead, softly edged; between the inner face (brows, eyes, nose
-// and mouth, trusted whatever their colour) and that outline only pixels near
-// the cheeks' colour; none inside the inner lips (60-67: teeth and the dark
-// of an open mouth).
-// \throw InvalidInputError when landmarks.size() != 68 or the photo's pixels do not match its size.
-PhotoSkinMask BuildPhotoSkinMask(const RgbImage& photo, std::span<const glm::vec2> landmarks,
-                                 const PhotoSkinMaskParams& params = {});
-
-// For looking at: the photo darkened and tinted blue where the mask leaves
-// it out (by 1 - weight). \pre the mask empty or of this photo.
-RgbImage ShadeOutsideSkinMask(const RgbImage& photo, const PhotoSkinMask& mask);
-
-// Where the photo shows the head (face and hair, not the background), from
-// GrabCut on a scaled copy of the window round the face, seeded from the
-// landmarks (inside the jaw line: head; the window's edges inside the photo:
-// background); and the hair's colour there.
-struct PhotoHairParams {
-  int work_size = 192;  // pixels a side of the scaled copy GrabCut runs on
-  int iterations = 3;
-};
-
-struct PhotoHair {
-  // Per photo pixel, the weight with which it shows the head (hair or skin);
-  // empty when the head could not be told from the background.
-  PhotoSkinMask head;
-  glm::vec3 colour{0.0f};  // sRGB in [0, 1]: the median of the head's pixels above the brows that are not skin
-  bool found = false;      // enough such pixels for a colour
-};
-
-// `skin`: BuildPhotoSkinMask of the same photo and landmarks.
-// \throw InvalidInputError when landmarks.size() != 68 or the photo's pixels do not match its size.
-PhotoHair FindPhotoHair(const RgbImage& photo, std::span<const glm::vec2> landmarks, const PhotoSkinMask& skin,
-                        const PhotoHairParams& params = {});
 
 // \pre mesh.Validate(), corner UVs, the camera valid for Rasterize, the photo
 // width x height x 3 bytes and the same size as the camera's image.

@@ -3,11 +3,15 @@
 // correspondence with its neutral S_0, are transferred onto a target neutral
 // T_0 of the same topology (or a template fitted to the target).
 //
-// libigl-style pair: PrecomputeDeformationTransfer factorizes the sparse
-// normal equations U^T U once per target; SolveDeformationTransfer then costs
-// one back-substitution per expression. DeformationTransfer does both for a
-// whole set of expressions on several threads (results do not depend on the
-// thread count).
+// libigl-style pair: PrecomputeDeformationTransfer assembles the sparse normal
+// equations U^T U once per target; SolveDeformationTransfer solves one
+// expression. By default (still pinning, DeformationTransferParams::
+// still_fraction > 0) each expression pins what it leaves still and factorizes
+// the system of the vertices it moves: one small factorization per expression.
+// With still_fraction = 0 the precomputation factorizes one system shared by
+// every expression, and each solve is a back-substitution. DeformationTransfer
+// does both for a whole set of expressions on several threads (results do not
+// depend on the thread count).
 //
 // Positions are in the meshes' own units; both meshes are expected in the
 // same frame and at a similar scale (rigidly aligned).
@@ -88,7 +92,7 @@ struct DeformationTransferParams {
   // Weak displacement prior (0: off, pure deformation transfer): every free
   // vertex is also pulled towards target rest + displacement_scale * template
   // displacement with this weight relative to the system's mean diagonal.
-  // Still one factorization (the prior adds a constant diagonal). It blends
+  // It adds a constant diagonal, so the sparsity is unchanged. It blends
   // towards displacement transfer where the gradients leave the position
   // loosely held: on thin features (lids, lip rolls, eyeWide's brow-to-lid
   // skin) the gradient solve rotates the template's deltas with the target's
@@ -153,8 +157,8 @@ struct DeformationTransferParams {
   int threads = 2;
 };
 
-// The factorized system for one target (one source neutral / target neutral
-// pair and one anchor set). Movable; used read-only by the solves, so one
+// The assembled (and, without still pinning, factorized) system for one
+// target (one source neutral / target neutral pair and one anchor set). Movable; used read-only by the solves, so one
 // instance serves several threads.
 struct DeformationTransferData {
   DeformationTransferData();
@@ -178,7 +182,7 @@ struct DeformationTransferData {
   std::unique_ptr<Impl> impl;
 };
 
-// Builds and factorizes the system for a target.
+// Builds the system for a target (and factorizes it when still_fraction is 0).
 // source: the template's neutral mesh; target_neutral: #V positions on its topology.
 // source_expressions: the template's expressions (each #V), used only to find
 // the static anchor set when params.anchor_vertices is empty (may then not be empty).
