@@ -16,8 +16,8 @@
 # built programs, build/data and data/ are copies (an example cannot change
 # the repository), and ../shared links to the shared data beside the
 # repository, so the examples run exactly as written from the repository root.
-# A file stops at its first failing command (later ones usually need its
-# output); the script goes on with the next file and exits 1 if any command
+# A block stops at its first failing command (later ones usually need its
+# output); the script goes on with the next block and exits 1 if any command
 # exited non-zero (or ran longer than FACERIG_DOC_EXAMPLE_TIMEOUT seconds,
 # default 600). The work folder is removed unless something failed or
 # FACERIG_DOC_EXAMPLES_KEEP=1.
@@ -37,14 +37,15 @@ else
   files=("$repo/README.md" "$repo"/docs/*.md)
 fi
 
-# Prints the runnable commands of one Markdown file as "LINE<TAB>COMMAND",
-# continuation lines joined, one per line.
+# Prints the runnable commands of one Markdown file as
+# "BLOCK<TAB>LINE<TAB>COMMAND", continuation lines joined, one per line.
 extract_commands() {
   awk '
-    function flush() { if (command != "") print start "\t" command; command = "" }
+    function flush() { if (command != "") print block "\t" start "\t" command; command = "" }
     /^```/ {
       if (!in_block) {
         in_block = 1
+        block++
         info = substr($0, 4)
         run = (info ~ /^sh([ \t]|$)/) && (info !~ /(^|[ \t])no-run([ \t]|$)/)
       } else {
@@ -69,7 +70,7 @@ extract_commands() {
 
 if ((list_only)); then
   for file in "${files[@]}"; do
-    while IFS=$'\t' read -r line command; do
+    while IFS=$'\t' read -r block line command; do
       printf '%s:%s: %s\n' "${file#"$repo"/}" "$line" "$command"
     done < <(extract_commands "$file")
   done
@@ -99,7 +100,9 @@ for file in "${files[@]}"; do
   cp -r "$build/data" "$root/build/data"
   cp -r "$repo/data" "$root/data"
   [[ -e $shared ]] && ln -s "$shared" "$work/$name/shared"
-  while IFS=$'\t' read -r line command; do
+  failed_block=0
+  while IFS=$'\t' read -r block line command; do
+    ((block == failed_block)) && continue
     where="${file#"$repo"/}:$line"
     echo "==> $where: $command"
     commands_run=$((commands_run + 1))
@@ -109,13 +112,13 @@ for file in "${files[@]}"; do
       tail -n 30 "$work/$name/last.log" | sed 's/^/    /'
       echo "FAILED (exit $status): $where" >&2
       failures=$((failures + 1))
-      break
+      failed_block=$block
     fi
   done < <(extract_commands "$file")
 done
 
 if ((failures > 0)); then
-  echo "run-doc-examples: $failures file(s) stopped at a failing example ($commands_run commands run); work folder kept: $work" >&2
+  echo "run-doc-examples: $failures example(s) failed ($commands_run commands run); work folder kept: $work" >&2
   exit 1
 fi
 echo "run-doc-examples: all $commands_run commands passed"
