@@ -2,11 +2,13 @@
 // command line. Links espeak-ng through facerig::espeak, so this program is GPL-3.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/rig_warnings.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/speech/phoneme_source.h"
@@ -50,13 +52,18 @@ int main(int argc, char** argv) {
       std::cerr << *message << '\n';
       return 1;
     }
-  } else {
-    try {
+  }
+  try {
+    if (options.headless) {
       CheckHeadlessOutputs(options);
-    } catch (const std::exception& e) {
-      std::cerr << "facerig-player: " << e.what() << '\n';
-      return 1;
+    } else {
+      for (const std::filesystem::path& output : {options.screenshot, options.timing_json}) {
+        if (!output.empty()) facerig::CheckOutputFolder(output);
+      }
     }
+  } catch (const std::exception& e) {
+    std::cerr << "facerig-player: " << e.what() << '\n';
+    return 1;
   }
 
   const std::filesystem::path rig_path = RigPath(options);
