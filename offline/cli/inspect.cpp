@@ -209,6 +209,9 @@ int RunConvert(const RigFileOptions& options) {
     if (obj && rig.shape_count() > 0) return RefuseShapesInObj(output, rig.shape_count());
     const double load_seconds = SecondsSince(start);
     CommandReport report{"convert", {{"rig", options.paths[0]}}, {{"rig", output}}, SpeechAndBlinkWarnings(rig)};
+    for (const RigWarning& warning : report.warnings) {  // the naming warnings were printed as the names were made
+      std::fprintf(stderr, "facerig: warning: %s\n", warning.message.c_str());
+    }
     AddShapeNamingWarnings(names, report.warnings);
     std::uintmax_t bytes = 0;
     // One set: an OBJ's MTL and images (and the report) arrive with it, or nothing changes.
