@@ -110,27 +110,48 @@ void RenderFrames(const PlayerOptions& options, const std::filesystem::path& fra
   result->timing = timer.Summarize();
 }
 
+bool IsFrameName(const std::filesystem::path& name) {
+  return name.string().rfind("frame_", 0) == 0 && name.extension() == ".png";
+}
+
+// The WAV the speech goes into beside an MP4 when there is no --wav: FILE.mp4 -> FILE.wav.
+std::filesystem::path Mp4Wav(const PlayerOptions& options) {
+  std::filesystem::path wav = options.mp4;
+  return wav.replace_extension(".wav");
+}
+
+// The names of the file outputs that go directly inside the frames folder (a
+// WAV beside its frames): they are replaced with it.
+std::vector<std::string> OutputsInsideFrames(const PlayerOptions& options, bool mp4_wav) {
+  namespace fs = std::filesystem;
+  const auto normal = [](const fs::path& path) {
+    fs::path absolute = fs::absolute(path).lexically_normal();
+    return absolute.has_filename() ? absolute : absolute.parent_path();
+  };
+  const fs::path frames = normal(options.frames_dir);
+  std::vector<std::string> names;
+  for (const fs::path& file : {options.wav, options.mp4, mp4_wav ? Mp4Wav(options) : fs::path(), options.timing_json}) {
+    if (!file.empty() && normal(file).parent_path() == frames) names.push_back(normal(file).filename().string());
+  }
+  return names;
+}
+
 // The temporary path of each output (OutputSet::Add); empty for those not written.
-TemporaryOutputs AddOutputs(const PlayerOptions& options, const SpeechLine& speech, OutputSet& set,
-                            std::ostream& log) {
+TemporaryOutputs AddOutputs(const PlayerOptions& options, bool has_speech, OutputSet& set, std::ostream* log) {
   TemporaryOutputs outputs;
-  // The frames folder is replaced as a whole: only one holding nothing but frames.
-  const ReplaceableFolder frames_folder{
-      [](const std::filesystem::path& name) {
-        return name.string().rfind("frame_", 0) == 0 && name.extension() == ".png";
-      },
-      "frame_NNNNN.png files", "--frames"};
+  const bool mp4_wav = !options.mp4.empty() && options.wav.empty() && has_speech;
+  // The frames folder is replaced as a whole: only one holding nothing but
+  // frames (and this run's other outputs that go inside it).
+  const ReplaceableFolder frames_folder{[](const std::filesystem::path& name) { return IsFrameName(name); },
+                                        "frame_NNNNN.png files", "--frames", OutputsInsideFrames(options, mp4_wav)};
   outputs.frames = set.Add(options.frames_dir, OutputSet::Kind::kFolder, frames_folder);
   if (!options.wav.empty()) outputs.wav = set.Add(options.wav, OutputSet::Kind::kFile);
   if (!options.mp4.empty()) {
-    if (options.wav.empty() && !speech.audio.empty()) {  // the speech goes into a WAV next to the MP4
-      std::filesystem::path wav = options.mp4;
-      outputs.mp4_wav = set.Add(wav.replace_extension(".wav"), OutputSet::Kind::kFile);
-    }
+    if (mp4_wav) outputs.mp4_wav = set.Add(Mp4Wav(options), OutputSet::Kind::kFile);  // the speech, next to the MP4
     if (HasFfmpeg()) {
       outputs.mp4 = set.Add(options.mp4, OutputSet::Kind::kFile);
-    } else {
-      log << "warning: --mp4 needs ffmpeg (Debian: ffmpeg); not written\n";
+    } else if (log != nullptr) {
+      *log << "warning: --mp4 needs ffmpeg (Debian: ffmpeg); not written\n";
     }
   }
   if (!options.timing_json.empty()) outputs.timing_json = set.Add(options.timing_json, OutputSet::Kind::kFile);
@@ -139,7 +160,7 @@ TemporaryOutputs AddOutputs(const PlayerOptions& options, const SpeechLine& spee
 
 // --wav, --mp4 (with the speech in a WAV next to it when there is no --wav) and --timing.
 void WriteSpeechVideoAndTiming(const PlayerOptions& options, const Rig& rig, const TemporaryOutputs& outputs,
-                               const HeadlessResult& result) {
+                               HeadlessResult& result) {
   const SpeechLine& speech = result.speech;
   const int rate = speech.sample_rate > 0 ? speech.sample_rate : EspeakPhonemeSource::kSampleRate;
   // The WAV starts with frame 0: the lead-in is silence, so any tool muxes the two in sync.
@@ -147,6 +168,8 @@ void WriteSpeechVideoAndTiming(const PlayerOptions& options, const Rig& rig, con
   audio.insert(audio.end(), speech.audio.begin(), speech.audio.end());
   if (!outputs.wav.empty()) WriteWav(outputs.wav, audio, rate);
   if (!outputs.mp4_wav.empty()) WriteWav(outputs.mp4_wav, audio, rate);
+  result.wav_samples = audio.size();
+  result.wav_rate = rate;
   ThrowIfStopped();
   if (!outputs.mp4.empty()) WriteMp4(options, outputs, outputs.wav.empty() ? outputs.mp4_wav : outputs.wav);
   ThrowIfStopped();
@@ -190,7 +213,7 @@ HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::os
   }
   ThrowIfStopped();
   OutputSet set;  // removes the temporaries on any exception
-  const TemporaryOutputs outputs = AddOutputs(options, result.speech, set, log);
+  const TemporaryOutputs outputs = AddOutputs(options, !result.speech.audio.empty(), set, &log);
   try {
     RenderAndWrite(rig, options, outputs, &result, log);
     ThrowIfStopped();
@@ -200,9 +223,14 @@ HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::os
     throw std::runtime_error(set.WithFinalPaths(e.what()) + "; the previous outputs are unchanged");
   }
   set.Commit();  // signals are not checked from here on: the set goes in place whole
-
-  if (!outputs.mp4.empty()) log << "wrote " << options.mp4.string() << '\n';
+  result.mp4_written = !outputs.mp4.empty();
   return result;
+}
+
+void CheckHeadlessOutputs(const PlayerOptions& options) {
+  OutputSet set;  // its temporaries go with it
+  const bool may_speak = !options.say.empty() || !options.audio.empty() || !options.track.empty();
+  AddOutputs(options, may_speak, set, nullptr);
 }
 
 Image RenderNeutral(const Rig& rig, int width, int height) {

@@ -31,6 +31,9 @@ struct HeadlessResult {
   float mouth_radius_pixels = 0.0f;           // about half the mouth width in pixels
   TimingSummary timing;
   std::vector<FrameSample> samples;
+  std::size_t wav_samples = 0;  // in the WAV written: the lead-in's silence and the speech
+  int wav_rate = 0;             // its sample rate
+  bool mp4_written = false;     // false without ffmpeg
 };
 
 // A headless run stopped by SIGINT or SIGTERM: after InstallStopSignalHandlers()
@@ -47,6 +50,13 @@ using facerig::Interrupted;
 // error or Interrupted nothing changes. Progress and warnings go to `log`.
 // Throws std::runtime_error (and subclasses) naming the output's final path.
 HeadlessResult RunHeadless(const Rig& rig, const PlayerOptions& options, std::ostream& log);
+
+// Throws std::runtime_error (naming the path as given) when the outputs of
+// `options` cannot be written as one set: a missing or unwritable folder, an
+// output inside another (other than a file directly in the frames folder), a
+// file named like a frame, a frames folder holding other files. Run before the
+// rig is loaded and the speech made, so that nothing is rendered in vain.
+void CheckHeadlessOutputs(const PlayerOptions& options);
 
 // One frame of the rig at rest (all weights 0, no head motion), for tests.
 Image RenderNeutral(const Rig& rig, int width, int height);

@@ -1,11 +1,14 @@
 // facerig-player: type text, the face speaks. See player_options.cpp for the
 // command line. Links espeak-ng through facerig::espeak, so this program is GPL-3.
+#include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "facerig/runtime/error.h"
+#include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/rig_warnings.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/speech/phoneme_source.h"
@@ -13,6 +16,18 @@
 #include "player_options.h"
 #include "recorded_speech.h"
 #include "window_player.h"
+
+namespace {
+
+// "89352 samples at 22050 Hz, 4.052 s": what the WAV holds, the lead-in's silence included.
+std::string WavSummary(const facerig::player::HeadlessResult& result) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%zu samples at %d Hz, %.3f s", result.wav_samples, result.wav_rate,
+                result.wav_rate > 0 ? static_cast<double>(result.wav_samples) / result.wav_rate : 0.0);
+  return text;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace facerig::player;
@@ -31,12 +46,24 @@ int main(int argc, char** argv) {
     std::cout << UsageText();
     return 0;
   }
-  // Before loading anything: without a display the answer is immediate.
+  // Before loading anything: without a display, or with outputs that cannot be written, the answer is immediate.
   if (!options.headless) {
     if (const std::optional<std::string> message = NoDisplayMessage()) {
       std::cerr << *message << '\n';
       return 1;
     }
+  }
+  try {
+    if (options.headless) {
+      CheckHeadlessOutputs(options);
+    } else {
+      for (const std::filesystem::path& output : {options.screenshot, options.timing_json}) {
+        if (!output.empty()) facerig::CheckOutputFolder(output);
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "facerig-player: " << e.what() << '\n';
+    return 1;
   }
 
   const std::filesystem::path rig_path = RigPath(options);
@@ -65,10 +92,8 @@ int main(int argc, char** argv) {
     std::cout << "OpenGL: " << result.gl_description << '\n';
     std::cout << "wrote " << result.frames.size() << " frames (" << options.width << "x" << options.height << ", "
               << options.fps << " fps) to " << options.frames_dir.string() << '\n';
-    if (!options.wav.empty()) {
-      std::cout << "wrote " << options.wav.string() << " (" << result.speech.audio.size() << " samples, "
-                << result.speech.audio_duration() << " s)\n";
-    }
+    if (!options.wav.empty()) std::cout << "wrote " << options.wav.string() << " (" << WavSummary(result) << ")\n";
+    if (result.mp4_written) std::cout << "wrote " << options.mp4.string() << '\n';
     std::cout << FormatSummary(result.timing, "facerig-player --headless " + rig_name);
     if (!options.timing_json.empty()) std::cout << "wrote " << options.timing_json.string() << '\n';
     return 0;

@@ -8,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/options.h"  // InRange
+
 namespace facerig::player {
 namespace {
 
@@ -20,10 +22,7 @@ double ParseNumber(const std::string& flag, const std::string& text) {
   return value;
 }
 
-}  // namespace
-
-std::string UsageText() {
-  return R"(facerig-player: type text, the face speaks (SDL2 + OpenGL 3.3; espeak-ng, GPL-3)
+constexpr const char* kDescription = R"(facerig-player: type text, the face speaks (SDL2 + OpenGL 3.3; espeak-ng, GPL-3)
 
 usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]... [--still]
                       [--timing FILE.json]
@@ -31,45 +30,17 @@ usage: facerig-player [--rig FILE] [--say TEXT] [--voice V] [--emotion NAME[:I]]
        facerig-player [--quit-after S] [--screenshot FILE.png]
        facerig-player --headless --frames DIR [--wav FILE] [--mp4 FILE] [--fps 30]
                       [--size WxH] [--duration S] [--lead-in S] [--yaw D] [--say TEXT] [--hud] ...
-       facerig-player --version
+       facerig-player --version)";
 
-  --rig FILE       .glb, .gltf, .frig or an OBJ template folder
-                   (default: the built-in head installed with the player in
-                   ../share/facerig/, or the build's, else ../shared/data/ict-facekit)
-  --say TEXT       speak TEXT at start
-  --voice V        espeak-ng voice / language (default en-us)
-  --audio FILE     speak a recording (WAV, FLAC, Ogg, ...) instead of synthesized text, with
-                   --text TEXT, its transcript (aligned at start; --voice: its language), or
-                   --track FILE.json, its phoneme track (e.g. from `facerig align`; the
-                   track's "audio" is used when --audio is not given), or alone: the rough
-                   mode, a coarse mouth from loudness and spectrum (no phonemes; p, b, m
-                   do not close the lips)
-  --emotion E[:I]  joy, sadness, fear, anger, surprise or disgust at intensity I (default 0.7)
-  --still          no idle head motion or eye saccades (blinks stay)
-  --msaa N         anti-aliasing samples: 0, 2, 4 (default) or 8
-  --yaw D          start with the camera turned D degrees about the head (positive: towards
-                   the face's left; -180..180); --pitch D: from above (-80..80)
-  --timing FILE    write per-frame CPU timing (update, blend, normals, upload, draw) as JSON
-  --quit-after S   window: quit after S seconds; --screenshot FILE saves the last frame (PNG)
-  --headless       no window and no sound card: render offscreen (EGL), animation time =
-                   frame / fps; writes DIR/frame_00000.png ... and the speech as a WAV
-  --lead-in S      headless: the speech starts S seconds after frame 0 (default 0.3), so the
-                   first frame is the face at rest; the WAV starts with frame 0 (S seconds of
-                   silence, then the speech), so frames and WAV mux in sync
-  --hud            headless: draw the HUD into the frames
-  --version        print the version and exit
-
-exit codes: 0 ok, 1 failure, 2 bad command line, 130 / 143 headless run stopped by
+constexpr const char* kFooter = R"(exit codes: 0 ok, 1 failure, 2 bad command line, 130 / 143 headless run stopped by
 SIGINT / SIGTERM. Headless outputs are written as one set: a failed or stopped run
-leaves the previous frames, WAV, MP4 and timing JSON as they were.
+leaves the previous frames, WAV, MP4 and timing JSON as they were. The WAV, MP4 and
+timing JSON may go inside the frames folder (--frames out/ --wav out/speech.wav);
+output folders must exist (only the frames folder itself is created).
 
 window keys: type a line and press Enter to speak it (Up/Down: history); with an empty line:
   1-6 toggle joy, sadness, fear, anger, surprise, disgust; +/- intensity; space pause;
-  Esc quit. Drag to orbit, scroll to zoom, Tab resets the camera. --size WxH sizes the window.
-)";
-}
-
-namespace {
+  Esc quit. Drag to orbit, scroll to zoom, Tab resets the camera. --size WxH sizes the window.)";
 
 // --emotion NAME[:I] appended to `emotions`.
 void AddEmotion(const std::string& text, std::vector<std::pair<Emotion, float>>& emotions) {
@@ -80,7 +51,10 @@ void AddEmotion(const std::string& text, std::vector<std::pair<Emotion, float>>&
                      "' (joy, sadness, fear, anger, surprise, disgust)");
   }
   const double intensity = colon == std::string::npos ? 0.7 : ParseNumber("--emotion", text.substr(colon + 1));
-  emotions.emplace_back(*emotion, static_cast<float>(std::clamp(intensity, 0.0, 1.0)));
+  if (intensity < 0.0 || intensity > 1.0) {
+    throw UsageError("--emotion: intensity " + text.substr(colon + 1) + " of '" + text + "' is outside [0, 1]");
+  }
+  emotions.emplace_back(*emotion, static_cast<float>(intensity));
 }
 
 // --size WxH into width and height.
@@ -89,39 +63,77 @@ void SetSize(const std::string& text, PlayerOptions& options) {
   if (x == std::string::npos) throw UsageError("--size: expected WxH, got '" + text + "'");
   const double w = ParseNumber("--size", text.substr(0, x)), h = ParseNumber("--size", text.substr(x + 1));
   if (w < 16 || h < 16 || w > 8192 || h > 8192 || w != std::floor(w) || h != std::floor(h)) {
-    throw UsageError("--size: width and height must be whole numbers in [16, 8192]");
+    throw UsageError("--size: '" + text + "': width and height must be whole numbers in [16, 8192]");
   }
   options.width = static_cast<int>(w);
   options.height = static_cast<int>(h);
 }
 
+void AddHeadlessOptions(CLI::App& app, PlayerOptions& options) {
+  const char* group = "Headless (no window, no sound card)";
+  app.add_flag("--headless", options.headless,
+               "render offscreen (EGL) at a fixed frame rate: animation time = frame / fps")
+      ->group(group);
+  app.add_option("--frames", options.frames_dir, "DIR: write DIR/frame_00000.png ... (needed by --headless)")
+      ->group(group);
+  app.add_option("--wav", options.wav, "FILE: write the speech as a WAV that starts with frame 0 (may be in DIR)")
+      ->group(group);
+  app.add_option("--mp4", options.mp4,
+                 "FILE: also mux the frames and the speech into an MP4 (needs ffmpeg; may be in DIR; without\n"
+                 "--wav the speech also goes into FILE's name with .wav)")
+      ->group(group);
+  app.add_option("--fps", options.fps, "N: frames per second (default 30; 0.1 to 1000)")
+      ->check(facerig::cli::InRange(0.1, 1000.0))
+      ->group(group);
+  app.add_option("--duration", options.duration,
+                 "S: seconds to render, 0.001 to 3600 (default: lead-in + speech + 0.6 s, at least 1 s)")
+      ->check(facerig::cli::InRange(0.001, 3600.0))
+      ->group(group);
+  app.add_option("--lead-in", options.lead_in,
+                 "S: the speech starts S seconds after frame 0 (default 0.3, up to 60), so the first frame is the\n"
+                 "face at rest; the WAV holds those S seconds of silence, so frames and WAV mux in sync")
+      ->check(facerig::cli::InRange(0.0, 60.0))
+      ->group(group);
+  app.add_flag("--hud", options.hud, "draw the HUD into the frames")->group(group);
+}
+
+// Every option with its description: --help is generated from these.
 void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::string>& emotions, std::string& size) {
   app.set_help_flag();  // -h/--help set options.help: main prints UsageText()
-  app.add_flag("-h,--help", options.help);
-  app.add_flag("--version", options.version);
-  app.add_option("--rig", options.rig);
-  app.add_option("--say", options.say);
-  app.add_option("--voice", options.voice);
-  app.add_option("--audio", options.audio);
-  app.add_option("--text", options.text);
-  app.add_option("--track", options.track);
-  app.add_option("--emotion", emotions)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  app.add_flag("--still", options.still);
-  app.add_flag("--hud", options.hud);
-  app.add_option("--timing", options.timing_json);
-  app.add_flag("--headless", options.headless);
-  app.add_option("--frames", options.frames_dir);
-  app.add_option("--wav", options.wav);
-  app.add_option("--mp4", options.mp4);
-  app.add_option("--fps", options.fps)->check(CLI::Range(1e-9, 1000.0));
-  app.add_option("--duration", options.duration)->check(CLI::Range(1e-9, 3600.0));
-  app.add_option("--msaa", options.msaa)->check(CLI::IsMember({0, 2, 4, 8}));
-  app.add_option("--yaw", options.yaw_degrees)->check(CLI::Range(-180.0f, 180.0f));
-  app.add_option("--pitch", options.pitch_degrees)->check(CLI::Range(-80.0f, 80.0f));
-  app.add_option("--quit-after", options.quit_after)->check(CLI::NonNegativeNumber);
-  app.add_option("--screenshot", options.screenshot);
-  app.add_option("--lead-in", options.lead_in)->check(CLI::Range(0.0, 60.0));
-  app.add_option("--size", size);
+  app.add_flag("-h,--help", options.help, "print this help and exit");
+  app.add_flag("--version", options.version, "print the version and exit");
+  app.add_option("--rig", options.rig,
+                 "FILE: .glb, .gltf, .frig or an OBJ template folder (default: the built-in head installed with the\n"
+                 "player in ../share/facerig/, or the build's, else ../shared/data/ict-facekit)");
+  app.add_option("--say", options.say, "TEXT: speak TEXT at start");
+  app.add_option("--voice", options.voice, "V: espeak-ng voice / language (default en-us)");
+  app.add_option("--audio", options.audio,
+                 "FILE: speak a recording (WAV, FLAC, Ogg, ...) instead of synthesized text, with --text (its\n"
+                 "transcript, aligned at start) or --track, or alone: the rough mode, a coarse mouth from loudness\n"
+                 "and spectrum (no phonemes; p, b, m do not close the lips)");
+  app.add_option("--text", options.text, "TEXT: the transcript of --audio (--voice: its language)");
+  app.add_option("--track", options.track,
+                 "FILE.json: a phoneme track (e.g. from `facerig align`); its \"audio\" is used without --audio");
+  app.add_option("--emotion", emotions,
+                 "E[:I]: joy, sadness, fear, anger, surprise or disgust at intensity I (default 0.7); repeatable")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_flag("--still", options.still, "no idle head motion or eye saccades (blinks stay)");
+  app.add_option("--msaa", options.msaa, "N: anti-aliasing samples: 0, 2, 4 (default) or 8")
+      ->check(CLI::IsMember({0, 2, 4, 8}));
+  app.add_option("--yaw", options.yaw_degrees,
+                 "D: start with the camera turned D degrees about the head (-180..180; positive: towards the\n"
+                 "face's left)")
+      ->check(facerig::cli::InRange(-180.0f, 180.0f));
+  app.add_option("--pitch", options.pitch_degrees, "D: the camera D degrees from above (-80..80)")
+      ->check(facerig::cli::InRange(-80.0f, 80.0f));
+  app.add_option("--size", size, "WxH: frame size in pixels, 16..8192 each (default 640x480; the window's too)");
+  app.add_option("--timing", options.timing_json,
+                 "FILE: write per-frame CPU timing (update, blend, normals, upload, draw) as JSON");
+  app.add_option("--quit-after", options.quit_after, "S: window: quit after S seconds (default: when closed)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--screenshot", options.screenshot, "FILE.png: window: save the last frame");
+  AddHeadlessOptions(app, options);
 }
 
 // --audio, --text and --track: a recording with its transcript, its track, or
@@ -139,7 +151,7 @@ PlayerOptions ParseOptions(const std::vector<std::string>& args) {
   PlayerOptions options;
   std::vector<std::string> emotions;
   std::string size;
-  CLI::App app("facerig-player", "facerig-player");
+  CLI::App app(kDescription, "facerig-player");
   AddPlayerOptions(app, options, emotions, size);
   try {
     app.parse(std::vector<std::string>(args.rbegin(), args.rend()));  // CLI11 takes them reversed
@@ -160,6 +172,31 @@ PlayerOptions ParseOptions(const std::vector<std::string>& args) {
     throw UsageError("--frames, --wav and --mp4 need --headless");
   }
   return options;
+}
+
+std::string UsageText() {
+  PlayerOptions options;
+  std::vector<std::string> emotions;
+  std::string size;
+  CLI::App app(kDescription, "facerig-player");
+  AddPlayerOptions(app, options, emotions, size);
+  app.footer(kFooter);
+  app.get_formatter()->column_width(24);
+  app.get_formatter()->label("OPTIONS", "OPTIONS");
+  return app.help();
+}
+
+std::vector<std::string> OptionsWithoutDescription() {
+  PlayerOptions options;
+  std::vector<std::string> emotions;
+  std::string size;
+  CLI::App app(kDescription, "facerig-player");
+  AddPlayerOptions(app, options, emotions, size);
+  std::vector<std::string> missing;
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->get_description().empty()) missing.push_back(option->get_name());
+  }
+  return missing;
 }
 
 std::filesystem::path DefaultRigPath(const std::filesystem::path& executable) {

@@ -62,7 +62,10 @@ struct PlayerOptions {
 
 // Throws UsageError.
 PlayerOptions ParseOptions(const std::vector<std::string>& args);
+// --help: generated from the options' definitions (each with its description).
 std::string UsageText();
+// The options defined without a description (for the test that there are none).
+std::vector<std::string> OptionsWithoutDescription();
 
 // The built-in head installed beside the player (BINDIR/../share/facerig/default_head.frig, found
 // from the running executable, so an installed tree works from any folder), else the one the build

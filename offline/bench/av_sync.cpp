@@ -44,10 +44,12 @@ void AddAvSyncOptions(CLI::App& app, AvSyncOptions& o) {
                  "librivox)");
   app.add_option("--player", o.player, "the facerig-player executable (default: the one built with this bench)");
   app.add_option("--work", o.work_dir, "folder for frames, WAVs and MP4s (replaced per recording)");
-  app.add_option("--fps", o.fps, "frames per second of the render and the mux (default 100)");
-  app.add_option("--width", o.width, "frame width (default 160)");
-  app.add_option("--height", o.height, "frame height (default 120)");
-  app.add_option("--late", o.late_seconds, "the control track's delay in seconds (default 0.050)");
+  app.add_option("--fps", o.fps, "frames per second of the render and the mux (default 100)")
+      ->check(facerig::cli::InRange(1, 1000));
+  app.add_option("--width", o.width, "frame width (default 160)")->check(facerig::cli::InRange(16, 8192));
+  app.add_option("--height", o.height, "frame height (default 120)")->check(facerig::cli::InRange(16, 8192));
+  app.add_option("--late", o.late_seconds, "the control track's delay in seconds (default 0.050)")
+      ->check(facerig::cli::InRange(0.0, 1.0));
   app.add_option("--json", o.json_path, "write the results as JSON");
 }
 

@@ -306,9 +306,10 @@ int RunBuildBenchmark(int argc, char** argv) {
   BuildOptions options;
   CLI::App app("the whole facerig build on re-meshed random ICT faces, each mode", "facerig-bench build");
   app.add_option("--ict", options.ict_dir, "the ICT-FaceKit folder");
-  app.add_option("--faces", options.faces, "random faces (default 3)")->transform(CLI::Bound(1, 1000000));
+  app.add_option("--faces", options.faces, "random faces (default 3)")->check(facerig::cli::InRange(1, 1000000));
   app.add_option("--seed", options.seed, "first random seed (default 601)");
-  app.add_option("--target-vertices", options.target_vertices, "vertices of each re-meshed target (default 30000)");
+  app.add_option("--target-vertices", options.target_vertices, "vertices of each re-meshed target (default 30000)")
+      ->check(facerig::cli::InRange(1000, 10000000));
   app.add_option("--json", options.json_path, "write the results as JSON");
   if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 

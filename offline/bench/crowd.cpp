@@ -139,10 +139,10 @@ int RunCrowdBenchmark(int argc, char** argv) {
   bool with_normals = false;
   int frames = 240;
   CLI::App app("N characters' update + blend per 60 fps frame on one core", "facerig-bench crowd");
-  app.add_option("count", count, "characters (default 100)")->transform(CLI::Bound(std::size_t{1}, std::size_t{1000000}));
+  app.add_option("count", count, "characters (default 100)")->check(facerig::cli::InRange(std::size_t{1}, std::size_t{1000000}));
   app.add_option("--rig", rig_path, "the rig (default: the built-in head)");
   app.add_flag("--normals", with_normals, "blend normals too");
-  app.add_option("--frames", frames, "frames (default 240)")->transform(CLI::Bound(10, 1000000));
+  app.add_option("--frames", frames, "frames (default 240)")->check(facerig::cli::InRange(10, 1000000));
   app.add_option("--json", json_path, "write the results as JSON");
   if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 

@@ -34,10 +34,10 @@ void AddPhotoBenchOptions(CLI::App& app, PhotoBenchOptions& o) {
   app.add_option("--photo", o.photo, "the portrait (PNG or JPEG)")->capture_default_str();
   app.add_option("--template", o.template_dir, "a template folder with identity modes")->capture_default_str();
   app.add_option("--size", o.size, "the photo's longer side, pixels, before the command reads it")
-      ->check(CLI::Range(128, 2048))
+      ->check(facerig::cli::InRange(128, 2048))
       ->capture_default_str();
   app.add_option("--runs", o.runs, "runs per pipeline (the median is reported)")
-      ->check(CLI::Range(1, 20))
+      ->check(facerig::cli::InRange(1, 20))
       ->capture_default_str();
   app.add_option("--json", o.json, "write the results as JSON");
 }

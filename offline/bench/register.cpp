@@ -115,7 +115,7 @@ struct RegisterOptions {
 
 void AddRegisterOptions(CLI::App& app, RegisterOptions& options) {
   app.add_option("--ict", options.ict_dir, "the ICT-FaceKit folder");
-  app.add_option("--faces", options.faces, "random faces (default 5)")->transform(CLI::Bound(1, 1000000));
+  app.add_option("--faces", options.faces, "random faces (default 5)")->check(facerig::cli::InRange(1, 1000000));
   app.add_option("--seed", options.seed, "first random seed (default 501)");
   app.add_option("--target-vertices", options.target_vertices, "vertices of each re-meshed target (default 30000)");
   app.add_option("--million-vertices", options.million_vertices, "vertices of the large target (default 1000000)");

@@ -106,17 +106,17 @@ struct TransferOptions {
 void AddTransferOptions(CLI::App& app, TransferOptions& options) {
   facerig::DeformationTransferParams& params = options.params;
   app.add_option("--ict", options.ict_dir, "the ICT-FaceKit folder");
-  app.add_option("--faces", options.faces, "random identities (default 3)")->transform(CLI::Bound(1, 1000000));
+  app.add_option("--faces", options.faces, "random identities (default 3)")->check(facerig::cli::InRange(1, 1000000));
   app.add_option("--seed", options.seed, "random seed (default 1)");
-  app.add_option("--threads", params.threads, "solver threads")->transform(CLI::Bound(1, 1024));
+  app.add_option("--threads", params.threads, "solver threads")->check(facerig::cli::InRange(1, 1024));
   app.add_option("--static-threshold", params.static_threshold, "DeformationTransferParams::static_threshold");
   app.add_option("--still", params.still_fraction, "DeformationTransferParams::still_fraction");
   app.add_option("--contact", params.contact_weight, "DeformationTransferParams::contact_weight");
-  app.add_flag("!--keep-contact-offset", params.close_contacts, "do not close contacts");
+  facerig::cli::AddOffFlag(app, "--keep-contact-offset", params.close_contacts, "do not close contacts");
   app.add_option("--prior", params.displacement_prior, "DeformationTransferParams::displacement_prior");
   app.add_flag("--scaled-normal", params.scaled_normal, "DeformationTransferParams::scaled_normal");
   app.add_flag("--per-shape", options.per_shape_table, "print a table per shape");
-  app.add_flag("!--no-area", params.area_weighted, "no area weighting");
+  facerig::cli::AddOffFlag(app, "--no-area", params.area_weighted, "no area weighting");
   app.add_option("--json", options.json_path, "write the results as JSON");
 }
 

@@ -71,9 +71,9 @@ void AddBuildOptions(CLI::App& build, BuildOptions& options) {
   build.add_option("--template-topology", options.template_topology,
                    "also write the rig on the template's vertices, frame and units (for average, caricature, morph)");
   build.add_option("--shape-predictor", options.shape_predictor, "dlib 68-point shape predictor file");
-  build.add_flag("!--no-contacts", options.contacts,
+  AddOffFlag(build, "--no-contacts", options.contacts,
                  "transfer without contacts (where a template expression closes an opening, the target's closes too)");
-  build.add_flag("!--no-eye-fit", options.fit_eyes_to_openings,
+  AddOffFlag(build, "--no-eye-fit", options.fit_eyes_to_openings,
                  "keep the detector's eye landmarks instead of fitting them to the mesh's eye openings");
   AddShapeNamingOptions(build, options.naming);
 }
@@ -121,7 +121,7 @@ BuildInputs LoadBuildInputs(const BuildOptions& options) {
   for (const std::string& path : {options.output, options.frig, options.report, options.template_topology}) {
     if (!path.empty()) CheckWritable(path);
   }
-  if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
+  if (!options.obj_dir.empty()) CheckWritable(options.obj_dir);
   BuildInputs inputs;
   inputs.template_rig = LoadRigOrTemplateFolder(options.template_path);
   // Baked visemes are made again from the built shapes: no need to transfer them.
@@ -261,6 +261,7 @@ CommandReport BuildReport(const BuildOptions& options, const BuildInputs& inputs
                           {"template_topology", options.template_topology}},
                          // A rig that cannot speak or blink (its template had no such shapes) says so here.
                          SpeechAndBlinkWarnings(rig)};
+  AddShapeNamingWarnings(names, envelope.warnings);
   nlohmann::json& report = envelope.result;
   report["shape_names"] = ShapeNamesJson(options.naming, names);
   report["mode"] = ToString(options.mode);

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -56,7 +55,7 @@ class ScratchFolder {
  public:
   explicit ScratchFolder(std::filesystem::path path) : path_(std::move(path)) {
     std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
+    std::filesystem::create_directory(path_);  // in the output's folder, which exists (CheckOutputFolder)
   }
   ~ScratchFolder() {
     std::error_code ignored;
@@ -82,6 +81,7 @@ std::string ReplaceAll(std::string text, const std::string& from, const std::str
 std::filesystem::path WriteWithFilesBeside(OutputSet& set, const std::filesystem::path& final_path,
                                            const std::function<void(const std::filesystem::path& path)>& write) {
   namespace fs = std::filesystem;
+  CheckOutputFolder(final_path);
   const fs::path folder = fs::absolute(final_path).parent_path();
   // Named as a temporary, so that the next run removes it if this one is killed.
   const ScratchFolder scratch(folder / (std::string(kTemporaryPrefix) + std::to_string(::getpid()) + "-files-" +
@@ -117,6 +117,11 @@ void WriteReport(OutputSet& set, const std::string& path, const CommandReport& r
 }
 
 void ProgressBar(const char* label, std::size_t done, std::size_t total) {
+  static const bool terminal = ::isatty(STDERR_FILENO) == 1;
+  if (!terminal) {  // a log file: one line per stage, when it ends
+    if (done >= total) std::fprintf(stderr, "%s: %zu/%zu done\n", label, done, total);
+    return;
+  }
   constexpr int kWidth = 30;
   const int filled = total == 0 ? kWidth : static_cast<int>(kWidth * done / total);
   std::fprintf(stderr, "\r%-14s [%.*s%*s] %zu/%zu", label, filled, "==============================",
@@ -142,19 +147,7 @@ int RunWritingCommand(const std::function<int()>& command) {
   }
 }
 
-void CheckWritable(const std::filesystem::path& path) {
-  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
-  const std::filesystem::path probe = folder / (".facerig-write-check-" + path.filename().string());
-  {
-    std::ofstream out(probe, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw IoError(IoErrorKind::kWriteFailed, path.string(),
-                    "cannot create files in '" + folder.string() + "' (missing folder or no permission)");
-    }
-  }
-  std::error_code ignored;
-  std::filesystem::remove(probe, ignored);
-}
+void CheckWritable(const std::filesystem::path& path) { CheckOutputFolder(path); }
 
 void CheckWritable(std::initializer_list<std::string> paths) {
   for (const std::string& path : paths) {

@@ -72,7 +72,8 @@ std::filesystem::path WriteWithFilesBeside(OutputSet& set, const std::filesystem
 // step "report"); nothing when `path` is empty.
 void WriteReport(OutputSet& set, const std::string& path, const CommandReport& report);
 
-// "\r<label> [=====     ] done/total" on stderr; a newline when done == total.
+// "\r<label> [=====     ] done/total" on stderr, a newline when done == total;
+// when stderr is not a terminal (a log file), only "<label>: total/total done" at the end.
 void ProgressBar(const char* label, std::size_t done, std::size_t total);
 
 // Prints "facerig: <what>" to stderr and returns exit code 1, or 128 + the
@@ -83,8 +84,10 @@ int Fail(const std::exception& error);
 // when it throws.
 int RunWritingCommand(const std::function<int()>& command);
 
-// Fails early (IoError naming the path) when a file cannot be created in
-// `path`'s folder, so a long computation does not end in an unwritable path.
+// Fails early (CheckOutputFolder: naming the path as given) when a file
+// cannot be created in `path`'s folder, so that a long computation does not
+// end in an unwritable path. Missing folders are an error, never created (for
+// a folder output, such as --obj-dir, its parent must exist).
 void CheckWritable(const std::filesystem::path& path);
 // CheckWritable for each output given (empty ones: not asked for).
 void CheckWritable(std::initializer_list<std::string> paths);

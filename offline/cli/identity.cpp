@@ -162,10 +162,6 @@ int RunAverage(const AverageOptions& options) {
 
 int RunCaricature(const CaricatureOptions& options) {
   const auto& [rig_path, average_path, output, report_path, factor, keep_deltas, align, naming] = options;
-  if (!(factor >= kMinCaricatureFactor && factor <= kMaxCaricatureFactor)) {
-    std::fprintf(stderr, "facerig: --factor %g is outside [-1, 3]\n", static_cast<double>(factor));
-    return 1;
-  }
   if (!CheckOutputExtension(output, false)) return kUsageExitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -196,6 +192,7 @@ int RunCaricature(const CaricatureOptions& options) {
                          {{"rig", rig_path}, {"average", average_path}},
                          {{"rig", output}},
                          SpeechAndBlinkWarnings(result)};
+    AddShapeNamingWarnings(names, report.warnings);
     report.timings = {{"load", load_seconds}, {"caricature", caricature_seconds}, {"total", SecondsSince(start)}};
     report.result = {{"factor", factor},
                      {"expressions", keep_deltas ? "keep-deltas" : "deformation-transfer"},
@@ -236,6 +233,7 @@ int RunMorph(const MorphOptions& options) {
                          {{"template", template_path}, {"target", target_path}},
                          {{"rig", output}},
                          SpeechAndBlinkWarnings(result)};
+    AddShapeNamingWarnings(names, report.warnings);
     report.timings = {{"total", SecondsSince(start)}};
     report.result = {{"vertices", result.vertex_count()},
                      {"shapes", result.shape_count()},
@@ -260,7 +258,7 @@ void AddAverageCommand(CLI::App& facerig, CommandBody& body) {
       "(unless --no-align). The output has the first face's topology, UVs and parts and no shapes.",
       RunAverage);
   average->add_option("faces", options->face_paths, "two or more faces")->required()->expected(2, CLI::detail::expected_max_vector_size);
-  average->add_flag("!--no-align", options->align, "do not align the faces rigidly first");
+  AddOffFlag(*average, "--no-align", options->align, "do not align the faces rigidly first");
   AddOutputOptions(*average, options->output, options->report_path, "output (.obj, .glb, .gltf or .frig)");
 }
 
@@ -273,9 +271,11 @@ void AddCaricatureCommand(CLI::App& facerig, CommandBody& body) {
       RunCaricature);
   caricature->add_option("--rig", options->rig_path, "the rig")->required();
   caricature->add_option("--average", options->average_path, "the average face (.obj or a rig)")->required();
-  caricature->add_option("--factor", options->factor, "F in [-1, 3]")->required();
+  caricature->add_option("--factor", options->factor, "F in [-1, 3]")
+      ->required()
+      ->check(InRange(kMinCaricatureFactor, kMaxCaricatureFactor));
   caricature->add_flag("--keep-deltas", options->keep_deltas, "keep the expressions' deltas");
-  caricature->add_flag("!--no-align", options->align, "do not align the average rigidly first");
+  AddOffFlag(*caricature, "--no-align", options->align, "do not align the average rigidly first");
   AddOutputOptions(*caricature, options->output, options->report_path, "output rig (.glb, .gltf or .frig)");
   AddShapeNamingOptions(*caricature, options->naming);
 }

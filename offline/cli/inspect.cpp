@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 
 #include "cli/common.h"
 #include "cli/names.h"
+#include "cli/obj_folder.h"
 #include "facerig/offline/default_head/default_head.h"
 #include "facerig/offline/build/face_template.h"
 #include "facerig/offline/io/template_folder.h"
@@ -31,6 +34,7 @@ struct RigFileOptions {
   TemplateImportOptions folder;
   std::string report;  // --json
   StandardShapesOptions naming;  // convert
+  bool neutral_only = false;     // convert --neutral-only
 };
 
 struct DefaultHeadOptions {
@@ -45,11 +49,11 @@ void AddFolderOptions(CLI::App& app, TemplateImportOptions& folder) {
   AddUpAxisOption(app, folder.up_axis, "up axis of the input (default y)");
   app.add_option("--neutral", folder.neutral_file, "neutral OBJ inside the folder");
   AddCommaListOption(app, "--shapes", folder.shape_names,
-                     "expression names a,b,c (default: vertex_indices.json, else --glob)");
-  app.add_option("--glob", folder.glob, "expression files (default *.obj)");
+                     "expression names a,b,c (default: --glob, else vertex_indices.json, else every *.obj)");
+  app.add_option("--glob", folder.glob, "expression files, e.g. 'mouth*.obj' (used over vertex_indices.json when given)");
   app.add_option("--drop-threshold", folder.relative_drop_threshold,
                  "drop deltas shorter than REL x bounding diagonal (default 1e-6)")
-      ->check(CLI::Range(0.0f, 1.0f));
+      ->check(InRange(0.0f, 1.0f));
   app.footer("Formats by extension: a template folder of OBJs, .obj (neutral only), .glb, .gltf, .frig.");
 }
 
@@ -120,6 +124,7 @@ nlohmann::json InspectResult(const Rig& rig) {
 
 int RunInspect(const RigFileOptions& options) {
   try {
+    CheckWritable({options.report});
     const auto start = std::chrono::steady_clock::now();
     const Rig rig = Load(options.paths[0], options.folder);
     const double load_seconds = SecondsSince(start);
@@ -142,31 +147,93 @@ int RunInspect(const RigFileOptions& options) {
   }
 }
 
+// convert's OUT is a folder of OBJs (neutral.obj and one OBJ per shape, the
+// form facerig reads as a template folder) when it ends in '/' or is a folder.
+bool IsFolderOutput(const std::string& output) {
+  return output.ends_with('/') || std::filesystem::is_directory(output);
+}
+
+// The rig without its shapes (convert --neutral-only).
+Rig NeutralOnly(const Rig& rig) {
+  RawRig raw = RigBuilder::ToRaw(rig);
+  raw.shapes.clear();
+  std::string problem;
+  std::optional<Rig> neutral = RigBuilder::Build(std::move(raw), &problem);
+  if (!neutral) throw std::runtime_error("cannot drop the shapes: " + problem);
+  return std::move(*neutral);
+}
+
+// What convert wrote, for its last line: counts that are true of the file.
+std::string ConvertSummary(const std::string& output, const Rig& rig, bool folder, std::size_t dropped,
+                           std::uintmax_t bytes) {
+  char line[512];
+  if (folder) {
+    std::snprintf(line, sizeof line, "wrote %s (neutral.obj and %zu shape OBJs, %zu vertices each)", output.c_str(),
+                  rig.shape_count(), rig.vertex_count());
+  } else {
+    std::snprintf(line, sizeof line, "wrote %s (%zu vertices, %zu shapes, %ju bytes)", output.c_str(),
+                  rig.vertex_count(), rig.shape_count(), bytes);
+  }
+  std::string summary = line;
+  if (dropped > 0) summary += "; neutral only: the rig's " + std::to_string(dropped) + " shapes not written";
+  const bool obj = folder || std::filesystem::path(output).extension() == ".obj";
+  if (obj && rig.units() != Units::kUnknown) {
+    summary += std::string("; units ") + ToString(rig.units()) + ", which OBJ does not store (read it back with --units " +
+               ToString(rig.units()) + ")";
+  }
+  return summary + "\n";
+}
+
+// An OBJ file holds no blend shapes: refused (exit 2) for a rig that has some, rather than dropping them.
+int RefuseShapesInObj(const std::string& output, std::size_t shape_count) {
+  const std::filesystem::path folder = std::filesystem::path(output).replace_extension();
+  std::fprintf(stderr,
+               "facerig convert: %s: an OBJ file holds no blend shapes and the rig has %zu; write a folder instead "
+               "(%s/: neutral.obj and one OBJ per shape, read back as a template folder), or add --neutral-only "
+               "for the neutral alone\n",
+               output.c_str(), shape_count, folder.c_str());
+  return kUsageExitCode;
+}
+
 int RunConvert(const RigFileOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     const std::string& output = options.paths[1];
+    const bool folder = IsFolderOutput(output);
+    CheckWritable({output, options.report});
     StandardShapesReport names;
-    const Rig rig = NameShapesForWriting(Load(options.paths[0], options.folder), options.naming, &names);
+    Rig rig = NameShapesForWriting(Load(options.paths[0], options.folder), options.naming, &names);
+    const std::size_t dropped = options.neutral_only ? rig.shape_count() : 0;
+    if (options.neutral_only) rig = NeutralOnly(rig);
+    const bool obj = !folder && std::filesystem::path(output).extension() == ".obj";
+    if (obj && rig.shape_count() > 0) return RefuseShapesInObj(output, rig.shape_count());
     const double load_seconds = SecondsSince(start);
     CommandReport report{"convert", {{"rig", options.paths[0]}}, {{"rig", output}}, SpeechAndBlinkWarnings(rig)};
+    for (const RigWarning& warning : report.warnings) {  // the naming warnings were printed as the names were made
+      std::fprintf(stderr, "facerig: warning: %s\n", warning.message.c_str());
+    }
+    AddShapeNamingWarnings(names, report.warnings);
     std::uintmax_t bytes = 0;
     // One set: an OBJ's MTL and images (and the report) arrive with it, or nothing changes.
     WriteOutputSet([&](OutputSet& set) {
-      const std::filesystem::path written = WriteWithFilesBeside(
-          set, output, [&](const std::filesystem::path& path) { SaveRig(path, rig); });
-      CheckAfterWrite("rig", written);
-      bytes = std::filesystem::file_size(written);
+      if (folder) {
+        WriteRigObjFolder(AddObjFolderOutput(set, output, "OUT"), rig);
+      } else {
+        const std::filesystem::path written = WriteWithFilesBeside(
+            set, output, [&](const std::filesystem::path& path) { SaveRig(path, rig); });
+        CheckAfterWrite("rig", written);
+        bytes = std::filesystem::file_size(written);
+      }
       report.timings = {{"load", load_seconds}, {"total", SecondsSince(start)}};
       report.result = {{"vertices", rig.vertex_count()},
                        {"triangles", rig.triangle_count()},
                        {"shapes", rig.shape_count()},
+                       {"shapes_not_written", dropped},
                        {"shape_names", ShapeNamesJson(options.naming, names)},
                        {"bytes", bytes}};
       WriteReport(set, options.report, report);
     });
-    std::printf("wrote %s (%zu vertices, %zu shapes, %ju bytes)\n", output.c_str(), rig.vertex_count(),
-                rig.shape_count(), bytes);
+    std::fputs(ConvertSummary(output, rig, folder, dropped, bytes).c_str(), stdout);
     return 0;
   } catch (const std::exception& error) {
     return Fail(error);
@@ -227,6 +294,16 @@ CommandReport DefaultHeadReport(const DefaultHeadOptions& options, const Rig& ri
 // Writes default_head.{glb,frig} and its descriptor (the build runs it into
 // build/data), previews and the report, as one set (output_set.h).
 int MakeDefaultHead(const DefaultHeadOptions& options) {
+  // OUT_DIR is made (in a folder that exists) before the head is built, and every output checked.
+  CheckWritable(options.out_dir);
+  const bool made = std::filesystem::create_directory(options.out_dir);
+  try {
+    CheckWritable({(std::filesystem::path(options.out_dir) / "default_head.glb").string(), options.preview_dir,
+                   options.report});
+  } catch (const std::exception&) {
+    if (made) std::filesystem::remove(options.out_dir);  // nothing of this run stays
+    throw;
+  }
   const auto start = std::chrono::steady_clock::now();
   DefaultHeadFeatures features;
   const Rig head = BuildDefaultHead(&features);
@@ -236,11 +313,11 @@ int MakeDefaultHead(const DefaultHeadOptions& options) {
               features.skin_vertex_count);
   StandardShapesReport names;
   const Rig rig = NameShapesForWriting(head, options.naming, &names);
-  std::filesystem::create_directories(options.out_dir);
   std::string written;
   WriteOutputSet([&](OutputSet& set) {
     written = WriteDefaultHeadFiles(rig, options, set);
     CommandReport report = DefaultHeadReport(options, rig, features);
+    AddShapeNamingWarnings(names, report.warnings);
     report.result["shape_names"] = ShapeNamesJson(options.naming, names);
     report.timings = {{"build", build_seconds}, {"total", SecondsSince(start)}};
     WriteReport(set, options.report, report);
@@ -266,8 +343,14 @@ void AddInspectCommand(CLI::App& facerig, CommandBody& body) {
 void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
   const auto [convert, options] =
       AddSubcommand(facerig, body, "convert", "convert a rig between formats", "", RunConvert);
-  convert->add_option("files", options->paths, "IN OUT")->required()->expected(2);
+  convert->add_option("files", options->paths,
+                      "IN OUT; OUT ending in '/' (or a folder): neutral.obj and one OBJ per shape, as --obj-dir")
+      ->required()
+      ->expected(2);
   convert->add_option("--json", options->report, "also write a JSON report");
+  convert->add_flag("--neutral-only", options->neutral_only,
+                    "write the neutral without the shapes (needed for an .obj OUT of a rig with shapes: an OBJ file "
+                    "holds none)");
   AddShapeNamingOptions(*convert, options->naming);
   AddFolderOptions(*convert, options->folder);
 }
@@ -275,10 +358,12 @@ void AddConvertCommand(CLI::App& facerig, CommandBody& body) {
 void AddDefaultHeadCommand(CLI::App& facerig, CommandBody& body) {
   const auto [head, options] =
       AddSubcommand(facerig, body, "default-head", "write the built-in head (.glb and .frig)", "", RunDefaultHead);
-  head->add_option("out_dir", options->out_dir, "OUT_DIR: where to write default_head.{glb,frig}")->required();
+  head->add_option("out_dir", options->out_dir,
+                   "OUT_DIR: where to write default_head.{glb,frig} (made if missing, in a folder that exists)")
+      ->required();
   head->add_option("--preview", options->preview_dir, "also render previews into DIR");
   head->add_option("--preview-size", options->preview_size, "preview size in pixels (64-4096, default 256)")
-      ->transform(CLI::Bound(64, 4096));
+      ->check(InRange(64, 4096));
   head->add_option("--json", options->report, "also write a JSON report");
   AddShapeNamingOptions(*head, options->naming);
 }

@@ -51,12 +51,18 @@ Rig NameShapesForWriting(const Rig& rig, const StandardShapesOptions& options, S
     std::printf("; %zu viseme targets\n", r.viseme_targets);
   }
   std::fflush(stdout);
-  if (!r.arkit_missing.empty()) {
-    std::fprintf(stderr, "facerig: warning: the rig has no ARKit shape %s\n", JoinNames(r.arkit_missing).c_str());
-  }
-  for (const std::string& warning : r.warnings) std::fprintf(stderr, "facerig: warning: %s\n", warning.c_str());
+  std::vector<RigWarning> warnings;
+  AddShapeNamingWarnings(r, warnings);
+  for (const RigWarning& warning : warnings) std::fprintf(stderr, "facerig: warning: %s\n", warning.message.c_str());
   if (report) *report = r;
   return std::move(named.rig);
+}
+
+void AddShapeNamingWarnings(const StandardShapesReport& report, std::vector<RigWarning>& warnings) {
+  if (!report.arkit_missing.empty()) {
+    warnings.push_back({"missing_arkit_shapes", "the rig has no ARKit shape " + JoinNames(report.arkit_missing)});
+  }
+  for (const std::string& warning : report.warnings) warnings.push_back({"shape_names", warning});
 }
 
 void PrintShapeMatches(const Rig& rig) {

@@ -3,10 +3,13 @@
 // reported: a line on stdout, warnings on stderr, an object in --json.
 #pragma once
 
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "cli/options.h"
 #include "facerig/offline/build/standard_shapes.h"
+#include "facerig/runtime/rig_warnings.h"
 
 namespace facerig::cli {
 
@@ -18,6 +21,10 @@ void AddShapeNamingOptions(CLI::App& app, StandardShapesOptions& options);
 // each missing ARKit name and warning on stderr. `report` may be null.
 Rig NameShapesForWriting(const Rig& rig, const StandardShapesOptions& options,
                          StandardShapesReport* report = nullptr);
+
+// The warnings NameShapesForWriting prints (missing ARKit names, naming
+// problems), appended to a report's `warnings`: one list on stderr and in --json.
+void AddShapeNamingWarnings(const StandardShapesReport& report, std::vector<RigWarning>& warnings);
 
 // `facerig inspect`: which ARKit names the rig answers and how (exact,
 // another spelling, both halves, unsided), the missing ones, its viseme

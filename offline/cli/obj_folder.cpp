@@ -79,13 +79,13 @@ void WriteRigObjFolder(const std::filesystem::path& folder, const Rig& rig) {
   if (failure) std::rethrow_exception(failure);
 }
 
-std::filesystem::path AddObjFolderOutput(OutputSet& set, const std::string& path) {
+std::filesystem::path AddObjFolderOutput(OutputSet& set, const std::string& path, const char* option) {
   const ReplaceableFolder obj_folder{[](const std::filesystem::path& name) {
                                        const std::string extension = name.extension().string();
                                        return extension == ".obj" || extension == ".mtl" || extension == ".png" ||
                                               extension == ".jpg";
                                      },
-                                     ".obj, .mtl, .png and .jpg files", "--obj-dir"};
+                                     ".obj, .mtl, .png and .jpg files", option};
   return set.Add(path, OutputSet::Kind::kFolder, obj_folder);
 }
 

@@ -22,7 +22,8 @@ std::string ShapeFileName(std::string_view name);
 void WriteRigObjFolder(const std::filesystem::path& folder, const Rig& rig);
 
 // `path` added to `set` as a folder that is replaced, not merged, and only
-// when it holds nothing but what WriteRigObjFolder writes. Returns its temporary.
-std::filesystem::path AddObjFolderOutput(OutputSet& set, const std::string& path);
+// when it holds nothing but what WriteRigObjFolder writes (`option` names it
+// in the error). Returns its temporary.
+std::filesystem::path AddObjFolderOutput(OutputSet& set, const std::string& path, const char* option = "--obj-dir");
 
 }  // namespace facerig::cli

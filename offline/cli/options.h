@@ -9,6 +9,7 @@
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,22 @@ inline CLI::Validator UnitsValidator() {
       "mm|cm|m");
 }
 
+// A value in [min_value, max_value], inclusive; the error names the value and
+// the range as written: "--factor: 5 is outside [-1, 3]" (CLI11's Range
+// prints "not in range -1.000000 to 3.000000").
+template <typename T>
+CLI::Validator InRange(T min_value, T max_value) {
+  std::ostringstream range;
+  range << "[" << min_value << ", " << max_value << "]";
+  return CLI::Validator(
+      [min_value, max_value, range = range.str()](std::string& text) -> std::string {
+        T value{};
+        if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+        return value >= min_value && value <= max_value ? std::string() : text + " is outside " + range;
+      },
+      range.str());
+}
+
 inline CLI::Validator UpAxisValidator() {
   return CLI::Validator(
       [](const std::string& text) -> std::string {
@@ -82,6 +99,19 @@ inline CLI::Validator UpAxisValidator() {
                                                                         : "'" + text + "' is not y or z";
       },
       "y|z");
+}
+
+// --NAME turning `value` off (it is on by default). Not CLI11's "!--NAME",
+// which --help shows as "--NAME{false}", read as "off by default".
+inline CLI::Option* AddOffFlag(CLI::App& app, const std::string& name, bool& value, const std::string& help) {
+  return app.add_flag_callback(name, [&value] { value = false; }, help);
+}
+
+// --NAME and --no-NAME for a setting on by default (`value` stays as it is
+// unless one is given; the last given wins).
+inline void AddOnOffFlags(CLI::App& app, const std::string& name, bool& value, const std::string& help) {
+  app.add_flag_callback("--" + name, [&value] { value = true; }, help + " (on by default)");
+  AddOffFlag(app, "--no-" + name, value, "turn --" + name + " off");
 }
 
 // "a,b,,c" -> {a, b, c}.

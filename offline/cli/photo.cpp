@@ -56,12 +56,12 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
   photo.add_option("--debug-png", options.debug_png,
                    "draw the face box, the landmarks and the fitted model's landmarks over the photo, shaded blue\n"
                    "where the texture takes no photo pixels");
-  photo.add_flag("--shading-fit,!--no-shading-fit", options.fit_params.shading,
-                 "refine the fitted face by the photo's shading (spherical-harmonic lighting; templates with identity\n"
-                 "modes; the default)");
-  photo.add_flag("--delight,!--no-delight", options.rig_params.texture.delight,
-                 "divide the photo's own light (the shading fit's) out of the skin texture: the player lights the\n"
-                 "head again (the default; needs the shading fit)");
+  AddOnOffFlags(photo, "shading-fit", options.fit_params.shading,
+                "refine the fitted face by the photo's shading (spherical-harmonic lighting; templates with identity\n"
+                "modes)");
+  AddOnOffFlags(photo, "delight", options.rig_params.texture.delight,
+                "divide the photo's own light (the shading fit's) out of the skin texture: the player lights the\n"
+                "head again (needs the shading fit)");
   AddShapePredictorOption(photo, options.landmark_params);
   AddShapeNamingOptions(photo, options.naming);
 }
@@ -159,6 +159,7 @@ CommandReport PhotoReport(const PhotoOptions& options, const PhotoRun& run) {
                         {"obj_dir", options.obj_dir},
                         {"debug_png", options.debug_png}},
                        SpeechAndBlinkWarnings(run.rig)};
+  AddShapeNamingWarnings(run.names, report.warnings);
   const Photo& photo = run.photo;
   const ImageFaceBox& box = run.landmarks.box;
   nlohmann::json& result = report.result;
@@ -214,7 +215,7 @@ void WritePhotoSet(const PhotoOptions& options, const PhotoRun& run, StepTimer& 
 
 void CheckOutputsWritable(const PhotoOptions& options) {
   CheckWritable({options.output, options.frig, options.report, options.debug_png});
-  if (!options.obj_dir.empty()) CheckWritable(std::filesystem::path(options.obj_dir).concat(".partial"));
+  if (!options.obj_dir.empty()) CheckWritable(options.obj_dir);
 }
 
 // The photo, its landmarks and the template, each a timed step with a line on stderr.

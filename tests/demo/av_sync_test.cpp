@@ -53,6 +53,7 @@ PlayerRun RunPlayer(const Rig& rig, const fs::path& track, const fs::path& out, 
   options.headless = true;
   options.track = track;
   options.audio = kRecording;
+  fs::create_directories(out);  // outputs' folders must exist
   options.frames_dir = out / "frames";
   options.wav = out / "player.wav";
   options.fps = render.fps;

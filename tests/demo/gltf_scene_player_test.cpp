@@ -211,6 +211,7 @@ TEST_CASE("Player: a multi-mesh GLB in centimetres under a scaled, turned, moved
     options.fps = 5.0;
     options.width = kWidth;
     options.height = kHeight;
+    std::filesystem::create_directories(out);  // outputs' folders must exist
     options.frames_dir = out / "frames";
     std::ostringstream log;
     const facerig::player::HeadlessResult result = facerig::player::RunHeadless(rig, options, log);

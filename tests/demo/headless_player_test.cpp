@@ -60,6 +60,7 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   const facerig::Rig rig = facerig::LoadRigOrTemplateFolder(rig_path);
   const std::filesystem::path out = std::filesystem::path(FACERIG_TEST_OUTPUT_DIR) / ("player_" + name);
   std::filesystem::remove_all(out);
+  std::filesystem::create_directories(out);  // outputs' folders must exist
   PlayerOptions options;
   options.headless = true;
   options.say = "Hello world";
@@ -230,6 +231,7 @@ TEST_CASE("Player: --yaw turns the camera about the head", "[demo]") {
   const auto mouth_at = [&](float yaw) {
     PlayerOptions options;
     options.headless = true;
+    std::filesystem::create_directories(std::filesystem::path(FACERIG_TEST_OUTPUT_DIR) / "player_yaw");
     options.frames_dir = std::filesystem::path(FACERIG_TEST_OUTPUT_DIR) / "player_yaw" / std::to_string(static_cast<int>(yaw));
     options.fps = 10.0;
     options.duration = 0.1;

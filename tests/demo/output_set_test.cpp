@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -193,4 +194,96 @@ TEST_CASE("Player outputs: a frames folder with other files is not replaced", "[
   CHECK(ReadText(out / "frames" / "notes.txt") == "mine");
   CHECK(ReadText(out / "speech.wav") == "old wav");
   CHECK(Temporaries(out).empty());
+}
+
+namespace {
+
+// Runs the player on the small reference rig with `arguments` (after the common ones); returns the exit code.
+int RunPlayerWith(const std::vector<std::string>& arguments, std::string* output) {
+  std::string command = "'" FACERIG_PLAYER_EXE "' --headless --rig '" + kRig +
+                        "' --say hi --size 64x48 --msaa 0 --fps 10 --duration 1";
+  for (const std::string& argument : arguments) command += " '" + argument + "'";
+  return facerig::test::RunShell(command, output);
+}
+
+bool HasFfmpeg() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
+
+}  // namespace
+
+TEST_CASE("Player outputs: a WAV, MP4 and timing JSON inside the frames folder go with the frames, as one set",
+          "[demo]") {
+  const fs::path out = fs::path(FACERIG_TEST_OUTPUT_DIR) / "player_set_inside";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const fs::path frames = out / "frames";
+  std::vector<std::string> arguments{"--frames", frames.string() + "/", "--wav", (frames / "speech.wav").string(),
+                                     "--timing", (frames / "timing.json").string()};
+  if (HasFfmpeg()) arguments.insert(arguments.end(), {"--mp4", (frames / "out.mp4").string()});
+  // Twice: the second run replaces the first's set, its WAV inside the folder included.
+  for (int run = 0; run < 2; ++run) {
+    std::string output;
+    INFO("run " << run);
+    REQUIRE(RunPlayerWith(arguments, &output) == 0);
+    INFO(output);
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(frames)) names.push_back(entry.path().filename());
+    CHECK(std::count_if(names.begin(), names.end(), [](const std::string& name) { return name.rfind("frame_", 0) == 0; }) ==
+          10);
+    CHECK(std::count(names.begin(), names.end(), "speech.wav") == 1);
+    CHECK(std::count(names.begin(), names.end(), "timing.json") == 1);
+    CHECK(names.size() == (HasFfmpeg() ? 13u : 12u));
+    CHECK(Temporaries(out).empty());
+    CHECK(Temporaries(frames).empty());
+    // The WAV's line says what the file holds (the lead-in's silence and the speech), once.
+    const facerig::AudioClip wav = facerig::ReadAudioFile(frames / "speech.wav");
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.3f s", wav.duration_seconds());
+    const std::string wav_line = "wrote " + (frames / "speech.wav").string() + " (" + std::to_string(wav.samples.size()) +
+                                 " samples at " + std::to_string(wav.sample_rate) + " Hz, " + seconds + ")\n";
+    CHECK(output.find(wav_line) != std::string::npos);
+    const std::size_t frames_line = output.find("wrote 10 frames");
+    CHECK(frames_line != std::string::npos);
+    if (HasFfmpeg()) {
+      CHECK(fs::file_size(frames / "out.mp4") > 0);
+      // "wrote out.mp4" once, after the frames are rendered and written.
+      const std::size_t mp4_line = output.find("wrote " + (frames / "out.mp4").string() + "\n");
+      CHECK(mp4_line != std::string::npos);
+      CHECK(mp4_line > frames_line);
+      CHECK(output.find("out.mp4", mp4_line + 1) == std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("Player outputs: a name clash with the frames or a missing folder fails before rendering", "[demo]") {
+  const fs::path out = fs::path(FACERIG_TEST_OUTPUT_DIR) / "player_set_refused";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const fs::path frames = out / "frames";
+  struct Case {
+    std::vector<std::string> arguments;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {{"--frames", frames.string(), "--wav", (frames / "frame_00003.png").string()},
+       (frames / "frame_00003.png").string() + " is inside --frames " + frames.string() +
+           " and named like its frame_NNNNN.png files"},
+      {{"--frames", frames.string(), "--wav", (out / "missing" / "speech.wav").string()},
+       "cannot write " + (out / "missing" / "speech.wav").string() + ": the folder " + (out / "missing").string() +
+           " does not exist"},
+      {{"--frames", (out / "missing" / "frames").string()},
+       "cannot write " + (out / "missing" / "frames").string() + ": the folder " + (out / "missing").string() +
+           " does not exist"},
+      {{"--frames", frames.string(), "--wav", (frames / "sub" / "speech.wav").string()}, "are inside one another"},
+  };
+  for (const Case& c : cases) {
+    std::string output;
+    CHECK(RunPlayerWith(c.arguments, &output) == 1);
+    INFO(output);
+    CHECK(output.find(c.message) != std::string::npos);
+    CHECK(output.find("rig ") == std::string::npos);  // before the rig was loaded, nothing rendered
+    CHECK(output.find("OpenGL") == std::string::npos);
+    CHECK(!fs::exists(frames));
+    CHECK(!fs::exists(out / "missing"));
+    CHECK(Temporaries(out).empty());
+  }
 }

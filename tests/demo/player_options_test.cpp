@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <catch2/catch.hpp>
 
@@ -40,16 +41,32 @@ TEST_CASE("Player: --help and --version print to stdout and exit 0", "[demo]") {
   const Outcome help = RunPlayer("--help");
   CHECK(help.exit_code == 0);
   CHECK(help.output.find("usage: facerig-player") != std::string::npos);
+  // Generated from the option definitions: every option has a description.
+  CHECK(facerig::player::OptionsWithoutDescription().empty());
+  for (const auto& [option, described] : {std::pair<std::string, std::string>{"--mp4", "mux the frames"},
+                                           {"--fps", "frames per second"},
+                                           {"--duration", "seconds to render"},
+                                           {"--size", "frame size in pixels"},
+                                           {"--wav", "the speech as a WAV"}}) {
+    INFO(option);
+    const std::size_t at = help.output.find("  " + option + " ");
+    REQUIRE(at != std::string::npos);
+    const std::size_t next = help.output.find("\n  -", at);  // the next option's line
+    CHECK(help.output.substr(at, next - at).find(described) != std::string::npos);
+  }
   const Outcome version = RunPlayer("--version");
   CHECK(version.exit_code == 0);
   CHECK(version.output == std::string(FACERIG_VERSION) + "\n");
 }
 
 TEST_CASE("Player: a bad command line exits 2 with an error naming the flag and the value", "[demo]") {
-  for (const auto& [arguments, message] : {std::pair<std::string, std::string>{"--fps abc", "--fps: Value abc"},
+  for (const auto& [arguments, message] : {std::pair<std::string, std::string>{"--fps abc", "--fps: 'abc' is not a number"},
                                            {"--msaa 3", "--msaa"},
                                            {"--lead-in 99", "--lead-in"},
                                            {"--emotion boredom", "'boredom'"},
+                                           {"--emotion joy:5", "--emotion: intensity 5 of 'joy:5' is outside [0, 1]"},
+                                           {"--size 10x10", "--size: '10x10'"},
+                                           {"--fps 0", "--fps: 0 is outside [0.1, 1000]"},
                                            {"--bogus", "--bogus"},
                                            {"--rig", "--rig"}}) {
     INFO(arguments);

@@ -48,6 +48,7 @@ fs::path RecordingWav(const fs::path& folder) {
 PlayerOptions Headless(const fs::path& out) {
   PlayerOptions options;
   options.headless = true;
+  fs::create_directories(out);  // outputs' folders must exist
   options.frames_dir = out / "frames";
   options.wav = out / "speech.wav";
   options.fps = 20.0;

@@ -53,11 +53,15 @@ std::vector<std::string> ShapeNamesFromJson(const fs::path& json_path) {
 std::vector<std::string> ShapeNames(const fs::path& folder, const std::string& neutral,
                                     const TemplateImportOptions& options) {
   if (!options.shape_names.empty()) return options.shape_names;
-  if (fs::exists(folder / "vertex_indices.json")) return ShapeNamesFromJson(folder / "vertex_indices.json");
+  // An explicit glob is the user's choice: it wins over vertex_indices.json.
+  if (options.glob.empty() && fs::exists(folder / "vertex_indices.json")) {
+    return ShapeNamesFromJson(folder / "vertex_indices.json");
+  }
+  const std::string glob = options.glob.empty() ? "*.obj" : options.glob;
   std::vector<std::string> names;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     const std::string file = entry.path().filename().string();
-    if (!entry.is_regular_file() || file == neutral || !GlobMatch(options.glob, file)) continue;
+    if (!entry.is_regular_file() || file == neutral || !GlobMatch(glob, file)) continue;
     if (entry.path().extension() != ".obj") continue;
     names.push_back(entry.path().stem().string());
   }

@@ -55,17 +55,30 @@ bool IsStale(const std::string& name) {
   return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
 }
 
+// The folder an output goes into, as the user wrote it: "out/speech.wav" -> "out".
+std::string ShownFolder(const fs::path& given) {
+  fs::path path = given.lexically_normal();
+  if (!path.has_filename()) path = path.parent_path();
+  path = path.parent_path();
+  return path.empty() ? std::string(".") : path.string();
+}
+
 // A folder output is replaced as a whole: refuse to replace one that holds anything else.
-void CheckReplaceableFolder(const fs::path& folder, const ReplaceableFolder& replaceable) {
+void CheckReplaceableFolder(const fs::path& folder, const fs::path& given, const ReplaceableFolder& replaceable) {
   std::error_code error;
   if (!fs::exists(folder, error)) return;
-  if (!fs::is_directory(folder, error)) throw std::runtime_error(folder.string() + " exists and is not a folder");
+  if (!fs::is_directory(folder, error)) throw std::runtime_error(given.string() + " exists and is not a folder");
+  const auto is_output_inside = [&replaceable](const fs::path& name) {
+    const auto& inside = replaceable.outputs_inside;
+    return std::find(inside.begin(), inside.end(), name.string()) != inside.end();
+  };
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     const fs::path name = entry.path().filename();
-    const bool ours = replaceable.holds && replaceable.holds(name) && entry.is_regular_file(error);
+    const bool ours = ((replaceable.holds && replaceable.holds(name)) || is_output_inside(name)) &&
+                      entry.is_regular_file(error);
     if (!ours) {
       const std::string option = replaceable.option.empty() ? "" : replaceable.option + " ";
-      throw std::runtime_error(folder.string() + " holds " + name.string() + ", not only " +
+      throw std::runtime_error(given.string() + " holds " + name.string() + ", not only " +
                                (replaceable.holds ? replaceable.description : "files of this run") +
                                "; not replacing it (remove it or choose another " + option + "folder)");
     }
@@ -84,6 +97,20 @@ bool Exchange(const fs::path& a, const fs::path& b, std::error_code& error) {
 }
 
 }  // namespace
+
+void CheckOutputFolder(const fs::path& final_path) {
+  const fs::path folder = OutputPath(final_path).parent_path();
+  const std::string cannot = "cannot write " + final_path.string() + ": ";
+  std::error_code error;
+  if (!fs::exists(folder, error)) {
+    throw std::runtime_error(cannot + "the folder " + ShownFolder(final_path) + " does not exist");
+  }
+  if (!fs::is_directory(folder, error)) throw std::runtime_error(cannot + ShownFolder(final_path) + " is not a folder");
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+    throw std::runtime_error(cannot + "cannot create files in " + ShownFolder(final_path) + " (" +
+                             std::strerror(errno) + ")");
+  }
+}
 
 bool FailureInjected(std::string_view what) {
   for (const char* variable : {"FACERIG_INJECT_FAILURE", "FACERIG_PLAYER_INJECT_FAILURE"}) {
@@ -153,21 +180,40 @@ void OutputSet::RemoveStaleTemporaries(const fs::path& folder) {
   }
 }
 
-fs::path OutputSet::Add(const fs::path& final_path, Kind kind, const ReplaceableFolder& replaceable) {
-  Entry entry{OutputPath(final_path), {}, final_path, kind};
+const OutputSet::Entry* OutputSet::FolderHolding(const Entry& entry) const {
+  const Entry* holder = nullptr;
   for (const Entry& other : entries_) {
-    if (other.final_path == entry.final_path) throw std::runtime_error(final_path.string() + " is given twice");
-    if (IsInside(entry.final_path, other.final_path) || IsInside(other.final_path, entry.final_path)) {
-      throw std::runtime_error("the outputs " + other.given.string() + " and " + final_path.string() +
-                               " are inside one another");
+    if (other.final_path == entry.final_path) throw std::runtime_error(entry.given.string() + " is given twice");
+    if (other.kind == Kind::kFolder && entry.kind == Kind::kFile && entry.final_path.parent_path() == other.final_path) {
+      holder = &other;  // a file directly inside a folder output: written inside its temporary
+    } else if (IsInside(entry.final_path, other.final_path) || IsInside(other.final_path, entry.final_path)) {
+      throw std::runtime_error("the outputs " + other.given.string() + " and " + entry.given.string() +
+                               " are inside one another (a file may go directly inside a folder output, no deeper)");
     }
   }
+  return holder;
+}
+
+fs::path OutputSet::Add(const fs::path& final_path, Kind kind, const ReplaceableFolder& replaceable) {
+  Entry entry{OutputPath(final_path), {}, final_path, kind, replaceable};
+  if (const Entry* folder_output = FolderHolding(entry)) {
+    const fs::path name = entry.final_path.filename();
+    const ReplaceableFolder& holds = folder_output->replaceable;
+    if (holds.holds && holds.holds(name)) {
+      throw std::runtime_error(final_path.string() + " is inside " + (holds.option.empty() ? "" : holds.option + " ") +
+                               folder_output->given.string() + " and named like its " + holds.description +
+                               "; choose another name");
+    }
+    entry.temporary = folder_output->temporary / name;
+    entry.inside_folder = true;
+    entries_.push_back(entry);
+    return entry.temporary;
+  }
+  CheckOutputFolder(final_path);
   const fs::path folder = entry.final_path.parent_path();
   std::error_code error;
   if (kind == Kind::kFolder) {
-    fs::create_directories(folder, error);
-    if (error) throw std::runtime_error("cannot create " + folder.string() + ": " + error.message());
-    CheckReplaceableFolder(entry.final_path, replaceable);
+    CheckReplaceableFolder(entry.final_path, final_path, replaceable);
   } else if (fs::is_directory(entry.final_path, error)) {
     throw std::runtime_error(final_path.string() + " is a folder");
   }
@@ -175,7 +221,7 @@ fs::path OutputSet::Add(const fs::path& final_path, Kind kind, const Replaceable
   entry.temporary = folder / TemporaryName("", entry.final_path);
   fs::remove_all(entry.temporary, error);
   if (kind == Kind::kFolder && !fs::create_directory(entry.temporary, error)) {
-    throw std::runtime_error("cannot create " + entry.temporary.string() + ": " + error.message());
+    throw std::runtime_error("cannot create " + final_path.string() + ": " + error.message());
   }
   entries_.push_back(entry);
   return entry.temporary;
@@ -219,9 +265,12 @@ fs::path OutputSet::AsidePath(const Entry& entry) {
 
 void OutputSet::Commit() {
   std::vector<Placed> placed(entries_.size(), Placed::kNothing);
+  std::size_t last_placed = 0;  // the "rename" failure injection's
+  for (std::size_t i = 0; i < entries_.size(); ++i) last_placed = entries_[i].inside_folder ? last_placed : i;
   std::string failure;
   for (std::size_t i = 0; i < entries_.size() && failure.empty(); ++i) {
-    std::error_code error = FailureInjected("rename") && i + 1 == entries_.size()
+    if (entries_[i].inside_folder) continue;  // arrives with its folder
+    std::error_code error = FailureInjected("rename") && i == last_placed
                                 ? std::make_error_code(std::errc::io_error)
                                 : Place(entries_[i], &placed[i]);
     if (error) {

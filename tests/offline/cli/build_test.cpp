@@ -131,6 +131,11 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   CHECK(names["arkit_present"] == 51);
   CHECK(names["arkit_missing"] == nlohmann::json::array({"tongueOut"}));
   CHECK(names["visemes_baked"] == 15);
+  // The missing tongueOut printed as a warning is also among the report's warnings.
+  const nlohmann::json warnings = nlohmann::json::parse(std::ifstream(folder / "report.json"))["warnings"];
+  CHECK(std::count(warnings.begin(), warnings.end(),
+                   nlohmann::json{{"code", "missing_arkit_shapes"}, {"message", "the rig has no ARKit shape tongueOut"}}) ==
+        1);
   for (std::size_t v = 0; v < target.positions.size(); v += 97) {
     REQUIRE(frig.positions()[v].x == Approx(target.positions[v].x).margin(1e-3));
   }
@@ -359,7 +364,9 @@ TEST_CASE("facerig build: bad command lines and bad input fail clearly and write
     const test::CommandOutcome outcome =
         Build({"--template", head, "--target", head, "-o", (folder / "no" / "such" / "dir" / "out.glb").string()});
     CHECK(outcome.exit_code == 1);
-    CHECK(outcome.error_output.find("cannot create files") != std::string::npos);
+    CHECK(outcome.error_output.find("cannot write " + (folder / "no" / "such" / "dir" / "out.glb").string() +
+                                    ": the folder " + (folder / "no" / "such" / "dir").string() + " does not exist") !=
+          std::string::npos);
     CHECK(outcome.error_output.find("template") == std::string::npos);  // nothing loaded
   }
   SECTION("a target where no face is found suggests a landmark file") {

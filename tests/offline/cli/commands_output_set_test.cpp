@@ -292,7 +292,8 @@ TEST_CASE("facerig register of the built-in head onto itself: a failed write kee
 TEST_CASE("facerig convert to X.obj: the OBJ, its MTL and images arrive as one set, or nothing does",
           "[cli][output-set]") {
   const fs::path out = test::FreshOutputFolder("convert_textured_set");
-  const CommandCase command{"convert", {"convert", FACERIG_DEFAULT_HEAD, (out / "head.obj").string()}, {"head.obj"}};
+  const CommandCase command{
+      "convert", {"convert", FACERIG_DEFAULT_HEAD, (out / "head.obj").string(), "--neutral-only"}, {"head.obj"}};
   const test::CommandOutcome failed = RunWithFailure(command, "fail-rig");
   CHECK(failed.exit_code == 1);
   CHECK(test::Names(out).empty());  // no MTL or image left without its OBJ, no temporaries

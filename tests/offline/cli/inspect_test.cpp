@@ -67,8 +67,14 @@ TEST_CASE("facerig convert --json: the report of the written rig, with its warni
   test::CheckCommandReport(report, "convert");
   CHECK(report["inputs"][0]["path"] == (folder / "still.frig").string());
   CHECK(report["outputs"] == nlohmann::json::array({{{"role", "rig"}, {"path", glb.string()}}}));
-  REQUIRE(report["warnings"].size() == 2);
+  // Every warning printed is in the report: the rig's, and the ARKit names it lacks (--names arkit).
+  REQUIRE(report["warnings"].size() == 3);
   CHECK(report["warnings"][0]["code"] == "cannot_speak");
+  CHECK(report["warnings"][2]["code"] == "missing_arkit_shapes");
+  for (const nlohmann::json& warning : report["warnings"]) {
+    CHECK(CountOccurrences(outcome.error_output, "facerig: warning: " + warning["message"].get<std::string>()) == 1);
+  }
+  CHECK(CountOccurrences(outcome.error_output, "facerig: warning: ") == 3);
   CHECK(report["result"]["vertices"] == LoadRig(glb).vertex_count());
   CHECK(report["result"]["bytes"] == fs::file_size(glb));
 

@@ -63,9 +63,33 @@ TEST_CASE("facerig --help and COMMAND --help print the usage on stdout and exit 
   }
   const Outcome photo = RunWithStdout({"photo", "--help"});
   for (const char* flag : {"IMAGE", "-o", "--template", "--frig", "--obj-dir", "--json", "--debug-png", "--names",
-                           "--visemes", "--shape-predictor"}) {
+                           "--visemes", "--shape-predictor", "--delight", "--no-delight", "--shading-fit",
+                           "--no-shading-fit"}) {
     CHECK(Contains(photo.output, flag));
   }
+  CHECK(Contains(photo.output, "(on by default)"));
+  // CLI11's "--no-delight{false}" read as "off by default": no such marks on any command.
+  for (const char* command : {"build", "photo", "average", "caricature"}) {
+    INFO(command);
+    CHECK_FALSE(Contains(RunWithStdout({command, "--help"}).output, "{false}"));
+  }
+}
+
+TEST_CASE("facerig photo: --delight / --no-delight, and the off flags, set what they say", "[cli]") {
+  bool value = true;
+  CLI::App app("test", "test");
+  cli::AddOnOffFlags(app, "delight", value, "divide the light out");
+  app.parse(std::vector<std::string>{"--no-delight"});
+  CHECK_FALSE(value);
+  app.parse(std::vector<std::string>{"--delight"});
+  CHECK(value);
+  bool contacts = true;
+  CLI::App build("test", "test");
+  cli::AddOffFlag(build, "--no-contacts", contacts, "no contacts");
+  build.parse(std::vector<std::string>{});
+  CHECK(contacts);
+  build.parse(std::vector<std::string>{"--no-contacts"});
+  CHECK_FALSE(contacts);
 }
 
 TEST_CASE("facerig --version prints the project version", "[cli]") {
@@ -90,8 +114,12 @@ TEST_CASE("facerig: a bad command line exits 2 with one error naming the flag an
       {{"build", "--template", "t", "--target", "m", "-o", "o.glb", "--mode", "foo"},
        "facerig build: --mode: 'foo' is not classic, identity or displacement"},
       {{"build", "--template", "t", "--target", "m", "-o", "o.glb", "--units", "parsec"}, "--units: 'parsec'"},
-      {{"caricature", "--rig", "r", "--average", "a", "--factor", "abc", "-o", "o.frig"}, "--factor = abc"},
-      {{"default-head", "out", "--preview-size", "big"}, "--preview-size: Value big"},
+      {{"caricature", "--rig", "r", "--average", "a", "--factor", "abc", "-o", "o.frig"}, "--factor: 'abc' is not a number"},
+      {{"default-head", "out", "--preview-size", "big"}, "--preview-size: 'big' is not a number"},
+      // Out of range: refused, not clamped (was: raised to 64 / exit 1).
+      {{"default-head", "out", "--preview-size", "10"}, "facerig default-head: --preview-size: 10 is outside [64, 4096]"},
+      {{"caricature", "--rig", "r", "--average", "a", "--factor", "5", "-o", "o.frig"},
+       "facerig caricature: --factor: 5 is outside [-1, 3]"},
       {{"landmarks", "m.obj", "-o"}, "-o"},
       {{"build", "--template", "t", "--target", "m", "-o", "o.glb", "--template-info", "no/such.json"},
        "--template-info: File does not exist: no/such.json"},

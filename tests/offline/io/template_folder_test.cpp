@@ -1,5 +1,7 @@
 #include "facerig/offline/io/template_folder.h"
 
+#include <fstream>
+
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
@@ -56,6 +58,20 @@ TEST_CASE("Template folder: expressions by glob, sparse deltas, units guessed", 
   facerig::TemplateImportOptions by_glob;
   by_glob.glob = "fr*.obj";
   REQUIRE(facerig::ImportTemplateFolder(folder, by_glob).shape_count() == 1);
+}
+
+TEST_CASE("Template folder: an explicit glob wins over vertex_indices.json, which wins over every *.obj",
+          "[template_folder]") {
+  const fs::path folder = MakeGridTemplateFolder("grid_template_listed");
+  std::ofstream(folder / "vertex_indices.json") << R"({"expressions": ["smile"]})";
+  const facerig::Rig listed = facerig::ImportTemplateFolder(folder);
+  REQUIRE(listed.shape_count() == 1);
+  CHECK(listed.shape_name(0) == "smile");
+  facerig::TemplateImportOptions by_glob;
+  by_glob.glob = "fr*.obj";  // was silently ignored when the folder lists its expressions
+  const facerig::Rig globbed = facerig::ImportTemplateFolder(folder, by_glob);
+  REQUIRE(globbed.shape_count() == 1);
+  CHECK(globbed.shape_name(0) == "frown");
 }
 
 TEST_CASE("Template folder: errors name the offending file", "[template_folder][malformed]") {

@@ -17,11 +17,12 @@ struct TemplateImportOptions {
   // Neutral file name inside the folder; empty: the first of
   // generic_neutral_mesh.obj, neutral.obj, base.obj that exists.
   std::string neutral_file;
-  // Shape names (file stems). Empty: the folder's vertex_indices.json
-  // "expressions" list if present (ICT-FaceKit), otherwise every file that
-  // matches `glob` except the neutral.
+  // Shape names (file stems). Empty: every .obj file that matches `glob`
+  // except the neutral when `glob` is given, else the folder's
+  // vertex_indices.json "expressions" list if present (ICT-FaceKit), else
+  // every .obj file but the neutral.
   std::vector<std::string> shape_names;
-  std::string glob = "*.obj";
+  std::string glob;  // empty: "*.obj", after vertex_indices.json
   // Per-vertex deltas shorter than this fraction of the neutral's bounding-box
   // diagonal are dropped from the sparse shapes. 1e-6 is a few times the
   // rounding noise of OBJ files written with 6 significant digits; on

@@ -4,7 +4,13 @@
 // destination folder and all are renamed into place together at the end, so
 // a failed or stopped run leaves the previous complete set or the new one,
 // never a mix. Only a kill (SIGKILL, power loss) in the instant of the renames
-// themselves can leave a mix.
+// themselves can leave a mix. A file output may go directly inside a folder
+// output (the player's `--frames out/ --wav out/speech.wav`): it is written
+// inside the folder's temporary and arrives with it.
+//
+// Missing folders are not created: an output's folder must exist (a folder
+// output itself is created, in a folder that exists), so that a mistyped
+// path fails at once, before any work, naming the path as given.
 #pragma once
 
 #include <signal.h>
@@ -37,7 +43,17 @@ struct ReplaceableFolder {
   std::function<bool(const std::filesystem::path& file_name)> holds;
   std::string description;  // what `holds` accepts, for the error
   std::string option;       // the option naming the folder, for the error
+  // File names of this run's other outputs that go inside the folder (a WAV
+  // beside the frames): replaced with it, so the previous ones may be there.
+  // Each must be one `holds` refuses, so that it cannot overwrite one of the
+  // folder's own files.
+  std::vector<std::string> outputs_inside = {};
 };
+
+// Throws std::runtime_error naming `final_path` as given when an output
+// cannot be written there: its folder does not exist, is not a folder, or
+// this process may not create files in it. Checks nothing is written.
+void CheckOutputFolder(const std::filesystem::path& final_path);
 
 class OutputSet {
  public:
@@ -49,10 +65,13 @@ class OutputSet {
   ~OutputSet();  // removes the temporaries unless committed
 
   // Registers `final_path` and returns the temporary path to write it to (a
-  // new empty folder for kFolder). Removes stale temporaries of killed runs in
-  // its folder first. An existing folder is replaced at Commit(), so it must
-  // hold only what `replaceable` accepts. The temporary keeps the final
-  // name's extension. Throws std::runtime_error.
+  // new empty folder for kFolder). Checks its folder first
+  // (CheckOutputFolder) and removes stale temporaries of killed runs there.
+  // An existing folder is replaced at Commit(), so it must hold only what
+  // `replaceable` accepts. The temporary keeps the final name's extension. A
+  // file directly inside a folder output added before it gets a temporary
+  // inside the folder's, under its own name; one the folder's `holds`
+  // accepts (a frame's name) is refused. Throws std::runtime_error.
   std::filesystem::path Add(const std::filesystem::path& final_path, Kind kind,
                             const ReplaceableFolder& replaceable = {});
 
@@ -73,7 +92,11 @@ class OutputSet {
     std::filesystem::path final_path, temporary;  // both absolute
     std::filesystem::path given;                  // final_path as given to Add()
     Kind kind = Kind::kFile;
+    ReplaceableFolder replaceable;                // kFolder: what it holds
+    bool inside_folder = false;                   // written inside a folder output's temporary
   };
+  // The folder output `entry` goes directly inside, or null; throws when it is inside one deeper.
+  const Entry* FolderHolding(const Entry& entry) const;
   // What Place() did to one entry, so that Commit() can undo it.
   enum class Placed { kNothing, kNew, kExchanged, kAside, kAsideOnly };
   void RemoveStaleTemporaries(const std::filesystem::path& folder);
