@@ -1,0 +1,22 @@
+"""facerig for Python: talking faces through facerig's C ABI (libfacerig, ctypes).
+
+    import facerig
+    rig = facerig.Rig("default_head.frig")
+    character = facerig.Character(rig)
+    character.speak(facerig.Speech.from_track("line.json"))
+    weights = character.update(0.5)          # float32, one per shape
+    positions = rig.blend(weights)           # (vertex_count, 3) float32
+
+Text-to-speech (espeak-ng, GPL-3) is in facerig.tts.
+"""
+from ._native import library_path
+from .audio import AudioStream
+from .character import EMOTIONS, VISEMES, Character
+from .errors import (BufferTooSmallError, ClosedError, FacerigError, FileError, FormatError, InvalidArgumentError,
+                     LimitError, NotFoundError, SpeechError, StateError)
+from .rig import Rig
+from .speech import Phoneme, Speech
+
+__all__ = ["AudioStream", "BufferTooSmallError", "Character", "ClosedError", "EMOTIONS", "FacerigError",
+           "FileError", "FormatError", "InvalidArgumentError", "LimitError", "NotFoundError", "Phoneme", "Rig",
+           "Speech", "SpeechError", "StateError", "VISEMES", "library_path"]
