@@ -147,6 +147,7 @@ int RunConvert(const RigFileOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     const std::string& output = options.paths[1];
     StandardShapesReport names;
+    StageProgress("load", 0, 2);
     const Rig rig = NameShapesForWriting(Load(options.paths[0], options.folder), options.naming, &names);
     const double load_seconds = SecondsSince(start);
     CommandReport report{"convert", {{"rig", options.paths[0]}}, {{"rig", output}}, SpeechAndBlinkWarnings(rig)};
@@ -164,6 +165,7 @@ int RunConvert(const RigFileOptions& options) {
                        {"shape_names", ShapeNamesJson(options.naming, names)},
                        {"bytes", bytes}};
       WriteReport(set, options.report, report);
+      StageProgress("write", 1, 2);  // before the set is committed: a stop here writes nothing
     });
     std::printf("wrote %s (%zu vertices, %zu shapes, %ju bytes)\n", output.c_str(), rig.vertex_count(),
                 rig.shape_count(), bytes);
@@ -229,6 +231,7 @@ CommandReport DefaultHeadReport(const DefaultHeadOptions& options, const Rig& ri
 int MakeDefaultHead(const DefaultHeadOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   DefaultHeadFeatures features;
+  StageProgress("build", 0, 2);
   const Rig head = BuildDefaultHead(&features);
   const double build_seconds = SecondsSince(start);
   std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
@@ -244,6 +247,7 @@ int MakeDefaultHead(const DefaultHeadOptions& options) {
     report.result["shape_names"] = ShapeNamesJson(options.naming, names);
     report.timings = {{"build", build_seconds}, {"total", SecondsSince(start)}};
     WriteReport(set, options.report, report);
+    StageProgress("write", 1, 2);  // before the set is committed: a stop here writes nothing
   });
   std::fputs(written.c_str(), stdout);
   return 0;

@@ -19,7 +19,8 @@
  * NUL-terminated.
  *
  * The GPL-3 text-to-speech part (espeak-ng) is a separate library,
- * libfacerig_espeak, declared in facerig_tts.h. */
+ * libfacerig_espeak, declared in facerig_tts.h; the offline tools (rig
+ * building, photo heads) another, libfacerig_offline, in facerig_offline.h. */
 #ifndef FACERIG_H
 #define FACERIG_H
 
@@ -56,7 +57,9 @@ typedef enum fr_status {
   FR_ERROR_STATE = 7,            /* a call out of order (a phoneme pushed with no line begun) */
   FR_ERROR_LIMIT = 8,            /* a line longer than the character's key capacity */
   FR_ERROR_OUT_OF_MEMORY = 9,
-  FR_ERROR_INTERNAL = 10         /* a bug in facerig: please report the message */
+  FR_ERROR_INTERNAL = 10,        /* a bug in facerig: please report the message */
+  FR_ERROR_CANCELLED = 11,       /* the caller's progress callback asked to stop (facerig_offline.h) */
+  FR_ERROR_FAILED = 12           /* an offline command failed on its input (the message says why) */
 } fr_status;
 
 /* The ABI version of the loaded library (FR_ABI_VERSION of its build).

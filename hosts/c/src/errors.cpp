@@ -37,6 +37,8 @@ const char* fr_status_name(fr_status status) {
     case FR_ERROR_LIMIT: return "FR_ERROR_LIMIT";
     case FR_ERROR_OUT_OF_MEMORY: return "FR_ERROR_OUT_OF_MEMORY";
     case FR_ERROR_INTERNAL: return "FR_ERROR_INTERNAL";
+    case FR_ERROR_CANCELLED: return "FR_ERROR_CANCELLED";
+    case FR_ERROR_FAILED: return "FR_ERROR_FAILED";
   }
   return "unknown";
 }

@@ -16,7 +16,7 @@ def exported(library):
     symbols = []
     for line in out.splitlines():
         fields = line.split()
-        if len(fields) == 3 and fields[2] not in ("FACERIG_0", "FACERIG_ESPEAK_0"):  # version nodes
+        if len(fields) == 3 and fields[1] != "A":  # version nodes
             symbols.append(fields[2].split("@")[0])
     return symbols
 

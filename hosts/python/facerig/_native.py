@@ -4,7 +4,8 @@ libfacerig is found, in this order: the file named by $FACERIG_LIBRARY; in
 the folder $FACERIG_LIBRARY_DIR; next to this package (a copy installed
 with it); the system's library path (libfacerig.so.0, e.g. from
 `cmake --install`). libfacerig_espeak (text-to-speech, GPL-3) is looked for
-beside it, then on the system's path, only when facerig.tts is used.
+beside it, then on the system's path, only when facerig.tts is used;
+libfacerig_offline (the offline tools) likewise for facerig.offline.
 """
 import ctypes
 import os
@@ -93,6 +94,16 @@ _FUNCTIONS = {
     "fr_audio_stream_release": (None, [handle]),
 }
 
+progress_fn = ctypes.CFUNCTYPE(c_int32, c_void_p, c_char_p, c_uint64, c_uint64)
+
+_OFFLINE_FUNCTIONS = {
+    "fr_offline_build": (status, [c_char_p, progress_fn, c_void_p]),
+    "fr_offline_photo": (status, [c_char_p, progress_fn, c_void_p]),
+    "fr_offline_default_head": (status, [c_char_p, progress_fn, c_void_p]),
+    "fr_offline_convert": (status, [c_char_p, progress_fn, c_void_p]),
+    "fr_offline_report": (status, [c_char_p, c_size_t, P(c_size_t)]),
+}
+
 _TTS_FUNCTIONS = {
     "fr_tts_synthesize": (status, [c_char_p, c_char_p, P(handle)]),
     "fr_tts_align": (status, [float_p, c_size_t, c_int32, c_char_p, c_char_p, P(handle)]),
@@ -154,6 +165,7 @@ if lib.fr_abi_version() >> 16 != ABI_VERSION_MAJOR or (lib.fr_abi_version() & 0x
                   f"{ABI_VERSION_MAJOR}.{ABI_VERSION_MINOR} or a later minor")
 
 _tts = None
+_offline = None
 
 
 def tts_library():
@@ -162,3 +174,11 @@ def tts_library():
     if _tts is None:
         _tts, _ = _open("libfacerig_espeak.so.0", _TTS_FUNCTIONS, near=library_path)
     return _tts
+
+
+def offline_library():
+    """libfacerig_offline, loaded on first use."""
+    global _offline
+    if _offline is None:
+        _offline, _ = _open("libfacerig_offline.so.0", _OFFLINE_FUNCTIONS, near=library_path)
+    return _offline

@@ -45,13 +45,21 @@ class LimitError(FacerigError):
     """A line longer than the character's key capacity."""
 
 
+class CancelledError(FacerigError):
+    """The progress callback asked an offline call to stop; nothing was written."""
+
+
+class FailedError(FacerigError):
+    """An offline command failed on its input (no face found, ...); the message says why."""
+
+
 class ClosedError(FacerigError):
     """The object was closed (released) and cannot be used any more."""
 
 
 _BY_STATUS = {
     1: InvalidArgumentError, 2: BufferTooSmallError, 3: NotFoundError, 4: FileError, 5: FormatError,
-    6: SpeechError, 7: StateError, 8: LimitError, 9: MemoryError,
+    6: SpeechError, 7: StateError, 8: LimitError, 9: MemoryError, 11: CancelledError, 12: FailedError,
 }
 
 
