@@ -26,6 +26,25 @@ extern "C" {
  * FR_ERROR_INVALID_ARGUMENT. */
 FR_API fr_status fr_tts_synthesize(const char* text, const char* voice, fr_speech** out_speech);
 
+/* Streaming synthesis callbacks, called on espeak-ng's worker thread while
+ * fr_tts_synthesize_streaming blocks the caller's: the audio in chunks
+ * (mono, in [-1, 1]) and each phoneme once its end is known, in time
+ * order (a chunk comes after the phonemes completed within it). Return 0 to
+ * go on, anything else to stop the line (FR_ERROR_CANCELLED). They must not
+ * call fr_tts_* (the engine is busy with this line). */
+typedef int32_t (*fr_tts_audio_fn)(void* user_data, const float* samples, size_t sample_count);
+typedef int32_t (*fr_tts_phoneme_fn)(void* user_data, const fr_phoneme* phoneme);
+
+/* Speaks `text` with `voice` as fr_tts_synthesize does, handing the audio
+ * and phonemes to the callbacks as espeak-ng makes them (much faster than
+ * real time): for a character that starts talking before the whole line is
+ * synthesised (fr_character_push_phoneme). *sample_rate (optional) gets
+ * the audio's rate (22050) before the first callback. Either callback may
+ * be NULL. Errors as fr_tts_synthesize, and FR_ERROR_CANCELLED. */
+FR_API fr_status fr_tts_synthesize_streaming(const char* text, const char* voice, int32_t* sample_rate,
+                                             fr_tts_audio_fn on_audio, fr_tts_phoneme_fn on_phoneme,
+                                             void* user_data);
+
 /* Times the transcript's phonemes on a recording (mono samples in [-1, 1] at
  * `sample_rate`): the transcript is synthesised, the recording brought to
  * its rate, and the two aligned (dynamic time warping; no speech model, any

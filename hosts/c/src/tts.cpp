@@ -3,6 +3,8 @@
 // so the two libraries share no C++ objects.
 #include <memory>
 #include <mutex>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,40 @@ fr_status MakeSpeech(const std::vector<Phoneme>& phonemes, const std::vector<flo
                           samples.size(), samples.empty() ? 0 : sample_rate, out_speech);
 }
 
+// The callbacks of fr_tts_synthesize_streaming as a SpeechStreamReceiver;
+// a callback's "stop" throws Stopped, which aborts espeak-ng's line.
+class CallbackReceiver final : public SpeechStreamReceiver {
+ public:
+  struct Stopped : std::runtime_error {
+    Stopped() : std::runtime_error("the line was stopped by a callback") {}
+  };
+
+  CallbackReceiver(std::int32_t* sample_rate, fr_tts_audio_fn on_audio, fr_tts_phoneme_fn on_phoneme, void* user)
+      : sample_rate_(sample_rate), on_audio_(on_audio), on_phoneme_(on_phoneme), user_(user) {}
+
+  void OnStart(int sample_rate) override {
+    if (sample_rate_) *sample_rate_ = sample_rate;
+  }
+  void OnAudio(std::span<const std::int16_t> samples) override {
+    if (!on_audio_) return;
+    chunk_.resize(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) chunk_[i] = static_cast<float>(samples[i]) / 32768.0f;
+    if (on_audio_(user_, chunk_.data(), chunk_.size()) != 0) throw Stopped();
+  }
+  void OnPhoneme(const Phoneme& phoneme) override {
+    const fr_phoneme converted = ToC(phoneme);
+    if (on_phoneme_ && on_phoneme_(user_, &converted) != 0) throw Stopped();
+  }
+  void OnEnd() override {}
+
+ private:
+  std::int32_t* sample_rate_;
+  fr_tts_audio_fn on_audio_;
+  fr_tts_phoneme_fn on_phoneme_;
+  void* user_;
+  std::vector<float> chunk_;
+};
+
 }  // namespace
 }  // namespace facerig::capi
 
@@ -54,6 +90,21 @@ fr_status fr_tts_synthesize(const char* text, const char* voice, fr_speech** out
     FR_REQUIRE(voice, "voice");
     const facerig::SpeechLine line = Source().Synthesize(text, voice);
     return MakeSpeech(line.phonemes, PcmToFloat(line.audio), line.sample_rate, out_speech);
+  });
+}
+
+fr_status fr_tts_synthesize_streaming(const char* text, const char* voice, int32_t* sample_rate,
+                                      fr_tts_audio_fn on_audio, fr_tts_phoneme_fn on_phoneme, void* user_data) {
+  return Guard([&] {
+    FR_REQUIRE(text, "text");
+    FR_REQUIRE(voice, "voice");
+    CallbackReceiver receiver(sample_rate, on_audio, on_phoneme, user_data);
+    try {
+      Source().SynthesizeStreaming(text, voice, receiver);
+    } catch (const CallbackReceiver::Stopped& stopped) {
+      return Fail(FR_ERROR_CANCELLED, stopped.what());
+    }
+    return FR_OK;
   });
 }
 

@@ -104,8 +104,12 @@ _OFFLINE_FUNCTIONS = {
     "fr_offline_report": (status, [c_char_p, c_size_t, P(c_size_t)]),
 }
 
+tts_audio_fn = ctypes.CFUNCTYPE(c_int32, c_void_p, P(c_float), c_size_t)
+tts_phoneme_fn = ctypes.CFUNCTYPE(c_int32, c_void_p, P(Phoneme))
+
 _TTS_FUNCTIONS = {
     "fr_tts_synthesize": (status, [c_char_p, c_char_p, P(handle)]),
+    "fr_tts_synthesize_streaming": (status, [c_char_p, c_char_p, P(c_int32), tts_audio_fn, tts_phoneme_fn, c_void_p]),
     "fr_tts_align": (status, [float_p, c_size_t, c_int32, c_char_p, c_char_p, P(handle)]),
     "fr_tts_voices": (status, [c_char_p, c_size_t, P(c_size_t)]),
 }

@@ -124,3 +124,36 @@ def test_a_recording_and_its_transcript_align():
     aligned = tts.align(samples, rate, "Pam brought the map.", "en-us")
     assert [p.symbol for p in aligned.phonemes] == [p.symbol for p in recording.phonemes]
     assert aligned.audio[1] == rate
+
+
+def test_streaming_tts_hands_over_audio_and_phonemes_as_they_are_made(rig):
+    pytest.importorskip("facerig.tts")
+    from facerig import tts
+    text = "Bob bought a map from a puppet maker."
+    chunks, phonemes = [], []
+    rate = tts.synthesize_streaming(text, "en-us", on_audio=chunks.append, on_phoneme=phonemes.append)
+    whole = tts.synthesize(text, "en-us")
+    assert rate == 22050 and len(chunks) > 1
+    assert [p.symbol for p in phonemes] == [p.symbol for p in whole.phonemes]
+    samples = np.concatenate(chunks)
+    assert abs(samples.size - whole.audio[0].size) < 0.05 * samples.size
+    # A character fed the streamed phonemes closes its lips on the bilabials.
+    character = facerig.Character(rig)
+    character.begin_line(0.0)
+    for phoneme in phonemes:
+        character.push_phoneme(phoneme)
+    character.end_line()
+    times, aperture = apertures(rig, character, samples.size / rate + 0.3)
+    assert check_bilabials_close(phonemes, times, aperture) >= 5
+
+
+def test_streaming_tts_stops_when_a_callback_says_so():
+    pytest.importorskip("facerig.tts")
+    from facerig import tts
+    seen = []
+    with pytest.raises(facerig.CancelledError, match="stopped"):
+        tts.synthesize_streaming("Maybe my mom bakes apple pie.", "en-us",
+                                 on_phoneme=lambda p: seen.append(p) or len(seen) >= 3)
+    assert len(seen) == 3
+    with pytest.raises(ZeroDivisionError):
+        tts.synthesize_streaming("Maybe.", "en-us", on_audio=lambda samples: 1 / 0)
