@@ -70,6 +70,18 @@ def test_errors_raise_with_the_message(rig, head_path, tmp_path):
         character.update(0.0)
 
 
+def test_a_glb_from_bytes_may_not_name_files(tmp_path, monkeypatch):
+    """A GLB from memory has no folder: a buffer naming a file is refused, not read from the working folder."""
+    import struct
+    (tmp_path / "x.bin").write_bytes(bytes(12))
+    monkeypatch.chdir(tmp_path)
+    document = b'{"asset": {"version": "2.0"}, "buffers": [{"uri": "x.bin", "byteLength": 12}]}'
+    document += b" " * (-len(document) % 4)
+    glb = b"glTF" + struct.pack("<II", 2, 12 + 8 + len(document)) + struct.pack("<I", len(document)) + b"JSON" + document
+    with pytest.raises(facerig.FileError, match=r"buffers\[0\]\.uri names a file"):
+        facerig.Rig.from_bytes(glb, "external.glb")
+
+
 def test_a_character_keeps_its_rig_alive(head_path):
     rig = facerig.Rig(head_path)
     character = facerig.Character(rig)

@@ -73,6 +73,14 @@ def test_phonemes_pushed_as_they_arrive_give_the_weights_of_the_whole_line(rig):
         assert np.array_equal(whole.update(t), pushed.update(t))
 
 
+def test_a_track_file_and_its_text_give_the_same_line(tmp_path):
+    (tmp_path / "line.json").write_text(TRACK)
+    from_file = facerig.Speech.from_track(tmp_path / "line.json").phonemes
+    assert from_file == facerig.Speech.from_track(TRACK).phonemes
+    assert [p.symbol for p in from_file][:3] == ["_:", "a#", "p"] and from_file[2].word_start
+    assert facerig.Speech(from_file).phonemes == from_file  # through fr_speech_create
+
+
 def test_emotion_and_state(rig):
     character = facerig.Character(rig, blinks=False, gaze=False)
     character.set_emotion("joy", 1.0)
