@@ -164,9 +164,10 @@ typedef enum fr_normal_mode {
 
 /* Per frame: positions = neutral + sum of weight[i] * shape i, over the
  * shapes whose weight is not 0. `weights` holds exactly shape_count finite
- * floats (e.g. from fr_character_update); `positions` (and `normals` unless
- * FR_NORMALS_NONE) hold `vertex_capacity` >= vertex_count vertices
- * (FR_ERROR_BUFFER_TOO_SMALL otherwise; the count is in fr_rig_info).
+ * floats (e.g. from fr_character_update; may be NULL for a rig without
+ * shapes); `positions` (and `normals` unless FR_NORMALS_NONE) hold
+ * `vertex_capacity` >= vertex_count vertices (FR_ERROR_BUFFER_TOO_SMALL
+ * otherwise; the count is in fr_rig_info).
  * Allocates nothing, takes no lock; many threads may blend one rig at once
  * into their own buffers. */
 FR_API fr_status fr_rig_blend(const fr_rig* rig, const float* weights, size_t weight_count, fr_normal_mode mode,
@@ -292,9 +293,10 @@ FR_API fr_status fr_character_set_behaviour(fr_character* character, int32_t bli
 
 /* Per frame: the rig weights at `time` on the character's clock into
  * `weights`, which holds weight_capacity >= shape_count floats (the first
- * shape_count are written, each in [0, 1]). Time may go backwards (a seek).
- * FR_ERROR_INVALID_ARGUMENT for a non-finite time (the previous weights are
- * kept). Allocates nothing, takes no lock. */
+ * shape_count are written, each in [0, 1]; may be NULL for a rig without
+ * shapes). Time may go backwards (a seek). FR_ERROR_INVALID_ARGUMENT for a
+ * non-finite time (the previous weights are kept). Allocates nothing, takes
+ * no lock. */
 FR_API fr_status fr_character_update(fr_character* character, double time, float* weights, size_t weight_capacity);
 
 /* What the last fr_character_update found (fr_character_get_state). */

@@ -18,7 +18,7 @@ fr_status fr_rig_blend(const fr_rig* rig, const float* weights, size_t weight_co
                        float* positions, float* normals, size_t vertex_capacity) {
   return Guard([&] {
     FR_REQUIRE(rig, "rig");
-    FR_REQUIRE(weights, "weights");
+    if (weights == nullptr && weight_count > 0) return Fail(FR_ERROR_INVALID_ARGUMENT, "weights is NULL");
     FR_REQUIRE(positions, "positions");
     const facerig::Rig& r = rig->data->rig;
     if (weight_count != r.shape_count()) {

@@ -128,9 +128,9 @@ fr_status fr_character_set_behaviour(fr_character* character, int32_t blinks, in
 fr_status fr_character_update(fr_character* character, double time, float* weights, size_t weight_capacity) {
   return Guard([&] {
     FR_REQUIRE(character, "character");
-    FR_REQUIRE(weights, "weights");
     facerig::Character& c = character->character;
     const std::size_t count = character->rig->rig.shape_count();
+    if (weights == nullptr && count > 0) return Fail(FR_ERROR_INVALID_ARGUMENT, "weights is NULL");
     if (const fr_status s = CheckCapacity(count, weight_capacity, nullptr, "weights"); s != FR_OK) return s;
     if (const fr_status s = FromCharacter(c.Update(Seconds(time))); s != FR_OK) return s;
     std::copy(c.weights().begin(), c.weights().end(), weights);

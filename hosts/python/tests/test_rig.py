@@ -70,6 +70,16 @@ def test_errors_raise_with_the_message(rig, head_path, tmp_path):
         character.update(0.0)
 
 
+def test_a_rig_without_shapes_blends_and_talks_silently():
+    """Found by the capi fuzzer: a rig with no shapes takes NULL weights (nothing to point at)."""
+    seed = os.path.join(os.path.dirname(__file__), "..", "..", "..", "fuzz", "seeds", "capi", "grid_uv.glb")
+    rig = facerig.Rig.from_bytes(open(seed, "rb").read(), "grid_uv.glb")
+    assert rig.shape_count == 0
+    positions = rig.blend(np.zeros(0, np.float32))
+    assert np.array_equal(positions, rig.neutral()[0])
+    assert facerig.Character(rig).update(0.5).size == 0
+
+
 def test_a_glb_from_bytes_may_not_name_files(tmp_path, monkeypatch):
     """A GLB from memory has no folder: a buffer naming a file is refused, not read from the working folder."""
     import struct
