@@ -35,6 +35,9 @@ def test_blend_writes_into_the_callers_array_without_copies(rig):
     weights = np.zeros(rig.shape_count, np.float32)
     weights[rig.find_shape("jawOpen")] = 1.0
     assert rig.blend(weights, out=out) is out
+    character = facerig.Character(rig)
+    mine = np.empty(rig.shape_count, np.float32)
+    assert character.update(0.1, out=mine) is mine
     assert not np.array_equal(out, rig.neutral()[0])
     positions, normals = rig.blend(weights, normal_mode="recompute")
     assert np.allclose(np.linalg.norm(normals, axis=1), 1, atol=1e-4)
