@@ -26,6 +26,8 @@ packages=(
   libmeshoptimizer-dev                             # tests: decimated targets
   # real photographs for the photo tests: astronaut.png (NASA, public domain), camera.png (grey)
   python3-skimage
+  # the C ABI's bindings, tested with Debian's interpreters (hosts/python, hosts/csharp)
+  python3-numpy python3-pytest mono-mcs mono-runtime
   nodejs npm                                       # glTF validator in the tests
   chromium                                         # tests: written GLBs in three.js, headless (tests/browser)
 )

@@ -6,13 +6,13 @@
 # or InvalidInputError for template descriptors);
 # the input that caused it is left in build-fuzz/findings/.
 #   scripts/run-fuzz.sh [SECONDS] [TARGET...]
-#   (targets: gltf frig obj mtl image phoneme_track audio template landmarks photo)
+#   (targets: gltf frig obj mtl image phoneme_track audio template landmarks photo capi)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(gltf frig obj mtl image phoneme_track audio template landmarks photo)
+[ ${#targets[@]} -gt 0 ] || targets=(gltf frig obj mtl image phoneme_track audio template landmarks photo capi)
 build=${FACERIG_FUZZ_BUILD_DIR:-build-fuzz}
 
 if ! command -v clang++ >/dev/null; then

@@ -6,6 +6,9 @@
 #include <utility>
 #include <vector>
 
+#if FACERIG_BENCH_ABI
+#include "bench/abi.h"
+#endif
 #include "bench/blend.h"
 #include "bench/build.h"
 #include "bench/photo.h"
@@ -39,6 +42,9 @@ const std::vector<Entry>& Benchmarks() {
        RunRegisterBenchmark},
       {"photo", "facerig photo on a 1024 px portrait with ICT-FaceKit, per step, with and without the shading fit",
        RunPhotoBenchmark},
+#if FACERIG_BENCH_ABI
+      {"abi", "a character's per-frame update (and blend): C++ vs the C ABI vs Python vs C#", RunAbiBenchmark},
+#endif
 #if FACERIG_BENCH_LIPSYNC
       {"lipsync", "closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)", RunLipsyncBenchmark},
       {"crowd", "N characters' update + blend per 60 fps frame on one core (needs espeak-ng)", RunCrowdBenchmark},

@@ -5,10 +5,7 @@
 
 namespace facerig::cli {
 
-int RunFacerig(int argc, char** argv) {
-  CLI::App app("facerig: inspect, convert and build blend-shape rigs", "facerig");
-  AddVersionFlag(app);
-  CommandBody body;
+void AddCommands(CLI::App& app, CommandBody& body) {
   AddInspectCommand(app, body);
   AddConvertCommand(app, body);
   AddLandmarksCommand(app, body);
@@ -22,6 +19,13 @@ int RunFacerig(int argc, char** argv) {
 #ifdef FACERIG_CLI_ALIGN
   AddAlignCommand(app, body);
 #endif
+}
+
+int RunFacerig(int argc, char** argv) {
+  CLI::App app("facerig: inspect, convert and build blend-shape rigs", "facerig");
+  AddVersionFlag(app);
+  CommandBody body;
+  AddCommands(app, body);
   app.footer("Run 'facerig COMMAND --help' for a command's options. Exit codes: 0 ok, 1 failure, 2 bad command line.");
   if (const std::optional<int> exit_code = ParseSubcommandLine(app, argc, argv)) return *exit_code;
   return body();

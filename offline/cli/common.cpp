@@ -116,7 +116,19 @@ void WriteReport(OutputSet& set, const std::string& path, const CommandReport& r
   CheckAfterWrite("report", temporary);
 }
 
+namespace {
+thread_local const CommandHooks* g_hooks = nullptr;
+}  // namespace
+
+CommandHooksScope::CommandHooksScope(const CommandHooks& hooks) : previous_(g_hooks) { g_hooks = &hooks; }
+CommandHooksScope::~CommandHooksScope() { g_hooks = previous_; }
+
+void StageProgress(const char* stage, std::size_t done, std::size_t total) {
+  if (g_hooks && g_hooks->progress) g_hooks->progress(stage, done, total);
+}
+
 void ProgressBar(const char* label, std::size_t done, std::size_t total) {
+  if (g_hooks && g_hooks->progress) return g_hooks->progress(label, done, total);
   static const bool terminal = ::isatty(STDERR_FILENO) == 1;
   if (!terminal) {  // a log file: one line per stage, when it ends
     if (done >= total) std::fprintf(stderr, "%s: %zu/%zu done\n", label, done, total);
@@ -131,6 +143,11 @@ void ProgressBar(const char* label, std::size_t done, std::size_t total) {
 }
 
 int Fail(const std::exception& error) {
+  if (g_hooks && g_hooks->failed) {
+    g_hooks->failed(error);
+    const auto* stopped = dynamic_cast<const Interrupted*>(&error);
+    return stopped ? 128 + stopped->signal() : 1;
+  }
   if (const auto* stopped = dynamic_cast<const Interrupted*>(&error)) {
     std::fprintf(stderr, "facerig: %s; nothing written, the previous outputs are unchanged\n", stopped->what());
     return 128 + stopped->signal();

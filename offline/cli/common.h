@@ -73,8 +73,34 @@ std::filesystem::path WriteWithFilesBeside(OutputSet& set, const std::filesystem
 void WriteReport(OutputSet& set, const std::string& path, const CommandReport& report);
 
 // "\r<label> [=====     ] done/total" on stderr, a newline when done == total;
-// when stderr is not a terminal (a log file), only "<label>: total/total done" at the end.
+// when stderr is not a terminal (a log file), only "<label>: total/total done"
+// at the end. Under CommandHooks with a progress callback: that callback instead.
 void ProgressBar(const char* label, std::size_t done, std::size_t total);
+
+// A step of a command that draws no bar (total 0: unknown), for
+// CommandHooks' progress callback only: nothing on the command line.
+void StageProgress(const char* stage, std::size_t done, std::size_t total);
+
+// A library caller's view of a command run in-process on this thread (the
+// C ABI's fr_offline_* calls, hosts/c): `progress` gets what ProgressBar and
+// StageProgress report and may throw to stop the run (Interrupted: the
+// temporaries go, nothing is written); `failed` gets the error Fail reports,
+// which then prints nothing. Set while a CommandHooksScope lives.
+struct CommandHooks {
+  std::function<void(const char* stage, std::size_t done, std::size_t total)> progress;
+  std::function<void(const std::exception& error)> failed;
+};
+
+class CommandHooksScope {
+ public:
+  explicit CommandHooksScope(const CommandHooks& hooks);
+  ~CommandHooksScope();
+  CommandHooksScope(const CommandHooksScope&) = delete;
+  CommandHooksScope& operator=(const CommandHooksScope&) = delete;
+
+ private:
+  const CommandHooks* previous_;
+};
 
 // Prints "facerig: <what>" to stderr and returns exit code 1, or 128 + the
 // signal for an Interrupted run (its temporaries gone, nothing written).

@@ -202,6 +202,7 @@ int RunConvert(const RigFileOptions& options) {
     const bool folder = IsFolderOutput(output);
     CheckWritable({output, options.report});
     StandardShapesReport names;
+    StageProgress("load", 0, 2);
     Rig rig = NameShapesForWriting(Load(options.paths[0], options.folder), options.naming, &names);
     const std::size_t dropped = options.neutral_only ? rig.shape_count() : 0;
     if (options.neutral_only) rig = NeutralOnly(rig);
@@ -232,6 +233,7 @@ int RunConvert(const RigFileOptions& options) {
                        {"shape_names", ShapeNamesJson(options.naming, names)},
                        {"bytes", bytes}};
       WriteReport(set, options.report, report);
+      StageProgress("write", 1, 2);  // before the set is committed: a stop here writes nothing
     });
     std::fputs(ConvertSummary(output, rig, folder, dropped, bytes).c_str(), stdout);
     return 0;
@@ -306,6 +308,7 @@ int MakeDefaultHead(const DefaultHeadOptions& options) {
   }
   const auto start = std::chrono::steady_clock::now();
   DefaultHeadFeatures features;
+  StageProgress("build", 0, 2);
   const Rig head = BuildDefaultHead(&features);
   const double build_seconds = SecondsSince(start);
   std::printf("default head: control face %u vertices, %u triangles -> skin %u vertices\n",
@@ -321,6 +324,7 @@ int MakeDefaultHead(const DefaultHeadOptions& options) {
     report.result["shape_names"] = ShapeNamesJson(options.naming, names);
     report.timings = {{"build", build_seconds}, {"total", SecondsSince(start)}};
     WriteReport(set, options.report, report);
+    StageProgress("write", 1, 2);  // before the set is committed: a stop here writes nothing
   });
   std::fputs(written.c_str(), stdout);
   return 0;

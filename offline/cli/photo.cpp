@@ -69,14 +69,17 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
 // Wall-clock seconds of each step, in order.
 class StepTimer {
  public:
+  // Each step is also reported to a library caller (StageProgress) as it starts.
   template <typename Body>
   auto Run(const char* name, Body&& body) {
+    StageProgress(name, steps_.size(), 0);
     const auto start = std::chrono::steady_clock::now();
     auto value = body();
     steps_.emplace_back(name, SecondsSince(start));
     return value;
   }
   void Add(const char* name, double seconds) { steps_.emplace_back(name, seconds); }
+  std::size_t step_count() const { return steps_.size(); }
   std::vector<std::pair<std::string, double>> WithTotal(double total) const {
     auto steps = steps_;
     steps.emplace_back("total", total);
@@ -189,6 +192,7 @@ CommandReport PhotoReport(const PhotoOptions& options, const PhotoRun& run) {
 void WritePhotoSet(const PhotoOptions& options, const PhotoRun& run, StepTimer& timer,
                    const std::chrono::steady_clock::time_point start) {
   WriteOutputSet([&](OutputSet& set) {
+    StageProgress("write", timer.step_count(), 0);
     const auto write_start = std::chrono::steady_clock::now();
     const std::filesystem::path rig_path =
         WriteWithFilesBeside(set, options.output, [&](const std::filesystem::path& path) { SaveRig(path, run.rig); });

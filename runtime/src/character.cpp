@@ -26,6 +26,7 @@ const char* ToString(CharacterError error) {
     case CharacterError::kInvalidPhoneme: return "phoneme with a non-finite, negative or backwards time";
     case CharacterError::kTooManyKeys: return "line longer than the character's key capacity";
     case CharacterError::kInvalidKey: return "the viseme timing params made an invalid viseme key";
+    case CharacterError::kNoOpenLine: return "no line begun: call BeginLine before PushPhoneme or EndLine";
   }
   return "unknown error";
 }
@@ -120,7 +121,42 @@ CharacterError Character::Speak(std::span<const Phoneme> phonemes, Seconds start
   return CharacterError::kNone;
 }
 
+CharacterError Character::BeginLine(Seconds start_time) {
+  if (!std::isfinite(start_time.count())) return CharacterError::kNonFiniteTime;
+  ClearLine();
+  line_start_ = start_time;
+  line_open_ = true;
+  return CharacterError::kNone;
+}
+
+CharacterError Character::PushPhoneme(const Phoneme& phoneme) {
+  if (!line_open_) return CharacterError::kNoOpenLine;
+  if (!ValidPhoneme(phoneme) || (phoneme_count_ > 0 && phoneme.start < phonemes_[phoneme_count_ - 1].start)) {
+    return CharacterError::kInvalidPhoneme;
+  }
+  // Room for this phoneme's keys and, later, EndLine's.
+  if (track_.size() + 2 * kMaxVisemeKeysPerPhoneme > track_.capacity() || phoneme_count_ >= phonemes_.size()) {
+    return CharacterError::kTooManyKeys;
+  }
+  if (AppendPhoneme(phoneme) != VisemeTrackError::kNone) {
+    ClearLine();  // capacity was checked above: only a bad key is left, which drops the line as Speak does
+    return CharacterError::kInvalidKey;
+  }
+  return CharacterError::kNone;
+}
+
+CharacterError Character::EndLine() {
+  if (!line_open_) return CharacterError::kNoOpenLine;
+  line_open_ = false;
+  if (FinishKeys() != VisemeTrackError::kNone) {
+    ClearLine();
+    return CharacterError::kInvalidKey;
+  }
+  return CharacterError::kNone;
+}
+
 void Character::ClearLine() {
+  line_open_ = false;
   key_stream_.Reset();
   track_.Clear();
   phoneme_count_ = 0;
@@ -210,7 +246,7 @@ void Character::UpdateBehaviours(double time) {
   emotion_value_count_ = emotions.Run() == EmotionChannelsJobError::kNone ? emotion_values_.size() : 0;
 
   BlinkJob blink{&params_.blink, &blink_state_, time, talking_, at_pause_, &blink_left_, &blink_right_};
-  if (blink.Run() != BlinkError::kNone) blink_left_ = blink_right_ = 0.0f;
+  if (!blinking_ || blink.Run() != BlinkError::kNone) blink_left_ = blink_right_ = 0.0f;
   blink_value_count_ = 0;
   if (const auto left = rig_->blink_left()) {
     blink_values_[blink_value_count_++] = {static_cast<std::uint32_t>(*left), blink_left_};

@@ -203,3 +203,55 @@ TEST_CASE("Character: idle gaze moves the eyeLook shapes, deterministically for 
   REQUIRE(looked);
 }
 
+
+TEST_CASE("Character: phonemes pushed one by one give the weights Speak gives, without allocating",
+          "[character][streaming]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  Character whole(character_rig), pushed(character_rig);
+  const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
+  REQUIRE(whole.Speak(line, Seconds(0.5)) == CharacterError::kNone);
+  facerig::test::AllocationCounter counter;
+  REQUIRE(pushed.BeginLine(Seconds(0.5)) == CharacterError::kNone);
+  for (const Phoneme& phoneme : line) REQUIRE(pushed.PushPhoneme(phoneme) == CharacterError::kNone);
+  REQUIRE(pushed.EndLine() == CharacterError::kNone);
+  for (double t = 0.0; t < 2.0; t += 1.0 / 60) {
+    REQUIRE(whole.Update(Seconds(t)) == CharacterError::kNone);
+    REQUIRE(pushed.Update(Seconds(t)) == CharacterError::kNone);
+    for (std::size_t s = 0; s < rig.shape_count(); ++s) REQUIRE(pushed.weights()[s] == whole.weights()[s]);
+  }
+  REQUIRE(counter.count() == 0);
+}
+
+TEST_CASE("Character: a pushed phoneme shows once the next one arrives, and misuse is refused",
+          "[character][streaming][malformed]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  Character character(character_rig);
+  const std::vector<Phoneme> line = OpenVowelsAroundBilabials();
+  REQUIRE(character.PushPhoneme(line[0]) == CharacterError::kNoOpenLine);
+  REQUIRE(character.EndLine() == CharacterError::kNoOpenLine);
+  REQUIRE(character.BeginLine(Seconds(0.0)) == CharacterError::kNone);
+  for (std::size_t i = 0; i <= 2; ++i) REQUIRE(character.PushPhoneme(line[i]) == CharacterError::kNone);
+  // The open "a" (line[1]) is keyed once "p" arrived: the jaw opens during it.
+  REQUIRE(character.Update(Seconds(0.17)) == CharacterError::kNone);
+  REQUIRE(Weight(rig, character, "jawOpen") > 0.1f);
+  REQUIRE(character.PushPhoneme(line[0]) == CharacterError::kInvalidPhoneme);  // backwards
+  REQUIRE(character.keys().size() > 0);                                           // the line is kept
+  REQUIRE(character.EndLine() == CharacterError::kNone);
+  REQUIRE(character.PushPhoneme(line[3]) == CharacterError::kNoOpenLine);  // ended
+}
+
+TEST_CASE("Character: blinks and gaze can be switched off", "[character][gaze]") {
+  const facerig::Rig rig = MakeArkitGridRig();
+  const CharacterRig character_rig = CharacterRig::Build(rig);
+  Character character(character_rig);
+  character.SetBlinking(false);
+  character.SetGazing(false);
+  for (double t = 0.0; t < 30.0; t += 1.0 / 60) {
+    REQUIRE(character.Update(Seconds(t)) == CharacterError::kNone);
+    for (const char* name : {"eyeBlink_L", "eyeBlink_R", "eyeLookIn_L", "eyeLookUp_R"}) {
+      REQUIRE(Weight(rig, character, name) == 0.0f);
+    }
+  }
+}

@@ -90,6 +90,7 @@ enum class CharacterError : std::uint8_t {
   kInvalidPhoneme,  // non-finite or negative start/duration, or starts going backwards
   kTooManyKeys,     // the line needs more than key_capacity keys; nothing changed
   kInvalidKey,      // the timing params made an invalid viseme key; the line was dropped
+  kNoOpenLine,      // PushPhoneme or EndLine without BeginLine
 };
 
 const char* ToString(CharacterError error);
@@ -105,8 +106,26 @@ class Character {
   // changes. Call from the thread that calls Update().
   CharacterError Speak(std::span<const Phoneme> phonemes, Seconds start_time);
 
+  // Streaming mode, for phonemes that arrive while the line plays (a TTS
+  // engine's or an aligner's events): BeginLine starts a new, empty line at
+  // `start_time` on the animation clock (replacing what is being said),
+  // PushPhoneme appends the next phoneme (times from the line's start, starts
+  // never going backwards), EndLine says no more will come. A phoneme shows
+  // once the next one (or EndLine) gives its end, so a source should push
+  // each as soon as it is known. On error nothing changes, except
+  // kInvalidKey, which drops the line as Speak does. Allocates nothing;
+  // call from the thread that calls Update().
+  CharacterError BeginLine(Seconds start_time);
+  CharacterError PushPhoneme(const Phoneme& phoneme);
+  CharacterError EndLine();
+
   // Stops speaking at once (the mouth relaxes over the next frames).
   void StopSpeaking();
+
+  // Blinks and idle gaze on or off (both on by default); when off, the
+  // lids stay open and the eyes look ahead.
+  void SetBlinking(bool enabled) { blinking_ = enabled; }
+  void SetGazing(bool enabled) { params_.gaze.enabled = enabled; }
 
   // Emotion target in [0,1] (clamped); reached with the emotion's attack or
   // release time. Several may be active.
@@ -155,6 +174,8 @@ class Character {
   std::vector<Phoneme> phonemes_;      // same capacity, for current_phoneme()
   std::size_t phoneme_count_ = 0;
   VisemeKeyStream key_stream_;
+  bool line_open_ = false;  // between BeginLine and EndLine
+  bool blinking_ = true;
 
   // Per-frame state and outputs.
   bool has_time_ = false;
