@@ -28,6 +28,8 @@ constexpr std::size_t kOnsetMargin = kDeltaReach;
 // Speech: louder than this share of the way from the reference's quiet
 // frames (5th percentile) to its loud ones (95th), above the recording's floor.
 constexpr double kOnsetShare = 0.35;
+// Quiet, for pauses: below this share of that range above the floor (as in pauses.h).
+constexpr double kQuietShare = 0.25;
 // Latency the release snap (streaming_release.cpp) may add: waiting for a
 // bilabial's end and moving its start earlier.
 constexpr double kReleaseLatency = 0.050;
@@ -88,6 +90,10 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   reference_ = ReferenceFeatures(reference, cepstra_, dimension_);
   rows_ = reference_.size() / dimension_;
   radius_ = static_cast<std::size_t>(std::ceil(params.band_radius_seconds / hop));
+  pause_frames_ = params.pauses ? static_cast<std::size_t>(std::max(1.0, std::ceil(params.pause_seconds / hop - 1e-9))) : 0;
+  // The expected distance of two unrelated normalised frames: waiting in a
+  // pause favours no row of the reference.
+  pause_cost_ = std::sqrt(static_cast<double>(2 * 2 * cepstra_.cepstra()));
   FindReferenceOnset();
   FindReferenceReleases(reference);
   NormalizeReference(params.prior_frames);
@@ -102,7 +108,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
                                  cepstra_.hop_samples() - static_cast<double>(start_row));
   }
   raw_history_.assign(kHistory * dimension_, 0.0f);
-  energy_ring_.assign(lag_ + kHistory + kEnergyMargin, 0.0f);
+  energy_ring_.assign(std::max(lag_ + kHistory + kEnergyMargin, pause_frames_ + kHistory), 0.0f);
   frame_.resize(dimension_);
   column_features_.resize(dimension_);
   previous_cost_.assign(width_, kInfinity);
@@ -123,6 +129,7 @@ void StreamingAligner::FindReferenceOnset() {
   std::vector<float> sorted = energy;
   const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   onset_rise_ = kOnsetShare * (high - low);
+  quiet_rise_ = kQuietShare * (high - low);
   floor_cap_ = 0.5 * (low + high);
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
@@ -225,7 +232,11 @@ void StreamingAligner::AddColumn(std::size_t frame) {
     const double mean = sums_[d] / count_, variance = std::max(0.0, squares_[d] / count_ - mean * mean);
     column_features_[d] = variance > 1e-12 ? static_cast<float>((v - mean) / std::sqrt(variance)) : 0.0f;
   }
-  FillColumn(column_features_);
+  if (columns_ > 0 && InPause(frame)) {
+    HoldColumn();
+  } else {
+    FillColumn(column_features_);
+  }
   if (columns_ > lag_) {
     Backtrack(BestRow(), lag_ + 1);
     CommitColumn(columns_ - 1 - lag_, path_low_.back(), path_high_.back());
@@ -273,6 +284,32 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
     cost_[c] = best;
     steps_[slot * width_ + c] = step;
     vertical_run_[c] = step == kVertical ? static_cast<std::uint8_t>(vertical_run_[c - 1] + 1) : 0;
+  }
+  ++columns_;
+}
+
+// Recording frame `frame` ends pause_frames_ quiet frames (0: pauses are off).
+bool StreamingAligner::InPause(std::size_t frame) const {
+  const std::size_t ring = energy_ring_.size();
+  if (pause_frames_ == 0 || frame + 1 < pause_frames_ || raw_frames_ - (frame + 1 - pause_frames_) > ring) return false;
+  const double quiet = std::min(floor_, floor_cap_) + quiet_rise_;
+  for (std::size_t f = frame + 1 - pause_frames_; f <= frame; ++f) {
+    if (!(energy_ring_[f % ring] < quiet)) return false;
+  }
+  return true;
+}
+
+// A column of a pause: the path waits on its rows (horizontal steps at a
+// fixed cost, the same on every row) and the band stays where it is.
+void StreamingAligner::HoldColumn() {
+  std::swap(previous_cost_, cost_);
+  previous_low_ = low_;
+  const std::size_t slot = columns_ % (lag_ + 1);
+  step_lows_[slot] = low_;
+  for (std::size_t c = 0; c < width_; ++c) {
+    cost_[c] = previous_cost_[c] + pause_cost_;
+    steps_[slot * width_ + c] = kHorizontal;
+    vertical_run_[c] = 0;
   }
   ++columns_;
 }

@@ -12,6 +12,13 @@
 
 namespace facerig {
 
+// Below this PhonemeAlignment::confidence a recording and its transcript are
+// taken not to match (`facerig align` refuses to write the track). Chosen
+// between the distributions `facerig-bench align --sections confidence`
+// prints: on pocketsphinx-testdata's real recordings with their own
+// transcripts, with another line's, and white noise with a transcript.
+inline constexpr double kDefaultMinMatchConfidence = 0.10;  // TODO-MEASURE
+
 struct RecordingAlignment {
   PhonemeAlignment alignment;  // phonemes timed on the recording
   SpeechLine reference;        // the synthetic rendition it was aligned with

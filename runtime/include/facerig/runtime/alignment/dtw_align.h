@@ -35,6 +35,18 @@ DtwBand MakeDtwBand(std::span<const double> centre, std::size_t columns, std::si
 struct DtwPath {
   std::vector<std::size_t> first_column, last_column;
   double cost = 0.0;  // accumulated distance, divided by rows + columns
+  // The mean distance of the cells the path visits outside pauses (each
+  // once, unweighted): how alike the matched frames are.
+  double mean_distance = 0.0;
+};
+
+// Columns (the recording's frames) inside pauses: each costs `cost` on every
+// row instead of its distance, so the path crosses a pause without matching
+// it to any part of the rows, and climbs through rows there only at that
+// price (no cheaper than unrelated frames: the rows' speech stays on speech).
+struct DtwPauseColumns {
+  std::vector<bool> quiet;  // one per column
+  double cost = 0.0;
 };
 
 // Warps `rows` onto `columns` (same dimension) with the symmetric step
@@ -42,8 +54,8 @@ struct DtwPath {
 // ones) from (0, 0) to the last frames of both, inside `band`. Distances are
 // Euclidean. \throw AlignmentError when the dimensions differ, either
 // sequence is empty, the band does not fit them, or it holds more than
-// `max_cells` cells.
+// `max_cells` cells, or `pauses` has not one flag per column.
 DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& columns, const DtwBand& band,
-                              std::size_t max_cells);
+                              std::size_t max_cells, const DtwPauseColumns* pauses = nullptr);
 
 }  // namespace facerig

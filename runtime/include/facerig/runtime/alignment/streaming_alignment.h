@@ -52,6 +52,12 @@ struct StreamingAlignmentParams {
   // Weight, in frames, of the reference's feature statistics in the running
   // normalisation of the recording's.
   double prior_frames = 100.0;
+  // Pauses: once the recording has been quiet (below a quarter of the
+  // reference's loudness range above its floor) for pause_seconds, the warping
+  // stops until it is loud again, so that no phoneme is stretched across the
+  // pause; false: quiet frames after the onset are warped like speech.
+  bool pauses = true;
+  double pause_seconds = 0.15;
 };
 
 struct StreamedBoundary {
@@ -86,6 +92,8 @@ class StreamingAligner {
   std::size_t RisingFrom(std::size_t frame) const;
   void AddColumn(std::size_t frame);
   void FillColumn(std::span<const float> x);
+  void HoldColumn();
+  bool InPause(std::size_t frame) const;
   std::size_t BestRow() const;
   void Backtrack(std::size_t from_row, std::size_t columns);
   void CommitColumn(std::size_t column, std::size_t lowest_row, std::size_t highest_row);
@@ -122,7 +130,8 @@ class StreamingAligner {
   // frame column_offset_, row 0 the reference's frame onset_row_ - margin.
   std::size_t onset_row_ = 0, column_offset_ = 0, next_frame_ = 0;
   bool started_ = false;
-  double onset_rise_ = 0.0, floor_cap_ = 0.0;
+  double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0, pause_cost_ = 0.0;
+  std::size_t pause_frames_ = 0;
   // A first recording frame louder than this is speech (infinite: the reference starts quiet).
   double speech_at_start_ = std::numeric_limits<double>::infinity();
   double floor_ = std::numeric_limits<double>::infinity();
