@@ -1,5 +1,6 @@
 #include "bench/align_silence.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -157,7 +158,6 @@ std::vector<double> RealLeadShifts(const SilenceBenchOptions& options, const Ali
     for (const BenchRecording& recording : ReadTranscription(folder)) {
       const facerig::AudioClip plain = facerig::ReadAudioFile(recording.wav);
       facerig::AudioClip lead = plain;
-      std::vector<float> levels;
       std::normal_distribution<float> noise(0.0f, 1.0f);
       float quietest = 1.0f;
       const auto window = static_cast<std::size_t>(0.02 * plain.sample_rate);

@@ -108,7 +108,8 @@ DtwBand MakeDtwBand(std::span<const double> centre, std::size_t columns, std::si
 DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& columns, const DtwBand& band,
                               std::size_t max_cells, const DtwPauseColumns* pauses) {
   CheckInputs(rows, columns, band, max_cells);
-  if (pauses && pauses->quiet.size() != columns.frame_count()) {
+  if (pauses && (pauses->quiet.size() != columns.frame_count() ||
+                 (!pauses->quiet_rows.empty() && pauses->quiet_rows.size() != rows.frame_count()))) {
     throw AlignmentError("the pause flags do not match the recording's frames");
   }
   const std::size_t n = rows.frame_count();
@@ -125,7 +126,9 @@ DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& co
     };
     for (std::size_t k = 0; k < width; ++k) {
       const std::size_t j = first + k;
-      const double d = pauses && pauses->quiet[j] ? pauses->cost : Distance(rows.frame(i), columns.frame(j));
+      const double d = !pauses || !pauses->quiet[j] ? Distance(rows.frame(i), columns.frame(j))
+                       : !pauses->quiet_rows.empty() && pauses->quiet_rows[i] ? 0.0
+                                                                              : pauses->cost;
       if (i == 0 && j == 0) {
         current[k] = d;
         continue;

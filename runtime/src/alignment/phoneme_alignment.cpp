@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -188,7 +189,7 @@ double MatchConfidence(const AudioFeatures& ref, const AudioFeatures& rec, const
                        const DtwPauseColumns* pauses, std::size_t max_cells) {
   const AudioFeatures reversed = Reversed(rec);
   DtwPauseColumns reversed_pauses;
-  if (pauses) reversed_pauses = {std::vector<bool>(pauses->quiet.rbegin(), pauses->quiet.rend()), pauses->cost};
+  if (pauses) reversed_pauses = {std::vector<bool>(pauses->quiet.rbegin(), pauses->quiet.rend()), pauses->quiet_rows, pauses->cost};
   const DtwBand band = MakeDtwBand(GuideLine(ref, reversed), reversed.frame_count(), radius);
   const DtwPath baseline = AlignFeatureSequences(ref, reversed, band, max_cells, pauses ? &reversed_pauses : nullptr);
   return baseline.mean_distance > 0.0 ? 1.0 - path.mean_distance / baseline.mean_distance : 0.0;
@@ -231,7 +232,8 @@ PhonemeAlignment AlignPhonemesToRecording(const SpeechLine& reference, std::span
   const DtwBand band = MakeDtwBand(GuideLine(ref, rec), rec.frame_count(), radius);
   const std::vector<Pause> pauses =
       params.pauses ? FindPauses(rec.log_energy, rec.hop_seconds(), params.pause_params) : std::vector<Pause>{};
-  const DtwPauseColumns pause_columns{PauseMask(pauses, rec.frame_count()), PauseCost(rec)};
+  const DtwPauseColumns pause_columns{PauseMask(pauses, rec.frame_count()), QuietFrames(ref.log_energy, params.pause_params),
+                                      PauseCost(rec)};
   const DtwPauseColumns* crossed = pauses.empty() ? nullptr : &pause_columns;
   const DtwPath path = AlignFeatureSequences(ref, rec, band, params.max_cells, crossed);
 

@@ -101,6 +101,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   // boundaries keep their distance to it.
   const std::size_t start_row = onset_row_ > kOnsetMargin ? onset_row_ - kOnsetMargin : 0;
   reference_.erase(reference_.begin(), reference_.begin() + static_cast<std::ptrdiff_t>(start_row * dimension_));
+  reference_quiet_.erase(reference_quiet_.begin(), reference_quiet_.begin() + static_cast<std::ptrdiff_t>(start_row));
   rows_ -= start_row;
   width_ = std::min(2 * radius_ + 1, rows_);
   for (const Phoneme& phoneme : reference.phonemes) {
@@ -130,6 +131,8 @@ void StreamingAligner::FindReferenceOnset() {
   const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   onset_rise_ = kOnsetShare * (high - low);
   quiet_rise_ = kQuietShare * (high - low);
+  reference_quiet_.resize(rows_);
+  for (std::size_t f = 0; f < rows_; ++f) reference_quiet_[f] = energy[f] < low + quiet_rise_ ? 1 : 0;
   floor_cap_ = 0.5 * (low + high);
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
@@ -235,7 +238,7 @@ void StreamingAligner::AddColumn(std::size_t frame) {
   if (columns_ > 0 && InPause(frame)) {
     HoldColumn();
   } else {
-    FillColumn(column_features_);
+    FillColumn(column_features_, pause_frames_ > 0 && Quiet(frame));
   }
   if (columns_ > lag_) {
     Backtrack(BestRow(), lag_ + 1);
@@ -244,7 +247,7 @@ void StreamingAligner::AddColumn(std::size_t frame) {
   }
 }
 
-void StreamingAligner::FillColumn(std::span<const float> x) {
+void StreamingAligner::FillColumn(std::span<const float> x, bool quiet) {
   const std::size_t j = columns_;
   if (j > 0) {
     const auto centre = static_cast<std::ptrdiff_t>(BestRow()) + 1;
@@ -267,13 +270,16 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
       const double diff = static_cast<double>(reference_[row * dimension_ + k]) - x[k];
       d += diff * diff;
     }
-    d = std::sqrt(d);
+    d = quiet ? (reference_quiet_[row] ? 0.0 : pause_cost_) : std::sqrt(d);
     double best = kInfinity;
     std::uint8_t step = kStart;
     if (j == 0 && row == 0) best = d;
-    const bool may_climb = c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
+    // A quiet recording frame advances the path only into the reference's
+    // own quiet frames; on speech it waits for the recording's.
+    const bool may_advance = !quiet || reference_quiet_[row];
+    const bool may_climb = may_advance && c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
     const double candidates[3] = {j > 0 ? previous(row) + d : kInfinity,
-                                  j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
+                                  may_advance && j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
                                   may_climb ? cost_[c - 1] + d : kInfinity};
     for (std::uint8_t s = 0; s < 3; ++s) {
       if (candidates[s] < best) {
@@ -288,13 +294,17 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
   ++columns_;
 }
 
+// Recording frame `frame` (still in the energy ring) is quiet.
+bool StreamingAligner::Quiet(std::size_t frame) const {
+  return energy_ring_[frame % energy_ring_.size()] < std::min(floor_, floor_cap_) + quiet_rise_;
+}
+
 // Recording frame `frame` ends pause_frames_ quiet frames (0: pauses are off).
 bool StreamingAligner::InPause(std::size_t frame) const {
   const std::size_t ring = energy_ring_.size();
   if (pause_frames_ == 0 || frame + 1 < pause_frames_ || raw_frames_ - (frame + 1 - pause_frames_) > ring) return false;
-  const double quiet = std::min(floor_, floor_cap_) + quiet_rise_;
   for (std::size_t f = frame + 1 - pause_frames_; f <= frame; ++f) {
-    if (!(energy_ring_[f % ring] < quiet)) return false;
+    if (!Quiet(f)) return false;
   }
   return true;
 }

@@ -85,19 +85,30 @@ const std::vector<double> kHz = {250, 900, 2400, 500, 1500, 700};
 const std::vector<double> kReferenceSeconds = {0.20, 0.15, 0.20, 0.25, 0.15, 0.20};
 const std::vector<double> kRecordingSeconds = {0.25, 0.20, 0.15, 0.30, 0.20, 0.25};
 
-// The reference: the tones back to back, a phoneme each, no silence phonemes.
+constexpr double kReferenceEdge = 0.05;  // silence before and after the reference's tones, as a synthesizer leaves
+
+Phoneme Timed(double start, double duration, const char* symbol) {
+  Phoneme p;
+  p.start = Seconds(start);
+  p.duration = Seconds(duration);
+  p.symbol.assign(symbol);
+  return p;
+}
+
+// The reference: a pause phoneme, the tones back to back (a phoneme each),
+// a pause phoneme; no pause between the tones.
 SpeechLine Reference() {
-  const Tones tones = Render(kHz, kReferenceSeconds, std::vector<double>(kHz.size(), 0.0), 0.0, 0.5f);
+  std::vector<double> gaps(kHz.size(), 0.0);
+  gaps[0] = kReferenceEdge;
+  const Tones tones = Render(kHz, kReferenceSeconds, gaps, kReferenceEdge, 0.5f);
   SpeechLine reference;
   reference.sample_rate = kRate;
   reference.audio = FloatToPcm(tones.audio);
+  reference.phonemes.push_back(Timed(0.0, kReferenceEdge, "_"));
   for (std::size_t i = 0; i < kHz.size(); ++i) {
-    Phoneme p;
-    p.start = Seconds(tones.starts[i]);
-    p.duration = Seconds(kReferenceSeconds[i]);
-    p.symbol.assign(i % 2 == 0 ? "a" : "o");
-    reference.phonemes.push_back(p);
+    reference.phonemes.push_back(Timed(tones.starts[i], kReferenceSeconds[i], i % 2 == 0 ? "a" : "o"));
   }
+  reference.phonemes.push_back(Timed(tones.starts.back() + kReferenceSeconds.back(), kReferenceEdge, "_"));
   return reference;
 }
 
@@ -108,28 +119,28 @@ TEST_CASE("AlignPhonemesToRecording: no phoneme is stretched into silence before
   const SpeechLine reference = Reference();
   const Tones recording = Recording();
   const PhonemeAlignment aligned = AlignPhonemesToRecording(reference, recording.audio);
-  REQUIRE(aligned.line.phonemes.size() == kHz.size());
+  REQUIRE(aligned.line.phonemes.size() == kHz.size() + 2);
   CHECK(aligned.pauses == 3);
   for (std::size_t i = 0; i < kHz.size(); ++i) {
     INFO("tone " << i);
-    CHECK(aligned.line.phonemes[i].start.count() == Approx(recording.starts[i]).margin(0.020));
+    CHECK(aligned.line.phonemes[i + 1].start.count() == Approx(recording.starts[i]).margin(0.020));
   }
   // The tone before the inner pause ends where the pause begins.
-  const Phoneme& before = aligned.line.phonemes[2];
+  const Phoneme& before = aligned.line.phonemes[3];
   CHECK((before.start + before.duration).count() == Approx(recording.starts[2] + kRecordingSeconds[2]).margin(0.020));
   // Without pauses (the earlier behaviour) the first tone starts at the recording's start.
   PhonemeAlignmentParams old;
   old.pauses = false;
   const PhonemeAlignment stretched = AlignPhonemesToRecording(reference, recording.audio, old);
   CHECK(stretched.pauses == 0);
-  CHECK(stretched.line.phonemes[0].start.count() < 0.5);
+  CHECK(stretched.line.phonemes[1].start.count() < 0.5);
 }
 
 TEST_CASE("StreamingAligner: the warping waits while the recording is quiet", "[pauses][stream]") {
   const SpeechLine reference = Reference();
   const Tones recording = Recording();
   StreamingAligner aligner(reference);
-  std::vector<double> starts(kHz.size(), -1.0);
+  std::vector<double> starts(kHz.size() + 2, -1.0);
   const auto take = [&](std::span<const StreamedBoundary> boundaries) {
     for (const StreamedBoundary& b : boundaries) starts[b.phoneme] = b.start.count();
   };
@@ -140,7 +151,7 @@ TEST_CASE("StreamingAligner: the warping waits while the recording is quiet", "[
   take(aligner.Finish());
   for (std::size_t i = 0; i < kHz.size(); ++i) {
     INFO("tone " << i);
-    CHECK(starts[i] == Approx(recording.starts[i]).margin(0.030));
+    CHECK(starts[i + 1] == Approx(recording.starts[i]).margin(0.030));
   }
 }
 

@@ -40,12 +40,15 @@ struct DtwPath {
   double mean_distance = 0.0;
 };
 
-// Columns (the recording's frames) inside pauses: each costs `cost` on every
-// row instead of its distance, so the path crosses a pause without matching
-// it to any part of the rows, and climbs through rows there only at that
-// price (no cheaper than unrelated frames: the rows' speech stays on speech).
+// Columns (the recording's frames) inside pauses: each costs `cost` on a
+// row of speech instead of its distance, and nothing on a quiet row (the
+// reference's own silence, whatever the two noise floors), so the path
+// crosses a pause on the reference's nearest silence, or on one row, without
+// matching it to the rows' speech; it climbs through speech rows there only
+// at that price (no cheaper than unrelated frames).
 struct DtwPauseColumns {
-  std::vector<bool> quiet;  // one per column
+  std::vector<bool> quiet;       // one per column
+  std::vector<bool> quiet_rows;  // one per row (empty: none quiet)
   double cost = 0.0;
 };
 
@@ -54,7 +57,7 @@ struct DtwPauseColumns {
 // ones) from (0, 0) to the last frames of both, inside `band`. Distances are
 // Euclidean. \throw AlignmentError when the dimensions differ, either
 // sequence is empty, the band does not fit them, or it holds more than
-// `max_cells` cells, or `pauses` has not one flag per column.
+// `max_cells` cells, or `pauses` has not one flag per column (and per row).
 DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& columns, const DtwBand& band,
                               std::size_t max_cells, const DtwPauseColumns* pauses = nullptr);
 

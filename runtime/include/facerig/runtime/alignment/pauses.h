@@ -33,6 +33,10 @@ struct Pause {
 // in order.
 std::vector<Pause> FindPauses(std::span<const float> log_energy, double hop_seconds, const PauseParams& params = {});
 
+// One flag per frame: quiet (by the rule above, whatever the run's length);
+// none when nothing stands out as speech.
+std::vector<bool> QuietFrames(std::span<const float> log_energy, const PauseParams& params = {});
+
 // One flag per frame: inside a pause.
 std::vector<bool> PauseMask(std::span<const Pause> pauses, std::size_t frames);
 
