@@ -30,6 +30,9 @@ constexpr std::size_t kOnsetMargin = kDeltaReach;
 constexpr double kOnsetShare = 0.35;
 // Quiet, for pauses: below this share of that range above the floor (as in pauses.h).
 constexpr double kQuietShare = 0.25;
+// Columns after the onset where quiet frames are warped like any other: a
+// line often starts with a quiet voiced closure (/b m/) that is speech.
+constexpr std::size_t kOnsetColumns = 20;
 // Latency the release snap (streaming_release.cpp) may add: waiting for a
 // bilabial's end and moving its start earlier.
 constexpr double kReleaseLatency = 0.050;
@@ -238,7 +241,7 @@ void StreamingAligner::AddColumn(std::size_t frame) {
   if (columns_ > 0 && InPause(frame)) {
     HoldColumn();
   } else {
-    FillColumn(column_features_, pause_frames_ > 0 && Quiet(frame));
+    FillColumn(column_features_, pause_frames_ > 0 && columns_ >= kOnsetColumns && Quiet(frame));
   }
   if (columns_ > lag_) {
     Backtrack(BestRow(), lag_ + 1);
