@@ -53,12 +53,17 @@ facerig::AudioClip WhiteNoise(double seconds, std::mt19937& random) {
 }
 
 struct Distribution {
-  std::vector<double> values;
+  std::vector<double> values, tempi;
   std::vector<std::string> wrong_side;  // pairs the threshold classifies wrongly
 };
 
-double Confidence(facerig::PhonemeSource& aligner, const facerig::AudioClip& clip, const std::string& text) {
-  return facerig::AlignRecording(aligner, clip, text, "en-us").alignment.confidence;
+// Adds the pair's confidence and tempo to `d`; returns whether it passes `threshold` (TranscriptFits).
+bool Measure(facerig::PhonemeSource& aligner, const facerig::AudioClip& clip, const std::string& text,
+             double threshold, Distribution& d) {
+  const facerig::PhonemeAlignment a = facerig::AlignRecording(aligner, clip, text, "en-us").alignment;
+  d.values.push_back(a.confidence);
+  d.tempi.push_back(a.tempo);
+  return facerig::TranscriptFits(a, threshold);
 }
 
 nlohmann::json DistributionJson(const Distribution& d) {
@@ -68,13 +73,20 @@ nlohmann::json DistributionJson(const Distribution& d) {
           {"median", Quantile(d.values, 0.5)},
           {"p90", Quantile(d.values, 0.9)},
           {"max", Quantile(d.values, 1.0)},
-          {"wrong_side", d.wrong_side}};
+          {"wrong_side", d.wrong_side},
+          {"tempo_min", Quantile(d.tempi, 0.0)},
+          {"tempo_p10", Quantile(d.tempi, 0.1)},
+          {"tempo_median", Quantile(d.tempi, 0.5)},
+          {"tempo_p90", Quantile(d.tempi, 0.9)},
+          {"tempo_max", Quantile(d.tempi, 1.0)},
+          {"values", d.values},
+          {"tempi", d.tempi}};
 }
 
 void PrintRow(const char* what, const Distribution& d) {
-  std::printf("| %s | %zu | %.3f | %.3f | %.3f | %.3f | %.3f | %zu |\n", what, d.values.size(), Quantile(d.values, 0.0),
-              Quantile(d.values, 0.1), Quantile(d.values, 0.5), Quantile(d.values, 0.9), Quantile(d.values, 1.0),
-              d.wrong_side.size());
+  std::printf("| %s | %zu | %.3f | %.3f | %.3f | %.3f | %.3f | %zu | %.2f-%.2f |\n", what, d.values.size(),
+              Quantile(d.values, 0.0), Quantile(d.values, 0.1), Quantile(d.values, 0.5), Quantile(d.values, 0.9),
+              Quantile(d.values, 1.0), d.wrong_side.size(), Quantile(d.tempi, 0.0), Quantile(d.tempi, 1.0));
 }
 
 // Each clip with its own transcript (matched), with every other clip's
@@ -85,17 +97,15 @@ nlohmann::json MeasureSet(const std::vector<Clip>& clips, facerig::PhonemeSource
   std::mt19937 random(3);
   for (std::size_t i = 0; i < clips.size(); ++i) {
     for (std::size_t t = 0; t < clips.size(); ++t) {
-      const double c = Confidence(aligner, clips[i].audio, clips[t].text);
       Distribution& d = i == t ? matched : mismatched;
-      d.values.push_back(c);
-      if ((i == t) != (c >= threshold)) d.wrong_side.push_back(clips[i].name + " / " + clips[t].name);
+      const bool fits = Measure(aligner, clips[i].audio, clips[t].text, threshold, d);
+      if ((i == t) != fits) d.wrong_side.push_back(clips[i].name + " / " + clips[t].name);
     }
-    const double c = Confidence(aligner, WhiteNoise(std::max(1.0, clips[i].audio.duration_seconds()), random), clips[i].text);
-    noise.values.push_back(c);
-    if (c >= threshold) noise.wrong_side.push_back("noise / " + clips[i].name);
+    const facerig::AudioClip white = WhiteNoise(std::max(1.0, clips[i].audio.duration_seconds()), random);
+    if (Measure(aligner, white, clips[i].text, threshold, noise)) noise.wrong_side.push_back("noise / " + clips[i].name);
   }
-  std::printf("\n%s: match confidence (threshold %.2f)\n\n| pairs | n | min | p10 | median | p90 | max | "
-              "on the wrong side |\n|---|---|---|---|---|---|---|---|\n", label, threshold);
+  std::printf("\n%s: match confidence (threshold %.2f, and the tempo within a factor of 2: TranscriptFits)\n\n| pairs | n | min | p10 | median | p90 | max | "
+              "on the wrong side | tempo |\n|---|---|---|---|---|---|---|---|---|\n", label, threshold);
   PrintRow("own transcript", matched);
   PrintRow("another line's", mismatched);
   PrintRow("white noise", noise);

@@ -67,7 +67,8 @@ CommandReport AlignReport(const AlignOptions& options, const AudioClip& clip, co
 struct AlignOutcome {
   SpeechLine line;
   CommandReport report;
-  double confidence = 1.0;  // the rough mode has no transcript to doubt
+  double confidence = 1.0, tempo = 1.0;
+  bool fits = true;  // the rough mode has no transcript to doubt
 };
 
 // The transcript's alignment, its details added to the report.
@@ -87,19 +88,23 @@ AlignOutcome AlignTranscript(const AlignOptions& options, const AudioClip& clip)
   report.result["pauses"] = result.alignment.pauses;
   report.result["transcript_markup_removed"] = transcript.markup_removed;
   report.result["confidence"] = result.alignment.confidence;
+  report.result["tempo"] = result.alignment.tempo;
   report.result["min_confidence"] = options.min_confidence;
   report.result["forced"] = options.force;
-  return {std::move(result.alignment.line), std::move(report), result.alignment.confidence};
+  const bool fits = TranscriptFits(result.alignment, options.min_confidence);
+  return {std::move(result.alignment.line), std::move(report), result.alignment.confidence, result.alignment.tempo, fits};
 }
 
 // The recording and the transcript do not seem to match: said, and nothing
 // written unless --force.
-bool RefuseMismatch(const AlignOptions& options, double confidence) {
-  if (confidence >= options.min_confidence) return false;
+bool RefuseMismatch(const AlignOptions& options, const AlignOutcome& outcome) {
+  if (outcome.fits) return false;
   std::fprintf(stderr,
-               "facerig: %s and the transcript do not seem to match (match confidence %.2f, below %.2f): check "
-               "that the transcript holds the recording's words%s\n",
-               options.audio_path.c_str(), confidence, options.min_confidence,
+               "facerig: %s and the transcript do not seem to match (match confidence %.2f, at least %.2f wanted; "
+               "the recording's speech lasts %.2f times the transcript's, %.1f-%.1f wanted): check that the "
+               "transcript holds the recording's words%s\n",
+               options.audio_path.c_str(), outcome.confidence, options.min_confidence, outcome.tempo,
+               1.0 / kMaxTempoRatio, kMaxTempoRatio,
                options.force ? "; writing the track anyway (--force)" : "; --force writes the track anyway");
   return !options.force;
 }
@@ -132,7 +137,7 @@ int RunAlign(const AlignOptions& options) {
     CheckWritable({options.output, options.report_path});
     const AudioClip clip = ReadAudioFile(options.audio_path);
     const AlignOutcome outcome = IsRoughMode(options) ? RoughTrack(options, clip) : AlignTranscript(options, clip);
-    if (RefuseMismatch(options, outcome.confidence)) return 1;
+    if (RefuseMismatch(options, outcome)) return 1;
     const SpeechLine& line = outcome.line;
     const CommandReport& report = outcome.report;
     WriteOutputSet([&](OutputSet& set) {

@@ -220,7 +220,7 @@ TEST_CASE("facerig align: a transcript that does not match the recording is refu
   fs::remove(track);
   fs::remove(report);
   // Another recording's words: refused, saying so, nothing written.
-  const std::string other = "unless to be rather cold hearted and rather selfish is to be ill disposed";
+  const std::string other = "ten of clubs";  // a `cards` line: the wrong file
   const test::CommandOutcome refused = Align({wav, "--text", other, "-o", track, "--json", report});
   CHECK(refused.exit_code == 1);
   CHECK_THAT(refused.error_output, Contains("do not seem to match"));
@@ -236,7 +236,7 @@ TEST_CASE("facerig align: a transcript that does not match the recording is refu
   json = nlohmann::json::parse(ReadInputText(report));
   CHECK(json["result"]["forced"] == true);
   CHECK(json["result"]["confidence"].get<double>() < json["result"]["min_confidence"].get<double>());
-  CHECK(ReadPhonemeTrack(track).line.phonemes.size() > 20);
+  CHECK(ReadPhonemeTrack(track).line.phonemes.size() > 5);
   // 3 s of white noise with a transcript.
   std::vector<float> noise(3 * 16000);
   std::uint32_t state = 5;

@@ -242,6 +242,9 @@ PhonemeAlignment AlignPhonemesToRecording(const SpeechLine& reference, std::span
   result.cost = path.cost;
   result.pauses = pauses.size();
   result.confidence = MatchConfidence(ref, rec, path, radius, crossed, params.max_cells);
+  const auto [ref_start, ref_end] = SpeechEndpoints(ref);
+  const auto [rec_start, rec_end] = SpeechEndpoints(rec);
+  result.tempo = ref_end > ref_start ? (rec_end - rec_start + 1.0) / (ref_end - ref_start + 1.0) : 1.0;
   result.line.text = reference.text;
   result.line.language = reference.language;
   result.line.phonemes = reference.phonemes;

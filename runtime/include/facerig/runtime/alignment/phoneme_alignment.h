@@ -45,6 +45,9 @@ struct PhonemeAlignment {
   // alike, their order not speech that the transcript describes). About 0
   // for a transcript of other words or for noise; higher the better the fit.
   double confidence = 0.0;
+  // The recording's speech (first to last loud frame) over the reference's:
+  // far from 1, the transcript says more or less than the recording.
+  double tempo = 1.0;
 };
 
 // Aligns `reference` (audio + exactly timed phonemes of the transcript) with
