@@ -1,4 +1,7 @@
 #include "bench/align.h"
+#include "bench/align_confidence.h"
+#include "bench/align_silence.h"
+#include "bench/align_stream.h"
 
 #include <algorithm>
 #include <chrono>
@@ -43,6 +46,9 @@ struct AlignBenchOptions {
   // "<s> words </s> (id)" beside id.wav.
   std::vector<std::string> recordings_dirs = {"/usr/share/pocketsphinx/test/data/librivox",
                                               "/usr/share/pocketsphinx/test/data/cards"};
+  std::vector<std::string> sections = {"voices", "real", "silence", "confidence"};
+  std::size_t silence_lines = 40, confidence_lines = 12;
+  double min_confidence = facerig::kDefaultMinMatchConfidence;
 };
 
 void AddAlignBenchOptions(CLI::App& app, AlignBenchOptions& o) {
@@ -61,6 +67,19 @@ void AddAlignBenchOptions(CLI::App& app, AlignBenchOptions& o) {
   facerig::cli::AddCommaListOption(app, "--recordings", o.recordings_dirs,
                  "folders of real recordings: a 'transcription' file (pocketsphinx format) beside ID.wav "
                  "(default: pocketsphinx-testdata's librivox and cards; skipped when missing)");
+  facerig::cli::AddCommaListOption(app, "--sections", o.sections,
+                 "what to measure: voices (the table per voice), real (the real recordings), silence (silence "
+                 "before, inside and after the speech, pause handling on and off), confidence (match confidence of "
+                 "matched and mismatched pairs and noise) (default: all)");
+  app.add_option("--confidence-lines", o.confidence_lines,
+                 "synthetic en-us recordings in the confidence section, each with every line's transcript (default 12)");
+  app.add_option("--min-confidence", o.min_confidence, "the threshold the confidence section counts against "
+                 "(default facerig align's)");
+  app.add_option("--silence-lines", o.silence_lines, "en-us sentences in the silence section (default 40)");
+}
+
+bool Wants(const AlignBenchOptions& options, const std::string& section) {
+  return std::find(options.sections.begin(), options.sections.end(), section) != options.sections.end();
 }
 
 std::vector<std::string> CorpusLines(const AlignBenchOptions& options, const std::string& voice) {
@@ -88,33 +107,6 @@ struct VoiceResult {
   std::vector<double> errors;
   double audio_seconds = 0.0, align_seconds = 0.0;
 };
-
-// The streaming aligner's result as AlignRecording's (seconds include the reference's synthesis).
-facerig::RecordingAlignment StreamAlign(facerig::PhonemeSource& aligner, const facerig::AudioClip& clip,
-                                        const std::string& sentence, const std::string& voice, double chunk_ms) {
-  const auto start = std::chrono::steady_clock::now();
-  facerig::RecordingAlignment result;
-  result.reference = aligner.Synthesize(sentence, voice);
-  facerig::StreamingAligner streaming(result.reference);
-  facerig::SpeechLine& line = result.alignment.line;
-  line = result.reference;
-  line.audio.clear();
-  const auto take = [&](std::span<const facerig::StreamedBoundary> boundaries) {
-    for (const facerig::StreamedBoundary& b : boundaries) line.phonemes[b.phoneme].start = b.start;
-  };
-  const auto chunk = std::max<std::size_t>(1, static_cast<std::size_t>(chunk_ms * 1e-3 * clip.sample_rate));
-  for (std::size_t at = 0; at < clip.samples.size(); at += chunk) {
-    take(streaming.Push(std::span<const float>(clip.samples).subspan(at, std::min(chunk, clip.samples.size() - at))));
-  }
-  take(streaming.Finish());
-  const double end = clip.duration_seconds();
-  for (std::size_t i = 0; i < line.phonemes.size(); ++i) {
-    const double next = i + 1 < line.phonemes.size() ? line.phonemes[i + 1].start.count() : end;
-    line.phonemes[i].duration = facerig::Seconds(std::max(0.0, next - line.phonemes[i].start.count()));
-  }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return result;
-}
 
 VoiceResult MeasureVoice(const AlignBenchOptions& options, const std::string& voice,
                          facerig::PhonemeSource& recorder, facerig::PhonemeSource& aligner) {
@@ -293,6 +285,36 @@ nlohmann::json MeasureRecordings(const AlignBenchOptions& options) {
           {"closure_overlap_share_within_120ms", share(counts.near_start)}};
 }
 
+// The table per voice; returns the voices' JSON and fills `all`.
+nlohmann::json MeasureVoices(const AlignBenchOptions& options, facerig::PhonemeSource& recorder,
+                             facerig::PhonemeSource& aligner, VoiceResult& all) {
+  nlohmann::json voices = nlohmann::json::object();
+  std::printf("| voice | sentences | boundaries | median | p90 | max | /p b m/ kept | ms per s of audio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& voice : options.voices) {
+    const VoiceResult r = MeasureVoice(options, voice, recorder, aligner);
+    const nlohmann::json j = VoiceJson(r);
+    std::printf("| %s | %zu (%zu mismatched) | %zu | %.1f ms | %.1f ms | %.0f ms | %zu / %zu | %.1f |\n",
+                voice.c_str(), r.sentences, r.mismatched, r.errors.size(), j["median_ms"].get<double>(),
+                j["p90_ms"].get<double>(), j["max_ms"].get<double>(), r.bilabials_kept, r.bilabials,
+                j["ms_per_audio_second"].get<double>());
+    voices[voice] = j;
+    all.sentences += r.sentences;
+    all.mismatched += r.mismatched;
+    all.bilabials += r.bilabials;
+    all.bilabials_kept += r.bilabials_kept;
+    all.errors.insert(all.errors.end(), r.errors.begin(), r.errors.end());
+    all.audio_seconds += r.audio_seconds;
+    all.align_seconds += r.align_seconds;
+  }
+  const nlohmann::json total = VoiceJson(all);
+  std::printf("| all | %zu (%zu mismatched) | %zu | %.1f ms | %.1f ms | %.0f ms | %zu / %zu | %.1f |\n",
+              all.sentences, all.mismatched, all.errors.size(), total["median_ms"].get<double>(),
+              total["p90_ms"].get<double>(), total["max_ms"].get<double>(), all.bilabials_kept, all.bilabials,
+              total["ms_per_audio_second"].get<double>());
+  return voices;
+}
+
 int RunAlign(const AlignBenchOptions& options) {
   try {
     facerig::EspeakPhonemeSource recorder(
@@ -303,31 +325,25 @@ int RunAlign(const AlignBenchOptions& options) {
     std::printf("align: recording %d wpm pitch %d variant '%s'; reference %d wpm pitch %d variant '%s'\n\n",
                 options.recording_rate, options.recording_pitch, options.recording_variant.c_str(),
                 options.reference_rate, options.reference_pitch, options.reference_variant.c_str());
-    std::printf("| voice | sentences | boundaries | median | p90 | max | /p b m/ kept | ms per s of audio |\n");
-    std::printf("|---|---|---|---|---|---|---|---|\n");
-    nlohmann::json voices = nlohmann::json::object();
     VoiceResult all;
-    for (const std::string& voice : options.voices) {
-      const VoiceResult r = MeasureVoice(options, voice, recorder, aligner);
-      const nlohmann::json j = VoiceJson(r);
-      std::printf("| %s | %zu (%zu mismatched) | %zu | %.1f ms | %.1f ms | %.0f ms | %zu / %zu | %.1f |\n",
-                  voice.c_str(), r.sentences, r.mismatched, r.errors.size(), j["median_ms"].get<double>(),
-                  j["p90_ms"].get<double>(), j["max_ms"].get<double>(), r.bilabials_kept, r.bilabials,
-                  j["ms_per_audio_second"].get<double>());
-      voices[voice] = j;
-      all.sentences += r.sentences;
-      all.mismatched += r.mismatched;
-      all.bilabials += r.bilabials;
-      all.bilabials_kept += r.bilabials_kept;
-      all.errors.insert(all.errors.end(), r.errors.begin(), r.errors.end());
-      all.audio_seconds += r.audio_seconds;
-      all.align_seconds += r.align_seconds;
-    }
+    const nlohmann::json voices =
+        Wants(options, "voices") ? MeasureVoices(options, recorder, aligner, all) : nlohmann::json::object();
     const nlohmann::json total = VoiceJson(all);
-    std::printf("| all | %zu (%zu mismatched) | %zu | %.1f ms | %.1f ms | %.0f ms | %zu / %zu | %.1f |\n",
-                all.sentences, all.mismatched, all.errors.size(), total["median_ms"].get<double>(),
-                total["p90_ms"].get<double>(), total["max_ms"].get<double>(), all.bilabials_kept, all.bilabials,
-                total["ms_per_audio_second"].get<double>());
+    nlohmann::json silence = nullptr;
+    if (Wants(options, "silence") && options.silence_lines > 0) {
+      AlignBenchOptions en = options;
+      en.max_lines = options.silence_lines;
+      SilenceBenchOptions silence_options{CorpusLines(en, "en-us"), options.recordings_dirs,
+                                          options.stream_chunk_ms > 0.0 ? options.stream_chunk_ms : 20.0};
+      silence = MeasureSilence(silence_options, recorder, aligner);
+    }
+    nlohmann::json confidence = nullptr;
+    if (Wants(options, "confidence")) {
+      AlignBenchOptions en = options;
+      en.max_lines = options.confidence_lines;
+      confidence = MeasureConfidence({options.recordings_dirs, CorpusLines(en, "en-us"), options.min_confidence},
+                                     recorder, aligner);
+    }
     const nlohmann::json report = {
         {"recording", {{"rate_wpm", options.recording_rate}, {"pitch", options.recording_pitch},
                        {"variant", options.recording_variant}}},
@@ -336,7 +352,9 @@ int RunAlign(const AlignBenchOptions& options) {
         {"note", "ms_per_audio_second includes synthesizing the reference"},
         {"voices", voices},
         {"all", total},
-        {"real_speech", MeasureRecordings(options)}};
+        {"real_speech", Wants(options, "real") ? MeasureRecordings(options) : nlohmann::json(nullptr)},
+        {"silence", silence},
+        {"confidence", confidence}};
     return WriteBenchJson(options.json_path, report);
   } catch (const std::exception& error) {
     return ReportBenchFailure(error);

@@ -11,9 +11,11 @@
 #include <system_error>
 
 #include "cli/common.h"
+#include "cli/options.h"
 #include "cli/report.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/offline/speech/recording_alignment.h"
+#include "facerig/offline/speech/transcript_markup.h"
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/audio_file.h"
@@ -26,18 +28,23 @@ namespace {
 
 struct AlignOptions {
   std::string audio_path, text, text_file, voice = "en-us", output, report_path;
+  double min_confidence = kDefaultMinMatchConfidence;
+  bool force = false;
 };
 
-// The audio as the track names it: relative to the track's folder when it is
-// inside it (readers refuse paths that leave a file's folder), else absolute
-// (for people; the player then needs --audio).
-std::string AudioPathForTrack(const std::string& audio, const std::string& track) {
+// The audio as the track names it: relative to the track's folder, which
+// must hold it (files name other files only inside their own folder, and the
+// player refuses the track otherwise); nullopt when it does not.
+std::optional<std::string> AudioPathForTrack(const std::string& audio, const std::string& track) {
   std::error_code error;
-  const std::filesystem::path absolute_audio = std::filesystem::weakly_canonical(audio, error);
-  const std::filesystem::path folder = std::filesystem::weakly_canonical(track, error).parent_path();
-  const std::filesystem::path relative = std::filesystem::relative(absolute_audio, folder, error);
-  const bool inside = !error && !relative.empty() && *relative.begin() != "..";
-  return inside ? relative.generic_string() : absolute_audio.string();
+  const std::filesystem::path absolute_audio = std::filesystem::weakly_canonical(std::filesystem::absolute(audio), error);
+  const std::filesystem::path folder =
+      std::filesystem::weakly_canonical(std::filesystem::absolute(track), error).parent_path();
+  if (error) return std::nullopt;
+  const std::filesystem::path relative = absolute_audio.lexically_relative(folder);
+  const bool inside = !relative.empty() && *relative.begin() != ".." && relative.is_relative();
+  if (!inside) return std::nullopt;
+  return relative.generic_string();
 }
 
 bool IsRoughMode(const AlignOptions& options) { return options.text.empty() && options.text_file.empty(); }
@@ -60,20 +67,46 @@ CommandReport AlignReport(const AlignOptions& options, const AudioClip& clip, co
 struct AlignOutcome {
   SpeechLine line;
   CommandReport report;
+  double confidence = 1.0, tempo = 1.0;
+  bool fits = true;  // the rough mode has no transcript to doubt
 };
 
 // The transcript's alignment, its details added to the report.
 AlignOutcome AlignTranscript(const AlignOptions& options, const AudioClip& clip) {
-  const std::string text = options.text_file.empty()
-                               ? options.text
-                               : ReadInputText(options.text_file, EspeakPhonemeSource::kMaxTextBytes);
+  const PlainTranscript transcript = RemoveTranscriptMarkup(
+      options.text_file.empty() ? options.text : ReadInputText(options.text_file, EspeakPhonemeSource::kMaxTextBytes));
+  if (transcript.markup_removed) {
+    std::fprintf(stderr, "%s: removed markup from the transcript (<s> </s> <sil> tags, the utterance id): \"%s\"\n",
+                 options.text_file.empty() ? "--text" : options.text_file.c_str(), transcript.text.c_str());
+  }
   EspeakPhonemeSource source;
-  RecordingAlignment result = AlignRecording(source, clip, text, options.voice);
+  RecordingAlignment result = AlignRecording(source, clip, transcript.text, options.voice);
   CommandReport report = AlignReport(options, clip, result.alignment.line, result.seconds);
   report.result["voice"] = options.voice;
   report.result["reference_seconds"] = result.reference.audio_duration().count();
   report.result["path_cost"] = result.alignment.cost;
-  return {std::move(result.alignment.line), std::move(report)};
+  report.result["pauses"] = result.alignment.pauses;
+  report.result["transcript_markup_removed"] = transcript.markup_removed;
+  report.result["confidence"] = result.alignment.confidence;
+  report.result["tempo"] = result.alignment.tempo;
+  report.result["min_confidence"] = options.min_confidence;
+  report.result["forced"] = options.force;
+  const bool fits = TranscriptFits(result.alignment, options.min_confidence);
+  return {std::move(result.alignment.line), std::move(report), result.alignment.confidence, result.alignment.tempo, fits};
+}
+
+// The recording and the transcript do not seem to match: said, and nothing
+// written unless --force.
+bool RefuseMismatch(const AlignOptions& options, const AlignOutcome& outcome) {
+  if (outcome.fits) return false;
+  std::fprintf(stderr,
+               "facerig: %s and the transcript do not seem to match (match confidence %.2f, at least %.2f wanted; "
+               "the recording's speech lasts %.2f times the transcript's, %.1f-%.1f wanted): check that the "
+               "transcript holds the recording's words%s\n",
+               options.audio_path.c_str(), outcome.confidence, options.min_confidence, outcome.tempo,
+               1.0 / kMaxTempoRatio, kMaxTempoRatio,
+               options.force ? "; writing the track anyway (--force)" : "; --force writes the track anyway");
+  return !options.force;
 }
 
 // The rough mode: a coarse mouth from the audio alone.
@@ -90,15 +123,26 @@ AlignOutcome RoughTrack(const AlignOptions& options, const AudioClip& clip) {
 }
 
 int RunAlign(const AlignOptions& options) {
+  const std::optional<std::string> audio_in_track = AudioPathForTrack(options.audio_path, options.output);
+  if (!audio_in_track) {
+    const std::filesystem::path suggestion =
+        std::filesystem::path(options.audio_path).parent_path() / std::filesystem::path(options.output).filename();
+    std::fprintf(stderr,
+                 "facerig align: the track names its audio relative to its own folder, which must hold %s: write "
+                 "it there (e.g. -o %s) or put the audio in the track's folder\n",
+                 options.audio_path.c_str(), suggestion.string().c_str());
+    return kUsageExitCode;
+  }
   return RunWritingCommand([&] {
     CheckWritable({options.output, options.report_path});
     const AudioClip clip = ReadAudioFile(options.audio_path);
     const AlignOutcome outcome = IsRoughMode(options) ? RoughTrack(options, clip) : AlignTranscript(options, clip);
+    if (RefuseMismatch(options, outcome)) return 1;
     const SpeechLine& line = outcome.line;
     const CommandReport& report = outcome.report;
     WriteOutputSet([&](OutputSet& set) {
       const std::filesystem::path track = set.Add(options.output, OutputSet::Kind::kFile);
-      WritePhonemeTrack(track, line, AudioPathForTrack(options.audio_path, options.output));
+      WritePhonemeTrack(track, line, *audio_in_track);
       CheckAfterWrite("track", track);
       WriteReport(set, options.report_path, report);
     });
@@ -131,6 +175,12 @@ void AddAlignCommand(CLI::App& facerig, CommandBody& body) {
   transcript->add_option("--text-file", options->text_file, "a file holding the transcript (UTF-8)");
   transcript->require_option(0, 1);
   app->add_option("--voice", options->voice, "espeak-ng voice of the recording's language (default en-us)");
+  app->add_option("--min-confidence", options->min_confidence,
+                  "below this match confidence (0..1) the recording and the transcript are taken not to match and "
+                  "nothing is written (default " + std::to_string(kDefaultMinMatchConfidence).substr(0, 4) + ")")
+      ->check(CLI::Range(-1.0, 1.0));
+  app->add_flag("--force", options->force, "write the track even when the recording and the transcript do not "
+                "seem to match");
   AddOutputOptions(*app, options->output, options->report_path, "the phoneme track to write (JSON)");
 }
 

@@ -58,6 +58,21 @@ DtwPath TracePath(const DtwBand& band, const std::vector<std::size_t>& row_offse
   return path;
 }
 
+// The mean distance of the path's cells outside pauses (0 when it has none).
+double MeanPathDistance(const DtwPath& path, const AudioFeatures& rows, const AudioFeatures& columns,
+                        const DtwPauseColumns* pauses) {
+  double sum = 0.0;
+  std::size_t cells = 0;
+  for (std::size_t i = 0; i < path.first_column.size(); ++i) {
+    for (std::size_t j = path.first_column[i]; j <= path.last_column[i]; ++j) {
+      if (pauses && pauses->quiet[j]) continue;
+      sum += Distance(rows.frame(i), columns.frame(j));
+      ++cells;
+    }
+  }
+  return cells > 0 ? sum / static_cast<double>(cells) : 0.0;
+}
+
 }  // namespace
 
 std::size_t DtwBand::cell_count() const {
@@ -91,8 +106,12 @@ DtwBand MakeDtwBand(std::span<const double> centre, std::size_t columns, std::si
 }
 
 DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& columns, const DtwBand& band,
-                              std::size_t max_cells) {
+                              std::size_t max_cells, const DtwPauseColumns* pauses) {
   CheckInputs(rows, columns, band, max_cells);
+  if (pauses && (pauses->quiet.size() != columns.frame_count() ||
+                 (!pauses->quiet_rows.empty() && pauses->quiet_rows.size() != rows.frame_count()))) {
+    throw AlignmentError("the pause flags do not match the recording's frames");
+  }
   const std::size_t n = rows.frame_count();
   std::vector<std::size_t> row_offset(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) row_offset[i + 1] = row_offset[i] + band.last[i] - band.first[i] + 1;
@@ -107,7 +126,9 @@ DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& co
     };
     for (std::size_t k = 0; k < width; ++k) {
       const std::size_t j = first + k;
-      const double d = Distance(rows.frame(i), columns.frame(j));
+      const double d = !pauses || !pauses->quiet[j] ? Distance(rows.frame(i), columns.frame(j))
+                       : !pauses->quiet_rows.empty() && pauses->quiet_rows[i] ? 0.0
+                                                                              : pauses->cost;
       if (i == 0 && j == 0) {
         current[k] = d;
         continue;
@@ -126,6 +147,7 @@ DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& co
   }
   DtwPath path = TracePath(band, row_offset, steps);
   path.cost = previous.back() / static_cast<double>(n + columns.frame_count());
+  path.mean_distance = MeanPathDistance(path, rows, columns, pauses);
   return path;
 }
 

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 #include "facerig/runtime/alignment/release_landmark.h"
+#include "facerig/runtime/speech/phoneme_visemes.h"
 #include "audio/percentile.h"
 
 namespace facerig {
@@ -98,6 +100,9 @@ void SnapBilabialsToReleases(const SpeechLine& reference, const DtwPath& path, c
     const double tempo = LocalTempo(ref_start, ref_end, path, ref, rec);
     const double lowest = i > 0 ? phonemes[i - 1].start.count() : 0.0;
     const double highest = i + 2 < phonemes.size() ? phonemes[i + 2].start.count() : recording_end;
+    // A release outside the neighbours' room (a transcript that does not fit
+    // the recording) would turn the clamps below around.
+    if (release < lowest || release > highest) continue;
     const double start = std::clamp(release - tempo * (ref_release - ref_start), lowest, release);
     const double end = std::clamp(release + tempo * (ref_end - ref_release), std::max(start, release), highest);
     if (i > 0) phonemes[i - 1].duration = Seconds(start - lowest);
@@ -110,6 +115,84 @@ void SnapBilabialsToReleases(const SpeechLine& reference, const DtwPath& path, c
     phonemes[i].start = Seconds(start);
     phonemes[i].duration = Seconds(end - start);
   }
+}
+
+// A pause phoneme of the reference (silence viseme): it may lie in a pause.
+bool IsPausePhoneme(const Phoneme& phoneme, std::string_view line_language) {
+  const auto visemes = LookupPhonemeVisemes(phoneme.language.empty() ? line_language : phoneme.language.view(),
+                                            phoneme.symbol.view());
+  return visemes && visemes->count > 0 && visemes->visemes[0] == Viseme::kSil;
+}
+
+struct Interval {
+  double start = 0.0, end = 0.0;
+};
+
+// The recording's pauses in seconds: frame edges, the first and last
+// extended to the recording's ends.
+std::vector<Interval> PauseIntervals(const std::vector<Pause>& pauses, const AudioFeatures& rec, double recording_end) {
+  std::vector<Interval> intervals;
+  const double half_hop = 0.5 * rec.hop_seconds();
+  for (const Pause& pause : pauses) {
+    const double start = pause.first == 0 ? 0.0 : rec.FrameTime(static_cast<double>(pause.first)) - half_hop;
+    const double end = pause.last + 1 >= rec.frame_count() ? recording_end
+                                                           : rec.FrameTime(static_cast<double>(pause.last)) + half_hop;
+    intervals.push_back({std::max(0.0, start), std::min(recording_end, end)});
+  }
+  return intervals;
+}
+
+// No phoneme but a pause lies in a pause: one that starts inside starts at
+// its end, one that runs into it ends at its start. Starts stay in order.
+void KeepOutOfPauses(const std::vector<Interval>& pauses, std::string_view language, std::vector<Phoneme>& phonemes) {
+  double previous_start = 0.0;
+  for (Phoneme& phoneme : phonemes) {
+    double start = phoneme.start.count(), end = (phoneme.start + phoneme.duration).count();
+    if (!IsPausePhoneme(phoneme, language)) {
+      for (const Interval& pause : pauses) {
+        if (start >= pause.end || end <= pause.start) continue;
+        if (start >= pause.start) {
+          start = pause.end;
+          end = std::max(end, start);
+        } else {
+          end = pause.start;
+        }
+      }
+    }
+    start = std::max(start, previous_start);
+    phoneme.start = Seconds(start);
+    phoneme.duration = Seconds(std::max(end, start) - start);
+    previous_start = start;
+  }
+}
+
+// The fixed cost of a pause frame on any reference row: the expected distance
+// of two unrelated frames of normalised features (unit variance per
+// dimension), so that consuming the reference's speech there is no bargain.
+double PauseCost(const AudioFeatures& features) { return std::sqrt(2.0 * static_cast<double>(features.dimension)); }
+
+// The features (and the pause flags) with their frames in reverse order.
+AudioFeatures Reversed(const AudioFeatures& features) {
+  AudioFeatures reversed = features;
+  const std::size_t n = features.frame_count(), d = static_cast<std::size_t>(features.dimension);
+  for (std::size_t f = 0; f < n; ++f) {
+    std::copy_n(features.values.begin() + static_cast<std::ptrdiff_t>((n - 1 - f) * d), d,
+                reversed.values.begin() + static_cast<std::ptrdiff_t>(f * d));
+  }
+  std::reverse(reversed.log_energy.begin(), reversed.log_energy.end());
+  return reversed;
+}
+
+// The confidence of `path` (see PhonemeAlignment::confidence): the reference
+// warped onto the reversed recording is the baseline of an unrelated match.
+double MatchConfidence(const AudioFeatures& ref, const AudioFeatures& rec, const DtwPath& path, std::size_t radius,
+                       const DtwPauseColumns* pauses, std::size_t max_cells) {
+  const AudioFeatures reversed = Reversed(rec);
+  DtwPauseColumns reversed_pauses;
+  if (pauses) reversed_pauses = {std::vector<bool>(pauses->quiet.rbegin(), pauses->quiet.rend()), pauses->quiet_rows, pauses->cost};
+  const DtwBand band = MakeDtwBand(GuideLine(ref, reversed), reversed.frame_count(), radius);
+  const DtwPath baseline = AlignFeatureSequences(ref, reversed, band, max_cells, pauses ? &reversed_pauses : nullptr);
+  return baseline.mean_distance > 0.0 ? 1.0 - path.mean_distance / baseline.mean_distance : 0.0;
 }
 
 }  // namespace
@@ -145,12 +228,23 @@ PhonemeAlignment AlignPhonemesToRecording(const SpeechLine& reference, std::span
   const std::vector<float> reference_audio = PcmToFloat(reference.audio);
   const AudioFeatures ref = ComputeAudioFeatures(reference_audio, reference.sample_rate, params.features);
   const AudioFeatures rec = ComputeAudioFeatures(recording, reference.sample_rate, params.features);
-  const DtwBand band = MakeDtwBand(GuideLine(ref, rec), rec.frame_count(), BandRadiusFrames(rec, params));
-  const DtwPath path = AlignFeatureSequences(ref, rec, band, params.max_cells);
+  const std::size_t radius = BandRadiusFrames(rec, params);
+  const DtwBand band = MakeDtwBand(GuideLine(ref, rec), rec.frame_count(), radius);
+  const std::vector<Pause> pauses =
+      params.pauses ? FindPauses(rec.log_energy, rec.hop_seconds(), params.pause_params) : std::vector<Pause>{};
+  const DtwPauseColumns pause_columns{PauseMask(pauses, rec.frame_count()), QuietFrames(ref.log_energy, params.pause_params),
+                                      PauseCost(rec)};
+  const DtwPauseColumns* crossed = pauses.empty() ? nullptr : &pause_columns;
+  const DtwPath path = AlignFeatureSequences(ref, rec, band, params.max_cells, crossed);
 
   const double recording_end = static_cast<double>(recording.size()) / reference.sample_rate;
   PhonemeAlignment result;
   result.cost = path.cost;
+  result.pauses = pauses.size();
+  result.confidence = MatchConfidence(ref, rec, path, radius, crossed, params.max_cells);
+  const auto [ref_start, ref_end] = SpeechEndpoints(ref);
+  const auto [rec_start, rec_end] = SpeechEndpoints(rec);
+  result.tempo = ref_end > ref_start ? (rec_end - rec_start + 1.0) / (ref_end - ref_start + 1.0) : 1.0;
   result.line.text = reference.text;
   result.line.language = reference.language;
   result.line.phonemes = reference.phonemes;
@@ -165,6 +259,7 @@ PhonemeAlignment AlignPhonemesToRecording(const SpeechLine& reference, std::span
     previous_start = start;
   }
   SnapBilabialsToReleases(reference, path, ref, rec, recording_end, result.line.phonemes);
+  KeepOutOfPauses(PauseIntervals(pauses, rec, recording_end), reference.language.view(), result.line.phonemes);
   return result;
 }
 

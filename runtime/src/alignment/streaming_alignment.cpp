@@ -28,6 +28,11 @@ constexpr std::size_t kOnsetMargin = kDeltaReach;
 // Speech: louder than this share of the way from the reference's quiet
 // frames (5th percentile) to its loud ones (95th), above the recording's floor.
 constexpr double kOnsetShare = 0.35;
+// Quiet, for pauses: below this share of that range above the floor (as in pauses.h).
+constexpr double kQuietShare = 0.25;
+// Columns after the onset where quiet frames are warped like any other: a
+// line often starts with a quiet voiced closure (/b m/) that is speech.
+constexpr std::size_t kOnsetColumns = 20;
 // Latency the release snap (streaming_release.cpp) may add: waiting for a
 // bilabial's end and moving its start earlier.
 constexpr double kReleaseLatency = 0.050;
@@ -88,6 +93,10 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   reference_ = ReferenceFeatures(reference, cepstra_, dimension_);
   rows_ = reference_.size() / dimension_;
   radius_ = static_cast<std::size_t>(std::ceil(params.band_radius_seconds / hop));
+  pause_frames_ = params.pauses ? static_cast<std::size_t>(std::max(1.0, std::ceil(params.pause_seconds / hop - 1e-9))) : 0;
+  // The expected distance of two unrelated normalised frames: waiting in a
+  // pause favours no row of the reference.
+  pause_cost_ = std::sqrt(static_cast<double>(2 * 2 * cepstra_.cepstra()));
   FindReferenceOnset();
   FindReferenceReleases(reference);
   NormalizeReference(params.prior_frames);
@@ -95,6 +104,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   // boundaries keep their distance to it.
   const std::size_t start_row = onset_row_ > kOnsetMargin ? onset_row_ - kOnsetMargin : 0;
   reference_.erase(reference_.begin(), reference_.begin() + static_cast<std::ptrdiff_t>(start_row * dimension_));
+  reference_quiet_.erase(reference_quiet_.begin(), reference_quiet_.begin() + static_cast<std::ptrdiff_t>(start_row));
   rows_ -= start_row;
   width_ = std::min(2 * radius_ + 1, rows_);
   for (const Phoneme& phoneme : reference.phonemes) {
@@ -102,7 +112,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
                                  cepstra_.hop_samples() - static_cast<double>(start_row));
   }
   raw_history_.assign(kHistory * dimension_, 0.0f);
-  energy_ring_.assign(lag_ + kHistory + kEnergyMargin, 0.0f);
+  energy_ring_.assign(std::max(lag_ + kHistory + kEnergyMargin, pause_frames_ + kHistory), 0.0f);
   frame_.resize(dimension_);
   column_features_.resize(dimension_);
   previous_cost_.assign(width_, kInfinity);
@@ -123,6 +133,9 @@ void StreamingAligner::FindReferenceOnset() {
   std::vector<float> sorted = energy;
   const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   onset_rise_ = kOnsetShare * (high - low);
+  quiet_rise_ = kQuietShare * (high - low);
+  reference_quiet_.resize(rows_);
+  for (std::size_t f = 0; f < rows_; ++f) reference_quiet_[f] = energy[f] < low + quiet_rise_ ? 1 : 0;
   floor_cap_ = 0.5 * (low + high);
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
@@ -225,7 +238,11 @@ void StreamingAligner::AddColumn(std::size_t frame) {
     const double mean = sums_[d] / count_, variance = std::max(0.0, squares_[d] / count_ - mean * mean);
     column_features_[d] = variance > 1e-12 ? static_cast<float>((v - mean) / std::sqrt(variance)) : 0.0f;
   }
-  FillColumn(column_features_);
+  if (columns_ > 0 && InPause(frame)) {
+    HoldColumn();
+  } else {
+    FillColumn(column_features_, pause_frames_ > 0 && columns_ >= kOnsetColumns && Quiet(frame));
+  }
   if (columns_ > lag_) {
     Backtrack(BestRow(), lag_ + 1);
     CommitColumn(columns_ - 1 - lag_, path_low_.back(), path_high_.back());
@@ -233,7 +250,7 @@ void StreamingAligner::AddColumn(std::size_t frame) {
   }
 }
 
-void StreamingAligner::FillColumn(std::span<const float> x) {
+void StreamingAligner::FillColumn(std::span<const float> x, bool quiet) {
   const std::size_t j = columns_;
   if (j > 0) {
     const auto centre = static_cast<std::ptrdiff_t>(BestRow()) + 1;
@@ -256,13 +273,16 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
       const double diff = static_cast<double>(reference_[row * dimension_ + k]) - x[k];
       d += diff * diff;
     }
-    d = std::sqrt(d);
+    d = quiet ? (reference_quiet_[row] ? 0.0 : pause_cost_) : std::sqrt(d);
     double best = kInfinity;
     std::uint8_t step = kStart;
     if (j == 0 && row == 0) best = d;
-    const bool may_climb = c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
+    // A quiet recording frame advances the path only into the reference's
+    // own quiet frames; on speech it waits for the recording's.
+    const bool may_advance = !quiet || reference_quiet_[row];
+    const bool may_climb = may_advance && c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
     const double candidates[3] = {j > 0 ? previous(row) + d : kInfinity,
-                                  j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
+                                  may_advance && j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
                                   may_climb ? cost_[c - 1] + d : kInfinity};
     for (std::uint8_t s = 0; s < 3; ++s) {
       if (candidates[s] < best) {
@@ -273,6 +293,36 @@ void StreamingAligner::FillColumn(std::span<const float> x) {
     cost_[c] = best;
     steps_[slot * width_ + c] = step;
     vertical_run_[c] = step == kVertical ? static_cast<std::uint8_t>(vertical_run_[c - 1] + 1) : 0;
+  }
+  ++columns_;
+}
+
+// Recording frame `frame` (still in the energy ring) is quiet.
+bool StreamingAligner::Quiet(std::size_t frame) const {
+  return energy_ring_[frame % energy_ring_.size()] < std::min(floor_, floor_cap_) + quiet_rise_;
+}
+
+// Recording frame `frame` ends pause_frames_ quiet frames (0: pauses are off).
+bool StreamingAligner::InPause(std::size_t frame) const {
+  const std::size_t ring = energy_ring_.size();
+  if (pause_frames_ == 0 || frame + 1 < pause_frames_ || raw_frames_ - (frame + 1 - pause_frames_) > ring) return false;
+  for (std::size_t f = frame + 1 - pause_frames_; f <= frame; ++f) {
+    if (!Quiet(f)) return false;
+  }
+  return true;
+}
+
+// A column of a pause: the path waits on its rows (horizontal steps at a
+// fixed cost, the same on every row) and the band stays where it is.
+void StreamingAligner::HoldColumn() {
+  std::swap(previous_cost_, cost_);
+  previous_low_ = low_;
+  const std::size_t slot = columns_ % (lag_ + 1);
+  step_lows_[slot] = low_;
+  for (std::size_t c = 0; c < width_; ++c) {
+    cost_[c] = previous_cost_[c] + pause_cost_;
+    steps_[slot * width_ + c] = kHorizontal;
+    vertical_run_[c] = 0;
   }
   ++columns_;
 }

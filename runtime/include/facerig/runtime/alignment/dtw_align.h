@@ -35,6 +35,21 @@ DtwBand MakeDtwBand(std::span<const double> centre, std::size_t columns, std::si
 struct DtwPath {
   std::vector<std::size_t> first_column, last_column;
   double cost = 0.0;  // accumulated distance, divided by rows + columns
+  // The mean distance of the cells the path visits outside pauses (each
+  // once, unweighted): how alike the matched frames are.
+  double mean_distance = 0.0;
+};
+
+// Columns (the recording's frames) inside pauses: each costs `cost` on a
+// row of speech instead of its distance, and nothing on a quiet row (the
+// reference's own silence, whatever the two noise floors), so the path
+// crosses a pause on the reference's nearest silence, or on one row, without
+// matching it to the rows' speech; it climbs through speech rows there only
+// at that price (no cheaper than unrelated frames).
+struct DtwPauseColumns {
+  std::vector<bool> quiet;       // one per column
+  std::vector<bool> quiet_rows;  // one per row (empty: none quiet)
+  double cost = 0.0;
 };
 
 // Warps `rows` onto `columns` (same dimension) with the symmetric step
@@ -42,8 +57,8 @@ struct DtwPath {
 // ones) from (0, 0) to the last frames of both, inside `band`. Distances are
 // Euclidean. \throw AlignmentError when the dimensions differ, either
 // sequence is empty, the band does not fit them, or it holds more than
-// `max_cells` cells.
+// `max_cells` cells, or `pauses` has not one flag per column (and per row).
 DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& columns, const DtwBand& band,
-                              std::size_t max_cells);
+                              std::size_t max_cells, const DtwPauseColumns* pauses = nullptr);
 
 }  // namespace facerig

@@ -52,6 +52,14 @@ struct StreamingAlignmentParams {
   // Weight, in frames, of the reference's feature statistics in the running
   // normalisation of the recording's.
   double prior_frames = 100.0;
+  // Pauses: a quiet recording frame (below a quarter of the reference's
+  // loudness range above the recording's floor) matches the reference's quiet
+  // frames at no cost and its speech at a fixed one, as offline; once quiet
+  // for pause_seconds, the warping stops until the recording is loud again,
+  // so that no phoneme is stretched across the pause. false: quiet frames
+  // after the onset are warped like speech.
+  bool pauses = true;
+  double pause_seconds = 0.15;
 };
 
 struct StreamedBoundary {
@@ -85,7 +93,10 @@ class StreamingAligner {
   void ProcessFrame();
   std::size_t RisingFrom(std::size_t frame) const;
   void AddColumn(std::size_t frame);
-  void FillColumn(std::span<const float> x);
+  void FillColumn(std::span<const float> x, bool quiet);
+  void HoldColumn();
+  bool Quiet(std::size_t frame) const;
+  bool InPause(std::size_t frame) const;
   std::size_t BestRow() const;
   void Backtrack(std::size_t from_row, std::size_t columns);
   void CommitColumn(std::size_t column, std::size_t lowest_row, std::size_t highest_row);
@@ -111,6 +122,7 @@ class StreamingAligner {
   int sample_rate_ = 0;
   std::size_t dimension_ = 0, rows_ = 0, width_ = 0, lag_ = 0, radius_ = 0;
   std::vector<float> reference_;                    // rows_ x dimension_, normalised
+  std::vector<std::uint8_t> reference_quiet_;       // per row: quiet (for pauses)
   std::vector<double> boundary_rows_;               // each phoneme's start on the reference's frame axis
   std::vector<double> sums_, squares_;              // running statistics of the recording's raw features
   double count_ = 0.0;
@@ -122,7 +134,8 @@ class StreamingAligner {
   // frame column_offset_, row 0 the reference's frame onset_row_ - margin.
   std::size_t onset_row_ = 0, column_offset_ = 0, next_frame_ = 0;
   bool started_ = false;
-  double onset_rise_ = 0.0, floor_cap_ = 0.0;
+  double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0, pause_cost_ = 0.0;
+  std::size_t pause_frames_ = 0;
   // A first recording frame louder than this is speech (infinite: the reference starts quiet).
   double speech_at_start_ = std::numeric_limits<double>::infinity();
   double floor_ = std::numeric_limits<double>::infinity();

@@ -1,0 +1,43 @@
+// Pauses in a recording: stretches quiet enough and long enough that no
+// phoneme should be stretched into them. Real recordings start and end with
+// silence and pause between phrases; the warping crosses a pause at a fixed
+// cost (dtw_align.h) and the aligned phonemes are kept out of it.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace facerig {
+
+struct PauseParams {
+  // Quiet: a frame's log energy below this share of the way from the quiet
+  // end of the recording's energies (5th percentile) to the loud end (95th).
+  double quiet_share = 0.25;
+  // A quiet stretch touching the start or the end of the recording is a
+  // pause from this long on; one inside it (between words, where stop
+  // closures are quiet too, up to ~0.1 s) from the longer one.
+  double min_edge_seconds = 0.15;
+  double min_inner_seconds = 0.25;
+  // Below this loudness range (natural log of energy, ~8.7 dB) nothing
+  // stands out as speech: no pauses (noise, or speech without silence).
+  double min_range = 2.0;
+};
+
+// Frames [first, last] (inclusive) of one pause.
+struct Pause {
+  std::size_t first = 0, last = 0;
+};
+
+// The pauses in a sequence of per-frame log energies, `hop_seconds` apart,
+// in order.
+std::vector<Pause> FindPauses(std::span<const float> log_energy, double hop_seconds, const PauseParams& params = {});
+
+// One flag per frame: quiet (by the rule above, whatever the run's length);
+// none when nothing stands out as speech.
+std::vector<bool> QuietFrames(std::span<const float> log_energy, const PauseParams& params = {});
+
+// One flag per frame: inside a pause.
+std::vector<bool> PauseMask(std::span<const Pause> pauses, std::size_t frames);
+
+}  // namespace facerig
