@@ -12,6 +12,8 @@ import os
 import types
 from ctypes import POINTER, Structure, c_char, c_char_p, c_double, c_float, c_int32, c_size_t, c_uint32, c_uint64, c_void_p
 
+from .errors import ClosedError
+
 ABI_VERSION_MAJOR = 0
 ABI_VERSION_MINOR = 1
 NAME_CAPACITY = 16
@@ -134,7 +136,6 @@ def _translated(function):
         except ctypes.ArgumentError as error:
             kind, _, message = str(error).partition(": ClosedError: ")
             if message:
-                from .errors import ClosedError
                 raise ClosedError(message, "FR_ERROR_INVALID_ARGUMENT") from None
             raise
     call.__name__ = call.__qualname__ = function.__name__

@@ -4,7 +4,7 @@ import ctypes
 from . import _native
 from ._arrays import float_input, pointer
 from ._handle import Handle, new_handle
-from .errors import check
+from .status import check
 from .speech import read_phonemes
 
 

@@ -4,7 +4,7 @@ import ctypes
 from . import _native
 from ._arrays import float_output, pointer
 from ._handle import Handle, new_handle
-from .errors import check
+from .status import check
 
 EMOTIONS = ("joy", "sadness", "fear", "anger", "surprise", "disgust")
 VISEMES = ("sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou")

@@ -1,5 +1,4 @@
 """Exceptions raised for the C ABI's status codes, carrying its message."""
-from . import _native
 
 
 class FacerigError(Exception):
@@ -55,21 +54,3 @@ class FailedError(FacerigError):
 
 class ClosedError(FacerigError):
     """The object was closed (released) and cannot be used any more."""
-
-
-_BY_STATUS = {
-    1: InvalidArgumentError, 2: BufferTooSmallError, 3: NotFoundError, 4: FileError, 5: FormatError,
-    6: SpeechError, 7: StateError, 8: LimitError, 9: MemoryError, 11: CancelledError, 12: FailedError,
-}
-
-
-def check(status):
-    """Raises the exception for a failed status, with this thread's message."""
-    if status == 0:
-        return
-    message = _native.lib.fr_last_error().decode("utf-8", "replace")
-    name = _native.lib.fr_status_name(status).decode()
-    kind = _BY_STATUS.get(status, FacerigError)
-    if kind is MemoryError:
-        raise MemoryError(message)
-    raise kind(message, name)

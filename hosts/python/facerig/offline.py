@@ -10,7 +10,7 @@ import ctypes
 import json
 
 from . import _native
-from .errors import check
+from .status import check
 
 
 def _run(function_name, inputs, progress, options):

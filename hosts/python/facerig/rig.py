@@ -7,7 +7,8 @@ import numpy as np
 from . import _native
 from ._arrays import float_input, float_output, pointer
 from ._handle import Handle, new_handle
-from .errors import InvalidArgumentError, check
+from .errors import InvalidArgumentError
+from .status import check
 
 NORMALS = {"none": 0, "blend": 1, "recompute": 2}
 

@@ -8,7 +8,7 @@ import numpy as np
 from . import _native
 from ._arrays import float_input, pointer
 from ._handle import Handle, new_handle
-from .errors import check
+from .status import check
 
 
 @dataclass
