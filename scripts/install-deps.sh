@@ -30,6 +30,9 @@ packages=(
   python3-numpy python3-pytest mono-mcs mono-runtime
   nodejs npm                                       # glTF validator in the tests
   chromium                                         # tests: written GLBs in three.js, headless (tests/browser)
+  # the WebAssembly module (hosts/web, scripts/build-web.sh): emscripten 3.1.6
+  # works offline; its JavaScript optimiser needs acorn (NODE_PATH=/usr/share/nodejs)
+  emscripten node-acorn
 )
 
 missing=()
@@ -53,6 +56,12 @@ validator=tests/runtime/io/gltf_validator
 if [[ ! -d $validator/node_modules/gltf-validator ]]; then
   echo "facerig: installing the Khronos glTF validator (npm ci in $validator)"
   npm ci --prefix "$validator" --no-audit --no-fund --loglevel=error
+fi
+
+web=hosts/web
+if [[ ! -d $web/node_modules/three || ! -d $web/node_modules/puppeteer-core ]]; then
+  echo "facerig: installing three.js, puppeteer-core and espeak-ng (WebAssembly) for the web page (npm ci in $web)"
+  npm ci --prefix "$web" --no-audit --no-fund --loglevel=error
 fi
 
 browser=tests/browser

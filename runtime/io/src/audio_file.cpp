@@ -123,12 +123,4 @@ AudioClip DecodeAudio(std::span<const std::byte> bytes, const std::string& name)
   return clip;
 }
 
-std::vector<std::int16_t> FloatToPcm(std::span<const float> samples) {
-  std::vector<std::int16_t> out(samples.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    out[i] = static_cast<std::int16_t>(std::lround(std::clamp(samples[i], -1.0f, 32767.0f / 32768.0f) * 32768.0f));
-  }
-  return out;
-}
-
 }  // namespace facerig

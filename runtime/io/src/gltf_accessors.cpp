@@ -22,7 +22,8 @@ std::span<const std::byte> GltfAccessors::ViewBytes(int view_index, const std::s
   const std::uint64_t length =
       view_index >= 0 && view_index < static_cast<int>(model_.bufferViews.size()) ? model_.bufferViews[view_index].byteLength : 0;
   const Elements bytes = ViewElements(view_index, 0, length, 1, false, what);
-  return {reinterpret_cast<const std::byte*>(bytes.data), length};
+  // ViewElements checked that the view lies inside its buffer, so it fits in memory.
+  return {reinterpret_cast<const std::byte*>(bytes.data), static_cast<std::size_t>(length)};
 }
 
 Elements GltfAccessors::ViewElements(int view_index, std::uint64_t byte_offset, std::uint64_t count,

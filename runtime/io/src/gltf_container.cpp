@@ -391,7 +391,7 @@ void WriteModel(const std::filesystem::path& path, Format format, const tinygltf
                   "tinygltf could not serialise the model: " + QuoteInput(e.what()));
   }
   if (!written) throw IoError(IoErrorKind::kWriteFailed, path.string(), "tinygltf could not serialise the model");
-  WriteFileAtomically(path, stream.view());
+  WriteFileAtomically(path, std::move(stream).str());  // no copy where str() && exists (C++20)
 }
 
 }  // namespace facerig::gltf_internal

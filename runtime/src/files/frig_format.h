@@ -122,7 +122,18 @@ inline std::uint32_t Load32(const std::byte* p) {
 inline std::uint64_t Load64(const std::byte* p) {
   return static_cast<std::uint64_t>(Load32(p)) | static_cast<std::uint64_t>(Load32(p + 4)) << 32;
 }
-inline float LoadFloat(const std::byte* p) { return std::bit_cast<float>(Load32(p)); }
+// std::bit_cast, or the compiler builtin it is made of where the standard
+// library lacks it (libc++ 13 of Debian's emscripten).
+template <class To, class From>
+constexpr To BitCast(const From& from) noexcept {
+#if defined(__cpp_lib_bit_cast)
+  return std::bit_cast<To>(from);
+#else
+  return __builtin_bit_cast(To, from);
+#endif
+}
+
+inline float LoadFloat(const std::byte* p) { return BitCast<float>(Load32(p)); }
 inline void Store32(std::byte* p, std::uint32_t value) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<std::byte>((value >> (8 * i)) & 0xFFu);
 }
@@ -143,7 +154,7 @@ class Cursor {
     Store64(p_, value);
     p_ += 8;
   }
-  void Float(float value) { U32(std::bit_cast<std::uint32_t>(value)); }
+  void Float(float value) { U32(BitCast<std::uint32_t>(value)); }
   void Vec2(const glm::vec2& v) {
     Float(v.x);
     Float(v.y);

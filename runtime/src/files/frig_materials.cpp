@@ -93,7 +93,7 @@ class MaterialReader {
 
   // An i32 index at `at`: -1 (none) or below `count`.
   std::int32_t Index(std::uint64_t at, std::size_t count, const std::string& what) const {
-    const auto index = std::bit_cast<std::int32_t>(Load32(At(at)));
+    const auto index = BitCast<std::int32_t>(Load32(At(at)));
     if (index < -1 || index >= static_cast<std::int64_t>(count)) {
       Fail(IoErrorKind::kIndexOutOfRange, at,
            what + " is " + std::to_string(index) + " of " + std::to_string(count));
@@ -208,8 +208,8 @@ void WriteMaterial(const Material& material, NameRef name, Cursor& out) {
   out.U32(name.first);
   out.U32(name.second);
   for (int c = 0; c < 4; ++c) out.Float(material.base_colour[c]);
-  out.U32(std::bit_cast<std::uint32_t>(material.base_colour_image));
-  out.U32(std::bit_cast<std::uint32_t>(material.normal_image));
+  out.U32(BitCast<std::uint32_t>(material.base_colour_image));
+  out.U32(BitCast<std::uint32_t>(material.normal_image));
   out.U32(static_cast<std::uint32_t>(material.alpha_mode));
   out.Float(material.alpha_cutoff);
   out.U32(material.double_sided ? kMaterialDoubleSided : 0u);
@@ -292,7 +292,7 @@ void WriteMaterialSections(const Rig& rig, std::span<const NameRef> material_nam
       WriteMaterial(rig.materials()[i], material_names[i], materials);
     }
     Cursor part_materials(file + offsets[kPartMaterials]);
-    for (const Part& part : rig.parts()) part_materials.U32(std::bit_cast<std::uint32_t>(part.material));
+    for (const Part& part : rig.parts()) part_materials.U32(BitCast<std::uint32_t>(part.material));
   }
   const ImageData data = PlanImageData(rig.images());
   Cursor entries(file + offsets[kImages]);

@@ -374,9 +374,11 @@ class Parser {
   void CheckShapeOrder() const {
     for (std::size_t s = 0; s < shapes_.size(); ++s) {
       const NamedRange& r = shapes_[s];
-      for (std::uint64_t i = std::uint64_t{r.first} + 1; i < std::uint64_t{r.first} + r.count; ++i) {
+      // The ranges were checked against indices_.size(), so they fit in size_t.
+      const auto first = static_cast<std::size_t>(r.first), end = first + static_cast<std::size_t>(r.count);
+      for (std::size_t i = first + 1; i < end; ++i) {
         if (indices_[i] <= indices_[i - 1]) {
-          Fail(IoErrorKind::kParse, FieldAt(kShapeIndices, static_cast<std::size_t>(i), 0),
+          Fail(IoErrorKind::kParse, FieldAt(kShapeIndices, i, 0),
                "shape " + std::to_string(s) + ": vertex index " + std::to_string(indices_[i]) +
                    " follows " + std::to_string(indices_[i - 1]) + " (must be strictly increasing)");
         }
