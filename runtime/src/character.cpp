@@ -205,12 +205,12 @@ void Character::UpdateTalkingState(Seconds line_time) {
 
 CharacterError Character::Update(Seconds time) {
   if (!std::isfinite(time.count())) return CharacterError::kNonFiniteTime;
-  double dt = 0.0;
+  Seconds step{0.0};
   if (has_time_) {
     if (time < last_time_) {
       blink_state_.ForgetTime();  // a seek: blinks restart rather than refuse
     } else {
-      dt = (time - last_time_).count();
+      step = time - last_time_;
     }
   }
   has_time_ = true;
@@ -219,15 +219,19 @@ CharacterError Character::Update(Seconds time) {
 
   UpdateTalkingState(line_time);
 
-  CoarticulationJob coarticulation{&track_, line_time, &params_.coarticulation, &viseme_weights_};
+  const CoarticulationJob coarticulation{
+      .keys = &track_, .time = line_time, .params = &params_.coarticulation, .out_weights = &viseme_weights_};
   if (coarticulation.Run() != CoarticulationError::kNone) viseme_weights_.fill(0.0f);
 
-  VisemeWeightsJob to_rig{&rig_->visemes(), viseme_weights_, params_.jaw_intensity,
-                          params_.lip_intensity, false, speech_weights_};
+  const VisemeWeightsJob to_rig{.mapping = &rig_->visemes(),
+                                .viseme_weights = viseme_weights_,
+                                .jaw_intensity = params_.jaw_intensity,
+                                .lip_intensity = params_.lip_intensity,
+                                .out_weights = speech_weights_};
   if (to_rig.Run() != VisemeWeightsJobError::kNone) std::fill(speech_weights_.begin(), speech_weights_.end(), 0.0f);
 
-  emotion_state_.Advance(dt);
-  UpdateBehaviours(time.count());
+  emotion_state_.Advance(step);
+  UpdateBehaviours(time);
   CombineWeights();
   return CharacterError::kNone;
 }
@@ -240,12 +244,20 @@ Viseme Character::dominant_viseme() const {
   return viseme_weights_[best] > 0.05f ? static_cast<Viseme>(best) : Viseme::kSil;
 }
 
-void Character::UpdateBehaviours(double time) {
-  EmotionChannelsJob emotions{&rig_->emotions(), emotion_state_.intensity, LipContactWeight(viseme_weights_),
-                              emotion_values_};
+void Character::UpdateBehaviours(Seconds time) {
+  const EmotionChannelsJob emotions{.emotions = &rig_->emotions(),
+                                    .intensities = emotion_state_.intensity,
+                                    .lip_contact = LipContactWeight(viseme_weights_),
+                                    .out_values = emotion_values_};
   emotion_value_count_ = emotions.Run() == EmotionChannelsJobError::kNone ? emotion_values_.size() : 0;
 
-  BlinkJob blink{&params_.blink, &blink_state_, time, talking_, at_pause_, &blink_left_, &blink_right_};
+  const BlinkJob blink{.params = &params_.blink,
+                       .state = &blink_state_,
+                       .time = time,
+                       .talking = talking_,
+                       .at_pause = at_pause_,
+                       .out_left = &blink_left_,
+                       .out_right = &blink_right_};
   if (!blinking_ || blink.Run() != BlinkError::kNone) blink_left_ = blink_right_ = 0.0f;
   blink_value_count_ = 0;
   if (const auto left = rig_->blink_left()) {
@@ -256,7 +268,7 @@ void Character::UpdateBehaviours(double time) {
   }
 
   GazeChannels gaze_channels{};
-  GazeJob gaze{&params_.gaze, &gaze_state_, time, &gaze_channels};
+  const GazeJob gaze{.params = &params_.gaze, .state = &gaze_state_, .time = time, .out_channels = &gaze_channels};
   if (gaze.Run() != GazeError::kNone) gaze_channels.fill(0.0f);
   gaze_value_count_ = 0;
   if (const auto& shapes = rig_->gaze_shapes()) {
@@ -273,7 +285,8 @@ void Character::CombineWeights() {
       // Gaze adds to what the emotions set (e.g. eyeLookDown from sadness).
       {ChannelRule::kAdd, std::span(gaze_values_).first(gaze_value_count_)},
   }};
-  CombineChannelsJob combine{speech_weights_, layers, params_.weight_epsilon, weights_};
+  const CombineChannelsJob combine{
+      .base = speech_weights_, .layers = layers, .zero_below = params_.weight_epsilon, .out_weights = weights_};
   if (combine.Run() != CombineChannelsError::kNone) {
     // Only a non-finite speech weight gets here: show the rest pose.
     std::fill(weights_.begin(), weights_.end(), 0.0f);

@@ -2,7 +2,7 @@
  * libfacerig_offline.so.0. C99. It holds the command-line tool's commands
  * and links facerig::offline (Eigen, OpenCV, dlib, CHOLMOD) and, in a build
  * with espeak-ng, espeak-ng: a program that links it is GPL as a whole (see
- * the README's licences). libfacerig alone stays MIT.
+ * docs/licences.md). libfacerig alone stays MIT.
  *
  * Each call runs one command in-process with the options the command line
  * takes, given as a JSON object: a key is an option's long name without its

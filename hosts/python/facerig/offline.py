@@ -1,4 +1,4 @@
-"""The `facerig` command's offline tools as calls (libfacerig_offline; GPL as a whole, see the README).
+"""The `facerig` command's offline tools as calls (libfacerig_offline; GPL as a whole, see docs/licences.md).
 
 Each takes the command's options as keyword arguments (their long names, '_'
 for '-': obj_dir="..." is --obj-dir; output="x.glb" is -o; True is a flag) and

@@ -14,8 +14,8 @@ namespace {
 
 // Lid points moved farther than this fraction of the eye width on average
 // mean the detector missed the eye (the built-in stylized head's misses and
-// re-meshed ICT faces' hits lie on either side: README, "Measurements behind
-// the defaults").
+// re-meshed ICT faces' hits lie on either side: docs/benchmarks.md,
+// "Measurements behind the defaults").
 constexpr float kMissedEye = 0.15f;
 
 // dlib's six points of an eye, in order: corner, two upper-lid points,

@@ -336,9 +336,9 @@ BlinkError BlinkJob::Validate() const {
   if (params == nullptr) return BlinkError::kNoParams;
   if (state == nullptr) return BlinkError::kNoState;
   if (out_left == nullptr || out_right == nullptr) return BlinkError::kNoOutput;
-  if (!std::isfinite(time)) return BlinkError::kNonFiniteTime;
+  if (!std::isfinite(time.count())) return BlinkError::kNonFiniteTime;
   if (!params->Validate()) return BlinkError::kInvalidParams;
-  if (state->has_time() && time < state->time()) return BlinkError::kTimeWentBackwards;
+  if (state->has_time() && time.count() < state->time()) return BlinkError::kTimeWentBackwards;
   return BlinkError::kNone;
 }
 
@@ -347,11 +347,11 @@ BlinkError BlinkJob::Run() const {
   Derived derived;
   ComputeDerived(*params, &derived);  // cannot fail: Validate checked it
   if (!state->has_time()) {
-    BlinkEngine::Begin(*state, *params, derived, time);
+    BlinkEngine::Begin(*state, *params, derived, time.count());
   } else {
-    BlinkEngine::Step(*state, *params, derived, time, talking, at_pause, nullptr);
+    BlinkEngine::Step(*state, *params, derived, time.count(), talking, at_pause, nullptr);
   }
-  BlinkEngine::Evaluate(*state, time, out_left, out_right);
+  BlinkEngine::Evaluate(*state, time.count(), out_left, out_right);
   return BlinkError::kNone;
 }
 

@@ -157,7 +157,8 @@ void EmotionState::SetTarget(Emotion emotion, float value) {
   target[e] = std::clamp(value, 0.0f, 1.0f);
 }
 
-bool EmotionState::Advance(double dt) {
+bool EmotionState::Advance(Seconds step) {
+  const double dt = step.count();
   if (!(dt >= 0.0 && std::isfinite(dt))) return false;
   for (std::size_t e = 0; e < kEmotionCount; ++e) {
     if (!(attack[e] > 0.0f && std::isfinite(attack[e]) && release[e] > 0.0f && std::isfinite(release[e]))) {

@@ -57,16 +57,17 @@ GazeError GazeJob::Validate() const {
   if (!params->Valid()) return GazeError::kInvalidParams;
   if (state == nullptr) return GazeError::kNoState;
   if (out_channels == nullptr) return GazeError::kNoOutput;
-  if (!std::isfinite(time)) return GazeError::kNonFiniteTime;
+  if (!std::isfinite(time.count())) return GazeError::kNonFiniteTime;
   return GazeError::kNone;
 }
 
 GazeError GazeJob::Run() const {
   if (const GazeError e = Validate(); e != GazeError::kNone) return e;
   GazeState& s = *state;
-  if (!s.started_ || time < s.last_time_) s.Restart(*params);
-  s.last_time_ = time;
-  while (time >= s.next_saccade_) {
+  const double now = time.count();
+  if (!s.started_ || now < s.last_time_) s.Restart(*params);
+  s.last_time_ = now;
+  while (now >= s.next_saccade_) {
     s.from_ = s.to_;
     const bool recentre = s.rng_.NextDouble() < static_cast<double>(params->recentre_probability);
     s.to_.x = recentre ? 0.0f : static_cast<float>(s.rng_.NextDouble() * 2.0 - 1.0);
@@ -74,7 +75,7 @@ GazeError GazeJob::Run() const {
     s.saccade_start_ = s.next_saccade_;
     s.next_saccade_ += Interval(*params, s.rng_);
   }
-  const float t = SmoothStep(static_cast<float>((time - s.saccade_start_) / params->saccade_duration));
+  const float t = SmoothStep(static_cast<float>((now - s.saccade_start_) / params->saccade_duration));
   s.gaze_ = {s.from_.x + (s.to_.x - s.from_.x) * t, s.from_.y + (s.to_.y - s.from_.y) * t};
 
   const float a = params->enabled ? params->amplitude : 0.0f;

@@ -17,6 +17,7 @@ using facerig::BlinkEvent;
 using facerig::BlinkJob;
 using facerig::BlinkParams;
 using facerig::BlinkState;
+using facerig::Seconds;
 
 namespace {
 
@@ -141,15 +142,15 @@ Trace RunJob(const BlinkParams& params, std::uint64_t seed, double duration, dou
   BlinkState state(seed);
   Trace trace;
   float left = 0.0f, right = 0.0f;
-  BlinkJob job{&params, &state, 0.0, false, false, &left, &right};
+  BlinkJob job{&params, &state, Seconds(0.0), false, false, &left, &right};
   std::size_t segment = 0;
   std::uint64_t seen = 0;
   const auto frames = static_cast<long>(duration * fps);
   for (long i = 0; i <= frames; ++i) {
-    job.time = static_cast<double>(i) / fps;
+    job.time = Seconds(static_cast<double>(i) / fps);
     // Activity of the frame interval ending now (same convention as SimulateBlinks).
-    while (segment < activity.size() && activity[segment].end < job.time) ++segment;
-    const bool inside = segment < activity.size() && activity[segment].start < job.time;
+    while (segment < activity.size() && activity[segment].end < job.time.count()) ++segment;
+    const bool inside = segment < activity.size() && activity[segment].start < job.time.count();
     job.talking = inside && activity[segment].talking;
     job.at_pause = inside && activity[segment].at_pause;
     REQUIRE(job.Run() == BlinkError::kNone);
@@ -402,23 +403,23 @@ TEST_CASE("Blinks survive large time jumps and hitches", "[blink]") {
   const BlinkParams params;
   BlinkState state(3);
   float left = 0.0f, right = 0.0f;
-  BlinkJob job{&params, &state, 0.0, false, false, &left, &right};
+  BlinkJob job{&params, &state, Seconds(0.0), false, false, &left, &right};
   // Run until the eyes are mid-blink.
   while (left < 0.5f) {
-    job.time += 1.0 / 60.0;
+    job.time += Seconds(1.0 / 60.0);
     REQUIRE(job.Run() == BlinkError::kNone);
-    REQUIRE(job.time < 60.0);
+    REQUIRE(job.time.count() < 60.0);
   }
   const std::uint64_t before = state.blink_count();
-  job.time += kHour;  // the app was suspended
+  job.time += Seconds(kHour);  // the app was suspended
   REQUIRE(job.Run() == BlinkError::kNone);
   CHECK(left == 0.0f);  // not stuck closed
   CHECK(right == 0.0f);
   CHECK(state.blink_count() == before);  // no burst
   // Normal blinking afterwards.
-  const double resume = job.time;
-  while (job.time < resume + 120.0) {
-    job.time += 1.0 / 60.0;
+  const double resume = job.time.count();
+  while (job.time.count() < resume + 120.0) {
+    job.time += Seconds(1.0 / 60.0);
     REQUIRE(job.Run() == BlinkError::kNone);
   }
   const auto after = static_cast<double>(state.blink_count() - before);
@@ -428,7 +429,7 @@ TEST_CASE("Blinks survive large time jumps and hitches", "[blink]") {
   // A hitch just under max_time_step_seconds is replayed exactly; the eye is
   // open or mid-blink, never left stuck.
   for (int i = 0; i < 200; ++i) {
-    job.time += params.max_time_step_seconds * 0.99;
+    job.time += Seconds(params.max_time_step_seconds * 0.99);
     REQUIRE(job.Run() == BlinkError::kNone);
     REQUIRE(left >= 0.0f);
     REQUIRE(left <= 1.0f);
@@ -439,13 +440,13 @@ TEST_CASE("BlinkJob::Run and SimulateBlinks do not allocate", "[blink]") {
   const BlinkParams params;
   BlinkState state(77);
   float left = 0.0f, right = 0.0f;
-  BlinkJob job{&params, &state, 0.0, true, false, &left, &right};
+  BlinkJob job{&params, &state, Seconds(0.0), true, false, &left, &right};
   std::vector<BlinkEvent> events(1000);
   const std::vector<BlinkActivity> speech = SpeechPattern(600.0, true);
   std::size_t count = 0;
   facerig::test::AllocationCounter counter;
   for (int i = 0; i < 36000; ++i) {
-    job.time = i / 60.0;
+    job.time = Seconds(i / 60.0);
     job.at_pause = (i / 90) % 5 == 4;
     if (job.Run() != BlinkError::kNone) FAIL("Run failed");
   }
@@ -459,7 +460,7 @@ TEST_CASE("BlinkJob rejects invalid inputs and leaves everything untouched", "[b
   const BlinkParams params;
   BlinkState state(5);
   float left = -1.0f, right = -1.0f;
-  BlinkJob job{&params, &state, 10.0, false, false, &left, &right};
+  BlinkJob job{&params, &state, Seconds(10.0), false, false, &left, &right};
   REQUIRE(job.Run() == BlinkError::kNone);
   left = right = -1.0f;
   const BlinkState saved = state;
@@ -473,11 +474,11 @@ TEST_CASE("BlinkJob rejects invalid inputs and leaves everything untouched", "[b
     CHECK(state.blink_count() == saved.blink_count());
   };
   BlinkJob bad = job;
-  bad.time = std::numeric_limits<double>::quiet_NaN();
+  bad.time = Seconds(std::numeric_limits<double>::quiet_NaN());
   expect(bad, BlinkError::kNonFiniteTime);
-  bad.time = std::numeric_limits<double>::infinity();
+  bad.time = Seconds(std::numeric_limits<double>::infinity());
   expect(bad, BlinkError::kNonFiniteTime);
-  bad.time = 9.0;
+  bad.time = Seconds(9.0);
   expect(bad, BlinkError::kTimeWentBackwards);
   // The valid job with one pointer cleared.
   const auto without = [&](auto BlinkJob::*pointer) {
@@ -508,10 +509,10 @@ TEST_CASE("BlinkJob rejects invalid inputs and leaves everything untouched", "[b
   CHECK(BlinkParams{}.Validate());
 
   // The same time again is fine; after ForgetTime any time is.
-  job.time = 10.0;
+  job.time = Seconds(10.0);
   CHECK(job.Run() == BlinkError::kNone);
   state.ForgetTime();
-  job.time = 1.0;
+  job.time = Seconds(1.0);
   CHECK(job.Run() == BlinkError::kNone);
   CHECK(left == 0.0f);
 

@@ -302,29 +302,29 @@ TEST_CASE("EmotionState attack and release", "[emotion]") {
   REQUIRE(state.target[Index(Emotion::kFear)] == 0.0f);
 
   facerig::test::AllocationCounter counter;
-  REQUIRE(state.Advance(0.1));
+  REQUIRE(state.Advance(Seconds(0.1)));
   REQUIRE(state.intensity[Index(Emotion::kJoy)] == Approx(0.25f));
-  for (int i = 0; i < 3; ++i) REQUIRE(state.Advance(0.1));
+  for (int i = 0; i < 3; ++i) REQUIRE(state.Advance(Seconds(0.1)));
   REQUIRE(state.intensity[Index(Emotion::kJoy)] == Approx(1.0f));
-  REQUIRE(state.Advance(1.0));
+  REQUIRE(state.Advance(Seconds(1.0)));
   REQUIRE(state.intensity[Index(Emotion::kJoy)] == 1.0f);  // stays at the target
   REQUIRE(state.intensity[Index(Emotion::kSurprise)] == 1.0f);
   REQUIRE(counter.count() == 0);
 
   state.SetTarget(Emotion::kJoy, 0.0f);
-  REQUIRE(state.Advance(0.2));
+  REQUIRE(state.Advance(Seconds(0.2)));
   REQUIRE(state.intensity[Index(Emotion::kJoy)] == Approx(0.75f));  // release is slower
-  REQUIRE(state.Advance(10.0));
+  REQUIRE(state.Advance(Seconds(10.0)));
   REQUIRE(state.intensity[Index(Emotion::kJoy)] == 0.0f);
 
   // Bad dt or times change nothing.
   state.SetTarget(Emotion::kAnger, 1.0f);
   const facerig::EmotionState before = state;
-  REQUIRE_FALSE(state.Advance(-0.1));
-  REQUIRE_FALSE(state.Advance(std::numeric_limits<double>::quiet_NaN()));
-  REQUIRE_FALSE(state.Advance(std::numeric_limits<double>::infinity()));
+  REQUIRE_FALSE(state.Advance(Seconds(-0.1)));
+  REQUIRE_FALSE(state.Advance(Seconds(std::numeric_limits<double>::quiet_NaN())));
+  REQUIRE_FALSE(state.Advance(Seconds(std::numeric_limits<double>::infinity())));
   state.attack[Index(Emotion::kAnger)] = 0.0f;
-  REQUIRE_FALSE(state.Advance(0.1));
+  REQUIRE_FALSE(state.Advance(Seconds(0.1)));
   state.attack = before.attack;
   REQUIRE(state.intensity == before.intensity);
 }

@@ -13,6 +13,7 @@ using facerig::GazeError;
 using facerig::GazeJob;
 using facerig::GazeParams;
 using facerig::GazeState;
+using facerig::Seconds;
 
 namespace {
 
@@ -20,10 +21,10 @@ namespace {
 std::vector<GazeChannels> Run(std::uint64_t seed, double seconds, const GazeParams& params = {}) {
   GazeState state(seed);
   GazeChannels channels{};
-  GazeJob job{&params, &state, 0.0, &channels};
+  GazeJob job{&params, &state, Seconds(0.0), &channels};
   std::vector<GazeChannels> frames;
   for (int frame = 0; frame < static_cast<int>(seconds * 60); ++frame) {
-    job.time = frame / 60.0;
+    job.time = Seconds(frame / 60.0);
     REQUIRE(job.Run() == GazeError::kNone);
     frames.push_back(channels);
   }
@@ -40,14 +41,14 @@ TEST_CASE("Gaze: deterministic for a seed, different across seeds, a seek restar
   const GazeParams params;
   GazeState state(3);
   GazeChannels channels{};
-  GazeJob job{&params, &state, 0.0, &channels};
+  GazeJob job{&params, &state, Seconds(0.0), &channels};
   for (int frame = 0; frame < 600; ++frame) {
-    job.time = frame / 60.0;
+    job.time = Seconds(frame / 60.0);
     REQUIRE(job.Run() == GazeError::kNone);
   }
   // Back to the start: the same sequence again, as a fresh state would give.
   for (int frame = 0; frame < 600; ++frame) {
-    job.time = frame / 60.0;
+    job.time = Seconds(frame / 60.0);
     REQUIRE(job.Run() == GazeError::kNone);
     REQUIRE(channels == a[static_cast<std::size_t>(frame)]);
   }
@@ -86,10 +87,10 @@ TEST_CASE("Gaze: disabled writes zeros, Run allocates nothing", "[gaze][allocati
   const GazeParams params;
   GazeState state(5);
   GazeChannels channels{};
-  GazeJob job{&params, &state, 0.0, &channels};
+  GazeJob job{&params, &state, Seconds(0.0), &channels};
   facerig::test::AllocationCounter counter;
   for (int frame = 0; frame < 3600; ++frame) {
-    job.time = frame / 60.0;
+    job.time = Seconds(frame / 60.0);
     REQUIRE(job.Run() == GazeError::kNone);
   }
   REQUIRE(counter.count() == 0);
@@ -101,20 +102,20 @@ TEST_CASE("GazeJob invalid inputs leave everything untouched", "[gaze][malformed
   GazeChannels channels;
   channels.fill(7.0f);
   const GazeChannels untouched = channels;
-  REQUIRE(GazeJob{nullptr, &state, 0.0, &channels}.Run() == GazeError::kNoParams);
-  REQUIRE(GazeJob{&params, nullptr, 0.0, &channels}.Run() == GazeError::kNoState);
-  REQUIRE(GazeJob{&params, &state, 0.0, nullptr}.Run() == GazeError::kNoOutput);
-  REQUIRE(GazeJob{&params, &state, std::numeric_limits<double>::quiet_NaN(), &channels}.Run() ==
+  REQUIRE(GazeJob{nullptr, &state, Seconds(0.0), &channels}.Run() == GazeError::kNoParams);
+  REQUIRE(GazeJob{&params, nullptr, Seconds(0.0), &channels}.Run() == GazeError::kNoState);
+  REQUIRE(GazeJob{&params, &state, Seconds(0.0), nullptr}.Run() == GazeError::kNoOutput);
+  REQUIRE(GazeJob{&params, &state, Seconds(std::numeric_limits<double>::quiet_NaN()), &channels}.Run() ==
           GazeError::kNonFiniteTime);
   GazeParams bad = params;
   bad.saccade_min_interval = 0.0;
-  REQUIRE(GazeJob{&bad, &state, 0.0, &channels}.Run() == GazeError::kInvalidParams);
+  REQUIRE(GazeJob{&bad, &state, Seconds(0.0), &channels}.Run() == GazeError::kInvalidParams);
   bad = params;
   bad.saccade_max_interval = 0.1;  // below the minimum
-  REQUIRE(GazeJob{&bad, &state, 0.0, &channels}.Run() == GazeError::kInvalidParams);
+  REQUIRE(GazeJob{&bad, &state, Seconds(0.0), &channels}.Run() == GazeError::kInvalidParams);
   bad = params;
   bad.amplitude = std::numeric_limits<float>::quiet_NaN();
-  REQUIRE(GazeJob{&bad, &state, 0.0, &channels}.Run() == GazeError::kInvalidParams);
+  REQUIRE(GazeJob{&bad, &state, Seconds(0.0), &channels}.Run() == GazeError::kInvalidParams);
   REQUIRE(channels == untouched);
   REQUIRE(std::string(facerig::ToString(GazeError::kInvalidParams)).find("gaze") != std::string::npos);
 }

@@ -162,7 +162,7 @@ class Character {
   void ClearLine();
   void UpdateTalkingState(Seconds line_time);
   // The behaviours' weight channels at `time`, then speech + channels -> weights_.
-  void UpdateBehaviours(double time);
+  void UpdateBehaviours(Seconds time);
   void CombineWeights();
 
   const CharacterRig* rig_;

@@ -1,7 +1,7 @@
 // A face template: a rig plus a small descriptor saying what its vertices
 // are (parts, the registered region, the 68 landmark vertices, the eyelid and
-// lip rims, rigid parts, vertex groups). The descriptor is data (JSON, see the
-// README's "Templates" section), so a user's own template gets the same
+// lip rims, rigid parts, vertex groups). The descriptor is data (JSON, see
+// docs/templates.md), so a user's own template gets the same
 // treatment as ICT-FaceKit or the built-in head; a template without one gets a
 // descriptor derived from its mesh, and says what was derived.
 #pragma once

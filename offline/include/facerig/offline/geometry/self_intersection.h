@@ -15,8 +15,8 @@
 // - coplanar overlaps (only made by construction, e.g. flat meshes) do not count.
 //
 // Broad phase: a uniform grid over the triangles' bounding boxes; each
-// candidate pair is tested once. One thread (timings: README, "Measurements
-// behind the defaults").
+// candidate pair is tested once. One thread (timings: docs/benchmarks.md,
+// "Measurements behind the defaults").
 #pragma once
 
 #include <cstddef>

@@ -69,8 +69,8 @@ struct LandmarkParams {
   bool calibrate = true;
   // Where an eye is a hole in the mesh, move its corner landmarks to the ends
   // of the hole's first principal axis. Off by default: with the calibration
-  // on, it is slightly worse on ICT faces (README, "Measurements behind the
-  // defaults").
+  // on, it is slightly worse on ICT faces (docs/benchmarks.md,
+  // "Measurements behind the defaults").
   bool correct_eye_corners = false;
   // Where an eye is a hole in the mesh near the detected eye, put all six of
   // its points on the hole's boundary, the lid margins (openings.h);

@@ -14,7 +14,7 @@
 // all take their thresholds from one OpeningParams. eyes.h puts eye landmarks
 // on the lid margins; gaps.h measures how closed an opening is.
 //
-// Why margins need care (README, "Measurements behind the defaults"):
+// Why margins need care (docs/benchmarks.md, "Measurements behind the defaults"):
 // registration fits surfaces, not rims, and per-triangle gradients only say
 // how each lid bends, not where the other lid is, so without them a
 // transferred blink stops short of closing on a target shaped unlike the

@@ -44,6 +44,8 @@
 #include <cstdint>
 #include <span>
 
+#include "facerig/runtime/seconds.h"
+
 namespace facerig {
 
 // PCG32 (O'Neill 2014, XSH-RR variant): small, fast, and its output is fully
@@ -200,7 +202,7 @@ class BlinkState {
 struct BlinkJob {
   const BlinkParams* params = nullptr;
   BlinkState* state = nullptr;
-  double time = 0.0;  // seconds; finite, non-decreasing across Runs of one state
+  Seconds time{0.0};  // finite, non-decreasing across Runs of one state
   bool talking = false;
   bool at_pause = false;
   float* out_left = nullptr;   // eyeBlink_L closure in [0, 1]

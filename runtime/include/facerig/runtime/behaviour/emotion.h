@@ -30,6 +30,7 @@
 #include "facerig/runtime/behaviour/weight_channels.h"
 #include "facerig/runtime/contribution_table.h"
 #include "facerig/runtime/rig.h"
+#include "facerig/runtime/seconds.h"
 
 namespace facerig {
 
@@ -104,7 +105,7 @@ struct EmotionState {
   // Moves every intensity toward its target by dt seconds. Returns false and
   // changes nothing when dt is negative or not finite, or an attack/release
   // time is not positive and finite.
-  bool Advance(double dt);
+  bool Advance(Seconds dt);
 };
 
 enum class EmotionChannelsJobError : std::uint8_t {

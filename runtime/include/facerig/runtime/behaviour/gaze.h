@@ -66,7 +66,7 @@ const char* ToString(GazeError error);
 struct GazeJob {
   const GazeParams* params = nullptr;
   GazeState* state = nullptr;
-  double time = 0.0;  // seconds on the animation clock
+  Seconds time{0.0};  // on the animation clock
   GazeChannels* out_channels = nullptr;
 
   GazeError Validate() const;
