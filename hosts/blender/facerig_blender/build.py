@@ -1,0 +1,127 @@
+"""Build face shapes: the ARKit and viseme shapes of a template, built on the selected mesh's own
+vertices (facerig.offline.build) and written onto it as shape keys."""
+import os
+import shutil
+import tempfile
+
+import bpy
+import numpy as np
+
+from . import library, mesh_export, shape_keys, templates
+from .jobs import Job, JobOperator, UserError
+
+# The built rig's neutral must be the exported positions: anything further off
+# means its vertices are not the mesh's (a fraction of the bounding diagonal).
+MATCH_TOLERANCE = 1e-5
+
+
+def selected_meshes(context):
+    """The active mesh first, then the other selected meshes (its eyes, teeth, lashes)."""
+    active = context.active_object
+    if active is None or active.type != "MESH":
+        raise UserError("select the face mesh (make it the active object)")
+    others = [obj for obj in context.selected_objects if obj.type == "MESH" and obj != active]
+    for obj in [active] + others:
+        if obj.mode == "EDIT":
+            raise UserError(f"'{obj.name}' is in Edit Mode: go back to Object Mode first")
+        if len(obj.data.polygons) == 0:
+            raise UserError(f"'{obj.name}' has no faces")
+    return [active] + sorted(others, key=lambda obj: obj.name)
+
+
+def left_out(context, objects):
+    """Meshes that look like parts of this character (its children, or children of its parent)
+    but were not selected."""
+    face = objects[0]
+    family = set(face.children) | (set(face.parent.children) if face.parent else set())
+    return sorted(obj.name for obj in family if obj.type == "MESH" and obj not in objects)
+
+
+def shape_deltas(rig, rows, written, progress):
+    """Each shape's (rows, 3) deltas on the rig's first `rows` vertices, from one-hot blends."""
+    facerig = library.facerig()
+    neutral, _ = rig.neutral()
+    if rig.vertex_count < rows:
+        raise UserError(f"the built rig has {rig.vertex_count} vertices, fewer than the {rows} exported")
+    drift = float(np.abs(neutral[:rows] - written).max())
+    if drift > MATCH_TOLERANCE * rig.bounding_diagonal:
+        raise facerig.FacerigError(f"the built rig's vertices are not the mesh's (off by {drift:g}); "
+                                   "please report this")
+    weights = np.zeros(rig.shape_count, np.float32)
+    blended = np.empty((rig.vertex_count, 3), np.float32)
+    deltas = np.empty((rig.shape_count, rows, 3), np.float32)
+    for i in range(rig.shape_count):
+        progress("read shapes", i, rig.shape_count)
+        weights[:] = 0.0
+        weights[i] = 1.0
+        rig.blend(weights, out=blended)
+        deltas[i] = blended[:rows] - neutral[:rows]
+    return deltas
+
+
+class FACERIG_OT_build_shapes(JobOperator, bpy.types.Operator):
+    """Build the 52 ARKit and 15 viseme shapes on the active mesh (and the selected eyes, teeth,
+    lashes) as shape keys, from an ICT-FaceKit template or the built-in head"""
+    bl_idname = "facerig.build_shapes"
+    bl_label = "Build Face Shapes"
+    bl_options = {"REGISTER", "UNDO"}
+
+    template: bpy.props.EnumProperty(
+        name="Template", items=templates.TEMPLATE_ITEMS, default="ICT",
+        description="The rig whose expressions are built on the mesh")
+    template_folder: bpy.props.StringProperty(
+        name="ICT-FaceKit Folder", subtype="DIR_PATH",
+        description="The ICT-FaceKit folder (empty: the add-on's preference)")
+
+    @classmethod
+    def poll(cls, context):
+        return context.mode == "OBJECT"
+
+    def prepare(self, context):
+        objects = selected_meshes(context)
+        template = templates.resolve(self.template, self.template_folder)
+        offline, facerig = library.module("offline"), library.facerig()
+        work_dir = tempfile.mkdtemp(prefix="facerig-build-")
+        try:
+            target = os.path.join(work_dir, "target.obj")
+            exported, written = mesh_export.write_obj(target, objects)
+        except BaseException:
+            shutil.rmtree(work_dir, ignore_errors=True)
+            raise
+        missing = left_out(context, objects)
+
+        def work(progress):
+            template_path = template.path(progress)
+            report = offline.build(template=template_path, target=target,
+                                   output=os.path.join(work_dir, "rig.frig"), progress=progress)
+            with facerig.Rig(os.path.join(work_dir, "rig.frig")) as rig:
+                return rig.shape_names, shape_deltas(rig, len(written), written, progress), report
+
+        def apply(result):
+            names, deltas, report = result
+            return self.apply_shapes(objects, exported, names, deltas, template, missing)
+
+        return Job("Building face shapes", work, apply, lambda: shutil.rmtree(work_dir, ignore_errors=True))
+
+    def apply_shapes(self, objects, exported, names, deltas, template, missing):
+        for obj, item in zip(objects, exported):
+            if obj.name != item.name or len(obj.data.vertices) != item.vertex_count:
+                raise UserError(f"'{item.name}' changed while facerig was building: build again")
+            shape_keys.check_names_free(obj, names)
+        face, parts = objects[0], objects[1:]
+        shape_keys.write_shapes(face, names, mesh_export.local_deltas(exported[0], deltas))
+        moved = []
+        for obj, item in zip(parts, exported[1:]):
+            written = shape_keys.write_shapes(obj, names, mesh_export.local_deltas(item, deltas), moving_only=True)
+            moved.append(f"{obj.name} ({len(written)})")
+        values = shape_keys.record(face)
+        values["parts"] = [obj.name for obj in parts]
+        values["template"] = template.label
+        shape_keys.save_record(face, values)
+        message = f"facerig: {len(names)} shape keys on '{face.name}' from {template.label}"
+        if moved:
+            message += "; on " + ", ".join(moved)
+        if missing:
+            message += (f". Not selected, so without shapes: {', '.join(missing)} "
+                        "(select them with the face to build theirs too)")
+        return message
