@@ -93,7 +93,8 @@ class FACERIG_OT_build_shapes(JobOperator, bpy.types.Operator):
         def work(progress):
             template_path = template.path(progress)
             report = offline.build(template=template_path, target=target,
-                                   output=os.path.join(work_dir, "rig.frig"), progress=progress)
+                                   output=os.path.join(work_dir, "rig.frig"), progress=progress,
+                                   **template.options)
             with facerig.Rig(os.path.join(work_dir, "rig.frig")) as rig:
                 return rig.shape_names, shape_deltas(rig, len(written), written, progress), report
 

@@ -10,6 +10,7 @@ so a failure or a cancel leaves it as it was, and the one undo step of a
 finished operator takes the whole change back.
 """
 import threading
+import traceback
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -70,7 +71,10 @@ class JobOperator:
             return self.prepare(context)
         except (UserError, library.MissingLibraryError, *_facerig_errors()) as error:
             self.report({"ERROR"}, _message(error))
-            return None
+        except Exception as error:  # a bug: the user gets the message, the console the traceback
+            traceback.print_exc()
+            self.report({"ERROR"}, f"facerig: {_message(error)} (details in the system console)")
+        return None
 
     def _finish(self, job, run):
         """Runs run() (the work) and applies its result, reporting any failure; the operator's return."""
@@ -78,6 +82,10 @@ class JobOperator:
             message = job.apply(run())
         except (UserError, library.MissingLibraryError, *_facerig_errors()) as error:
             self.report({"ERROR"}, _message(error))
+            return {"CANCELLED"}
+        except Exception as error:  # a bug: the user gets the message, the console the traceback
+            traceback.print_exc()
+            self.report({"ERROR"}, f"facerig: {_message(error)} (details in the system console)")
             return {"CANCELLED"}
         finally:
             job.cleanup()

@@ -6,9 +6,23 @@ import shutil
 import tempfile
 
 import bpy
+import numpy as np
 
 from . import library, shape_keys
 from .jobs import Job, JobOperator, UserError
+
+
+def import_gltf(path):
+    """Blender's glTF importer on `path`. Debian's Blender 3.4 importer still uses numpy.bool, which
+    Debian 12's numpy 1.24 no longer has (numpy 2 has it again): the alias is lent for the call."""
+    lend = "bool" not in dir(np)
+    if lend:
+        np.bool = bool
+    try:
+        bpy.ops.import_scene.gltf(filepath=path)
+    finally:
+        if lend:
+            del np.bool
 
 
 class FACERIG_OT_head_from_photo(JobOperator, bpy.types.Operator):
@@ -45,7 +59,12 @@ class FACERIG_OT_head_from_photo(JobOperator, bpy.types.Operator):
 
     def import_head(self, context, glb, name, image):
         before = set(bpy.data.objects)
-        bpy.ops.import_scene.gltf(filepath=glb)
+        try:
+            import_gltf(glb)
+        except BaseException:
+            for obj in set(bpy.data.objects) - before:  # no half-imported head
+                bpy.data.objects.remove(obj)
+            raise
         meshes = [obj for obj in bpy.data.objects if obj not in before and obj.type == "MESH"]
         if not meshes:
             raise UserError("the photo head could not be imported (Blender's glTF importer made no mesh)")

@@ -7,7 +7,7 @@ source tree the add-on runs from. The built-in head is $FACERIG_DEFAULT_HEAD
 facerig.offline.default_head into Blender's user data folder (a few seconds).
 """
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import bpy
@@ -28,6 +28,7 @@ _SOURCE_TREE_ICT = os.path.normpath(os.path.join(_HERE, "..", "..", "..", "..", 
 class Template:
     label: str
     path: Callable  # path(progress) -> the template's path (may make the built-in head first)
+    options: dict = field(default_factory=dict)  # more options for facerig.offline.build
 
 
 def _preference(name):
@@ -72,4 +73,8 @@ def resolve(kind, folder=""):
         raise UserError(f"the ICT-FaceKit folder {path} does not exist")
     if not os.path.isfile(os.path.join(path, "generic_neutral_mesh.obj")):
         raise UserError(f"{path} is not an ICT-FaceKit folder (it has no generic_neutral_mesh.obj)")
-    return Template(f"ICT-FaceKit ({os.path.basename(path.rstrip(os.sep))})", lambda progress: path)
+    # The zip carries facerig's descriptor of ICT-FaceKit (landmarks, parts): a source build finds its
+    # own copy in data/templates, an installed add-on has only this one.
+    descriptor = os.path.join(_HERE, "templates", "ict-facekit.template.json")
+    options = {"template_info": descriptor} if os.path.isfile(descriptor) else {}
+    return Template(f"ICT-FaceKit ({os.path.basename(path.rstrip(os.sep))})", lambda progress: path, options)
