@@ -6,6 +6,7 @@ import tempfile
 
 import bpy
 import numpy as np
+from mathutils import Vector
 
 from . import library, mesh_export, shape_keys, templates
 from .jobs import Job, JobOperator, UserError
@@ -29,12 +30,24 @@ def selected_meshes(context):
     return [active] + sorted(others, key=lambda obj: obj.name)
 
 
+def _world_bounds(obj):
+    corners = np.array([obj.matrix_world @ Vector(corner) for corner in obj.bound_box])
+    return corners.min(axis=0), corners.max(axis=0)
+
+
 def left_out(context, objects):
-    """Meshes that look like parts of this character (its children, or children of its parent)
-    but were not selected."""
-    face = objects[0]
-    family = set(face.children) | (set(face.parent.children) if face.parent else set())
-    return sorted(obj.name for obj in family if obj.type == "MESH" and obj not in objects)
+    """Meshes not selected whose middle lies inside the face's bounds (eyes, teeth, lashes left
+    out of the build)."""
+    low, high = _world_bounds(objects[0])
+    found = []
+    for obj in context.view_layer.objects:
+        if obj.type != "MESH" or obj in objects or not obj.visible_get():
+            continue
+        obj_low, obj_high = _world_bounds(obj)
+        middle = (obj_low + obj_high) / 2
+        if np.all(middle >= low) and np.all(middle <= high):
+            found.append(obj.name)
+    return sorted(found)
 
 
 def shape_deltas(rig, rows, written, progress):
@@ -92,14 +105,18 @@ class FACERIG_OT_build_shapes(JobOperator, bpy.types.Operator):
 
         def work(progress):
             template_path = template.path(progress)
-            report = offline.build(template=template_path, target=target,
-                                   output=os.path.join(work_dir, "rig.frig"), progress=progress,
-                                   **template.options)
+            try:
+                offline.build(template=template_path, target=target, output=os.path.join(work_dir, "rig.frig"),
+                              progress=progress, **template.options)
+            except facerig.FailedError as error:
+                if "no face" not in str(error):
+                    raise
+                raise UserError(f"{error}. In Blender: the face looks toward -Y (the Front view), Z up") from None
             with facerig.Rig(os.path.join(work_dir, "rig.frig")) as rig:
-                return rig.shape_names, shape_deltas(rig, len(written), written, progress), report
+                return rig.shape_names, shape_deltas(rig, len(written), written, progress)
 
         def apply(result):
-            names, deltas, report = result
+            names, deltas = result
             return self.apply_shapes(objects, exported, names, deltas, template, missing)
 
         return Job("Building face shapes", work, apply, lambda: shutil.rmtree(work_dir, ignore_errors=True))
@@ -118,6 +135,7 @@ class FACERIG_OT_build_shapes(JobOperator, bpy.types.Operator):
         values = shape_keys.record(face)
         values["parts"] = [obj.name for obj in parts]
         values["template"] = template.label
+        values["left_out"] = missing
         shape_keys.save_record(face, values)
         message = f"facerig: {len(names)} shape keys on '{face.name}' from {template.label}"
         if moved:

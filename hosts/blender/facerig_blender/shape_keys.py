@@ -70,13 +70,17 @@ def remove_shapes(obj):
     values = record(obj)
     keys = obj.data.shape_keys
     if keys is not None:
+        action = keys.animation_data.action if keys.animation_data else None
         for name in values.get("shapes", []):
             key = keys.key_blocks.get(name)
             if key is not None:
                 obj.shape_key_remove(key)
+            fcurve = action.fcurves.find(f'key_blocks["{name}"].value') if action else None
+            if fcurve is not None:  # it would animate nothing
+                action.fcurves.remove(fcurve)
         keys = obj.data.shape_keys
         if values.get("basis") and keys is not None and len(keys.key_blocks) == 1:
             obj.shape_key_remove(keys.key_blocks[0])
-    for name in ("shapes", "basis", "parts", "template"):
+    for name in ("shapes", "basis", "parts", "template", "left_out"):
         values.pop(name, None)
     save_record(obj, values)

@@ -50,7 +50,7 @@ def builtin_head():
     given = os.environ.get("FACERIG_DEFAULT_HEAD", "")
     if given and os.path.isfile(given):
         return lambda progress: given
-    folder = os.path.join(bpy.utils.user_resource("DATAFILES", path="facerig"), "default_head")
+    folder = os.path.join(bpy.utils.user_resource("DATAFILES", path="facerig", create=True), "default_head")
     frig = os.path.join(folder, "default_head.frig")
     offline = library.module("offline")
 

@@ -63,7 +63,7 @@ def snapshot(obj):
             "keys": [k.name for k in keys.key_blocks] if keys else [],
             "fcurves": (sum(len(fc.keyframe_points) for fc in keys.animation_data.action.fcurves)
                         if keys and keys.animation_data and keys.animation_data.action else 0),
-            "record": dict(obj.get("facerig", {})),
+            "record": obj["facerig"].to_dict() if "facerig" in obj else {},
             "strips": len(bpy.context.scene.sequence_editor.sequences_all) if bpy.context.scene.sequence_editor else 0}
 
 
@@ -184,3 +184,35 @@ def check_bilabials_close(obj, phonemes, first_frame, fps):
 
 def sound_strip(name):
     return bpy.context.scene.sequence_editor.sequences_all[name]
+
+
+def material_triangles(obj, material):
+    """(t, 3) vertex indices of the triangles of obj's material named `material`."""
+    mesh = obj.data
+    index = [slot.material.name if slot.material else "" for slot in obj.material_slots].index(material)
+    mesh.calc_loop_triangles()
+    triangles = np.empty(len(mesh.loop_triangles) * 3, np.int64)
+    materials = np.empty(len(mesh.loop_triangles), np.int64)
+    mesh.loop_triangles.foreach_get("vertices", triangles)
+    mesh.loop_triangles.foreach_get("material_index", materials)
+    return triangles.reshape(-1, 3)[materials == index]
+
+
+def covered_fraction(points, triangles, positions):
+    """The fraction of `points` ((p, 3), world) that the triangles (world `positions`) hide from the
+    front (a camera looking along +Y): a triangle around the point in X-Z, nearer in Y."""
+    corners = positions[triangles]
+    middle = points.mean(axis=0)
+    corners = corners[np.linalg.norm(corners.mean(axis=1) - middle, axis=1) < 3 * np.ptp(points, axis=0).max()]
+    a, b, c = corners[:, 0][:, [0, 2]], corners[:, 1][:, [0, 2]], corners[:, 2][:, [0, 2]]
+    depth = corners[:, :, 1].mean(axis=1)
+    v0, v1 = b - a, c - a
+    denominator = v0[:, 0] * v1[:, 1] - v1[:, 0] * v0[:, 1]
+    denominator[denominator == 0] = np.inf
+    hidden = 0
+    for point in points:
+        v2 = point[[0, 2]] - a
+        s = (v2[:, 0] * v1[:, 1] - v1[:, 0] * v2[:, 1]) / denominator
+        t = (v0[:, 0] * v2[:, 1] - v2[:, 0] * v0[:, 1]) / denominator
+        hidden += np.any((s >= 0) & (t >= 0) & (s + t <= 1) & (depth < point[1]))
+    return hidden / len(points)
