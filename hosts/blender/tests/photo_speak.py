@@ -1,6 +1,7 @@
 """Head from Photo on the astronaut portrait, then 'Peter picked a peck of pickled peppers.' baked at
 30 fps: the lips close at every p/b/m on the mesh Blender evaluates, the sound strip starts at the
-first keyframe; a re-bake replaces the bake and nothing else; Clear takes out what the add-on added."""
+first keyframe; a re-bake replaces the bake and nothing else; Clear takes out what the add-on added.
+    ... --python photo_speak.py [-- --render OUT.png]   (also renders frames of it speaking)"""
 import os
 import sys
 from importlib import import_module
@@ -54,6 +55,9 @@ log(f"baked frames {first:.0f}-{last:.0f}; sound strip '{strip.name}' at frame {
 assert helpers.check_bilabials_close(head, phonemes, 10, 30) >= 6
 bpy.context.scene.frame_set(int(first) + 3)
 assert keys["mouthSmileLeft"].value > 0.1, keys["mouthSmileLeft"].value  # joy
+if "--render" in sys.argv:
+    import render
+    render.speaking_frame(head, phonemes, 10, 30, sys.argv[sys.argv.index("--render") + 1], color="TEXTURE")
 blinks = [head.data.shape_keys.animation_data.action.fcurves.find('key_blocks["eyeBlinkLeft"].value')]
 assert max(p.co.y for p in blinks[0].keyframe_points) > 0.8, "no blink"
 
