@@ -23,6 +23,11 @@ class UserError(Exception):
     """A problem with the user's input or scene, reported as it is."""
 
 
+# prepare() may keep data-blocks (objects, the scene) for apply(), never the context: the one an
+# operator's invoke() receives is not valid in later modal() calls. A data-block deleted meanwhile
+# raises ReferenceError, which _finish reports.
+
+
 @dataclass
 class Job:
     title: str                               # "Building face shapes", for the status bar
@@ -83,6 +88,9 @@ class JobOperator:
         except (UserError, library.MissingLibraryError, *_facerig_errors()) as error:
             self.report({"ERROR"}, _message(error))
             return {"CANCELLED"}
+        except ReferenceError:
+            self.report({"ERROR"}, "facerig: an object it was working on was deleted meanwhile")
+            return {"CANCELLED"}
         except Exception as error:  # a bug: the user gets the message, the console the traceback
             traceback.print_exc()
             self.report({"ERROR"}, f"facerig: {_message(error)} (details in the system console)")
@@ -127,7 +135,7 @@ class JobOperator:
     def modal(self, context, event):
         if event.type == "ESC":
             self._progress.cancelled = True
-        if event.type != "TIMER" or event.timer is not self._timer:
+        if event.type != "TIMER":
             return {"RUNNING_MODAL"} if event.type == "ESC" else {"PASS_THROUGH"}
         if self._thread.is_alive():
             context.workspace.status_text_set(self._progress.text(self._job.title))

@@ -12,6 +12,7 @@ def voice_items(self, context):
             voices = library.module("tts").voices()
         except Exception:  # no espeak-ng: the field still shows the default
             voices = ["en-us"]
+        voices = sorted(voices, key=lambda voice: voice != "en-us")  # the first is the default
         _voice_items.extend((v, v, "") for v in voices)
     return _voice_items
 

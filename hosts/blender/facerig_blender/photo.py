@@ -53,11 +53,11 @@ class FACERIG_OT_head_from_photo(JobOperator, bpy.types.Operator):
             return offline.photo(image, output=glb, progress=progress)
 
         def apply(report):
-            return self.import_head(context, glb, name, image)
+            return self.import_head(glb, name, image)
 
         return Job("Head from photo", work, apply, lambda: shutil.rmtree(work_dir, ignore_errors=True))
 
-    def import_head(self, context, glb, name, image):
+    def import_head(self, glb, name, image):
         before = set(bpy.data.objects)
         try:
             import_gltf(glb)
@@ -76,5 +76,5 @@ class FACERIG_OT_head_from_photo(JobOperator, bpy.types.Operator):
         keys = head.data.shape_keys
         shapes = [key.name for key in keys.key_blocks[1:]] if keys else []
         shape_keys.save_record(head, {"shapes": shapes, "photo": image})
-        context.view_layer.objects.active = head
+        bpy.context.view_layer.objects.active = head
         return f"facerig: '{head.name}' from {os.path.basename(image)}, {len(shapes)} shape keys"

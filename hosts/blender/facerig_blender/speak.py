@@ -150,7 +150,7 @@ class FACERIG_OT_speak(JobOperator, bpy.types.Operator):
 
         def apply(result):
             weights, phonemes = result
-            return self.apply_bake(context.scene, face, shapes, first, weights, audio, wav is not None)
+            return self.apply_bake(scene, face, shapes, first, weights, audio, wav is not None)
 
         return Job("Speaking", work, apply, rig.close)
 

@@ -216,3 +216,45 @@ def covered_fraction(points, triangles, positions):
         t = (v0[:, 0] * v2[:, 1] - v2[:, 0] * v0[:, 1]) / denominator
         hidden += np.any((s >= 0) & (t >= 0) & (s + t <= 1) & (depth < point[1]))
     return hidden / len(points)
+
+
+class _Recorder:
+    """A stand-in for Blender's UILayout: records what a panel draws, and checks every property it
+    shows or sets exists (on the settings, or on the operator a button runs)."""
+
+    def __init__(self, drawn):
+        self.drawn = drawn
+
+    def box(self):
+        return self
+
+    def row(self):
+        return self
+
+    def label(self, text="", icon="NONE"):
+        self.drawn.append(("label", text))
+
+    def prop(self, data, name, text=None):
+        assert name in data.bl_rna.properties, name
+        self.drawn.append(("prop", name))
+
+    def operator(self, idname, text=None):
+        category, name = idname.split(".")
+        properties = getattr(getattr(bpy.ops, category), name).get_rna_type().properties
+        drawn = self.drawn
+        drawn.append(("operator", idname))
+
+        class Button:
+            def __setattr__(self, key, value):
+                assert key in properties, f"{idname} has no property {key}"
+                drawn.append(("set", idname, key, value))
+        return Button()
+
+
+def draw_panel():
+    """What the add-on's sidebar panel draws in the current context."""
+    drawn = []
+    panel = bpy.types.FACERIG_PT_panel
+    fake = type("Panel", (), {"layout": _Recorder(drawn)})()
+    panel.draw(fake, bpy.context)
+    return drawn

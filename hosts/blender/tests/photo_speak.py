@@ -33,6 +33,13 @@ assert textures and all(image.packed_file is not None for image in textures), te
 log(f"'{head.name}': {len(head.data.vertices)} vertices, {len(keys)} shape keys, textures "
     f"{[image.name for image in textures]}")
 
+# The sidebar panel draws every operator, Clear too once the head is facerig's, with the
+# voice en-us by default.
+drawn = helpers.draw_panel()
+assert [d[1] for d in drawn if d[0] == "operator"] == ["facerig.build_shapes", "facerig.speak",
+                                                       "facerig.head_from_photo", "facerig.clear", "facerig.clear"]
+assert ("set", "facerig.speak", "voice", "en-us") in drawn, drawn
+
 # The user's own shape key with a keyframe: no bake or clear may touch it.
 head.shape_key_add(name="MyKey", from_mix=False)
 keys["MyKey"].value = 0.25
