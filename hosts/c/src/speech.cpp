@@ -5,7 +5,6 @@
 
 #include "boundary.h"
 #include "facerig/runtime/audio/mouth.h"
-#include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/io/phoneme_track_file.h"
 #include "handles.h"
 
@@ -101,19 +100,6 @@ fr_status fr_speech_from_audio(const float* samples, size_t sample_count, int32_
     speech.line = std::move(*line);
     speech.samples.assign(samples, samples + sample_count);
     speech.sample_rate = sample_rate;
-    return Publish(std::move(speech), out_speech);
-  });
-}
-
-fr_status fr_speech_load_audio_file(const char* path, fr_speech** out_speech) {
-  return Guard([&] {
-    FR_REQUIRE(out_speech, "out_speech");
-    *out_speech = nullptr;
-    FR_REQUIRE(path, "path");
-    facerig::AudioClip clip = facerig::ReadAudioFile(path);
-    fr_speech speech;
-    speech.samples = std::move(clip.samples);
-    speech.sample_rate = clip.sample_rate;
     return Publish(std::move(speech), out_speech);
   });
 }
