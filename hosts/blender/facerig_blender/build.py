@@ -91,56 +91,63 @@ class FACERIG_OT_build_shapes(JobOperator, bpy.types.Operator):
         return context.mode == "OBJECT"
 
     def prepare(self, context):
-        objects = selected_meshes(context)
-        template = templates.resolve(self.template, self.template_folder)
-        offline, facerig = library.module("offline"), library.facerig()
-        work_dir = tempfile.mkdtemp(prefix="facerig-build-")
-        try:
-            target = os.path.join(work_dir, "target.obj")
-            exported, written = mesh_export.write_obj(target, objects)
-        except BaseException:
-            shutil.rmtree(work_dir, ignore_errors=True)
-            raise
+        return build_job(context, self.template, self.template_folder)
+
+
+def build_job(context, template_kind, template_folder=""):
+    """The Job that builds the selected meshes' shapes (the operator's work, also for tests)."""
+    objects = selected_meshes(context)
+    template = templates.resolve(template_kind, template_folder)
+    offline, facerig = library.module("offline"), library.facerig()
+    work_dir = tempfile.mkdtemp(prefix="facerig-build-")
+    try:
+        target = os.path.join(work_dir, "target.obj")
+        exported, written = mesh_export.write_obj(target, objects)
         missing = left_out(context, objects)
+    except BaseException:
+        shutil.rmtree(work_dir, ignore_errors=True)
+        raise
 
-        def work(progress):
-            template_path = template.path(progress)
-            try:
-                offline.build(template=template_path, target=target, output=os.path.join(work_dir, "rig.frig"),
-                              progress=progress, **template.options)
-            except facerig.FailedError as error:
-                if "no face" not in str(error):
-                    raise
-                raise UserError(f"{error}. In Blender: the face looks toward -Y (the Front view), Z up") from None
-            with facerig.Rig(os.path.join(work_dir, "rig.frig")) as rig:
-                return rig.shape_names, shape_deltas(rig, len(written), written, progress)
+    def work(progress):
+        template_path = template.path(progress)
+        try:
+            offline.build(template=template_path, target=target, output=os.path.join(work_dir, "rig.frig"),
+                          progress=progress, **template.options)
+        except facerig.FailedError as error:
+            if "no face" not in str(error):
+                raise
+            raise UserError(f"{error}. In Blender: the face looks toward -Y (the Front view), Z up") from None
+        with facerig.Rig(os.path.join(work_dir, "rig.frig")) as rig:
+            return rig.shape_names, shape_deltas(rig, len(written), written, progress)
 
-        def apply(result):
-            names, deltas = result
-            return self.apply_shapes(objects, exported, names, deltas, template, missing)
+    def apply(result):
+        names, deltas = result
+        return apply_shapes(objects, exported, names, deltas, template, missing)
 
-        return Job("Building face shapes", work, apply, lambda: shutil.rmtree(work_dir, ignore_errors=True))
+    return Job("Building face shapes", work, apply, lambda: shutil.rmtree(work_dir, ignore_errors=True))
 
-    def apply_shapes(self, objects, exported, names, deltas, template, missing):
-        for obj, item in zip(objects, exported):
-            if obj.name != item.name or len(obj.data.vertices) != item.vertex_count:
-                raise UserError(f"'{item.name}' changed while facerig was building: build again")
-            shape_keys.check_names_free(obj, names)
-        face, parts = objects[0], objects[1:]
-        shape_keys.write_shapes(face, names, mesh_export.local_deltas(exported[0], deltas))
-        moved = []
-        for obj, item in zip(parts, exported[1:]):
-            written = shape_keys.write_shapes(obj, names, mesh_export.local_deltas(item, deltas), moving_only=True)
-            moved.append(f"{obj.name} ({len(written)})")
-        values = shape_keys.record(face)
-        values["parts"] = [obj.name for obj in parts]
-        values["template"] = template.label
-        values["left_out"] = missing
-        shape_keys.save_record(face, values)
-        message = f"facerig: {len(names)} shape keys on '{face.name}' from {template.label}"
-        if moved:
-            message += "; on " + ", ".join(moved)
-        if missing:
-            message += (f". Not selected, so without shapes: {', '.join(missing)} "
-                        "(select them with the face to build theirs too)")
-        return message
+
+def apply_shapes(objects, exported, names, deltas, template, missing):
+    """Writes the built shapes onto the objects; the message to report."""
+    for obj, item in zip(objects, exported):
+        if obj.name != item.name or len(obj.data.vertices) != item.vertex_count:
+            raise UserError(f"'{item.name}' changed while facerig was building: build again")
+        shape_keys.check_names_free(obj, names)
+    face, parts = objects[0], objects[1:]
+    shape_keys.write_shapes(face, names, mesh_export.local_deltas(exported[0], deltas))
+    moved = []
+    for obj, item in zip(parts, exported[1:]):
+        written = shape_keys.write_shapes(obj, names, mesh_export.local_deltas(item, deltas), moving_only=True)
+        moved.append(f"{obj.name} ({len(written)})")
+    values = shape_keys.record(face)
+    values["parts"] = [obj.name for obj in parts]
+    values["template"] = template.label
+    values["left_out"] = missing
+    shape_keys.save_record(face, values)
+    message = f"facerig: {len(names)} shape keys on '{face.name}' from {template.label}"
+    if moved:
+        message += "; on " + ", ".join(moved)
+    if missing:
+        message += (f". Not selected, so without shapes: {', '.join(missing)} "
+                    "(select them with the face to build theirs too)")
+    return message

@@ -118,34 +118,52 @@ class JobOperator:
         job = self._start(context)
         if job is None:
             return {"CANCELLED"}
-        self._job, self._progress, self._outcome = job, Progress(), {}
-        self._thread = threading.Thread(target=self._run_work, daemon=True)
-        self._thread.start()
+        self._worker = Worker(job)
         self._timer = context.window_manager.event_timer_add(0.1, window=context.window)
         context.window_manager.modal_handler_add(self)
-        context.workspace.status_text_set(self._progress.text(job.title))
+        context.workspace.status_text_set(self._worker.status())
         return {"RUNNING_MODAL"}
-
-    def _run_work(self):
-        try:
-            self._outcome["result"] = self._job.work(self._progress)
-        except BaseException as error:  # raised again on the main thread, in _finish
-            self._outcome["error"] = error
 
     def modal(self, context, event):
         if event.type == "ESC":
-            self._progress.cancelled = True
+            self._worker.cancel()
         if event.type != "TIMER":
             return {"RUNNING_MODAL"} if event.type == "ESC" else {"PASS_THROUGH"}
-        if self._thread.is_alive():
-            context.workspace.status_text_set(self._progress.text(self._job.title))
+        if self._worker.running():
+            context.workspace.status_text_set(self._worker.status())
             return {"RUNNING_MODAL"}
         context.window_manager.event_timer_remove(self._timer)
         context.workspace.status_text_set(None)
+        return self._finish(self._worker.job, self._worker.result)
 
-        def result():
-            if "error" in self._outcome:
-                raise self._outcome["error"]
-            return self._outcome["result"]
-        return self._finish(self._job, result)
 
+class Worker:
+    """A job's work(progress) on a thread of its own (the facerig calls release Python's lock), polled
+    by the main thread: running(), status() for the status bar, cancel() (the ABI's progress
+    callback then stops the work), result() once done (raising what the work raised)."""
+
+    def __init__(self, job):
+        self.job, self.progress, self._outcome = job, Progress(), {}
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self):
+        try:
+            self._outcome["result"] = self.job.work(self.progress)
+        except BaseException as error:  # raised again on the main thread, by result()
+            self._outcome["error"] = error
+
+    def running(self):
+        return self._thread.is_alive()
+
+    def status(self):
+        return self.progress.text(self.job.title)
+
+    def cancel(self):
+        self.progress.cancelled = True
+
+    def result(self):
+        self._thread.join()
+        if "error" in self._outcome:
+            raise self._outcome["error"]
+        return self._outcome["result"]

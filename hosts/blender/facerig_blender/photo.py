@@ -39,42 +39,49 @@ class FACERIG_OT_head_from_photo(JobOperator, bpy.types.Operator):
         return context.mode == "OBJECT"
 
     def prepare(self, context):
-        image = library.bpy_path(self.filepath)
-        if not image:
-            raise UserError("choose the photo")
-        if not os.path.isfile(image):
-            raise UserError(f"the photo {image} does not exist")
-        offline = library.module("offline")
-        work_dir = tempfile.mkdtemp(prefix="facerig-photo-")
-        glb = os.path.join(work_dir, "head.glb")
-        name = os.path.splitext(os.path.basename(image))[0] + " head"
+        return photo_job(self.filepath)
 
-        def work(progress):
-            return offline.photo(image, output=glb, progress=progress)
 
-        def apply(report):
-            return self.import_head(glb, name, image)
+def photo_job(filepath):
+    """The Job that makes a head from the photo at `filepath` (the operator's work, also for tests)."""
+    image = library.bpy_path(filepath)
+    if not image:
+        raise UserError("choose the photo")
+    if not os.path.isfile(image):
+        raise UserError(f"the photo {image} does not exist")
+    offline = library.module("offline")
+    work_dir = tempfile.mkdtemp(prefix="facerig-photo-")
+    glb = os.path.join(work_dir, "head.glb")
+    name = os.path.splitext(os.path.basename(image))[0] + " head"
 
-        return Job("Head from photo", work, apply, lambda: shutil.rmtree(work_dir, ignore_errors=True))
+    def work(progress):
+        return offline.photo(image, output=glb, progress=progress)
 
-    def import_head(self, glb, name, image):
-        before = set(bpy.data.objects)
-        try:
-            import_gltf(glb)
-        except BaseException:
-            for obj in set(bpy.data.objects) - before:  # no half-imported head
-                bpy.data.objects.remove(obj)
-            raise
-        meshes = [obj for obj in bpy.data.objects if obj not in before and obj.type == "MESH"]
-        if not meshes:
-            raise UserError("the photo head could not be imported (Blender's glTF importer made no mesh)")
-        for image_data in bpy.data.images:  # keep the texture in the .blend: the GLB is temporary
-            if image_data.packed_file is None and image_data.filepath.startswith(os.path.dirname(glb)):
-                image_data.pack()
-        head = max(meshes, key=lambda obj: len(obj.data.vertices))
-        head.name = name
-        keys = head.data.shape_keys
-        shapes = [key.name for key in keys.key_blocks[1:]] if keys else []
-        shape_keys.save_record(head, {"shapes": shapes, "photo": image})
-        bpy.context.view_layer.objects.active = head
-        return f"facerig: '{head.name}' from {os.path.basename(image)}, {len(shapes)} shape keys"
+    def apply(report):
+        return import_head(glb, name, image)
+
+    return Job("Head from photo", work, apply, lambda: shutil.rmtree(work_dir, ignore_errors=True))
+
+
+def import_head(glb, name, image):
+    """The photo head's GLB brought in as a new object named `name`, recorded as facerig's."""
+    before = set(bpy.data.objects)
+    try:
+        import_gltf(glb)
+    except BaseException:
+        for obj in set(bpy.data.objects) - before:  # no half-imported head
+            bpy.data.objects.remove(obj)
+        raise
+    meshes = [obj for obj in bpy.data.objects if obj not in before and obj.type == "MESH"]
+    if not meshes:
+        raise UserError("the photo head could not be imported (Blender's glTF importer made no mesh)")
+    for image_data in bpy.data.images:  # keep the texture in the .blend: the GLB is temporary
+        if image_data.packed_file is None and image_data.filepath.startswith(os.path.dirname(glb)):
+            image_data.pack()
+    head = max(meshes, key=lambda obj: len(obj.data.vertices))
+    head.name = name
+    keys = head.data.shape_keys
+    shapes = [key.name for key in keys.key_blocks[1:]] if keys else []
+    shape_keys.save_record(head, {"shapes": shapes, "photo": image})
+    bpy.context.view_layer.objects.active = head
+    return f"facerig: '{head.name}' from {os.path.basename(image)}, {len(shapes)} shape keys"

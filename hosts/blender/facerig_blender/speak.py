@@ -4,6 +4,7 @@ and an optional emotion, and its audio as a sound strip at the first baked frame
 import math
 import os
 import re
+import uuid
 import wave
 
 import bpy
@@ -51,6 +52,7 @@ def rig_from_shape_keys(obj, shapes):
 
 
 def write_wav(path, samples, rate):
+    """16-bit mono WAV for the sound strip (packed into the .blend afterwards)."""
     pcm = (np.clip(samples, -1.0, 1.0) * 32767.0).astype("<i2")
     with wave.open(path, "wb") as out:
         out.setnchannels(1)
@@ -123,7 +125,7 @@ class FACERIG_OT_speak(JobOperator, bpy.types.Operator):
         wav = None
         if self.source == "TEXT":
             stem = re.sub(r"[^A-Za-z0-9_-]+", "_", face.name)
-            wav = os.path.join(bpy.app.tempdir, f"facerig_{stem}_{len(bpy.data.sounds)}.wav")
+            wav = os.path.join(bpy.app.tempdir, f"facerig_{stem}_{uuid.uuid4().hex[:8]}.wav")
         audio = wav or library.bpy_path(self.audio_path)
 
         def work(progress):

@@ -1,11 +1,13 @@
 """Build Face Shapes with the built-in head as template on a head whose eyes and teeth are objects of
 their own (the built-in head's neutral OBJ, imported and separated by material): the face gets every
 shape, the eyes and teeth the shapes that move them (the eyes turn with eyeLookUpLeft, the lower teeth
-drop with jawOpen); a mesh inside the head left unselected is named in the report."""
+drop with jawOpen); a mesh inside the head left unselected is named in the report. The build runs on
+a worker thread as the UI runs it, reporting its stages to the polling main thread."""
 import os
 import shutil
 import sys
 import tempfile
+import time
 from importlib import import_module
 
 import bpy
@@ -42,7 +44,22 @@ log(f"head split into {', '.join(f'{name} ({len(obj.data.vertices)})' for name, 
 # Build on the skin (active) with the eyes, teeth and inner mouth; the tongue left out.
 helpers.select_only(parts["skin"], parts["eye"], parts["teeth"], parts["mouth_inner"])
 rest = {name: helpers.world_positions(obj, evaluated=False) for name, obj in parts.items()}
-assert bpy.ops.facerig.build_shapes(template="BUILTIN") == {"FINISHED"}
+
+# As the UI runs it (a modal operator, which headless Blender cannot run): on a worker thread, the
+# main thread polling its status as the UI's timer does.
+jobs = addon.jobs
+job = addon.build.build_job(bpy.context, "BUILTIN")
+worker = jobs.Worker(job)
+statuses = []
+while worker.running():
+    statuses.append(worker.status())
+    time.sleep(0.1)
+message = job.apply(worker.result())
+job.cleanup()
+stages = list(dict.fromkeys(status.split(" - ")[1].split(" ")[0] for status in statuses if " - " in status))
+assert {"register", "transfer", "map"} <= set(stages) and len(statuses) > 10, (stages, len(statuses))
+assert any("(Esc to cancel)" in status and "/" in status for status in statuses)
+log(f"built on a worker thread, {len(statuses)} polls, stages {stages}: {message}")
 skin_keys = parts["skin"].data.shape_keys.key_blocks
 assert len(skin_keys) == 68, len(skin_keys)
 record = parts["skin"]["facerig"].to_dict()

@@ -1,9 +1,10 @@
 """Head from Photo on the astronaut portrait, then 'Peter picked a peck of pickled peppers.' baked at
 30 fps: the lips close at every p/b/m on the mesh Blender evaluates, the sound strip starts at the
-first keyframe; a re-bake replaces the bake and nothing else; Clear takes out what the add-on added.
+first keyframe; a re-bake replaces the bake and nothing else; Clear takes out what the add-on added. Cancelled on its worker thread, Head from Photo makes nothing.
     ... --python photo_speak.py [-- --render OUT.png]   (also renders frames of it speaking)"""
 import os
 import sys
+import time
 from importlib import import_module
 
 import bpy
@@ -19,6 +20,23 @@ facerig = addon.library.facerig()
 helpers.empty_scene()
 scene = bpy.context.scene
 scene.render.fps, scene.render.fps_base = 30, 1.0
+
+# As the UI runs it (a modal operator, which headless Blender cannot run): on a worker thread,
+# cancelled (Esc) at the first stage it reports: the photo command stops, no object is made.
+job = addon.photo.photo_job(os.environ["FACERIG_PORTRAIT"])
+worker = addon.jobs.Worker(job)
+while worker.running() and not worker.progress.stage:
+    time.sleep(0.01)
+cancelled_at = worker.status()
+worker.cancel()
+try:
+    worker.result()
+    raise AssertionError("the cancelled photo head finished")
+except facerig.CancelledError:
+    pass
+job.cleanup()
+assert len(bpy.data.objects) == 0
+log(f"cancelled at '{cancelled_at}': no object")
 
 # Head from Photo: a new textured object with the shapes.
 result = bpy.ops.facerig.head_from_photo(filepath=os.environ["FACERIG_PORTRAIT"])
@@ -80,7 +98,7 @@ for fcurve in action.fcurves:
         assert min(frames) == 100 and max(frames) < 200, (fcurve.data_path, min(frames), max(frames))
 strips = list(scene.sequence_editor.sequences_all)
 assert len(strips) == 1 and strips[0].frame_start == 100, [(s.name, s.frame_start) for s in strips]
-log(f"re-baked at frame 100: one strip, MyKey's keyframe at 300 kept")
+log("re-baked at frame 100: one strip, MyKey's keyframe at 300 kept")
 
 # Clear the bake, then everything.
 assert bpy.ops.facerig.clear(what="BAKE") == {"FINISHED"}
