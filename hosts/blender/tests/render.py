@@ -8,7 +8,7 @@ import numpy as np
 import helpers
 
 
-def _camera_on(obj, size=512):
+def _camera_on(obj, size=400):
     """An orthographic camera looking at the face from the front (along +Y), framing its skin."""
     rest = helpers.world_positions(obj, evaluated=False)[helpers.skin_vertices(obj)]
     low, high = rest.min(axis=0), rest.max(axis=0)
@@ -30,6 +30,9 @@ def _camera_on(obj, size=512):
     shading.light, shading.color_type = "STUDIO", "MATERIAL"
     shading.show_cavity = True
     scene.render.image_settings.file_format = "PNG"
+    scene.render.image_settings.color_mode = "RGB"
+    scene.render.image_settings.compression = 100
+    scene.view_settings.view_transform = "Standard"  # the PNGs read back and saved unchanged
     return camera
 
 
@@ -75,7 +78,6 @@ def speaking_frame(obj, phonemes, first_frame, fps, out, color="MATERIAL"):
     joined = np.concatenate(panels, axis=1)
     image = bpy.data.images.new("facerig frames", joined.shape[1], joined.shape[0], alpha=True)
     image.pixels.foreach_set(joined.ravel())
-    image.filepath_raw = out
-    image.file_format = "PNG"
-    image.save()
+    image.save_render(out, scene=bpy.context.scene)  # the scene's PNG settings: RGB, most compressed
+    bpy.data.images.remove(image)
     helpers.log(f"frames {closed} ('{bilabial.symbol}', lips closed) and {widest} (widest) in {out}")
