@@ -13,7 +13,7 @@ import importlib
 import os
 import sys
 
-_HERE = os.path.dirname(os.path.abspath(__file__))
+_HERE = os.path.dirname(os.path.realpath(__file__))  # through a link into Blender's add-on folder
 _SOURCE_TREE_PACKAGE = os.path.normpath(os.path.join(_HERE, "..", "..", "python"))
 
 

@@ -20,7 +20,7 @@ TEMPLATE_ITEMS = [
     ("BUILTIN", "Built-in Head", "facerig's built-in head, made by facerig itself"),
 ]
 
-_HERE = os.path.dirname(os.path.abspath(__file__))
+_HERE = os.path.dirname(os.path.realpath(__file__))  # through a link into Blender's add-on folder
 _SOURCE_TREE_ICT = os.path.normpath(os.path.join(_HERE, "..", "..", "..", "..", "shared", "data", "ict-facekit"))
 
 
