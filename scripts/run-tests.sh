@@ -4,7 +4,7 @@
 #   scripts/run-tests.sh [extra ctest arguments, e.g. -LE shared-data]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
+scripts/install-deps.sh --tests
 build=${FACERIG_BUILD_DIR:-build}
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DFACERIG_WARNINGS_AS_ERRORS=ON \
   ${FACERIG_CMAKE_ARGS:-}

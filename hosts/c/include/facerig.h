@@ -43,7 +43,7 @@ extern "C" {
  * fr_abi_version() has the same major (high 16 bits, also the SONAME's
  * number) and an equal or higher minor (low 16 bits). */
 #define FR_ABI_VERSION_MAJOR 0
-#define FR_ABI_VERSION_MINOR 1
+#define FR_ABI_VERSION_MINOR 2
 #define FR_ABI_VERSION ((FR_ABI_VERSION_MAJOR << 16) | FR_ABI_VERSION_MINOR)
 
 typedef enum fr_status {
@@ -122,6 +122,22 @@ FR_API fr_status fr_rig_load_file(const char* path, fr_rig** out_rig);
  * messages (NULL: "<memory>"). The bytes are copied as needed; the caller
  * keeps them. Errors as fr_rig_load_file. Any thread. */
 FR_API fr_status fr_rig_load_bytes(const void* bytes, size_t size, const char* name, fr_rig** out_rig);
+
+/* A rig from the caller's arrays, e.g. a mesh and its shape keys held by a
+ * 3D application: `positions` (3 floats per vertex), `triangles` (3 vertex
+ * indices each, counter-clockwise seen from outside) and `shape_count`
+ * shapes, shape i named shape_names[i] (UTF-8, unique, not empty) with
+ * dense position deltas: 3 * vertex_count floats per shape, shape after
+ * shape in `deltas` (vertices moved less than 1e-7 of the bounding diagonal
+ * are left out of the sparse shape). Normals are computed; no UVs, parts or
+ * materials; units unknown, Y up. A character on it speaks with the shapes
+ * its names give (ARKit and Oculus viseme names, facerig/runtime/
+ * shape_names.h). Since ABI 0.2. Errors: FR_ERROR_INVALID_ARGUMENT (NULL,
+ * NaN, an index out of range, an empty or repeated name: the message
+ * names it). Any thread. */
+FR_API fr_status fr_rig_create(const float* positions, size_t vertex_count, const uint32_t* triangles,
+                               size_t triangle_count, const char* const* shape_names, const float* deltas,
+                               size_t shape_count, fr_rig** out_rig);
 
 /* Releases the caller's reference. Characters made from the rig keep it
  * alive until they are released too. NULL is ignored. Not while another
@@ -209,6 +225,15 @@ FR_API fr_status fr_speech_create(const fr_phoneme* phonemes, size_t phoneme_cou
  * spectrum, no transcript); the line holds the audio. Sample rates 4-384 kHz. */
 FR_API fr_status fr_speech_from_audio(const float* samples, size_t sample_count, int32_t sample_rate,
                                       fr_speech** out_speech);
+
+/* A recording read from a file (WAV, FLAC, Ogg/Vorbis, AIFF, ... through
+ * libsndfile; every channel averaged into one) as a line with that audio and
+ * no phonemes: its samples, read with fr_speech_audio, are what
+ * fr_speech_from_audio (the rough mode) and fr_tts_align take. Since ABI
+ * 0.2. Errors: FR_ERROR_FILE (missing, unreadable, not a regular file),
+ * FR_ERROR_FORMAT (not an audio format, no samples, truncated, over an
+ * hour), each naming the file. Any thread. */
+FR_API fr_status fr_speech_load_audio_file(const char* path, fr_speech** out_speech);
 
 /* NULL is ignored. */
 FR_API void fr_speech_release(fr_speech* speech);

@@ -15,7 +15,7 @@ from ctypes import POINTER, Structure, c_char, c_char_p, c_double, c_float, c_in
 from .errors import ClosedError
 
 ABI_VERSION_MAJOR = 0
-ABI_VERSION_MINOR = 1
+ABI_VERSION_MINOR = 2
 NAME_CAPACITY = 16
 
 status = c_int32  # fr_status
@@ -59,6 +59,8 @@ _FUNCTIONS = {
     "fr_status_name": (c_char_p, [status]),
     "fr_rig_load_file": (status, [c_char_p, P(handle)]),
     "fr_rig_load_bytes": (status, [c_void_p, c_size_t, c_char_p, P(handle)]),
+    "fr_rig_create": (status, [float_p, c_size_t, P(c_uint32), c_size_t, P(c_char_p), float_p, c_size_t,
+                               P(handle)]),
     "fr_rig_release": (None, [handle]),
     "fr_rig_get_info": (status, [handle, P(RigInfo)]),
     "fr_rig_shape_name": (status, [handle, c_uint32, c_char_p, c_size_t, P(c_size_t)]),
@@ -73,6 +75,7 @@ _FUNCTIONS = {
     "fr_speech_load_track_bytes": (status, [c_char_p, c_size_t, P(handle)]),
     "fr_speech_create": (status, [P(Phoneme), c_size_t, float_p, c_size_t, c_int32, P(handle)]),
     "fr_speech_from_audio": (status, [float_p, c_size_t, c_int32, P(handle)]),
+    "fr_speech_load_audio_file": (status, [c_char_p, P(handle)]),
     "fr_speech_release": (None, [handle]),
     "fr_speech_phonemes": (status, [handle, P(Phoneme), c_size_t, P(c_size_t)]),
     "fr_speech_audio": (status, [handle, float_p, c_size_t, P(c_size_t), P(c_int32)]),

@@ -17,7 +17,9 @@ class Rig(Handle):
     """A loaded rig: a neutral mesh plus named, sparse blend shapes. Immutable.
 
     Rig(path) loads a .glb, .gltf, .frig or .obj file; Rig.from_bytes(data)
-    the bytes of a .glb or .frig. Characters made from a rig keep it alive.
+    the bytes of a .glb or .frig; Rig.from_arrays(positions, triangles,
+    shape_names, deltas) a mesh and its shapes. Characters made from a rig
+    keep it alive.
     """
 
     _release = _native.lib.fr_rig_release
@@ -34,6 +36,29 @@ class Rig(Handle):
         data = bytes(data)
         pointer_ = new_handle()
         check(_native.lib.fr_rig_load_bytes(data, len(data), name.encode(), ctypes.byref(pointer_)))
+        rig = cls.__new__(cls)
+        Handle.__init__(rig, pointer_)
+        rig._read_info()
+        return rig
+
+    @classmethod
+    def from_arrays(cls, positions, triangles, shape_names=(), deltas=None):
+        """A rig from arrays (e.g. a 3D application's mesh and shape keys): positions (n, 3),
+        triangles (t, 3) vertex indices, and per name in shape_names its dense deltas,
+        deltas[i] of shape (n, 3)."""
+        positions = float_input(positions, "positions").reshape(-1, 3)
+        triangles = np.ascontiguousarray(triangles, dtype=np.uint32).reshape(-1, 3)
+        names = [name.encode("utf-8") for name in shape_names]
+        deltas = float_input(deltas if deltas is not None else np.empty((0, len(positions), 3)), "deltas")
+        if deltas.size != len(names) * positions.size:
+            raise InvalidArgumentError(f"deltas holds {deltas.size} floats, not {len(names)} shapes x "
+                                       f"{len(positions)} vertices x 3", "FR_ERROR_INVALID_ARGUMENT")
+        c_names = (ctypes.c_char_p * len(names))(*names)
+        pointer_ = new_handle()
+        check(_native.lib.fr_rig_create(pointer(positions), len(positions),
+                                        triangles.ctypes.data_as(ctypes.POINTER(ctypes.c_uint32)), len(triangles),
+                                        c_names, pointer(deltas) if deltas.size else None, len(names),
+                                        ctypes.byref(pointer_)))
         rig = cls.__new__(cls)
         Handle.__init__(rig, pointer_)
         rig._read_info()

@@ -42,7 +42,8 @@ class Speech(Handle):
 
     Speech.from_track(path or JSON text), Speech(phonemes, samples, sample_rate),
     Speech.from_audio(samples, rate) (the rough mode: a coarse mouth from audio
-    alone), or facerig.tts.synthesize / facerig.tts.align.
+    alone), Speech.from_audio_file(path) (a recording, no phonemes), or
+    facerig.tts.synthesize / facerig.tts.align.
     """
 
     _release = _native.lib.fr_speech_release
@@ -79,6 +80,14 @@ class Speech(Handle):
         samples = float_input(samples, "samples")
         pointer_ = new_handle()
         check(_native.lib.fr_speech_from_audio(pointer(samples), samples.size, sample_rate, ctypes.byref(pointer_)))
+        return cls._wrap(pointer_)
+
+    @classmethod
+    def from_audio_file(cls, path):
+        """A recording read from a file (WAV, FLAC, Ogg/Vorbis, ...; channels mixed to one), with no
+        phonemes: its `audio` is what Speech.from_audio and facerig.tts.align take."""
+        pointer_ = new_handle()
+        check(_native.lib.fr_speech_load_audio_file(os.fsencode(path), ctypes.byref(pointer_)))
         return cls._wrap(pointer_)
 
     @property

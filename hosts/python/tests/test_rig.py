@@ -103,3 +103,50 @@ def test_a_character_keeps_its_rig_alive(head_path):
         rig.blend(np.zeros(3))
     character.speak(facerig.Speech.from_track(TRACK))
     assert np.isfinite(character.update(0.3)).all()
+
+
+def _dense_deltas(rig):
+    """Each shape's dense deltas, from one-hot blends."""
+    neutral, _ = rig.neutral()
+    deltas = np.empty((rig.shape_count, rig.vertex_count, 3), np.float32)
+    weights = np.zeros(rig.shape_count, np.float32)
+    for i in range(rig.shape_count):
+        weights[:] = 0.0
+        weights[i] = 1.0
+        deltas[i] = rig.blend(weights) - neutral
+    return neutral, deltas
+
+
+def test_a_rig_from_arrays_blends_and_speaks_as_the_loaded_one(rig):
+    """What the Blender add-on does with a mesh's shape keys (fr_rig_create)."""
+    neutral, deltas = _dense_deltas(rig)
+    made = facerig.Rig.from_arrays(neutral, rig.triangles(), rig.shape_names, deltas)
+    assert (made.vertex_count, made.triangle_count, made.shape_names) == \
+        (rig.vertex_count, rig.triangle_count, rig.shape_names)
+    weights = np.zeros(rig.shape_count, np.float32)
+    weights[[rig.find_shape("jawOpen"), rig.find_shape("eyeBlinkLeft")]] = (0.7, 0.4)
+    assert np.allclose(made.blend(weights), rig.blend(weights), atol=1e-5 * rig.bounding_diagonal)
+    speech = facerig.Speech.from_track(TRACK)
+    loaded, created = facerig.Character(rig, seed=5), facerig.Character(made, seed=5)
+    loaded.speak(speech)
+    created.speak(speech)
+    for t in np.arange(0.0, 1.0, 1 / 30):
+        assert np.array_equal(loaded.update(t), created.update(t))
+
+
+def test_a_rig_from_bad_arrays_is_refused_with_the_reason(rig):
+    neutral, _ = rig.neutral()
+    triangles = rig.triangles()
+    no_deltas = np.zeros((2, rig.vertex_count, 3), np.float32)
+    with pytest.raises(facerig.InvalidArgumentError, match="'jawOpen' appears twice"):
+        facerig.Rig.from_arrays(neutral, triangles, ["jawOpen", "jawOpen"], no_deltas)
+    bad = triangles.copy()
+    bad[3, 1] = rig.vertex_count
+    with pytest.raises(facerig.InvalidArgumentError, match="triangle 3"):
+        facerig.Rig.from_arrays(neutral, bad)
+    nan = neutral.copy()
+    nan[7, 2] = np.nan
+    with pytest.raises(facerig.InvalidArgumentError, match="position value 23 is NaN"):
+        facerig.Rig.from_arrays(nan, triangles)
+    with pytest.raises(facerig.InvalidArgumentError, match="deltas holds"):
+        facerig.Rig.from_arrays(neutral, triangles, ["jawOpen"], no_deltas)

@@ -165,3 +165,27 @@ def test_streaming_tts_stops_when_a_callback_says_so():
     assert len(seen) == 3
     with pytest.raises(ZeroDivisionError):
         tts.synthesize_streaming("Maybe.", "en-us", on_audio=lambda samples: 1 / 0)
+
+
+def test_a_recording_read_from_a_file_and_its_errors(tmp_path):
+    """fr_speech_load_audio_file: the samples of a WAV (written here by Python's wave module) and
+    what an unreadable or missing file says."""
+    import wave
+    rate = 16000
+    tone = (0.5 * np.sin(2 * np.pi * 220 * np.arange(rate // 2) / rate)).astype(np.float32)
+    stereo = np.stack([tone, -tone / 2], axis=1)
+    with wave.open(str(tmp_path / "tone.wav"), "wb") as out:
+        out.setnchannels(2)
+        out.setsampwidth(2)
+        out.setframerate(rate)
+        out.writeframes((stereo * 32767).astype("<i2").tobytes())
+    speech = facerig.Speech.from_audio_file(tmp_path / "tone.wav")
+    samples, read_rate = speech.audio
+    assert read_rate == rate and speech.phonemes == []
+    assert np.allclose(samples, tone / 4, atol=1e-4)  # the channels averaged
+    assert len(facerig.Speech.from_audio(samples, rate).phonemes) > 0  # the rough mode takes them
+    (tmp_path / "notes.wav").write_text("not audio")
+    with pytest.raises(facerig.FormatError, match="notes.wav"):
+        facerig.Speech.from_audio_file(tmp_path / "notes.wav")
+    with pytest.raises(facerig.FileError, match="missing.wav"):
+        facerig.Speech.from_audio_file(tmp_path / "missing.wav")
