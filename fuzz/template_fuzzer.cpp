@@ -4,7 +4,7 @@
 #include <string>
 
 #include "facerig/offline/error.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/rig_builder.h"
 #include "fuzz_input.h"

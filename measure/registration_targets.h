@@ -18,7 +18,7 @@
 #include <glm/vec3.hpp>
 
 #include "facerig/runtime/mesh.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/registration/rigid_align.h"
 #include "facerig/runtime/rig.h"
 

@@ -18,7 +18,7 @@
 #include "bench/json.h"
 #include "facerig/offline/error.h"
 #include "facerig/offline/landmarks/landmarks.h"
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 #include "facerig/offline/io/template_folder.h"
 #include "measure/registration_targets.h"
 

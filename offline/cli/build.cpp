@@ -21,7 +21,7 @@
 #include "facerig/runtime/ascii_case.h"
 #include "facerig/offline/render/eye_textures.h"
 #include "facerig/offline/landmarks/landmarks.h"
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 #include "facerig/runtime/error.h"
 #include "facerig/offline/io/build_target.h"
 #include "facerig/runtime/io/gltf_with_morph_targets.h"

@@ -19,7 +19,7 @@
 #include "cli/names.h"
 #include "cli/obj_folder.h"
 #include "facerig/offline/default_head/default_head.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/output_set.h"

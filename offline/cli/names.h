@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/options.h"
-#include "facerig/offline/build/standard_shapes.h"
+#include "facerig/offline/rigging/standard_shapes.h"
 #include "facerig/runtime/rig_warnings.h"
 
 namespace facerig::cli {

@@ -15,7 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/rig.h"
 

@@ -9,10 +9,10 @@
 
 #include <glm/vec3.hpp>
 
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/photo/fit.h"
-#include "facerig/offline/build/standard_shapes.h"
+#include "facerig/offline/rigging/standard_shapes.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 

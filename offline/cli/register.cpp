@@ -20,7 +20,7 @@
 #include "facerig/offline/registration/nonrigid_icp.h"
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/offline/error.h"
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/offline/io/template_folder.h"

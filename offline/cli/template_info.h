@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 
 namespace facerig {
 

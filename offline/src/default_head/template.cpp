@@ -1,7 +1,7 @@
 // The built-in head's template descriptor (face_template.h), written beside
 // the generated head so that a build with it as the template reads it there.
 #include "facerig/offline/default_head/default_head.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/runtime/files/atomic_file.h"
 
 namespace facerig {

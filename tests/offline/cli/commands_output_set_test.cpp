@@ -19,7 +19,7 @@
 
 #include "cli/app.h"
 #include "facerig/offline/default_head/default_head.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/runtime/io/mtl.h"
 #include "facerig/runtime/io/obj.h"

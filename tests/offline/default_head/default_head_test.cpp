@@ -11,7 +11,7 @@
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
-#include "facerig/offline/build/standard_shapes.h"
+#include "facerig/offline/rigging/standard_shapes.h"
 #include "support/default_head_poses.h"
 #include "facerig/runtime/files/frig.h"
 #include "facerig/runtime/io/gltf.h"

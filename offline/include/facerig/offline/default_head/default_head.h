@@ -22,7 +22,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/runtime/rig.h"
 

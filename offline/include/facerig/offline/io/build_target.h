@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {

@@ -1,5 +1,5 @@
 // Reading, validating and writing a template descriptor (face_template.h).
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 
 #include <cmath>
 #include <cstdio>

@@ -9,7 +9,7 @@
 
 #include "facerig/offline/error.h"
 #include "facerig/offline/geometry/mesh_components.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/runtime/error.h"

@@ -1,7 +1,7 @@
 // Template descriptors: the shipped ICT-FaceKit and built-in head ones, the
 // fingerprint that picks a shipped one, derivation for a template without
 // one, and the errors a bad descriptor gets.
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 
 #include <algorithm>
 #include <filesystem>

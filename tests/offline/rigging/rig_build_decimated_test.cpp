@@ -14,9 +14,9 @@
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/landmarks/landmarks.h"
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 #include "facerig/runtime/io/obj.h"
 #include "support/decimate.h"
 #include "support/ict_faces.h"

@@ -1,4 +1,4 @@
-#include "facerig/offline/build/standard_shapes.h"
+#include "facerig/offline/rigging/standard_shapes.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "facerig/offline/build/build_stages.h"
+#include "facerig/offline/rigging/build_stages.h"
 
 namespace facerig {
 

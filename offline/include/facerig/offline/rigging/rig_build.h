@@ -20,8 +20,8 @@
 #include <string_view>
 #include <vector>
 
-#include "facerig/offline/build/build_stages.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/build_stages.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/transfer/deformation_transfer.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/registration/nonrigid_icp.h"

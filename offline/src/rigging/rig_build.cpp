@@ -1,5 +1,5 @@
 #include "facerig/offline/openings/margins.h"
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 
 #include <chrono>
 #include <algorithm>

@@ -1,7 +1,7 @@
 // The whole rig build (landmarks -> registration -> transfer -> the target's
 // own topology) on re-meshed, rotated, rescaled random ICT faces, measured
 // with issue 6's relative error and leak against the known answer.
-#include "facerig/offline/build/rig_build.h"
+#include "facerig/offline/rigging/rig_build.h"
 
 #include <algorithm>
 #include <limits>
@@ -12,7 +12,7 @@
 
 #include "facerig/offline/geometry/closest_point.h"
 #include "facerig/offline/default_head/default_head.h"
-#include "facerig/offline/build/face_template.h"
+#include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/mapping/mouth_sides.h"
 #include "facerig/offline/geometry/self_intersection.h"

@@ -1,7 +1,7 @@
 // The names and viseme targets written rigs carry (standard_shapes.h), on the
 // built-in head: each naming mode, the baked visemes against the runtime's
 // mapping, and the runtime choosing baked visemes when a rig has them.
-#include "facerig/offline/build/standard_shapes.h"
+#include "facerig/offline/rigging/standard_shapes.h"
 
 #include <algorithm>
 #include <filesystem>
