@@ -8,8 +8,8 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
 const ARKIT_MOUTH = ['jawOpen', 'mouthClose', 'mouthFunnel', 'mouthPucker', 'mouthPressLeft', 'mouthStretchLeft',
                      'mouthLowerDownLeft', 'mouthUpperUpLeft', 'mouthRollLower', 'mouthRollUpper'];
-const OCULUS_VISEMES = ['viseme_sil', 'viseme_PP', 'viseme_FF', 'viseme_TH', 'viseme_DD', 'viseme_kk', 'viseme_CH',
-                        'viseme_SS', 'viseme_nn', 'viseme_RR', 'viseme_aa', 'viseme_E', 'viseme_I', 'viseme_O', 'viseme_U'];
+const OCULUS_VISEMES = ['viseme_aa', 'viseme_PP', 'viseme_O', 'viseme_E', 'viseme_FF', 'viseme_I', 'viseme_U',
+                        'viseme_CH', 'viseme_DD', 'viseme_kk', 'viseme_nn', 'viseme_RR', 'viseme_SS', 'viseme_TH', 'viseme_sil'];
 const BLINKS = ['eyeBlinkLeft', 'eyeBlinkRight'];
 
 // "a pa" said by a throwaway character without blinks or gaze: the weights

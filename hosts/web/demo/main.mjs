@@ -89,6 +89,7 @@ function speakAll(speech, when) {
   for (const h of heads) h.character.speak(speech, when);
   line = { phonemes: speech.phonemes(), start: when };
   demo.frames.length = 0;
+  demo.line = line;
   return line;
 }
 
@@ -183,6 +184,22 @@ demo.replay = (track, times, seed) => {
   }
 };
 
+/**
+ * The lip aperture a fresh character (no blinks or gaze) gives the first head for `phonemes` spoken
+ * at time 0, at each of `times`: the mouth a frame at that line time should show.
+ */
+demo.apertureCurve = (phonemes, times) => {
+  const head = heads[0], saved = head.character;
+  head.character = rig.createCharacter({ blinks: false, gaze: false });
+  try {
+    head.character.speakPhonemes(phonemes, 0);
+    return times.map((t) => { head.update(t, false); return aperture(lips.face, lips.pair); });
+  } finally {
+    head.character.release();
+    head.character = saved;
+  }
+};
+
 demo.setEmotion = (name, target) => { for (const h of heads) h.character.setEmotion(name, target); };
 
 const stats = new FrameStats();
@@ -238,20 +255,22 @@ function guarded(action) {
     } catch (e) {
       show(e.message);
       demo.lastError = e.message;
+    } finally {
+      demo.actions = (demo.actions ?? 0) + 1;  // the tests wait on this
     }
   };
 }
 
 function wireControls() {
   const textBox = document.getElementById('text');
-  textBox.addEventListener('keydown', guarded(async (event) => {
-    if (event.key !== 'Enter') return;
+  const speakTyped = guarded(async (event) => {
     await audio.resume();
     const began = event.timeStamp;
     const spoken = await demo.speakText(textBox.value, document.getElementById('voice').value);
     // From the key press to the audio's first sample, on the page's clock.
     demo.stats.firstSpeechMs = performance.now() - began + 1000 * (spoken.start - audio.currentTime);
-  }));
+  });
+  textBox.addEventListener('keydown', (event) => { if (event.key === 'Enter') speakTyped(event); });
   for (const button of document.querySelectorAll('[data-emotion]')) {
     button.addEventListener('click', () => {
       for (const other of document.querySelectorAll('[data-emotion]')) demo.setEmotion(other.dataset.emotion, 0);

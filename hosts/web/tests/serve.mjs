@@ -3,7 +3,7 @@
 // and scripts/run-web.sh: node hosts/web/tests/serve.mjs [port]
 // It answers single-range requests (206), which the page uses to fetch one
 // language's espeak-ng data, and counts the bytes it sends per path
-// (server.sent), which the tests read.
+// (server.sent) and each answer's byte range (server.log), which the tests read.
 import { createServer } from 'node:http';
 import { open, stat } from 'node:fs/promises';
 import { extname, join, normalize } from 'node:path';
@@ -23,7 +23,7 @@ function byteRange(header, size) {
   return start < end ? { start, end } : null;
 }
 
-async function send(request, response, path, sent) {
+async function send(request, response, path, sent, log) {
   const file = join(root, path);
   const { size } = await stat(file);
   const range = byteRange(request.headers.range, size);
@@ -37,23 +37,25 @@ async function send(request, response, path, sent) {
     if (range) headers['Content-Range'] = `bytes ${start}-${end - 1}/${size}`;
     response.writeHead(range ? 206 : 200, headers).end(body);
     sent.set(path, (sent.get(path) ?? 0) + body.length);
+    log.push({ path, start, end });
   } finally {
     await handle.close();
   }
 }
 
 export function serve(port = 0, host = '127.0.0.1') {
-  const sent = new Map();
+  const sent = new Map(), log = [];
   const server = createServer(async (request, response) => {
     const path = normalize(decodeURIComponent(new URL(request.url, 'http://localhost').pathname));
     if (path.includes('..')) { response.writeHead(403).end(); return; }
     try {
-      await send(request, response, path, sent);
+      await send(request, response, path, sent, log);
     } catch {
       response.writeHead(404).end(`${path}: not found`);
     }
   });
   server.sent = sent;
+  server.log = log;
   return new Promise((resolve, reject) => {
     server.once('error', reject);
     server.listen(port, host, () => resolve(server));
