@@ -151,11 +151,14 @@ demo.toggleMicrophone = async () => {
       for (const h of heads) h.character.beginLine(streamStart + MIC_DELAY);
       line = { phonemes: [], start: streamStart + MIC_DELAY, live: true };
       demo.frames.length = 0;
+      demo.line = line;
       begun = true;
     }
+    const shownUpTo = heardTime(performance.now()) - line.start;
     for (const p of phonemes) {
       for (const h of heads) h.character.pushPhoneme(p);
       line.phonemes.push(p);
+      if (p.start < shownUpTo) line.late = (line.late ?? 0) + 1;  // arrived after the face reached it
     }
   });
   return true;
