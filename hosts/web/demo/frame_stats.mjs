@@ -1,18 +1,13 @@
-// Frame timing for the HUD and the tests: the interval between animation
-// frames (what the viewer gets; median), the characters' update time and the
-// time spent issuing the draw (means: performance.now() is coarsened to
-// 0.1 ms in a page that is not cross-origin isolated), over 120 frames.
+// Frame timing for the HUD and the tests, means over the last 120 frames: the
+// interval between animation frames (what the viewer gets), the characters'
+// update time and the time spent issuing the draw (performance.now() is
+// coarsened to 0.1 ms in a page that is not cross-origin isolated).
 const WINDOW = 120;
 
 function mean(values, count) {
   let sum = 0;
   for (let i = 0; i < count; ++i) sum += values[i];
   return count ? sum / count : 0;
-}
-
-function median(values, count) {
-  const sorted = Float64Array.from(values.subarray(0, count)).sort();
-  return count ? sorted[count >> 1] : 0;
 }
 
 export class FrameStats {
@@ -23,6 +18,12 @@ export class FrameStats {
     this.count = 0;
     this.last = null;
     this.shown = 0;
+  }
+
+  /** Forgets the frames so far (the tests measure after the page has settled). */
+  reset() {
+    this.count = 0;
+    this.last = null;
   }
 
   /** One frame: its rAF time, the update and draw times (ms). */
@@ -44,8 +45,10 @@ export class FrameStats {
 
   summary() {
     const n = Math.min(this.count, WINDOW);
-    const frameMs = median(this.interval, n);
-    return { frameMs, fps: frameMs ? 1000 / frameMs : 0, updateMs: mean(this.update, n), drawMs: mean(this.draw, n) };
+    // The first interval after a reset is 0: not a frame.
+    const frameMs = this.count > WINDOW ? mean(this.interval, n) : mean(this.interval.subarray(1), n - 1);
+    return { frameMs, fps: frameMs ? 1000 / frameMs : 0, updateMs: mean(this.update, n), drawMs: mean(this.draw, n),
+             slowestMs: Math.max(...this.interval.subarray(0, n)) };
   }
 
   text(heads) {

@@ -206,6 +206,7 @@ demo.apertureCurve = (phonemes, times) => {
 demo.setEmotion = (name, target) => { for (const h of heads) h.character.setEmotion(name, target); };
 
 const stats = new FrameStats();
+demo.resetStats = () => stats.reset();
 function frame(now) {
   const t = heardTime(now);
   const began = performance.now();
@@ -271,7 +272,7 @@ function wireControls() {
     const began = event.timeStamp;
     const spoken = await demo.speakText(textBox.value, document.getElementById('voice').value);
     // From the key press to the audio's first sample, on the page's clock.
-    demo.stats.firstSpeechMs = performance.now() - began + 1000 * (spoken.start - audio.currentTime);
+    demo.firstSpeechMs = performance.now() - began + 1000 * (spoken.start - audio.currentTime);
   });
   textBox.addEventListener('keydown', (event) => { if (event.key === 'Enter') speakTyped(event); });
   for (const button of document.querySelectorAll('[data-emotion]')) {

@@ -92,8 +92,10 @@ export function createSpeaker(audio) {
   return {
     render,
     stats,
-    /** Bytes of espeak-ng data fetched so far (the .js is counted by the page from the network). */
+    /** Bytes of espeak-ng data fetched so far. */
     get dataBytes() { return data?.fetched ?? 0; },
+    /** The espeak-ng module's WebAssembly memory, bytes (0 before it is loaded). */
+    get memoryBytes() { return module?.HEAPU8.length ?? 0; },
 
     /** {phonemes, play}: play() starts the audio and returns its AudioContext start time. */
     async synthesize(text, voice = 'en-us') {

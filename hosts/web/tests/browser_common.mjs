@@ -53,6 +53,7 @@ export async function startBrowser(args, extraFlags = []) {
     page.on('console', (m) => { if (m.type() === 'error') page.errors.push(m.text()); });
     page.on('pageerror', (e) => page.errors.push(`uncaught: ${e.message}`));
     await page.setViewport(viewport);
+    await page.bringToFront();  // a hidden tab gets no animation frames
     await page.goto(`${base}${query}`);
     await page.waitForFunction('window.facerigDemo && window.facerigDemo.ready', { timeout: 60000 });
     return page;

@@ -1,6 +1,6 @@
 // A static HTTP server over the repository (the page reaches the built-in
 // head in build/data and three.js in hosts/web/node_modules), for the tests
-// and scripts/run-web.sh: node hosts/web/tests/serve.mjs [port]
+// and scripts/run-web.sh: node hosts/web/tests/serve.mjs [PORT [PAGE]]
 // It answers single-range requests (206), which the page uses to fetch one
 // language's espeak-ng data, and counts the bytes it sends per path
 // (server.sent) and each answer's byte range (server.log), which the tests read.
@@ -62,7 +62,14 @@ export function serve(port = 0, host = '127.0.0.1') {
   });
 }
 
+// node serve.mjs [PORT [PAGE]]: serves the repository, prints the page's address.
 if (process.argv[1] === fileURLToPath(import.meta.url)) {
-  const server = await serve(Number(process.argv[2] ?? 8080));
-  console.log(`http://127.0.0.1:${server.address().port}/hosts/web/demo/index.html`);
+  const port = Number(process.argv[2] ?? 8080);
+  try {
+    const server = await serve(port);
+    console.log(`http://127.0.0.1:${server.address().port}/${process.argv[3] ?? 'hosts/web/demo/index.html'}`);
+  } catch (e) {
+    console.error(`serve: cannot listen on 127.0.0.1:${port}: ${e.code === 'EADDRINUSE' ? 'the port is in use (give another)' : e.message}`);
+    process.exit(1);
+  }
 }

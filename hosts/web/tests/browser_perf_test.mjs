@@ -1,0 +1,116 @@
+// Numbers of the demo page in headless Chromium, software GL (ctest, labels
+// web and browser): frame time with 1, 10 and 50 heads drawn, time to first
+// speech after Enter, the bytes espeak-ng fetches for en-us alone, and a run
+// that speaks line after line while the WebAssembly memories and the JS heap
+// (after a forced garbage collection) are sampled: they must stay flat.
+//   node browser_perf_test.mjs --chromium /usr/bin/chromium --out DIR [--heap-seconds 120]
+// ctest runs the heap part for 15 s; docs/web.md gives a 2-minute run.
+// Writes DIR/web_page_numbers.json.
+import { readFileSync, writeFileSync } from 'node:fs';
+import { gzipSync } from 'node:zlib';
+import { fileURLToPath } from 'node:url';
+import { check, finish, parseArgs, sleep, startBrowser } from './browser_common.mjs';
+
+const began = Date.now();
+const args = parseArgs();
+const heapSeconds = Number(args['heap-seconds'] ?? 15);
+const root = fileURLToPath(new URL('../../../', import.meta.url));
+const numbers = {};
+const LINE = 'Peter picked a peck of pickled peppers.';
+
+async function frameTimes(open) {
+  numbers.frames = {};
+  for (const heads of [1, 10, 50]) {
+    const page = await open(`?heads=${heads}`);
+    await page.evaluate(`window.facerigDemo.speakText(${JSON.stringify(LINE)}, 'en-us')`);
+    await sleep(500);
+    await page.evaluate('window.facerigDemo.resetStats()');
+    await sleep(2500);
+    const stats = await page.evaluate('window.facerigDemo.stats');
+    numbers.frames[heads] = stats;
+    check(stats.heads === heads && stats.frameMs > 0,
+          `${heads} head(s), drawn at 640x640: frame ${stats.frameMs.toFixed(1)} ms mean (${stats.fps.toFixed(0)} fps, ` +
+          `slowest ${stats.slowestMs.toFixed(0)} ms), update ${(1000 * stats.updateMs).toFixed(0)} µs for all, ` +
+          `draw call ${stats.drawMs.toFixed(1)} ms`);
+    await page.close();
+  }
+}
+
+async function firstSpeech(open, server) {
+  const logged = server.log.length;  // this page's requests only
+  const page = await open('');
+  const times = [];
+  for (const attempt of ['first (loads espeak-ng and en-us)', 'second']) {
+    await page.evaluate('window.facerigDemo.firstSpeechMs = undefined');
+    await page.focus('#text');
+    await page.keyboard.press('Enter');
+    await page.waitForFunction('window.facerigDemo.firstSpeechMs !== undefined', { timeout: 30000 });
+    const ms = await page.evaluate('window.facerigDemo.firstSpeechMs');
+    times.push(ms);
+    check(ms > 0 && ms < 10000, `time from Enter to the first sound, ${attempt}: ${ms.toFixed(0)} ms`);
+    await sleep(300);
+  }
+  numbers.firstSpeechMs = { cold: times[0], warm: times[1] };
+  // What the page fetched for espeak-ng: its module and the byte ranges of its data.
+  const espeak = 'hosts/web/node_modules/@echogarden/espeak-ng-emscripten/';
+  const js = readFileSync(`${root}${espeak}espeak-ng.js`), data = readFileSync(`${root}${espeak}espeak-ng.data`);
+  const ranges = server.log.slice(logged).filter((r) => r.path.endsWith('espeak-ng.data'));
+  const fetched = Buffer.concat(ranges.map((r) => data.subarray(r.start, r.end)));
+  numbers.espeakEnUs = { js: js.length, jsGzip: gzipSync(js, { level: 9 }).length, data: fetched.length,
+                         dataGzip: gzipSync(fetched, { level: 9 }).length, requests: ranges.length, package: data.length };
+  const e = numbers.espeakEnUs;
+  check(e.data < 1.2e6, `espeak-ng for en-us alone: ${e.js + e.data} bytes (${e.jsGzip + e.dataGzip} gzipped): the module ` +
+        `${e.js} (${e.jsGzip}) and ${e.data} (${e.dataGzip}) of its ${e.package} bytes of data in ${e.requests} range requests`);
+  await page.close();
+}
+
+// Line after line (espeak-ng in en-us and de, a track, emotions) for `seconds`; samples every few
+// seconds after a forced garbage collection.
+async function heapRun(open, seconds) {
+  const page = await open('?render=off');
+  const cdp = await page.createCDPSession();
+  const samples = [];
+  const sample = async () => {
+    await cdp.send('HeapProfiler.collectGarbage');
+    const { usedSize } = await cdp.send('Runtime.getHeapUsage');
+    const wasm = await page.evaluate('[window.facerigDemo.facerig.wasm.HEAPU8.length, window.facerigDemo.speaker.memoryBytes]');
+    samples.push({ t: (Date.now() - start) / 1000, js: usedSize, facerig: wasm[0], espeak: wasm[1] });
+  };
+  const start = Date.now();
+  for (let i = 0; Date.now() - start < seconds * 1000; ++i) {
+    await page.evaluate((k) => {
+      const demo = window.facerigDemo;
+      demo.setEmotion(['joy', 'sadness', 'anger', 'surprise'][k % 4], 0.6);
+      return k % 3 === 2 ? demo.speakTrack({ format: 'facerig-phoneme-track', version: 1, language: 'en-us',
+                                             phonemes: [{ start: 0, duration: 0.2, symbol: 'a#' }, { start: 0.2, duration: 0.05, symbol: 'p' },
+                                                        { start: 0.25, duration: 0.3, symbol: 'A:' }] })
+                         : demo.speakText(k % 3 === 0 ? 'Peter picked a peck of pickled peppers.' : 'Peter und Paul backen Brot.',
+                                          k % 3 === 0 ? 'en-us' : 'de');
+    }, i);
+    await sleep(1500);
+    if (i % 2 === 1) await sample();
+  }
+  const [first, last] = [samples[0], samples.at(-1)];
+  numbers.heap = { seconds, samples };
+  const mb = (b) => (b / 1048576).toFixed(2);
+  console.log(samples.map((s) => `${s.t.toFixed(0)} s: JS ${mb(s.js)} MB, facerig ${mb(s.facerig)} MB, espeak-ng ${mb(s.espeak)} MB`).join('\n'));
+  check(samples.length >= 3 && last.facerig === first.facerig && last.espeak === first.espeak,
+        `${seconds} s of speech: the WebAssembly memories stay at ${mb(last.facerig)} MB (facerig) and ${mb(last.espeak)} MB (espeak-ng)`);
+  check(last.js <= first.js + 1048576,
+        `${seconds} s of speech: the JS heap after garbage collection goes ${mb(first.js)} -> ${mb(last.js)} MB (at most +1 MB)`);
+  check(page.errors.length === 0, `no console errors${page.errors.length ? ': ' + page.errors.join(' | ') : ''}`);
+  await page.close();
+}
+
+numbers.loadAverage = readFileSync('/proc/loadavg', 'utf8').split(' ').slice(0, 3).map(Number);
+console.log(`load average ${numbers.loadAverage.join(' ')} (2 shared cores: frame times depend on it)`);
+const { server, open, close } = await startBrowser(args, ['--enable-precise-memory-info']);
+try {
+  await frameTimes(open);
+  await firstSpeech(open, server);
+  await heapRun(open, heapSeconds);
+  writeFileSync(`${args.out}/web_page_numbers.json`, JSON.stringify(numbers, null, 1));
+} finally {
+  await close();
+}
+finish(began);
