@@ -208,7 +208,8 @@ demo.setEmotion = (name, target) => { for (const h of heads) h.character.setEmot
 const stats = new FrameStats();
 demo.resetStats = () => stats.reset();
 function frame(now) {
-  const t = heardTime(now);
+  // demo.pinTime (tests, screenshots): hold the face at that time of the line.
+  const t = demo.pinTime !== undefined && line ? line.start + demo.pinTime : heardTime(now);
   const began = performance.now();
   for (const head of heads) head.update(t, headMotion);
   const updated = performance.now();

@@ -169,11 +169,13 @@ try {
   await headsAndBadInput(page, writeTestHeads(args.head, args.out));
   check(page.errors.length === 0, `no console errors or uncaught exceptions${page.errors.length ? ': ' + page.errors.join(' | ') : ''}`);
 
-  // A frame drawn mid-line, for the screenshot.
+  // The screenshot: the drawn page held at the line's widest mouth.
   const drawn = await open('');
   await drawn.evaluate('window.facerigDemo.speakText("Peter picked a peck of pickled peppers.", "en-us")');
-  await framesUntil(drawn, 0.6);
-  await sleep(300);
+  const frames = await framesUntil(drawn, 1.0);
+  const widest = frames.reduce((a, b) => (b.aperture > a.aperture ? b : a));
+  await drawn.evaluate(`window.facerigDemo.pinTime = ${widest.t}`);
+  await sleep(1000);
   await drawn.screenshot({ path: `${args.out}/web_demo.png` });
   check(drawn.errors.length === 0, `drawn page: no console errors${drawn.errors.length ? ': ' + drawn.errors.join(' | ') : ''}`);
 } finally {
