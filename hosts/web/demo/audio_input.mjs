@@ -46,9 +46,9 @@ export function roughSpeech(facerig, recording) {
 /**
  * The microphone, live: its samples go into a rough stream in 50 ms chunks and the phonemes it makes
  * final go to `onPhonemes(list, streamStartTime)`, where streamStartTime is the AudioContext time of
- * the stream's first sample. Returns {stop()}.
+ * the stream's first sample; a failure inside goes to `onError(error)`. Returns {stop()}.
  */
-export async function startMicrophone(facerig, audio, onPhonemes) {
+export async function startMicrophone(facerig, audio, onPhonemes, onError) {
   const media = await navigator.mediaDevices.getUserMedia({ audio: { echoCancellation: false, noiseSuppression: false } });
   await audio.audioWorklet.addModule(new URL('capture_worklet.js', import.meta.url));
   const source = audio.createMediaStreamSource(media);
@@ -57,6 +57,13 @@ export async function startMicrophone(facerig, audio, onPhonemes) {
   const chunk = new Float32Array(Math.round(0.05 * audio.sampleRate));
   let filled = 0, startTime = null;
   capture.port.onmessage = ({ data }) => {
+    try {
+      take(data);
+    } catch (e) {
+      onError(e);
+    }
+  };
+  const take = (data) => {
     startTime ??= data.time;
     for (let at = 0; at < data.samples.length;) {
       const n = Math.min(chunk.length - filled, data.samples.length - at);

@@ -10,6 +10,7 @@ import { createSpeaker } from './speech.mjs';
 import { Head, layOut, readHead } from './heads.mjs';
 import { aperture, findLips } from './lips.mjs';
 import { alignRecording, decodeMono, roughSpeech, startMicrophone } from './audio_input.mjs';
+import { FaceClock } from './face_clock.mjs';
 import { FrameStats } from './frame_stats.mjs';
 
 const params = new URLSearchParams(location.search);
@@ -56,20 +57,14 @@ function resize() {
 window.addEventListener('resize', resize);
 
 const audio = new AudioContext();
-// The audio time being heard now: the output's timestamp moved on to `now`
-// (performance clock), so the face follows the sound rather than the
-// scheduler, which runs ahead of the speakers by the output latency.
-function heardTime(now) {
-  const stamp = audio.getOutputTimestamp?.();
-  if (stamp && stamp.performanceTime > 0) return stamp.contextTime + (now - stamp.performanceTime) / 1000;
-  return Math.max(0, audio.currentTime - (audio.outputLatency || 0));
-}
+const clock = new FaceClock(audio);
 
 let facerig = null, speaker = null, rig = null, heads = [], lips = null, line = null, microphone = null;
 
 /** Puts `headCount` copies of the head in these GLB bytes on the page, replacing the current ones. */
 async function setHead(bytes, name) {
   const head = await readHead(facerig, bytes, name);  // throws before anything on the page changes
+  stopMicrophone();
   for (const h of heads) h.release();
   rig?.release();
   rig = head.rig;
@@ -77,17 +72,19 @@ async function setHead(bytes, name) {
   for (const h of heads) scene.add(h.root);
   framed = layOut(heads);
   resize();
-  const face = heads[0].face();
-  lips = findLips(face) && { face, pair: findLips(face) };
+  const face = heads[0].face(), pair = findLips(face);
+  lips = pair && { face, pair };
   line = null;
   show(head.notes.join('\n'));
   demo.head = { name, shapes: rig.info.shapeCount, heads: heads.length };
 }
 
-/** Every head says `speech` from AudioContext time `when`. */
+/** Every head says `speech` from AudioContext time `when` (a line replaces the microphone's). */
 function speakAll(speech, when) {
-  for (const h of heads) h.character.speak(speech, when);
-  line = { phonemes: speech.phonemes(), start: when };
+  stopMicrophone();
+  const start = clock.audioToClock(when);
+  for (const h of heads) h.character.speak(speech, start);
+  line = { phonemes: speech.phonemes(), start };
   demo.frames.length = 0;
   demo.line = line;
   return line;
@@ -137,30 +134,39 @@ demo.speakRecording = async (bytes, transcript, voice) => {
   }
 };
 
+function stopMicrophone() {
+  if (!microphone) return;
+  const { stop, begun } = microphone;
+  microphone = null;
+  stop();
+  if (begun()) for (const h of heads) h.character.endLine();
+  document.getElementById('mic').textContent = 'microphone';
+}
+
 demo.toggleMicrophone = async () => {
   if (microphone) {
-    microphone.stop();
-    for (const h of heads) h.character.endLine();
-    microphone = null;
+    stopMicrophone();
     return false;
   }
   await audio.resume();
   let begun = false;
-  microphone = await startMicrophone(facerig, audio, (phonemes, streamStart) => {
+  const live = await startMicrophone(facerig, audio, (phonemes, streamStart) => {
     if (!begun) {
-      for (const h of heads) h.character.beginLine(streamStart + MIC_DELAY);
-      line = { phonemes: [], start: streamStart + MIC_DELAY, live: true };
+      const start = clock.audioToClock(streamStart) + MIC_DELAY;
+      for (const h of heads) h.character.beginLine(start);
+      line = { phonemes: [], start, live: true };
       demo.frames.length = 0;
       demo.line = line;
       begun = true;
     }
-    const shownUpTo = heardTime(performance.now()) - line.start;
+    const shownUpTo = clock.read(performance.now()) - line.start;
     for (const p of phonemes) {
       for (const h of heads) h.character.pushPhoneme(p);
       line.phonemes.push(p);
       if (p.start < shownUpTo) line.late = (line.late ?? 0) + 1;  // arrived after the face reached it
     }
-  });
+  }, (error) => { stopMicrophone(); show(error.message); });
+  microphone = { stop: live.stop, begun: () => begun };
   return true;
 };
 
@@ -205,11 +211,22 @@ demo.apertureCurve = (phonemes, times) => {
 
 demo.setEmotion = (name, target) => { for (const h of heads) h.character.setEmotion(name, target); };
 
+/** ms per frame to draw the scene `count` times, each waited for (gl.finish): the drawing's own cost. */
+demo.measureDraw = (count) => {
+  const gl = renderer.getContext();
+  const began = performance.now();
+  for (let i = 0; i < count; ++i) {
+    renderer.render(scene, camera);
+    gl.finish();
+  }
+  return (performance.now() - began) / count;
+};
+
 const stats = new FrameStats();
 demo.resetStats = () => stats.reset();
 function frame(now) {
   // demo.pinTime (tests, screenshots): hold the face at that time of the line.
-  const t = demo.pinTime !== undefined && line ? line.start + demo.pinTime : heardTime(now);
+  const t = demo.pinTime !== undefined && line ? line.start + demo.pinTime : clock.read(now);
   const began = performance.now();
   for (const head of heads) head.update(t, headMotion);
   const updated = performance.now();
