@@ -85,7 +85,9 @@ export function createSpeaker(audio) {
     const samples = new Float32Array(chunks.reduce((n, c) => n + c.length, 0));
     let at = 0;
     for (const chunk of chunks) for (let i = 0; i < chunk.length; ++i) samples[at++] = chunk[i] / 32768;
-    const mnemonics = readString(module, worker.text_to_phonemes(text, 0).ptr);
+    const result = worker.text_to_phonemes(text, 0);
+    const mnemonics = readString(module, result.ptr);
+    delete module.getCache(module.VoidPtr)[result.ptr];  // the bindings keep every wrapper they made
     return { phonemes: phonemesFromEvents(events, samples.length / sampleRate, voice, mnemonics), samples, sampleRate };
   }
 
