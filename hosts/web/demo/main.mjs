@@ -77,6 +77,7 @@ async function setHead(bytes, name) {
   line = null;
   show(head.notes.join('\n'));
   demo.head = { name, shapes: rig.info.shapeCount, heads: heads.length };
+  demo.heads = heads;
 }
 
 /** Every head says `speech` from AudioContext time `when` (a line replaces the microphone's). */
@@ -84,7 +85,7 @@ function speakAll(speech, when) {
   stopMicrophone();
   const start = clock.audioToClock(when);
   for (const h of heads) h.character.speak(speech, start);
-  line = { phonemes: speech.phonemes(), start };
+  line = { phonemes: speech.phonemes(), start, audioStart: when };
   demo.frames.length = 0;
   demo.line = line;
   return line;
@@ -234,6 +235,7 @@ function frame(now) {
     const state = heads[0].character.state();
     demo.frames.push({ t: t - line.start, aperture: aperture(lips.face, lips.pair), viseme: state.viseme, at: now });
   }
+  demo.onFrame?.(t);  // the tests' probe
   if (drawing || demo.drawOnce) renderer.render(scene, camera);
   demo.drawOnce = false;
   stats.add(now, updated - began, performance.now() - updated);
@@ -290,7 +292,7 @@ function wireControls() {
     const began = event.timeStamp;
     const spoken = await demo.speakText(textBox.value, document.getElementById('voice').value);
     // From the key press to the audio's first sample, on the page's clock.
-    demo.firstSpeechMs = performance.now() - began + 1000 * (spoken.start - audio.currentTime);
+    demo.firstSpeechMs = performance.now() - began + 1000 * (spoken.audioStart - audio.currentTime);
   });
   textBox.addEventListener('keydown', (event) => { if (event.key === 'Enter') speakTyped(event); });
   for (const button of document.querySelectorAll('[data-emotion]')) {

@@ -126,7 +126,50 @@ async function weightsAgainstNative(page) {
         `gaze on, seed ${seed}), max difference ${worst.toExponential(1)}`);
 }
 
+// Without speech, for 6 s: each head blinks (eyeBlinkLeft near 1 at least once), its eyes move
+// (eyeLook* influences change) and it turns (the pivot's rotation changes), each in its own way.
+async function idle(open) {
+  const page = await open('?heads=2&render=off');
+  await page.evaluate(() => {
+    const demo = window.facerigDemo;
+    demo.idle = [];
+    demo.onFrame = () => demo.idle.push(demo.heads.map((head) => {
+      const face = head.face(), d = face.morphTargetDictionary, w = face.morphTargetInfluences;
+      return { blink: w[d.eyeBlinkLeft], look: w[d.eyeLookOutLeft] + w[d.eyeLookInLeft] + w[d.eyeLookUpLeft] + w[d.eyeLookDownLeft],
+               yaw: head.pivot.rotation.y };
+    }));
+  });
+  await sleep(6000);
+  const samples = await page.evaluate('window.facerigDemo.idle');
+  for (const h of [0, 1]) {
+    const of = (key) => samples.map((s) => s[h][key]);
+    const range = (v) => Math.max(...v) - Math.min(...v);
+    const degrees = (180 / Math.PI) * range(of('yaw'));
+    check(Math.max(...of('blink')) > 0.8 && range(of('look')) > 0.05 && degrees > 0.1,
+          `idle head ${h + 1} of 2, 6 s: blinks (lid up to ${Math.max(...of('blink')).toFixed(2)}), gaze moves ` +
+          `(eyeLook range ${range(of('look')).toFixed(2)}), the head turns (yaw range ${degrees.toFixed(2)} degrees)`);
+  }
+  const differ = samples.some((s) => Math.abs(s[0].yaw - s[1].yaw) > 1e-3 || Math.abs(s[0].blink - s[1].blink) > 0.1);
+  check(differ && page.errors.length === 0, `the two heads move each in their own way (${samples.length} frames)`);
+  await page.close();
+}
+
+// A GLB dropped on the page (a drag-and-drop event carrying the file) replaces the head.
+async function drop(page, path, name) {
+  const before = await page.evaluate('window.facerigDemo.actions ?? 0');
+  const bytes = readFileSync(path).toString('base64');
+  await page.evaluate((b64, fileName) => {
+    const data = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+    const transfer = new DataTransfer();
+    transfer.items.add(new File([data], fileName, { type: 'model/gltf-binary' }));
+    window.dispatchEvent(new DragEvent('drop', { dataTransfer: transfer, cancelable: true }));
+  }, bytes, name);
+  await page.waitForFunction(`(window.facerigDemo.actions ?? 0) > ${before}`, { timeout: 30000 });
+}
+
 async function headsAndBadInput(page, heads) {
+  await drop(page, heads.arkit, 'dropped_arkit.glb');
+  check((await page.evaluate('window.facerigDemo.head.name')) === 'dropped_arkit.glb', 'a GLB dropped on the page becomes the head');
   for (const [kind, names] of [['arkit', 'ARKit names only'], ['oculus', 'Oculus visemes only']]) {
     await openFile(page, 'headFile', heads[kind]);
     const head = await page.evaluate('window.facerigDemo.head');
@@ -151,10 +194,10 @@ async function headsAndBadInput(page, heads) {
     voice.add(new Option('xx-nonexistent'));
     voice.value = 'xx-nonexistent';
   });
-  const before = await page.evaluate('window.facerigDemo.actions');
+  const before = await page.evaluate('window.facerigDemo.actions ?? 0');
   await page.focus('#text');
   await page.keyboard.press('Enter');
-  await page.waitForFunction(`window.facerigDemo.actions > ${before}`, { timeout: 30000 });
+  await page.waitForFunction(`(window.facerigDemo.actions ?? 0) > ${before}`, { timeout: 30000 });
   const shown = await visibleMessage(page);
   check(/unknown voice 'xx-nonexistent'/.test(shown), `unknown voice: a visible message: "${shown}"`);
 }
@@ -167,6 +210,7 @@ try {
   await lipsAndClock(page);
   await weightsAgainstNative(page);
   await headsAndBadInput(page, writeTestHeads(args.head, args.out));
+  await idle(open);
   check(page.errors.length === 0, `no console errors or uncaught exceptions${page.errors.length ? ': ' + page.errors.join(' | ') : ''}`);
 
   // The screenshot: the drawn page held at the line's widest mouth.
