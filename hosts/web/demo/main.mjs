@@ -9,6 +9,7 @@ import { loadFacerig } from '../dist/facerig.mjs';
 import { createSpeaker } from './speech.mjs';
 import { Head, layOut, readHead } from './heads.mjs';
 import { aperture, findLips } from './lips.mjs';
+import { apertureCurve, measureDraw, replayWeights } from './probes.mjs';
 import { alignRecording, decodeMono, roughSpeech, startMicrophone } from './audio_input.mjs';
 import { FaceClock } from './face_clock.mjs';
 import { FrameStats } from './frame_stats.mjs';
@@ -171,57 +172,12 @@ demo.toggleMicrophone = async () => {
   return true;
 };
 
-/**
- * The weights the page gives the first head's skin for `track` spoken at time 0 by a fresh character
- * with `seed`, updated at `times`: {names, frames} read back from the mesh's morph influences.
- */
-demo.replay = (track, times, seed) => {
-  const head = heads[0], saved = head.character;
-  head.character = rig.createCharacter({ seed });
-  try {
-    const speech = facerig.speechFromTrack(track);
-    head.character.speak(speech, 0);
-    speech.release();
-    const face = head.face(), names = Object.keys(face.morphTargetDictionary);
-    const frames = times.map((t) => {
-      head.update(t, false);
-      return names.map((name) => face.morphTargetInfluences[face.morphTargetDictionary[name]]);
-    });
-    return { names, frames };
-  } finally {
-    head.character.release();
-    head.character = saved;
-  }
-};
-
-/**
- * The lip aperture a fresh character (no blinks or gaze) gives the first head for `phonemes` spoken
- * at time 0, at each of `times`: the mouth a frame at that line time should show.
- */
-demo.apertureCurve = (phonemes, times) => {
-  const head = heads[0], saved = head.character;
-  head.character = rig.createCharacter({ blinks: false, gaze: false });
-  try {
-    head.character.speakPhonemes(phonemes, 0);
-    return times.map((t) => { head.update(t, false); return aperture(lips.face, lips.pair); });
-  } finally {
-    head.character.release();
-    head.character = saved;
-  }
-};
+// The tests' probes (probes.mjs) on the first head.
+demo.replay = (track, times, seed) => replayWeights(facerig, heads[0], rig, track, times, seed);
+demo.apertureCurve = (phonemes, times) => apertureCurve(heads[0], rig, lips, phonemes, times);
+demo.measureDraw = (count) => measureDraw(renderer, scene, camera, count);
 
 demo.setEmotion = (name, target) => { for (const h of heads) h.character.setEmotion(name, target); };
-
-/** ms per frame to draw the scene `count` times, each waited for (gl.finish): the drawing's own cost. */
-demo.measureDraw = (count) => {
-  const gl = renderer.getContext();
-  const began = performance.now();
-  for (let i = 0; i < count; ++i) {
-    renderer.render(scene, camera);
-    gl.finish();
-  }
-  return (performance.now() - began) / count;
-};
 
 const stats = new FrameStats();
 demo.resetStats = () => stats.reset();
