@@ -9,7 +9,7 @@ import { loadFacerig } from '../dist/facerig.mjs';
 import { createSpeaker } from './speech.mjs';
 import { Head, layOut, readHead } from './heads.mjs';
 import { aperture, findLips } from './lips.mjs';
-import { apertureCurve, measureDraw, replayWeights } from './probes.mjs';
+import { apertureCurve, replayWeights } from './probes.mjs';
 import { alignRecording, decodeMono, roughSpeech, startMicrophone } from './audio_input.mjs';
 import { FaceClock } from './face_clock.mjs';
 import { FrameStats } from './frame_stats.mjs';
@@ -175,7 +175,6 @@ demo.toggleMicrophone = async () => {
 // The tests' probes (probes.mjs) on the first head.
 demo.replay = (track, times, seed) => replayWeights(facerig, heads[0], rig, track, times, seed);
 demo.apertureCurve = (phonemes, times) => apertureCurve(heads[0], rig, lips, phonemes, times);
-demo.measureDraw = (count) => measureDraw(renderer, scene, camera, count);
 
 demo.setEmotion = (name, target) => { for (const h of heads) h.character.setEmotion(name, target); };
 

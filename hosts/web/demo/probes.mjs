@@ -1,6 +1,6 @@
 // What the browser tests measure on the page's own head besides its frames:
 // a fresh character swapped in for a moment (the page's mesh and mapping,
-// the character's own seed and time), and the drawing's own cost.
+// the character's own seed and time).
 import { aperture } from './lips.mjs';
 
 function withCharacter(head, rig, options, use) {
@@ -38,15 +38,4 @@ export function apertureCurve(head, rig, lips, phonemes, times) {
     character.speakPhonemes(phonemes, 0);
     return times.map((t) => { head.update(t, false); return aperture(lips.face, lips.pair); });
   });
-}
-
-/** ms per frame to draw the scene `count` times, each waited for (gl.finish). */
-export function measureDraw(renderer, scene, camera, count) {
-  const gl = renderer.getContext();
-  const began = performance.now();
-  for (let i = 0; i < count; ++i) {
-    renderer.render(scene, camera);
-    gl.finish();
-  }
-  return (performance.now() - began) / count;
 }
