@@ -78,6 +78,7 @@ export class EspeakData {
     this.fetched = 0;
     this.whole = null;       // the whole package, when the server ignored a Range request
     this.present = new Set(); // files whose bytes are in the module's file system
+    this.pending = new Map(); // dictionary -> its fetch under way
     this.voices = null;
   }
 
@@ -133,11 +134,17 @@ export class EspeakData {
     return found.dictionary;
   }
 
-  /** Before speaking with `voice`: fetches its dictionary into the running module if missing. */
-  async ensureVoice(module, voice) {
-    if (!this.index || this.whole) return;
+  /** Before speaking with `voice`: fetches its dictionary into the running module if missing (once). */
+  ensureVoice(module, voice) {
+    if (!this.index || this.whole) return Promise.resolve();
     const name = `${this.dictionaryOf(voice)}_dict`;
-    if (this.present.has(name)) return;
+    if (!this.present.has(name) && !this.pending.has(name)) {
+      this.pending.set(name, this.fetchDictionary(module, name).finally(() => this.pending.delete(name)));
+    }
+    return this.pending.get(name) ?? Promise.resolve();
+  }
+
+  async fetchDictionary(module, name) {
     const bytes = await this.fetchRange(this.index.files.get(name));
     if (this.whole) {
       const { start, end } = this.index.files.get(name);

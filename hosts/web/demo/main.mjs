@@ -99,7 +99,7 @@ function play(samples, sampleRate) {
   const source = audio.createBufferSource();
   source.buffer = buffer;
   source.connect(audio.destination);
-  const when = audio.currentTime + 0.1;
+  const when = audio.currentTime + 0.05;
   source.start(when);
   demo.playing = { samples, sampleRate, start: when };
   return when;
@@ -250,6 +250,12 @@ function wireControls() {
     demo.firstSpeechMs = performance.now() - began + 1000 * (spoken.audioStart - audio.currentTime);
   });
   textBox.addEventListener('keydown', (event) => { if (event.key === 'Enter') speakTyped(event); });
+  // Typing into the box, or choosing a voice, means speech is wanted: espeak-ng and the voice's data
+  // start loading then (a failure shows when Enter is pressed).
+  const voice = document.getElementById('voice');
+  const prepare = () => speaker.prepare(voice.value).catch(() => {});
+  textBox.addEventListener('input', prepare, { once: true });
+  voice.addEventListener('change', prepare);
   for (const button of document.querySelectorAll('[data-emotion]')) {
     button.addEventListener('click', () => {
       for (const other of document.querySelectorAll('[data-emotion]')) demo.setEmotion(other.dataset.emotion, 0);

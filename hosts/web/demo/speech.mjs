@@ -53,19 +53,25 @@ function readString(module, pointer) {
 }
 
 export function createSpeaker(audio) {
-  let engine = null, module = null, data = null;
+  let engine = null, module = null, data = null, starting = null;
   const stats = { loadSeconds: 0 };
 
+  async function start(voice) {
+    const began = performance.now();
+    const { default: createESpeak } = await import(new URL('espeak-ng.js', PACKAGE).href);
+    data = new EspeakData(createESpeak, new URL('espeak-ng.data', PACKAGE).href);
+    const options = await data.moduleOptions(voice);
+    module = await createESpeak({ ...options, locateFile: (file) => new URL(file, PACKAGE).href });
+    data.prune(module);
+    engine = new module.eSpeakNGWorker();
+    stats.loadSeconds = (performance.now() - began) / 1000;
+  }
+
+  // One start, however many callers wait for it; a failed start may be tried again.
   async function load(voice) {
     if (!engine) {
-      const began = performance.now();
-      const { default: createESpeak } = await import(new URL('espeak-ng.js', PACKAGE).href);
-      data = new EspeakData(createESpeak, new URL('espeak-ng.data', PACKAGE).href);
-      const options = await data.moduleOptions(voice);
-      module = await createESpeak({ ...options, locateFile: (file) => new URL(file, PACKAGE).href });
-      data.prune(module);
-      engine = new module.eSpeakNGWorker();
-      stats.loadSeconds = (performance.now() - began) / 1000;
+      starting ??= start(voice).finally(() => { starting = null; });
+      await starting;
     }
     await data.ensureVoice(module, voice);
     return engine;
@@ -94,6 +100,8 @@ export function createSpeaker(audio) {
   return {
     render,
     stats,
+    /** Starts loading espeak-ng and `voice`'s data (the page calls it when the text box is used). */
+    prepare(voice) { return load(voice); },
     /** Bytes of espeak-ng data fetched so far. */
     get dataBytes() { return data?.fetched ?? 0; },
     /** The espeak-ng module's WebAssembly memory, bytes (0 before it is loaded). */
