@@ -45,7 +45,8 @@ async function frameTimes(open) {
 
 async function firstSpeech(open, server) {
   const logged = server.log.length;  // this page's requests only
-  const page = await open('');
+  // Not drawn: on software GL, slow frames would delay the key press itself.
+  const page = await open('?render=off');
   const times = [];
   for (const attempt of ['first (loads espeak-ng and en-us)', 'second']) {
     await page.evaluate('window.facerigDemo.firstSpeechMs = undefined');
@@ -136,10 +137,15 @@ async function heapRun(open, seconds) {
 numbers.loadAverage = readFileSync('/proc/loadavg', 'utf8').split(' ').slice(0, 3).map(Number);
 console.log(`load average ${numbers.loadAverage.join(' ')} (2 shared cores: frame times depend on it)`);
 const { server, open, close } = await startBrowser(args, ['--enable-precise-memory-info']);
+const timed = async (what, run) => {
+  const at = Date.now();
+  await run();
+  console.log(`(${what}: ${((Date.now() - at) / 1000).toFixed(1)} s)`);
+};
 try {
-  await frameTimes(open);
-  await firstSpeech(open, server);
-  await heapRun(open, heapSeconds);
+  await timed('frame times', () => frameTimes(open));
+  await timed('first speech', () => firstSpeech(open, server));
+  await timed('heap run', () => heapRun(open, heapSeconds));
   writeFileSync(`${args.out}/web_page_numbers.json`, JSON.stringify(numbers, null, 1));
 } finally {
   await close();
