@@ -48,7 +48,7 @@ export class FrameStats {
     // The first interval after a reset is 0: not a frame.
     const frameMs = this.count > WINDOW ? mean(this.interval, n) : mean(this.interval.subarray(1), n - 1);
     return { frameMs, fps: frameMs ? 1000 / frameMs : 0, updateMs: mean(this.update, n), drawMs: mean(this.draw, n),
-             slowestMs: Math.max(...this.interval.subarray(0, n)) };
+             slowestMs: Math.max(...this.interval.subarray(0, n)), frames: this.count };
   }
 
   text(heads) {

@@ -48,7 +48,8 @@ function resize() {
   camera.aspect = w / h;
   // Fit the grid of heads: whichever of its width and height needs the camera farther.
   const halfFov = THREE.MathUtils.degToRad(camera.fov / 2);
-  const distance = 1.1 * Math.max(framed.height / 2, framed.width / 2 / camera.aspect) / Math.tan(halfFov);
+  const zoom = Number(params.get('zoom') ?? 1);  // ?zoom=0.5: the camera twice as far
+  const distance = (1.1 / zoom) * Math.max(framed.height / 2, framed.width / 2 / camera.aspect) / Math.tan(halfFov);
   camera.position.set(0, 0.03 * framed.height, distance);
   camera.near = distance / 100;
   camera.far = distance * 10;
