@@ -9,7 +9,7 @@ import { loadFacerig } from '../dist/facerig.mjs';
 import { createSpeaker } from './speech.mjs';
 import { Head, layOut, readHead } from './heads.mjs';
 import { aperture, findLips } from './lips.mjs';
-import { apertureCurve, replayWeights } from './probes.mjs';
+import { apertureCurve, drawFrames, replayWeights } from './probes.mjs';
 import { alignRecording, decodeMono, roughSpeech, startMicrophone } from './audio_input.mjs';
 import { FaceClock } from './face_clock.mjs';
 import { FrameStats } from './frame_stats.mjs';
@@ -33,6 +33,13 @@ function show(text) { message.textContent = text; }
 const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
 renderer.setPixelRatio(window.devicePixelRatio);
 document.getElementById('view').appendChild(renderer.domElement);
+// Software GL can take so long over a frame that the browser resets the GPU process: say so.
+renderer.domElement.addEventListener('webglcontextlost', () => {
+  demo.contextLost = (demo.contextLost ?? 0) + 1;
+  show('The WebGL context was lost (the browser reset its GPU process): the faces go on, the drawing stops ' +
+       'until the context is restored. On software GL, fewer heads (?heads=N) help.');
+});
+renderer.domElement.addEventListener('webglcontextrestored', () => show(''));
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0x20242a);
 scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 1.2));
@@ -176,6 +183,7 @@ demo.toggleMicrophone = async () => {
 // The tests' probes (probes.mjs) on the first head.
 demo.replay = (track, times, seed) => replayWeights(facerig, heads[0], rig, track, times, seed);
 demo.apertureCurve = (phonemes, times) => apertureCurve(heads[0], rig, lips, phonemes, times);
+demo.drawFrames = (count) => drawFrames(renderer, scene, camera, count);
 
 demo.setEmotion = (name, target) => { for (const h of heads) h.character.setEmotion(name, target); };
 

@@ -1,6 +1,6 @@
 // What the browser tests measure on the page's own head besides its frames:
 // a fresh character swapped in for a moment (the page's mesh and mapping,
-// the character's own seed and time).
+// the character's own seed and time), and the real cost of a drawn frame.
 import { aperture } from './lips.mjs';
 
 function withCharacter(head, rig, options, use) {
@@ -38,4 +38,18 @@ export function apertureCurve(head, rig, lips, phonemes, times) {
     character.speakPhonemes(phonemes, 0);
     return times.map((t) => { head.update(t, false); return aperture(lips.face, lips.pair); });
   });
+}
+
+/**
+ * Draws the scene `count` times, each frame waited for by reading one of its pixels back (a frame's
+ * real cost: animation frames may come faster than software GL draws them); ms per frame.
+ */
+export function drawFrames(renderer, scene, camera, count) {
+  const gl = renderer.getContext(), pixel = new Uint8Array(4);
+  const began = performance.now();
+  for (let i = 0; i < count; ++i) {
+    renderer.render(scene, camera);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+  }
+  return (performance.now() - began) / count;
 }
