@@ -22,8 +22,9 @@ const headCount = Math.min(100, Math.max(1, Number.parseInt(params.get('heads') 
 const drawing = params.get('render') !== 'off';
 const headMotion = !params.has('still');
 // The microphone's face runs this far behind its sound: the rough stream's
-// phonemes become final about 0.3 s after their audio.
-const MIC_DELAY = 0.4;
+// phonemes become final about 0.3 s after their audio, which comes in 43 ms
+// blocks, to a main thread that may be busy.
+const MIC_DELAY = 0.5;
 
 const message = document.getElementById('message');
 const hud = document.getElementById('hud');
