@@ -163,7 +163,10 @@ demo.toggleMicrophone = async () => {
   let begun = false;
   const live = await startMicrophone(facerig, audio, (phonemes, streamStart) => {
     if (!begun) {
-      const start = clock.audioToClock(streamStart) + MIC_DELAY;
+      // MIC_DELAY after the stream's first sample, or later if these phonemes came later than that
+      // (a busy page): the face must not have passed them already.
+      const now = clock.read(performance.now());
+      const start = Math.max(clock.audioToClock(streamStart) + MIC_DELAY, now - phonemes[0].start + 0.1);
       for (const h of heads) h.character.beginLine(start);
       line = { phonemes: [], start, live: true };
       demo.frames.length = 0;
