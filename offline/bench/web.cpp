@@ -28,6 +28,8 @@ using facerig::bench::Quote;
 // module a page loads (.wasm + .mjs, gzipped) at most 300 kB.
 constexpr double kSpeedGoal = 2.0;
 constexpr double kSizeGoalBytes = 300e3;
+// Runs of each host in a round; a node process is started for each round.
+constexpr int kRunsPerRound = 3;
 
 struct WebOptions {
   std::string head = FACERIG_DEFAULT_HEAD;
@@ -44,7 +46,8 @@ void AddWebOptions(CLI::App& app, WebOptions& options) {
   app.add_option("--dist", options.dist, "the folder holding facerig.mjs + facerig.wasm (scripts/build-web.sh)");
   app.add_option("--frames", options.frames, "frames per run of update (a tenth of them for update + blend)")
       ->check(CLI::Range(100, 10000000));
-  app.add_option("--repeats", options.repeats, "runs per measurement; the fastest counts")->check(CLI::Range(1, 100));
+  app.add_option("--repeats", options.repeats, "rounds (each host runs 3 times a round); the fastest run counts")
+      ->check(CLI::Range(1, 100));
   app.add_option("--json", options.json, "write the results as JSON");
 }
 
@@ -58,13 +61,13 @@ struct WasmRun {
   ModuleSizes sizes;
 };
 
-// One run of hosts/web/benchmarks/abi_frames.mjs in node (its own process, so
-// a run includes loading the module and the rig, which are not timed).
+// A round of hosts/web/benchmarks/abi_frames.mjs in node (its own process:
+// loading the module and the rig are not timed).
 std::optional<WasmRun> RunWasm(const WebOptions& options, const std::filesystem::path& track) {
   const std::string command = Quote(options.node) + " --no-experimental-fetch " +
                               Quote(FACERIG_BENCH_WEB_DIR "/benchmarks/abi_frames.mjs") + " " + Quote(options.head) +
-                              " " + Quote(track.string()) + " " + std::to_string(options.frames) + " 1 " +
-                              Quote(options.dist);
+                              " " + Quote(track.string()) + " " + std::to_string(options.frames) + " " +
+                              std::to_string(kRunsPerRound) + " " + Quote(options.dist);
   const std::optional<nlohmann::json> parsed = facerig::bench::RunJsonProgram("WebAssembly", command, "update_us");
   if (!parsed) return std::nullopt;
   const nlohmann::json& p = *parsed;
@@ -78,8 +81,9 @@ void KeepFastest(Costs& best, const Costs& run) {
   best.update_blend_us = std::min(best.update_blend_us, run.update_blend_us);
 }
 
-// Native C++, the native C ABI and the module in node, one run of each in
-// turn, so that all see the same machine load; each the fastest of its runs.
+// Native C++, the native C ABI and the module in node in turn, a round of
+// runs of each, so that all see the same machine load; each the fastest of
+// all its runs.
 struct Measured {
   Costs native{1e300, 1e300}, abi{1e300, 1e300}, wasm{1e300, 1e300};
   ModuleSizes sizes;
@@ -94,8 +98,8 @@ Measured MeasureAll(const WebOptions& options, const std::filesystem::path& trac
   for (int r = 0; r < options.repeats; ++r) {
     Costs* costs[2] = {&measured.native, &measured.abi};
     for (int host = 0; host < 2; ++host) {
-      KeepFastest(*costs[host], {BestPerFrame(options.frames, 1, works[host].update),
-                                 BestPerFrame(options.frames / 10, 1, works[host].update_blend)});
+      KeepFastest(*costs[host], {BestPerFrame(options.frames, kRunsPerRound, works[host].update),
+                                 BestPerFrame(options.frames / 10, kRunsPerRound, works[host].update_blend)});
     }
     const std::optional<WasmRun> run = RunWasm(options, track);
     if (!run) throw std::runtime_error("the WebAssembly module did not run in node (see above)");
@@ -110,8 +114,8 @@ nlohmann::json Report(const WebOptions& options, const Measured& m) {
   nlohmann::json hosts = nlohmann::json::array();
   const std::pair<const char*, Costs> rows[] = {
       {"C++ (facerig::Character)", m.native}, {"C ABI (libfacerig)", m.abi}, {"WebAssembly (node)", m.wasm}};
-  std::printf("per frame on %s, one character (fastest of %d runs; update: %d frames, + blend: %d):\n",
-              options.head.c_str(), options.repeats, options.frames, options.frames / 10);
+  std::printf("per frame on %s, one character (fastest of %d rounds x %d runs; update: %d frames, + blend: %d):\n",
+              options.head.c_str(), options.repeats, kRunsPerRound, options.frames, options.frames / 10);
   std::printf("  %-26s %10s %8s %16s %8s\n", "host", "update us", "x C++", "update+blend us", "x C++");
   for (const auto& [name, costs] : rows) {
     const double update_ratio = costs.update_us / m.native.update_us;
