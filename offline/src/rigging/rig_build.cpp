@@ -16,6 +16,7 @@
 #include "facerig/offline/geometry/mesh_components.h"
 #include "facerig/offline/mapping/mouth_sides.h"
 #include "facerig/offline/rigging/tongue_out.h"
+#include "facerig/runtime/shape_names.h"
 #include "facerig/offline/geometry/stats.h"
 #include "geometry/bounding_box.h"
 
@@ -89,6 +90,13 @@ std::vector<OpeningMargin> DescribedMargins(std::vector<OpeningMargin> margins, 
     return !std::binary_search(rims.begin(), rims.end(), margin.vertex);
   });
   return margins;
+}
+
+// Whether the target brings a shape of that ARKit name (any spelling).
+bool TargetHasShape(const RawRig& target, std::string_view arkit_name) {
+  const std::string wanted = CanonicalShapeNameOf(arkit_name).full();
+  return std::any_of(target.shapes.begin(), target.shapes.end(),
+                     [&](const RawBlendShape& shape) { return CanonicalShapeNameOf(shape.name).full() == wanted; });
 }
 
 // Runs the build's stages: reports each through BuildRigParams::progress and
@@ -291,9 +299,12 @@ BuildRigResult BuildRigOnRegistration(const Rig& given_template, const FaceTempl
                                       NonrigidIcpResult registered, const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();
   SynthesisedTongueOut tongue_out;
+  // A target with a tongueOut of its own keeps it (the built-in head moves its own tongue better
+  // than ICT's mapped onto it).
   const std::optional<Rig> with_tongue_out =
-      params.synthesise_tongue_out ? WithSynthesisedTongueOut(given_template, template_info, &tongue_out)
-                                   : std::nullopt;
+      params.synthesise_tongue_out && !TargetHasShape(target, "tongueOut")
+          ? WithSynthesisedTongueOut(given_template, template_info, &tongue_out)
+          : std::nullopt;
   const Rig& template_rig = with_tongue_out ? *with_tongue_out : given_template;
   if (template_rig.shape_count() == 0) {
     throw InvalidInputError("the template has no blend shapes to transfer");

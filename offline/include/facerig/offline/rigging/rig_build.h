@@ -72,7 +72,8 @@ struct BuildRigParams {
   // made the stylized head's blink stop short.
   bool align_margins_to_openings = true;
   // A template without tongueOut but with a tongue part (ICT-FaceKit) gets
-  // one made from its tongue before the transfer (tongue_out.h).
+  // one made from its tongue before the transfer (tongue_out.h), unless the
+  // target has a tongueOut of its own, which it keeps.
   bool synthesise_tongue_out = true;
   // The one progress report of the build: called with the stage's name (the
   // names of BuildRigResult::stages) and its progress (done of total).
