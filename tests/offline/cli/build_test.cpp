@@ -132,10 +132,10 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   CHECK(names["arkit_present"] == 52);
   CHECK(names["arkit_missing"].empty());
   CHECK(names["visemes_baked"] == 15);
-  const nlohmann::json report = nlohmann::json::parse(std::ifstream(folder / "report.json"));
-  CHECK(report["result"]["tongue_out_synthesised_from"] == "gums_and_tongue");
+  const nlohmann::json build_report = nlohmann::json::parse(std::ifstream(folder / "report.json"));
+  CHECK(build_report["result"]["tongue_out_synthesised_from"] == "gums_and_tongue");
   CHECK(outcome.error_output.find("made one from its part 'gums_and_tongue'") != std::string::npos);
-  for (const nlohmann::json& warning : report["warnings"]) CHECK(warning["code"] != "missing_arkit_shapes");
+  for (const nlohmann::json& warning : build_report["warnings"]) CHECK(warning["code"] != "missing_arkit_shapes");
   for (std::size_t v = 0; v < target.positions.size(); v += 97) {
     REQUIRE(frig.positions()[v].x == Approx(target.positions[v].x).margin(1e-3));
   }
