@@ -193,6 +193,75 @@ std::optional<glm::dvec3> TongueForward(const std::vector<glm::dvec3>& posed, co
   return glm::normalize(forward);
 }
 
+// The tongue along its forward axis: its back, its front (the tip's) and the tip.
+struct TongueSpan {
+  double back = std::numeric_limits<double>::infinity();
+  double front = -std::numeric_limits<double>::infinity();
+  double length = 0.0;
+  std::uint32_t tip = 0;
+};
+
+TongueSpan SpanOf(const std::vector<std::uint32_t>& tongue, const std::vector<glm::dvec3>& posed, const Frame& frame) {
+  TongueSpan span;
+  for (std::uint32_t v : tongue) {
+    const double ahead = glm::dot(posed[v], frame.forward);
+    span.back = std::min(span.back, ahead);
+    if (ahead > span.front) {
+      span.front = ahead;
+      span.tip = v;
+    }
+  }
+  span.length = span.front - span.back;
+  return span;
+}
+
+// Where the tongue goes: the lower front teeth (their front, lingual side and
+// edge) and the lips' front (the foremost skin the jaw carries: the lower
+// lip, the chin), along forward and up.
+struct MouthFront {
+  bool over_teeth = false;
+  double teeth = 0.0, lingual = std::numeric_limits<double>::infinity(), edge = 0.0, lips = 0.0;
+};
+
+MouthFront MouthFrontOf(const TongueGeometry& tongue, const FaceTemplateInfo& info, const std::vector<glm::vec3>& jaw,
+                        const std::vector<glm::dvec3>& posed, const Frame& frame, const TongueSpan& span) {
+  const auto ahead = [&](std::uint32_t v) { return glm::dot(posed[v], frame.forward); };
+  MouthFront mouth;
+  mouth.teeth = span.front;
+  mouth.edge = glm::dot(posed[span.tip], frame.up);
+  mouth.over_teeth = !tongue.lower_teeth.empty();
+  if (mouth.over_teeth) {
+    for (std::uint32_t v : tongue.lower_teeth) mouth.teeth = std::max(mouth.teeth, ahead(v));
+    mouth.edge = -std::numeric_limits<double>::infinity();
+    for (std::uint32_t v : tongue.lower_teeth) {
+      if (ahead(v) < mouth.teeth - 0.1 * span.length) continue;
+      mouth.edge = std::max(mouth.edge, glm::dot(posed[v], frame.up));
+      mouth.lingual = std::min(mouth.lingual, ahead(v));
+    }
+  }
+  double jaw_motion = 0.0;
+  for (std::uint32_t v = info.region.first; v <= info.region.last && v < jaw.size(); ++v) {
+    jaw_motion = std::max(jaw_motion, double(glm::length(jaw[v])));
+  }
+  mouth.lips = mouth.teeth;
+  for (std::uint32_t v = info.region.first; v <= info.region.last && v < jaw.size(); ++v) {
+    if (glm::length(jaw[v]) >= kCarriedShare * jaw_motion) mouth.lips = std::max(mouth.lips, ahead(v));
+  }
+  return mouth;
+}
+
+// The normals' change, when the rig carries normal deltas.
+std::vector<glm::vec3> NormalDeltas(const Rig& rig, const std::vector<glm::vec3>& deltas) {
+  if (!rig.has_normal_deltas()) return {};
+  const auto rest = rig.positions();
+  std::vector<glm::vec3> moved(rest.size()), before(rest.size()), after(rest.size());
+  for (std::size_t v = 0; v < rest.size(); ++v) moved[v] = rest[v] + deltas[v];
+  ComputeVertexNormals(rest, rig.triangles(), before);
+  ComputeVertexNormals(moved, rig.triangles(), after);
+  for (std::size_t v = 0; v < rest.size(); ++v) after[v] -= before[v];
+  return after;
+}
+
 }  // namespace
 
 std::optional<SynthesisedTongueOut> SynthesiseTongueOut(const Rig& rig, const FaceTemplateInfo& info,
@@ -210,77 +279,38 @@ std::optional<SynthesisedTongueOut> SynthesiseTongueOut(const Rig& rig, const Fa
   for (std::size_t v = 0; v < rest.size(); ++v) posed[v] = glm::dvec3(rest[v]) + params.jaw_share * glm::dvec3(jaw[v]);
   const std::optional<glm::dvec3> forward = TongueForward(posed, jaw, info, tongue->vertices, up);
   if (!forward) return std::nullopt;
-  const auto ahead = [&](std::uint32_t v) { return glm::dot(posed[v], *forward); };
-  const auto height = [&](const glm::dvec3& p) { return glm::dot(p, up); };
+  const Frame frame{*forward, up};
+  const TongueSpan span = SpanOf(tongue->vertices, posed, frame);
+  if (!(span.length > 0.0)) return std::nullopt;
+  const MouthFront mouth = MouthFrontOf(*tongue, info, jaw, posed, frame, span);
 
-  double back = std::numeric_limits<double>::infinity(), front = -back;
-  std::uint32_t tip = tongue->vertices.front();
-  for (std::uint32_t v : tongue->vertices) {
-    back = std::min(back, ahead(v));
-    if (ahead(v) > front) {
-      front = ahead(v);
-      tip = v;
-    }
-  }
-  const double length = front - back;
-  if (!(length > 0.0)) return std::nullopt;
-
-  // The lower front teeth: their front, their lingual side and their edge.
-  double teeth_front = front, lingual = std::numeric_limits<double>::infinity(), edge = height(posed[tip]);
-  const bool over_teeth = !tongue->lower_teeth.empty();
-  if (over_teeth) {
-    for (std::uint32_t v : tongue->lower_teeth) teeth_front = std::max(teeth_front, ahead(v));
-    edge = -std::numeric_limits<double>::infinity();
-    for (std::uint32_t v : tongue->lower_teeth) {
-      if (ahead(v) < teeth_front - 0.1 * length) continue;
-      edge = std::max(edge, height(posed[v]));
-      lingual = std::min(lingual, ahead(v));
-    }
-  }
-  // The lips' front: the foremost skin the jaw carries (the lower lip, the chin).
-  double jaw_motion = 0.0;
-  for (std::uint32_t v = info.region.first; v <= info.region.last && v < jaw.size(); ++v) {
-    jaw_motion = std::max(jaw_motion, double(glm::length(jaw[v])));
-  }
-  double lips_front = teeth_front;
-  for (std::uint32_t v = info.region.first; v <= info.region.last && v < jaw.size(); ++v) {
-    if (glm::length(jaw[v]) >= kCarriedShare * jaw_motion) lips_front = std::max(lips_front, ahead(v));
-  }
-  const double reach = lips_front + params.overhang * length - front;
-  const double lift = over_teeth ? std::max(0.0, edge + params.clearance * length - height(posed[tip])) : 0.0;
-  const double resting_height = edge + 0.5 * params.clearance * length;
-
+  const double reach = mouth.lips + params.overhang * span.length - span.front;
+  const double tip_height = glm::dot(posed[span.tip], up);
+  const double lift = mouth.over_teeth ? std::max(0.0, mouth.edge + params.clearance * span.length - tip_height) : 0.0;
+  const double resting_height = mouth.edge + 0.5 * params.clearance * span.length;
   std::vector<glm::vec3> deltas(rest.size());
   for (std::size_t v = 0; v < rest.size(); ++v) deltas[v] = static_cast<float>(params.jaw_share) * jaw[v];
   for (std::uint32_t v : tongue->vertices) {
-    const double along = std::clamp((ahead(v) - back) / length, 0.0, 1.0);
-    glm::dvec3 p = posed[v] + along * along * (reach * *forward + lift * up);
+    const double along = std::clamp((glm::dot(posed[v], frame.forward) - span.back) / span.length, 0.0, 1.0);
+    glm::dvec3 p = posed[v] + along * along * (reach * frame.forward + lift * up);
     // What would end up in the lower front teeth rests on their edge.
-    if (over_teeth && along > 0.0 && glm::dot(p, *forward) >= lingual && height(p) < resting_height) {
-      p += (resting_height - height(p)) * up;
+    const double height = glm::dot(p, up);
+    if (mouth.over_teeth && along > 0.0 && glm::dot(p, frame.forward) >= mouth.lingual && height < resting_height) {
+      p += (resting_height - height) * up;
     }
     deltas[v] = glm::vec3(p - glm::dvec3(rest[v]));
   }
 
-  std::vector<glm::vec3> normal_deltas;
-  if (rig.has_normal_deltas()) {
-    std::vector<glm::vec3> moved(rest.size()), before(rest.size()), after(rest.size());
-    for (std::size_t v = 0; v < rest.size(); ++v) moved[v] = rest[v] + deltas[v];
-    ComputeVertexNormals(rest, rig.triangles(), before);
-    ComputeVertexNormals(moved, rig.triangles(), after);
-    normal_deltas.resize(rest.size());
-    for (std::size_t v = 0; v < rest.size(); ++v) normal_deltas[v] = after[v] - before[v];
-  }
   SynthesisedTongueOut result;
   const float drop = 1e-6f * rig.bounding_diagonal();
-  result.shape = MakeSparseShape("tongueOut", deltas, normal_deltas, drop, 1e-4f);
+  result.shape = MakeSparseShape("tongueOut", deltas, NormalDeltas(rig, deltas), drop, 1e-4f);
   result.part = tongue->part;
   result.tongue_vertices = tongue->vertices.size();
-  result.tip_vertex = tip;
-  result.tongue_length = length;
-  result.forward = glm::vec3(*forward);
+  result.tip_vertex = span.tip;
+  result.tongue_length = span.length;
+  result.forward = glm::vec3(frame.forward);
   result.up = glm::vec3(up);
-  result.over_teeth = over_teeth;
+  result.over_teeth = mouth.over_teeth;
   return result;
 }
 
