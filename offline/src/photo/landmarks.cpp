@@ -78,8 +78,8 @@ PhotoLandmarks FindPhotoFace(const RgbImage& photo, const PhotoLandmarkParams& p
   if (boxes.empty()) {
     throw LandmarkDetectionError("photo: no face found (a frontal or near-frontal face of at least " +
                                      std::to_string(params.min_face_pixels) + " px is needed" +
-                                     (params.face_cascade.empty() ? "; OpenCV's Haar cascade (opencv-data) not found, "
-                                                                    "dlib's detector only" : "") + ")",
+                                     (params.face_cascade.empty() ? "; dlib's detector only: no Haar cascade to try "
+                                                                    "(opencv-data, --face-cascade)" : "") + ")",
                                  "photo");
   }
   const auto largest = std::max_element(boxes.begin(), boxes.end(), [](const ImageFaceBox& a, const ImageFaceBox& b) {
