@@ -15,6 +15,7 @@ packages=(
   libopenblas0-pthread                             # offline: BLAS for CHOLMOD's supernodal factorization
   libcli11-dev                                     # tools: one option parser (facerig, facerig-bench, player)
   libopencv-dev libdlib-dev libdlib-data           # offline: rasterizer PNGs, default-head face test
+  opencv-data                                      # offline: the photo's second face detector (Haar cascade)
   libespeak-ng-dev espeak-ng-data                  # facerig::espeak (phoneme source)
   # runtime_io: recordings to align (WAV/FLAC/Ogg... via libsndfile, LGPL-2.1)
   # brought to the reference's sample rate (libsamplerate, BSD-2)

@@ -41,6 +41,7 @@ constexpr const char* kPhotoDescription =
 struct PhotoOptions {
   std::string image, output, template_path, frig, obj_dir, report, debug_png;
   LandmarkParams landmark_params;
+  PhotoLandmarkParams photo_landmarks;
   StandardShapesOptions naming;
   PhotoFitParams fit_params;
   PhotoRigParams rig_params;
@@ -63,6 +64,10 @@ void AddPhotoOptions(CLI::App& photo, PhotoOptions& options) {
                 "divide the photo's own light (the shading fit's) out of the skin texture: the player lights the\n"
                 "head again (needs the shading fit)");
   AddShapePredictorOption(photo, options.landmark_params);
+  photo.add_option("--face-cascade", options.photo_landmarks.face_cascade,
+                   "OpenCV Haar face cascade, asked when dlib's detector finds no face (\"\": none)")
+      ->default_str(options.photo_landmarks.face_cascade.empty() ? std::string("none found")
+                                                                   : options.photo_landmarks.face_cascade.string());
   AddShapeNamingOptions(photo, options.naming);
 }
 
@@ -94,11 +99,15 @@ void PrintNotes(const std::vector<std::string>& notes) {
   for (const std::string& note : notes) std::fprintf(stderr, "note: %s\n", note.c_str());
 }
 
-// The photo read (downscaled, grey converted) and its face's landmarks.
-// LandmarkDetectionError names the image file.
-PhotoLandmarks DetectOnPhoto(const PhotoOptions& options, const Photo& photo, LandmarkDetector& detector) {
+// The photo's face: its box now, its 68 points once the shape predictor has
+// loaded (on another thread meanwhile). LandmarkDetectionError names the image file.
+PhotoLandmarks DetectOnPhoto(const PhotoOptions& options, const Photo& photo, std::future<LandmarkDetector>& loading,
+                             std::optional<LandmarkDetector>& detector) {
   try {
-    return DetectPhotoLandmarks(detector, photo.image);
+    PhotoLandmarks face = FindPhotoFace(photo.image, options.photo_landmarks);
+    detector.emplace(loading.get());
+    PlacePhotoLandmarks(*detector, photo.image, face);
+    return face;
   } catch (const LandmarkDetectionError& error) {
     std::string message = error.what();
     if (message.rfind("photo: ", 0) == 0) message.erase(0, 7);
@@ -173,6 +182,7 @@ CommandReport PhotoReport(const PhotoOptions& options, const PhotoRun& run) {
   notes.insert(notes.end(), run.landmarks.notes.begin(), run.landmarks.notes.end());
   result["notes"] = notes;
   result["faces_found"] = run.landmarks.faces_found;
+  result["face_detector"] = run.landmarks.detector;
   const double scale = photo.scale;
   result["face_box"] = {box.left / scale, box.top / scale, box.right / scale, box.bottom / scale};
   result["landmarks"] = PixelsJson(run.landmarks.pixels, photo.scale);
@@ -225,14 +235,14 @@ void CheckOutputsWritable(const PhotoOptions& options) {
 // The photo, its landmarks and the template, each a timed step with a line on stderr.
 void ReadAndDetect(const PhotoOptions& options, PhotoRun& run, StepTimer& timer,
                    std::optional<LandmarkDetector>& detector) {
+  // dlib's shape predictor takes longer to load than the face takes to find.
+  std::future<LandmarkDetector> loading =
+      std::async(std::launch::async, [&options] { return LandmarkDetector(options.landmark_params); });
   std::fprintf(stderr, "reading %s...\n", options.image.c_str());
   run.photo = timer.Run("read", [&] { return ReadPhoto(options.image); });
   PrintNotes(run.photo.notes);
   std::fputs("detecting the face and its landmarks...\n", stderr);
-  run.landmarks = timer.Run("detect", [&] {
-    detector.emplace(options.landmark_params);
-    return DetectOnPhoto(options, run.photo, *detector);
-  });
+  run.landmarks = timer.Run("detect", [&] { return DetectOnPhoto(options, run.photo, loading, detector); });
   PrintNotes(run.landmarks.notes);
   std::fprintf(stderr, "face: %d px at (%d, %d) in the %dx%d image\n",
                std::max(run.landmarks.box.width(), run.landmarks.box.height()), run.landmarks.box.left,

@@ -298,9 +298,11 @@ LandmarkDetector::LandmarkDetector(LandmarkDetector&&) noexcept = default;
 LandmarkDetector& LandmarkDetector::operator=(LandmarkDetector&&) noexcept = default;
 const LandmarkParams& LandmarkDetector::params() const { return impl_->params; }
 
-std::vector<ImageFaceBox> LandmarkDetector::DetectFaceBoxes(const RgbImage& image) {
+namespace {
+
+std::vector<ImageFaceBox> FaceBoxes(dlib::frontal_face_detector& detector, const RgbImage& image) {
   std::vector<dlib::rect_detection> detections;
-  impl_->detector(ToDlib(image), detections, 0.0);
+  detector(ToDlib(image), detections, 0.0);
   std::vector<ImageFaceBox> boxes;
   for (const dlib::rect_detection& d : detections) {
     boxes.push_back({static_cast<int>(d.rect.left()), static_cast<int>(d.rect.top()),
@@ -310,6 +312,17 @@ std::vector<ImageFaceBox> LandmarkDetector::DetectFaceBoxes(const RgbImage& imag
   std::stable_sort(boxes.begin(), boxes.end(),
                    [](const ImageFaceBox& a, const ImageFaceBox& b) { return a.score > b.score; });
   return boxes;
+}
+
+}  // namespace
+
+std::vector<ImageFaceBox> LandmarkDetector::DetectFaceBoxes(const RgbImage& image) {
+  return FaceBoxes(impl_->detector, image);
+}
+
+std::vector<ImageFaceBox> DetectFrontalFaceBoxes(const RgbImage& image) {
+  thread_local dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
+  return FaceBoxes(detector, image);
 }
 
 std::vector<glm::vec2> LandmarkDetector::PredictLandmarks(const RgbImage& image, const ImageFaceBox& box) {

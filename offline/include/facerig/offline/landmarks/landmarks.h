@@ -143,6 +143,12 @@ class LandmarkDetector {
   std::unique_ptr<Impl> impl_;
 };
 
+// Every face box dlib's frontal detector finds in an image, best score first,
+// as LandmarkDetector::DetectFaceBoxes but without the shape predictor (one
+// detector per thread, made on first use): a photo's face can be found while
+// another thread loads the predictor.
+std::vector<ImageFaceBox> DetectFrontalFaceBoxes(const RgbImage& image);
+
 // The render with the landmarks drawn (jaw points in a different colour).
 RgbImage DrawLandmarks(const LandmarkResult& result);
 
