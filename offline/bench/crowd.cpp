@@ -1,6 +1,7 @@
 #include "cli/options.h"
 #include "bench/crowd.h"
 #include "bench/common.h"
+#include "bench/crowd_roofline.h"
 #include "bench/json.h"
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/runtime/blend_job.h"
+#include "facerig/runtime/blend_plan.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/error.h"
 #include "facerig/offline/io/template_folder.h"
@@ -35,31 +37,48 @@ constexpr const char* kLines[] = {
     "Very few people visit the vast empty beach in winter.",
 };
 
+// One way to blend a crowd: today's whole-mesh path (no state) or only
+// what moves (a BlendState per character); positions, or with normals.
+struct Config {
+  const char* name;
+  bool sparse;
+  facerig::NormalMode normals;
+};
+constexpr Config kConfigs[] = {
+    {"whole mesh (before), positions", false, facerig::NormalMode::kNone},
+    {"only what moves, positions", true, facerig::NormalMode::kNone},
+    {"whole mesh (before), + recomputed normals", false, facerig::NormalMode::kRecompute},
+    {"only what moves, + recomputed normals", true, facerig::NormalMode::kRecompute},
+    {"only what moves, + blended recomputed normals", true, facerig::NormalMode::kBlendRecomputedDeltas},
+};
+// Indices into kConfigs for the comparisons.
+constexpr std::size_t kWholePositions = 0, kSparsePositions = 1, kWholeNormals = 2, kSparseRecomputed = 3,
+                      kSparseBlended = 4;
+
 // One character: its controller plus the output buffers sized once.
 struct CrowdMember {
   std::unique_ptr<facerig::Character> character;
   std::vector<glm::vec3> positions, normals;
-  double line_length = 0.0;
-  double offset = 0.0;
+  std::unique_ptr<facerig::BlendState> state;  // null: the whole-mesh path
 };
 
 // Characters speaking the lines in turn, each with its own seed, start time
-// and emotion, and output buffers sized once.
+// and emotion, and output buffers sized once. Every crowd made with the same
+// count is the same crowd.
 std::vector<CrowdMember> MakeCrowd(std::size_t count, const facerig::CharacterRig& character_rig,
-                                   const std::vector<facerig::SpeechLine>& lines, std::size_t vertex_count) {
+                                   const std::vector<facerig::SpeechLine>& lines, const facerig::BlendPlan* plan) {
   std::vector<CrowdMember> crowd(count);
   for (std::size_t i = 0; i < count; ++i) {
     facerig::CharacterParams params;
     params.seed = i;
     CrowdMember& member = crowd[i];
     member.character = std::make_unique<facerig::Character>(character_rig, params);
-    const facerig::SpeechLine& line = lines[i % lines.size()];
-    member.offset = 0.37 * static_cast<double>(i % 11);  // characters start at different times
-    member.line_length = line.audio_duration().count();
-    (void)member.character->Speak(line.phonemes, facerig::Seconds(member.offset));
+    const double offset = 0.37 * static_cast<double>(i % 11);  // characters start at different times
+    (void)member.character->Speak(lines[i % lines.size()].phonemes, facerig::Seconds(offset));
     member.character->SetEmotion(static_cast<facerig::Emotion>(i % facerig::kEmotionCount), 0.5f);
-    member.positions.resize(vertex_count);
-    member.normals.resize(vertex_count);
+    member.positions.resize(character_rig.rig().vertex_count());
+    member.normals.resize(character_rig.rig().vertex_count());
+    if (plan) member.state = std::make_unique<facerig::BlendState>(*plan);
   }
   return crowd;
 }
@@ -69,30 +88,25 @@ struct FrameTimes {
   std::vector<double> frame_us, update_us_total, blend_us_total;
 };
 
-// The measured part. One core: the frame loop runs on this thread only.
-FrameTimes RunFrames(std::vector<CrowdMember>& crowd, const facerig::Rig& rig, bool with_normals, int frames) {
-  FrameTimes times;
-  for (int frame = 0; frame < frames; ++frame) {
-    const double time = 0.5 + static_cast<double>(frame) / 60.0;
-    double update_us = 0.0, blend_us = 0.0;
-    const auto frame_start = Clock::now();
-    for (CrowdMember& member : crowd) {
-      const auto t0 = Clock::now();
-      (void)member.character->Update(facerig::Seconds(time));
-      const auto t1 = Clock::now();
-      const facerig::BlendJob job{&rig, member.character->weights(),
-                                  with_normals ? facerig::NormalMode::kRecompute : facerig::NormalMode::kNone,
-                                  member.positions, member.normals};
-      (void)job.Run();
-      const auto t2 = Clock::now();
-      update_us += std::chrono::duration<double, std::micro>(t1 - t0).count();
-      blend_us += std::chrono::duration<double, std::micro>(t2 - t1).count();
-    }
-    times.frame_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - frame_start).count());
-    times.update_us_total.push_back(update_us);
-    times.blend_us_total.push_back(blend_us);
+// One frame of one crowd on this thread (one core).
+void RunFrame(std::vector<CrowdMember>& crowd, const facerig::Rig& rig, facerig::NormalMode normals, double time,
+              FrameTimes& times) {
+  double update_us = 0.0, blend_us = 0.0;
+  const auto frame_start = Clock::now();
+  for (CrowdMember& member : crowd) {
+    const auto t0 = Clock::now();
+    (void)member.character->Update(facerig::Seconds(time));
+    const auto t1 = Clock::now();
+    const facerig::BlendJob job{&rig, member.character->weights(), normals, member.positions, member.normals,
+                                member.state.get()};
+    (void)job.Run();
+    const auto t2 = Clock::now();
+    update_us += std::chrono::duration<double, std::micro>(t1 - t0).count();
+    blend_us += std::chrono::duration<double, std::micro>(t2 - t1).count();
   }
-  return times;
+  times.frame_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - frame_start).count());
+  times.update_us_total.push_back(update_us);
+  times.blend_us_total.push_back(blend_us);
 }
 
 // The p99 by the floor index into the sorted values (unlike facerig::Percentile).
@@ -121,12 +135,86 @@ CrowdSummary Summarize(const FrameTimes& times, std::size_t count) {
   return s;
 }
 
-void PrintTable(const CrowdSummary& s) {
-  std::printf("| frame (all characters) median / p99 | %.0f / %.0f us (budget %.0f us at 60 fps) |\n",
-              s.frame_median, s.frame_p99, kFrameBudgetUs);
-  std::printf("| per character: update / blend / total | %.2f / %.2f / %.2f us |\n", s.update_per_character_us,
-              s.blend_per_character_us, s.per_character_us);
-  std::printf("| largest N within one 60 fps frame | %zu |\n", s.max_characters);
+// Every configuration's crowd, frame by frame in turn, so that all see the
+// same load; the roofline kernel in turn too. Counts the sparse normals
+// crowd's work after each of its frames (outside the timed part).
+struct CrowdRun {
+  std::vector<FrameTimes> times;  // per configuration
+  std::vector<double> roofline_us;  // per frame, all characters
+  CrowdWork work;                   // median character-frame
+};
+
+CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& character_rig,
+                   const std::vector<facerig::SpeechLine>& lines, std::size_t count, int frames) {
+  const facerig::BlendPlan plan = facerig::BlendPlan::Build(rig);
+  std::vector<std::vector<CrowdMember>> crowds;
+  for (const Config& config : kConfigs) crowds.push_back(MakeCrowd(count, character_rig, lines, config.sparse ? &plan : nullptr));
+  CrowdRun run;
+  run.times.resize(std::size(kConfigs));
+  // A first pass counts the work that the roofline is sized to.
+  std::vector<CrowdWork> work;
+  {
+    std::vector<CrowdMember> census = MakeCrowd(count, character_rig, lines, &plan);
+    FrameTimes ignored;
+    for (int frame = 0; frame < frames; ++frame) {
+      RunFrame(census, rig, kConfigs[kSparseBlended].normals, 0.5 + frame / 60.0, ignored);
+      for (const CrowdMember& member : census) {
+        const std::span<const float> w = member.character->weights();
+        work.push_back(CountWork(plan, {w.begin(), w.end()}, *member.state));
+      }
+    }
+  }
+  run.work = MedianWork(work);
+  CrowdRoofline roofline(run.work, count);
+  for (int frame = 0; frame < frames; ++frame) {
+    const double time = 0.5 + static_cast<double>(frame) / 60.0;
+    for (std::size_t c = 0; c < std::size(kConfigs); ++c) RunFrame(crowds[c], rig, kConfigs[c].normals, time, run.times[c]);
+    const auto start = Clock::now();
+    for (std::size_t i = 0; i < count; ++i) roofline.Run(i);
+    run.roofline_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
+  }
+  if (roofline.Checksum() == 1.5f) std::printf(" ");  // keeps the roofline's work
+  return run;
+}
+
+void PrintTable(const std::vector<CrowdSummary>& summaries) {
+  std::printf("| blend | frame median / p99 (us) | per character: update / blend / total (us) | characters per 60 fps frame |\n");
+  std::printf("|---|---|---|---|\n");
+  for (std::size_t c = 0; c < summaries.size(); ++c) {
+    const CrowdSummary& s = summaries[c];
+    std::printf("| %s | %.0f / %.0f | %.2f / %.2f / %.2f | %zu |\n", kConfigs[c].name, s.frame_median, s.frame_p99,
+                s.update_per_character_us, s.blend_per_character_us, s.per_character_us, s.max_characters);
+  }
+  std::printf("same run, per character against the whole mesh: positions %.2fx faster; with normals, recomputed %.2fx, "
+              "blended %.2fx faster\n",
+              summaries[kWholePositions].per_character_us / summaries[kSparsePositions].per_character_us,
+              summaries[kWholeNormals].per_character_us / summaries[kSparseRecomputed].per_character_us,
+              summaries[kWholeNormals].per_character_us / summaries[kSparseBlended].per_character_us);
+}
+
+void PrintRoofline(const CrowdWork& work, double roofline_us, const CrowdSummary& sparse_normals) {
+  const double bytes = work.Bytes();
+  std::printf("\nwork of the median character-frame (only what moves, + blended recomputed normals): %.0f active\n"
+              "shapes, %.0f position deltas over %.0f vertices, %.0f normal deltas over %.0f vertices: %.0f kB must move\n",
+              work.active_shapes, work.entries, work.moved_vertices, work.normal_entries, work.shaded_vertices,
+              bytes / 1e3);
+  std::printf("roofline (streaming those bytes, each character's outputs its own): %.2f us per character (%.1f GB/s);\n"
+              "the blend takes %.2f us: %.2fx the roofline\n",
+              roofline_us, bytes / (roofline_us * 1e3), sparse_normals.blend_per_character_us,
+              sparse_normals.blend_per_character_us / roofline_us);
+}
+
+nlohmann::json SummaryJson(const Config& config, const CrowdSummary& s) {
+  return {{"blend", config.name},
+          {"only_what_moves", config.sparse},
+          {"normals", config.normals == facerig::NormalMode::kNone ? "none"
+                      : config.normals == facerig::NormalMode::kRecompute ? "recomputed" : "blended recomputed deltas"},
+          {"frame_us_median", s.frame_median},
+          {"frame_us_p99", s.frame_p99},
+          {"update_us_per_character", s.update_per_character_us},
+          {"blend_us_per_character", s.blend_per_character_us},
+          {"per_character_us", s.per_character_us},
+          {"max_characters_60fps", s.max_characters}};
 }
 
 }  // namespace
@@ -136,12 +224,11 @@ int RunCrowdBenchmark(int argc, char** argv) {
   std::string rig_path = FACERIG_DEFAULT_HEAD;
   if (!std::filesystem::exists(rig_path)) rig_path = FACERIG_DEFAULT_ICT_DIR;
   std::string json_path;
-  bool with_normals = false;
   int frames = 240;
-  CLI::App app("N characters' update + blend per 60 fps frame on one core", "facerig-bench crowd");
+  CLI::App app("N characters' update + blend per 60 fps frame on one core: the whole-mesh blend and only what moves",
+               "facerig-bench crowd");
   app.add_option("count", count, "characters (default 100)")->check(facerig::cli::InRange(std::size_t{1}, std::size_t{1000000}));
   app.add_option("--rig", rig_path, "the rig (default: the built-in head)");
-  app.add_flag("--normals", with_normals, "blend normals too");
   app.add_option("--frames", frames, "frames (default 240)")->check(facerig::cli::InRange(10, 1000000));
   app.add_option("--json", json_path, "write the results as JSON");
   if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
@@ -157,23 +244,26 @@ int RunCrowdBenchmark(int argc, char** argv) {
   std::vector<facerig::SpeechLine> lines;
   for (const char* text : kLines) lines.push_back(source.Synthesize(text, "en-us"));
 
-  std::vector<CrowdMember> crowd = MakeCrowd(count, character_rig, lines, rig.vertex_count());
-  const CrowdSummary summary = Summarize(RunFrames(crowd, rig, with_normals, frames), count);
-  std::printf("crowd: %zu characters on %s (%zu vertices, %zu shapes), %s, %d frames, one core\n", count,
-              rig_path.c_str(), rig.vertex_count(), rig.shape_count(),
-              with_normals ? "positions + recomputed normals" : "positions", frames);
-  PrintTable(summary);
-  if (!json_path.empty()) {
-    const nlohmann::json report = {{"rig", rig_path},
-                                   {"characters", count},
-                                   {"normals", with_normals},
-                                   {"frame_us_median", summary.frame_median},
-                                   {"frame_us_p99", summary.frame_p99},
-                                   {"update_us_per_character", summary.update_per_character_us},
-                                   {"blend_us_per_character", summary.blend_per_character_us},
-                                   {"per_character_us", summary.per_character_us},
-                                   {"max_characters_60fps", summary.max_characters}};
-    return WriteBenchJson(json_path, report);
-  }
-  return 0;
+  const CrowdRun run = RunCrowds(rig, character_rig, lines, count, frames);
+  std::vector<CrowdSummary> summaries;
+  for (const FrameTimes& times : run.times) summaries.push_back(Summarize(times, count));
+  const double roofline_us = UpperMedian(run.roofline_us) / static_cast<double>(count);
+  std::printf("crowd: %zu characters on %s (%zu vertices, %zu shapes), %d frames, one core, each blend in turn\n",
+              count, rig_path.c_str(), rig.vertex_count(), rig.shape_count(), frames);
+  PrintTable(summaries);
+  PrintRoofline(run.work, roofline_us, summaries[kSparseBlended]);
+  if (json_path.empty()) return 0;
+  nlohmann::json report = {{"rig", rig_path},
+                           {"characters", count},
+                           {"frames", frames},
+                           {"work", {{"active_shapes", run.work.active_shapes},
+                                     {"position_deltas", run.work.entries},
+                                     {"moved_vertices", run.work.moved_vertices},
+                                     {"normal_deltas", run.work.normal_entries},
+                                     {"shaded_vertices", run.work.shaded_vertices},
+                                     {"bytes", run.work.Bytes()}}},
+                           {"roofline_us_per_character", roofline_us},
+                           {"blend_over_roofline", summaries[kSparseBlended].blend_per_character_us / roofline_us}};
+  for (std::size_t c = 0; c < summaries.size(); ++c) report["blends"].push_back(SummaryJson(kConfigs[c], summaries[c]));
+  return WriteBenchJson(json_path, report);
 }
