@@ -35,7 +35,7 @@ FaceAnimator::FaceAnimator(const Rig& rig, const IdleLifeParams& idle, const Cha
 }
 
 void FaceAnimator::Blend() {
-  const BlendJob job{rig_, weights_, NormalMode::kRecompute, positions_, normals_, &blend_state_};
+  const BlendJob job{rig_, weights_, normal_mode_, positions_, normals_, &blend_state_};
   job.Run();  // inputs are sized here and weights are finite: cannot fail
 }
 

@@ -1,8 +1,9 @@
 // One character's per-frame animation: Character::Update (speech, emotions,
-// blinks, gaze), head motion, then BlendJob positions and recomputed normals,
-// written only where they moved (a BlendState). Also finds the rig's mouth, for
-// the camera, the tests and the HUD. Buffers are sized once in the
-// constructor; Update allocates nothing.
+// blinks, gaze), head motion, then BlendJob positions and normals written only
+// where they moved (a BlendState; normals blended from each shape's change of
+// the recomputed ones, kBlendRecomputedDeltas, as a crowd would). Also finds
+// the rig's mouth, for the camera, the tests and the HUD. Buffers are sized
+// once in the constructor; Update allocates nothing.
 #pragma once
 
 #include <cstdint>
@@ -43,6 +44,9 @@ class FaceAnimator {
   void Update(double time, FrameTimer* timer = nullptr);
   // Neutral positions and normals (all weights 0, no head motion), for tests.
   void SetNeutral();
+  // How Update makes the normals (kBlendRecomputedDeltas unless set; the
+  // tests compare it with kRecompute). Takes effect at the next Update.
+  void SetNormalMode(NormalMode mode) { normal_mode_ = mode; }
 
   std::span<const float> weights() const { return weights_; }
   std::span<const glm::vec3> positions() const { return positions_; }
@@ -74,6 +78,7 @@ class FaceAnimator {
   std::vector<glm::vec3> normals_;
   BlendPlan blend_plan_;
   BlendState blend_state_;  // what positions_ and normals_ hold
+  NormalMode normal_mode_ = NormalMode::kBlendRecomputedDeltas;
   glm::mat4 head_rotation_{1.0f};
 
   std::optional<glm::vec3> mouth_center_;

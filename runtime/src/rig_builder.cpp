@@ -162,7 +162,7 @@ void ComputeVertexNormals(std::span<const glm::vec3> positions, std::span<const 
     normals[t[1]] += n;
     normals[t[2]] += n;
   }
-  for (glm::vec3& n : normals) blend::NormaliseSum(n);
+  blend::NormaliseSums(normals.data(), normals.size());
 }
 
 std::optional<Rig> RigBuilder::Build(RawRig raw, std::string* problem) {

@@ -1,6 +1,10 @@
 // BlendJob::Run with a BlendState: writes only what moved (blend_plan.h).
 #pragma once
 
+#include <span>
+
+#include <glm/vec3.hpp>
+
 #include "facerig/runtime/blend_job.h"
 
 namespace facerig {
@@ -15,11 +19,10 @@ class SparseBlend {
  private:
   explicit SparseBlend(const BlendJob& job);
   void CollectActiveSets();
-  void RestorePositions();
-  void AddPositionDeltas();
+  void Positions();
+  void RestoreNormals(std::span<const glm::vec3> rest, std::span<const glm::vec3> base);
   void BlendedNormals();
   void BlendedRecomputedNormals();
-  void RecomputedNormals();
   void Remember();
 
   const BlendJob& job_;

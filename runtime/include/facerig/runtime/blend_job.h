@@ -27,10 +27,10 @@ enum class NormalMode : std::uint8_t {
   kBlendDeltas,    // neutral normal + sum_i w_i * normal_delta_i, renormalised
                    // (needs rig.has_normal_deltas())
   kRecompute,      // area-weighted normals recomputed from the blended positions
-  kBlendRecomputedDeltas,  // neutral's recomputed normal + sum_i w_i * (shape i's
-                           // recomputed normal at weight 1 - the neutral's),
-                           // renormalised: near kRecompute at a fraction of its
-                           // cost; needs a state (the plan holds those deltas)
+  kBlendRecomputedDeltas,  // kRecompute's normals from each shape's precomputed
+                           // change of them (blend_plan.h): within a degree of
+                           // kRecompute where the surface is smooth, at a fraction
+                           // of its cost; needs a state (the plan holds the changes)
 };
 
 enum class BlendJobError : std::uint8_t {

@@ -1,13 +1,15 @@
 // What the sparse blend needs to write only what moves: BlendPlan is built
-// once per rig (which vertices, normals and triangles each shape reaches, its
-// deltas as runs of consecutive vertices, and each shape's change of the
-// recomputed normals); BlendState is kept per pair of output buffers (one per
-// character) and remembers which of their vertices are not at rest.
+// once per rig (which vertices each shape moves, its deltas as runs of
+// consecutive vertices, and each shape's change of the recomputed normals);
+// BlendState is kept per pair of output buffers (one per character) and
+// remembers which of their vertices are not at rest.
 //
 // With a state, BlendJob::Run restores only the vertices the previous frame
-// moved and adds the active shapes' deltas run by run. Positions, and normals
-// in kNone, kBlendDeltas and kRecompute, equal the whole-mesh path bit for bit
-// (a test compares them); kBlendRecomputedDeltas needs a state.
+// moved and adds the active shapes' deltas run by run: positions, and the
+// normals of kBlendDeltas and kRecompute, equal the whole-mesh path's bit for
+// bit (kRecompute still recomputes every normal). kBlendRecomputedDeltas
+// needs a state: it blends the plan's normal changes over only the vertices
+// whose normal turns.
 #pragma once
 
 #include <cstddef>
@@ -45,50 +47,61 @@ class BlendPlan {
 
   const Rig& rig() const { return *rig_; }
   std::size_t vertex_words() const { return vertex_words_; }
-  std::size_t triangle_words() const { return triangle_words_; }
 
   // The vertices shape s moves (its sparse entries).
   BitSpan moved(std::size_t shape) const { return moved_[shape]; }
-  // The vertices whose recomputed normal shape s can change: the corners of
-  // every triangle with a moved vertex.
-  BitSpan shaded(std::size_t shape) const { return shaded_[shape]; }
-  // The triangles those normals sum: every triangle with a shaded corner.
-  BitSpan triangles(std::size_t shape) const { return triangles_[shape]; }
   const std::uint64_t* words(const BitSpan& span) const { return pool_.data() + span.offset; }
 
   // Shape s's entries as runs; first_delta indexes its position_deltas (and
   // normal_deltas).
-  std::span<const DeltaRun> entry_runs(std::size_t shape) const;
-  // Shape s's change of the recomputed normals at weight 1, over its shaded
-  // vertices: first_delta indexes recomputed_normal_deltas().
-  std::span<const DeltaRun> shaded_runs(std::size_t shape) const;
-  std::span<const glm::vec3> recomputed_normal_deltas() const { return recomputed_normal_deltas_; }
+  std::span<const DeltaRun> entry_runs(std::size_t shape) const { return Runs(entry_runs_[shape]); }
+
+  // kBlendRecomputedDeltas. A vertex's recomputed normal is its normalised
+  // sum of triangle normals S, quadratic in the weights. At weight w shape s
+  // alone gives S = S0 + w * L + w^2 * Q; the plan keeps dS = L + Q (the
+  // change at weight 1) and Q, over the vertices where they turn the normal by
+  // more than kNormalTolerance radians, and the blend sums
+  // S0 + sum_s (w_s * dS_s + (w_s^2 - w_s) * Q_s): exact for one shape at any
+  // weight, and off only by the shapes' cross terms when several move one spot.
+  static constexpr float kNormalTolerance = 0.005f;  // about 0.3 degree
+  // The vertices whose normal shape s turns; its dS and Q runs index
+  // sum_deltas() and quadratic_deltas().
+  BitSpan blended(std::size_t shape) const { return blended_[shape]; }
+  std::span<const DeltaRun> sum_runs(std::size_t shape) const { return Runs(sum_runs_[shape]); }
+  std::span<const DeltaRun> quadratic_runs(std::size_t shape) const { return Runs(quadratic_runs_[shape]); }
+  std::span<const glm::vec3> sum_deltas() const { return sum_deltas_; }
+  std::span<const glm::vec3> quadratic_deltas() const { return quadratic_deltas_; }
+  // S0: the neutral's triangle normal sums (not normalised).
+  std::span<const glm::vec3> rest_sums() const { return rest_sums_; }
 
   // The normals of the neutral as each normal mode produces them: recomputed
-  // from the positions (kRecompute, kBlendRecomputedDeltas), and the rig's
+  // from the positions (kBlendRecomputedDeltas), and the rig's
   // normals renormalised (kBlendDeltas; empty when the rig has no normal deltas).
   std::span<const glm::vec3> rest_normals(NormalMode mode) const;
 
  private:
-  struct RunRange {
+  // One shape's runs: runs_[first, first + count).
+  struct RunList {
     std::uint32_t first = 0, count = 0;
   };
+  std::span<const DeltaRun> Runs(const RunList& list) const { return std::span(runs_).subspan(list.first, list.count); }
+  // Runs over the increasing `vertices`, deltas numbered from `first_delta`.
+  RunList AppendRuns(std::span<const std::uint32_t> vertices, std::uint32_t first_delta);
 
   const Rig* rig_ = nullptr;
-  std::size_t vertex_words_ = 0, triangle_words_ = 0;
-  std::vector<BitSpan> moved_, shaded_, triangles_;
+  std::size_t vertex_words_ = 0;
+  std::vector<BitSpan> moved_, blended_;
   std::vector<std::uint64_t> pool_;
-  std::vector<RunRange> entry_run_ranges_, shaded_run_ranges_;
+  std::vector<RunList> entry_runs_, sum_runs_, quadratic_runs_;
   std::vector<DeltaRun> runs_;
-  std::vector<glm::vec3> recomputed_normal_deltas_;
+  std::vector<glm::vec3> sum_deltas_, quadratic_deltas_, rest_sums_;
   std::vector<glm::vec3> recomputed_rest_normals_, renormalised_rest_normals_;
 };
 
 // What one BlendJob::Run with a state touched: for the benchmark and tests.
 struct BlendWork {
   std::size_t moved_vertices = 0;   // positions not at rest
-  std::size_t shaded_vertices = 0;  // normals not at rest
-  std::size_t triangles = 0;        // triangle normals evaluated (kRecompute)
+  std::size_t shaded_vertices = 0;  // normals not at rest (kBlendDeltas, kBlendRecomputedDeltas)
 };
 
 // The per-character part: which vertices of its output buffers are not at
@@ -117,7 +130,10 @@ class BlendState {
   // Vertices whose position / normal is not at rest in those buffers.
   std::vector<std::uint64_t> moved_, shaded_;
   // This frame's sets, built in Run (then swapped with the two above).
-  std::vector<std::uint64_t> next_moved_, next_shaded_, next_triangles_;
+  std::vector<std::uint64_t> next_moved_, next_shaded_;
+  // This frame's shapes with a non-zero weight (the first active_count_).
+  std::vector<std::uint32_t> active_;
+  std::size_t active_count_ = 0;
 };
 
 }  // namespace facerig
