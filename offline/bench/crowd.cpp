@@ -48,7 +48,7 @@ constexpr Config kConfigs[] = {
     {"whole mesh (before), positions", false, facerig::NormalMode::kNone},
     {"only what moves, positions", true, facerig::NormalMode::kNone},
     {"whole mesh (before), + recomputed normals", false, facerig::NormalMode::kRecompute},
-    {"only what moves, + recomputed normals", true, facerig::NormalMode::kRecompute},
+    {"only what moves (positions), + recomputed normals", true, facerig::NormalMode::kRecompute},
     {"only what moves, + blended recomputed normals", true, facerig::NormalMode::kBlendRecomputedDeltas},
 };
 // Indices into kConfigs for the comparisons.

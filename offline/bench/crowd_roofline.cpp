@@ -14,7 +14,8 @@ CrowdWork CountWork(const facerig::BlendPlan& plan, const std::vector<float>& we
     if (weights[s] == 0.0f) continue;
     work.active_shapes += 1.0;
     for (const facerig::DeltaRun& run : plan.entry_runs(s)) work.entries += run.count;
-    for (const facerig::DeltaRun& run : plan.shaded_runs(s)) work.normal_entries += run.count;
+    for (const facerig::DeltaRun& run : plan.sum_runs(s)) work.normal_entries += run.count;
+    for (const facerig::DeltaRun& run : plan.quadratic_runs(s)) work.normal_entries += run.count;
   }
   const facerig::BlendWork blend = state.LastWork();
   work.moved_vertices = static_cast<double>(blend.moved_vertices);

@@ -16,7 +16,7 @@ struct CrowdWork {
   double active_shapes = 0.0;
   double entries = 0.0;          // position deltas of the active shapes
   double moved_vertices = 0.0;   // positions not at rest (BlendWork)
-  double normal_entries = 0.0;   // normal deltas of the active shapes
+  double normal_entries = 0.0;   // normal sum deltas (dS and Q) of the active shapes
   double shaded_vertices = 0.0;  // normals not at rest
 
   // The bytes the job must read and write: per delta the delta (12) and one

@@ -108,8 +108,9 @@ void SparseBlend::BlendedNormals() {
   bits::ForEachBit(state_.next_shaded_, [&](std::size_t v) { blend::RenormaliseBlended(normals_[v]); });
 }
 
-// kBlendRecomputedDeltas: S0 + sum_s (w dS_s + (w^2 - w) Q_s), normalised,
-// where this frame turns normals; the rest normal where only the last did.
+// kBlendRecomputedDeltas: S0 + sum_s (w_s dS_s + (w_s^2 - w_s) Q_s) +
+// sum_{s<t} w_s w_t Q_st, normalised, where this frame turns normals; the
+// rest normal where only the last did.
 void SparseBlend::BlendedRecomputedNormals() {
   RestoreNormals(plan_.rest_normals(NormalMode::kBlendRecomputedDeltas), plan_.rest_sums());
   for (std::size_t k = 0; k < state_.active_count_; ++k) {
@@ -117,6 +118,10 @@ void SparseBlend::BlendedRecomputedNormals() {
     const float w = job_.weights[s];
     AddRuns(plan_.sum_runs(s), plan_.sum_deltas().data(), w, normals_);
     AddRuns(plan_.quadratic_runs(s), plan_.quadratic_deltas().data(), w * w - w, normals_);
+    for (std::size_t later = k + 1; later < state_.active_count_; ++later) {
+      const std::uint32_t t = state_.active_[later];
+      AddRuns(plan_.pair_runs(s, t), plan_.pair_deltas().data(), w * job_.weights[t], normals_);
+    }
   }
   ForEachRun(state_.next_shaded_,
              [&](std::size_t first, std::size_t count) { blend::NormaliseSums(normals_ + first, count); });

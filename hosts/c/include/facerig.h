@@ -175,7 +175,10 @@ FR_API fr_status fr_rig_triangles(const fr_rig* rig, uint32_t* indices, size_t c
 typedef enum fr_normal_mode {
   FR_NORMALS_NONE = 0,         /* positions only; `normals` may be NULL */
   FR_NORMALS_BLEND_DELTAS = 1, /* neutral normal + weighted normal deltas, renormalised */
-  FR_NORMALS_RECOMPUTE = 2     /* area-weighted normals of the blended positions */
+  FR_NORMALS_RECOMPUTE = 2,    /* area-weighted normals of the blended positions */
+  FR_NORMALS_BLEND_RECOMPUTED = 3 /* FR_NORMALS_RECOMPUTE's normals from each shape's precomputed
+                                     change of them: within a degree where the surface is smooth,
+                                     a fraction of the cost; fr_blender_blend only */
 } fr_normal_mode;
 
 /* Per frame: positions = neutral + sum of weight[i] * shape i, over the

@@ -13,6 +13,8 @@
 
 static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && alignof(glm::vec3) == alignof(float),
               "caller float triples are read as glm::vec3");
+static_assert(static_cast<int>(facerig::NormalMode::kBlendRecomputedDeltas) == FR_NORMALS_BLEND_RECOMPUTED,
+              "fr_normal_mode values are NormalMode's");
 
 using namespace facerig::capi;
 
@@ -21,15 +23,19 @@ namespace {
 // Both calls' checks and the blend; `state` may be null (every vertex).
 fr_status Blend(const facerig::Rig& r, facerig::BlendState* state, const float* weights, size_t weight_count,
                 fr_normal_mode mode, float* positions, float* normals, size_t vertex_capacity) {
+  if (mode != FR_NORMALS_NONE && mode != FR_NORMALS_BLEND_DELTAS && mode != FR_NORMALS_RECOMPUTE &&
+      mode != FR_NORMALS_BLEND_RECOMPUTED) {
+    return Fail(FR_ERROR_INVALID_ARGUMENT, "mode is not an fr_normal_mode");
+  }
+  if (mode == FR_NORMALS_BLEND_RECOMPUTED && state == nullptr) {
+    return Fail(FR_ERROR_INVALID_ARGUMENT, "FR_NORMALS_BLEND_RECOMPUTED needs a blender (fr_blender_blend)");
+  }
   if (weights == nullptr && weight_count > 0) return Fail(FR_ERROR_INVALID_ARGUMENT, "weights is NULL");
   FR_REQUIRE(positions, "positions");
   if (weight_count != r.shape_count()) {
     char given[24], count[24];
     return Fail(FR_ERROR_INVALID_ARGUMENT, {"weight_count is ", Number(weight_count, given),
                                             ", the rig has ", Number(r.shape_count(), count), " shapes"});
-  }
-  if (mode != FR_NORMALS_NONE && mode != FR_NORMALS_BLEND_DELTAS && mode != FR_NORMALS_RECOMPUTE) {
-    return Fail(FR_ERROR_INVALID_ARGUMENT, "mode is not an fr_normal_mode");
   }
   if (mode != FR_NORMALS_NONE) FR_REQUIRE(normals, "normals");
   if (const fr_status s = CheckCapacity(r.vertex_count(), vertex_capacity, nullptr, "vertices"); s != FR_OK) {

@@ -183,6 +183,9 @@ static void CheckErrors(fr_rig* rig, const fr_rig_info* info, const char* head_p
   CHECK(strstr(fr_last_error(), "weight_count") != NULL);
   CHECK(fr_blender_blend(NULL, weights, 8, FR_NORMALS_NONE, weights, NULL, 2) == FR_ERROR_INVALID_ARGUMENT);
   CHECK(fr_blender_reset(blender) == FR_OK && fr_blender_reset(NULL) == FR_ERROR_INVALID_ARGUMENT);
+  CHECK(fr_rig_blend(rig, weights, 8, FR_NORMALS_BLEND_RECOMPUTED, weights, weights, 2) == FR_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(fr_last_error(), "needs a blender") != NULL);
+  CHECK(fr_blender_blend(blender, weights, 8, (fr_normal_mode)4, weights, weights, 2) == FR_ERROR_INVALID_ARGUMENT);
   fr_blender_release(blender);
   fr_blender_release(NULL);
   memset(&phoneme, 0, sizeof phoneme);

@@ -24,6 +24,8 @@
 
 namespace facerig {
 
+struct VertexTerms;
+
 // A set of vertex or triangle indices as the bit words that are not all zero:
 // word k of the set is words[k - first_word] for first_word <= k < first_word + count.
 struct BitSpan {
@@ -57,20 +59,25 @@ class BlendPlan {
   std::span<const DeltaRun> entry_runs(std::size_t shape) const { return Runs(entry_runs_[shape]); }
 
   // kBlendRecomputedDeltas. A vertex's recomputed normal is its normalised
-  // sum of triangle normals S, quadratic in the weights. At weight w shape s
-  // alone gives S = S0 + w * L + w^2 * Q; the plan keeps dS = L + Q (the
-  // change at weight 1) and Q, over the vertices where they turn the normal by
-  // more than kNormalTolerance radians, and the blend sums
-  // S0 + sum_s (w_s * dS_s + (w_s^2 - w_s) * Q_s): exact for one shape at any
-  // weight, and off only by the shapes' cross terms when several move one spot.
+  // sum S of triangle normals, which is exactly quadratic in the weights:
+  //   S = S0 + sum_s (w_s dS_s + (w_s^2 - w_s) Q_s) + sum_{s<t} w_s w_t Q_st
+  // (dS_s: shape s's change at weight 1; Q_s, Q_st: its quadratic and cross
+  // terms). The plan keeps each term where it turns the normal by more than
+  // kNormalTolerance radians (Q_s and Q_st at weights 1/2), and the blend sums
+  // what the active shapes and their pairs keep, then normalises.
   static constexpr float kNormalTolerance = 0.005f;  // about 0.3 degree
-  // The vertices whose normal shape s turns; its dS and Q runs index
-  // sum_deltas() and quadratic_deltas().
+  // The vertices whose normal shape s turns, alone or with another shape;
+  // its runs index sum_deltas(), quadratic_deltas() and pair_deltas().
   BitSpan blended(std::size_t shape) const { return blended_[shape]; }
   std::span<const DeltaRun> sum_runs(std::size_t shape) const { return Runs(sum_runs_[shape]); }
   std::span<const DeltaRun> quadratic_runs(std::size_t shape) const { return Runs(quadratic_runs_[shape]); }
+  // Q_st of shapes s < t (empty where they share no triangle).
+  std::span<const DeltaRun> pair_runs(std::size_t s, std::size_t t) const {
+    return Runs(pair_runs_[s * rig_->shape_count() + t]);
+  }
   std::span<const glm::vec3> sum_deltas() const { return sum_deltas_; }
   std::span<const glm::vec3> quadratic_deltas() const { return quadratic_deltas_; }
+  std::span<const glm::vec3> pair_deltas() const { return pair_deltas_; }
   // S0: the neutral's triangle normal sums (not normalised).
   std::span<const glm::vec3> rest_sums() const { return rest_sums_; }
 
@@ -87,14 +94,18 @@ class BlendPlan {
   std::span<const DeltaRun> Runs(const RunList& list) const { return std::span(runs_).subspan(list.first, list.count); }
   // Runs over the increasing `vertices`, deltas numbered from `first_delta`.
   RunList AppendRuns(std::span<const std::uint32_t> vertices, std::uint32_t first_delta);
+  // Runs over `terms`, their values appended to `deltas`.
+  RunList AppendTerms(const VertexTerms& terms, std::vector<glm::vec3>& deltas);
+  // The kBlendRecomputedDeltas terms, and the blended() sets.
+  void BuildNormalTerms();
 
   const Rig* rig_ = nullptr;
   std::size_t vertex_words_ = 0;
   std::vector<BitSpan> moved_, blended_;
   std::vector<std::uint64_t> pool_;
-  std::vector<RunList> entry_runs_, sum_runs_, quadratic_runs_;
+  std::vector<RunList> entry_runs_, sum_runs_, quadratic_runs_, pair_runs_;
   std::vector<DeltaRun> runs_;
-  std::vector<glm::vec3> sum_deltas_, quadratic_deltas_, rest_sums_;
+  std::vector<glm::vec3> sum_deltas_, quadratic_deltas_, pair_deltas_, rest_sums_;
   std::vector<glm::vec3> recomputed_rest_normals_, renormalised_rest_normals_;
 };
 
