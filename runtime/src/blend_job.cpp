@@ -46,7 +46,8 @@ BlendJobError BlendJob::Validate() const {
 BlendJobError BlendJob::Run() const {
   if (const BlendJobError error = Validate(); error != BlendJobError::kNone) return error;
   if (state != nullptr) {
-    SparseBlend::Run(*this);
+    const CrowdMember one{weights, out_positions, out_normals, state};
+    SparseBlend::Run(*rig, normal_mode, std::span(&one, 1));
     return BlendJobError::kNone;
   }
   // Every vertex: the neutral, plus the active shapes, then the normals of all.

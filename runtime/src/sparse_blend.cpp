@@ -29,113 +29,116 @@ void CopyRun(glm::vec3* out, std::span<const glm::vec3> from, std::size_t first,
   std::memcpy(out + first, from.data() + first, count * sizeof(glm::vec3));
 }
 
+bool SparseNormals(NormalMode mode) {
+  return mode == NormalMode::kBlendDeltas || mode == NormalMode::kBlendRecomputedDeltas;
+}
+
+constexpr std::size_t kTileWords = BlendPlan::kTileVertices / 64;
+
 }  // namespace
 
-void SparseBlend::Run(const BlendJob& job) {
-  SparseBlend blend(job);
-  blend.CollectActiveSets();
-  blend.Positions();
-  switch (job.normal_mode) {
-    case NormalMode::kNone: break;
-    case NormalMode::kBlendDeltas: blend.BlendedNormals(); break;
-    case NormalMode::kRecompute: ComputeVertexNormals(job.out_positions, job.rig->triangles(), job.out_normals); break;
-    case NormalMode::kBlendRecomputedDeltas: blend.BlendedRecomputedNormals(); break;
-  }
-  blend.Remember();
-}
-
-SparseBlend::SparseBlend(const BlendJob& job)
-    : job_(job),
-      state_(*job.state),
-      plan_(job.state->plan()),
-      positions_(job.out_positions.data()),
-      normals_(job.normal_mode == NormalMode::kNone ? nullptr : job.out_normals.data()),
-      normals_known_(normals_ != nullptr && state_.normals_ == normals_ && state_.normal_mode_ == job.normal_mode) {}
-
-// The active shapes; this frame's moved vertices and those whose normal is
-// not at rest: unions over the active shapes.
-void SparseBlend::CollectActiveSets() {
-  const NormalMode mode = job_.normal_mode;
-  std::fill(state_.next_moved_.begin(), state_.next_moved_.end(), 0);
-  if (mode == NormalMode::kBlendRecomputedDeltas) std::fill(state_.next_shaded_.begin(), state_.next_shaded_.end(), 0);
-  state_.active_count_ = 0;
-  for (std::size_t s = 0; s < job_.weights.size(); ++s) {
-    if (job_.weights[s] == 0.0f) continue;
-    state_.active_[state_.active_count_++] = static_cast<std::uint32_t>(s);
-    Or(plan_, plan_.moved(s), state_.next_moved_);
-    if (mode == NormalMode::kBlendRecomputedDeltas) Or(plan_, plan_.blended(s), state_.next_shaded_);
-  }
-  if (mode == NormalMode::kBlendDeltas) state_.next_shaded_ = state_.next_moved_;  // same size: no allocation
-}
-
-// Back to the neutral where the last frame moved (everywhere when the
-// buffer is not the last frame's; the rest already is), then the active
-// shapes' deltas in shape order, each shape's in one sequential pass.
-void SparseBlend::Positions() {
-  const std::span<const glm::vec3> neutral = job_.rig->positions();
-  if (state_.positions_ == positions_) {
-    ForEachRun(state_.moved_, [&](std::size_t first, std::size_t count) { CopyRun(positions_, neutral, first, count); });
-  } else {
-    std::memcpy(positions_, neutral.data(), neutral.size_bytes());
-  }
-  for (std::size_t k = 0; k < state_.active_count_; ++k) {
-    const std::uint32_t s = state_.active_[k];
-    AddRuns(plan_.entry_runs(s), job_.rig->shape(s).position_deltas.data(), job_.weights[s], positions_);
-  }
-}
-
-// The normals of last frame's set and not this one's go back to `rest`
-// (all when the buffer is not last frame's); this frame's start from `base`.
-void SparseBlend::RestoreNormals(std::span<const glm::vec3> rest, std::span<const glm::vec3> base) {
-  const Bits& now = state_.next_shaded_;
-  if (normals_known_) {
-    ForEachRun(state_.shaded_, state_.shaded_, &now,
-               [&](std::size_t first, std::size_t count) { CopyRun(normals_, rest, first, count); });
-  } else {
-    std::memcpy(normals_, rest.data(), rest.size_bytes());
-  }
-  ForEachRun(now, [&](std::size_t first, std::size_t count) { CopyRun(normals_, base, first, count); });
-}
-
-// kBlendDeltas: the rig's normal deltas on the rig's normals at the moved
-// vertices, renormalised as the whole-mesh path does.
-void SparseBlend::BlendedNormals() {
-  RestoreNormals(plan_.rest_normals(NormalMode::kBlendDeltas), job_.rig->normals());
-  for (std::size_t k = 0; k < state_.active_count_; ++k) {
-    const std::uint32_t s = state_.active_[k];
-    AddRuns(plan_.entry_runs(s), job_.rig->shape(s).normal_deltas.data(), job_.weights[s], normals_);
-  }
-  bits::ForEachBit(state_.next_shaded_, [&](std::size_t v) { blend::RenormaliseBlended(normals_[v]); });
-}
-
-// kBlendRecomputedDeltas: S0 + sum_s (w_s dS_s + (w_s^2 - w_s) Q_s) +
-// sum_{s<t} w_s w_t Q_st, normalised, where this frame turns normals; the
-// rest normal where only the last did.
-void SparseBlend::BlendedRecomputedNormals() {
-  RestoreNormals(plan_.rest_normals(NormalMode::kBlendRecomputedDeltas), plan_.rest_sums());
-  for (std::size_t k = 0; k < state_.active_count_; ++k) {
-    const std::uint32_t s = state_.active_[k];
-    const float w = job_.weights[s];
-    AddRuns(plan_.sum_runs(s), plan_.sum_deltas().data(), w, normals_);
-    AddRuns(plan_.quadratic_runs(s), plan_.quadratic_deltas().data(), w * w - w, normals_);
-    for (std::size_t later = k + 1; later < state_.active_count_; ++later) {
-      const std::uint32_t t = state_.active_[later];
-      AddRuns(plan_.pair_runs(s, t), plan_.pair_deltas().data(), w * job_.weights[t], normals_);
+void SparseBlend::Run(const Rig& rig, NormalMode mode, std::span<const CrowdMember> members) {
+  for (const CrowdMember& member : members) Prepare(rig, mode, member);
+  const std::size_t tiles = members.empty() ? 0 : members.front().state->plan().tile_count();
+  for (std::size_t tile = 0; tile < tiles; ++tile) {
+    for (const CrowdMember& member : members) {
+      PositionsTile(rig, member, tile);
+      if (SparseNormals(mode)) NormalsTile(rig, mode, member, tile);
     }
   }
-  ForEachRun(state_.next_shaded_,
-             [&](std::size_t first, std::size_t count) { blend::NormaliseSums(normals_ + first, count); });
+  for (const CrowdMember& member : members) Finish(rig, mode, member);
 }
 
-// This frame's sets become what the buffers hold (swaps: no allocation).
-void SparseBlend::Remember() {
-  std::swap(state_.moved_, state_.next_moved_);
-  state_.positions_ = positions_;
-  const NormalMode mode = job_.normal_mode;
-  const bool sparse_normals = mode == NormalMode::kBlendDeltas || mode == NormalMode::kBlendRecomputedDeltas;
-  if (sparse_normals) std::swap(state_.shaded_, state_.next_shaded_);
-  state_.normals_ = sparse_normals ? normals_ : nullptr;  // kRecompute writes every normal anyway
-  state_.normal_mode_ = mode;
+// This frame's active shapes, the vertices they move and those whose normal
+// they turn (unions over the active shapes); a buffer that is not the last
+// frame's is reset to rest everywhere first.
+void SparseBlend::Prepare(const Rig& rig, NormalMode mode, const CrowdMember& member) {
+  BlendState& state = *member.state;
+  const BlendPlan& plan = state.plan();
+  std::fill(state.next_moved_.begin(), state.next_moved_.end(), 0);
+  if (mode == NormalMode::kBlendRecomputedDeltas) std::fill(state.next_shaded_.begin(), state.next_shaded_.end(), 0);
+  state.active_count_ = 0;
+  for (std::size_t s = 0; s < member.weights.size(); ++s) {
+    if (member.weights[s] == 0.0f) continue;
+    state.active_[state.active_count_++] = static_cast<std::uint32_t>(s);
+    Or(plan, plan.moved(s), state.next_moved_);
+    if (mode == NormalMode::kBlendRecomputedDeltas) Or(plan, plan.blended(s), state.next_shaded_);
+  }
+  if (mode == NormalMode::kBlendDeltas) state.next_shaded_ = state.next_moved_;  // same size: no allocation
+
+  if (state.positions_ != member.out_positions.data()) {
+    std::memcpy(member.out_positions.data(), rig.positions().data(), rig.positions().size_bytes());
+  }
+  if (SparseNormals(mode) && (state.normals_ != member.out_normals.data() || state.normal_mode_ != mode)) {
+    const std::span<const glm::vec3> rest = plan.rest_normals(mode);
+    std::memcpy(member.out_normals.data(), rest.data(), rest.size_bytes());
+  }
+}
+
+// Back to the neutral where the last frame or this one moves (the rest
+// already is; after a reset the last frame's set is stale but at rest too),
+// then the active shapes' deltas in shape order.
+void SparseBlend::PositionsTile(const Rig& rig, const CrowdMember& member, std::size_t tile) {
+  BlendState& state = *member.state;
+  glm::vec3* positions = member.out_positions.data();
+  const std::size_t first_word = tile * kTileWords, end_word = std::min(first_word + kTileWords, state.moved_.size());
+  ForEachRun(state.moved_, state.next_moved_, nullptr, first_word, end_word,
+             [&](std::size_t first, std::size_t count) { CopyRun(positions, rig.positions(), first, count); });
+  for (std::size_t k = 0; k < state.active_count_; ++k) {
+    const std::uint32_t s = state.active_[k];
+    AddRuns(state.plan().entry_runs(s, tile), state.plan().position_deltas().data(), member.weights[s], positions);
+  }
+}
+
+// The normals of this frame's set start from the base (the rig's normals for
+// kBlendDeltas, the rest sums S0 for kBlendRecomputedDeltas) and take the
+// active shapes' terms, then are normalised as the mode does; those of the
+// last frame's set and not this one's go back to the rest normal.
+void SparseBlend::NormalsTile(const Rig& rig, NormalMode mode, const CrowdMember& member, std::size_t tile) {
+  BlendState& state = *member.state;
+  const BlendPlan& plan = state.plan();
+  glm::vec3* normals = member.out_normals.data();
+  const Bits& now = state.next_shaded_;
+  const std::size_t first_word = tile * kTileWords, end_word = std::min(first_word + kTileWords, now.size());
+  const bool recomputed = mode == NormalMode::kBlendRecomputedDeltas;
+  ForEachRun(state.shaded_, state.shaded_, &now, first_word, end_word,
+             [&](std::size_t first, std::size_t count) { CopyRun(normals, plan.rest_normals(mode), first, count); });
+  const std::span<const glm::vec3> base = recomputed ? plan.rest_sums() : rig.normals();
+  ForEachRun(now, now, nullptr, first_word, end_word,
+             [&](std::size_t first, std::size_t count) { CopyRun(normals, base, first, count); });
+  for (std::size_t k = 0; k < state.active_count_; ++k) {
+    const std::uint32_t s = state.active_[k];
+    const float w = member.weights[s];
+    if (!recomputed) {
+      AddRuns(plan.entry_runs(s, tile), plan.normal_deltas().data(), w, normals);
+      continue;
+    }
+    AddRuns(plan.sum_runs(s, tile), plan.sum_deltas().data(), w, normals);
+    AddRuns(plan.quadratic_runs(s, tile), plan.quadratic_deltas().data(), w * w - w, normals);
+    for (std::size_t later = k + 1; later < state.active_count_; ++later) {
+      const std::uint32_t t = state.active_[later];
+      AddRuns(plan.pair_runs(s, t, tile), plan.pair_deltas().data(), w * member.weights[t], normals);
+    }
+  }
+  ForEachRun(now, now, nullptr, first_word, end_word, [&](std::size_t first, std::size_t count) {
+    if (recomputed) {
+      blend::NormaliseSums(normals + first, count);
+    } else {
+      for (std::size_t v = first; v < first + count; ++v) blend::RenormaliseBlended(normals[v]);
+    }
+  });
+}
+
+// kRecompute's normals (every vertex, as the whole-mesh path), and this
+// frame's sets become what the buffers hold (swaps: no allocation).
+void SparseBlend::Finish(const Rig& rig, NormalMode mode, const CrowdMember& member) {
+  if (mode == NormalMode::kRecompute) ComputeVertexNormals(member.out_positions, rig.triangles(), member.out_normals);
+  BlendState& state = *member.state;
+  std::swap(state.moved_, state.next_moved_);
+  state.positions_ = member.out_positions.data();
+  if (SparseNormals(mode)) std::swap(state.shaded_, state.next_shaded_);
+  state.normals_ = SparseNormals(mode) ? member.out_normals.data() : nullptr;
+  state.normal_mode_ = mode;
 }
 
 }  // namespace facerig

@@ -1,36 +1,25 @@
-// BlendJob::Run with a BlendState: writes only what moved (blend_plan.h).
+// The blend with BlendStates (blend_plan.h): writes only what moved, tile by
+// tile of the mesh across a crowd's members. BlendJob with a state runs it
+// for a crowd of one.
 #pragma once
 
 #include <span>
 
-#include <glm/vec3.hpp>
-
 #include "facerig/runtime/blend_job.h"
+#include "facerig/runtime/crowd_blend_job.h"
 
 namespace facerig {
 
-class BlendPlan;
-
 class SparseBlend {
  public:
-  // `job` is valid (Validate) and has a state.
-  static void Run(const BlendJob& job);
+  // The members are valid (CrowdBlendJob::Validate), each with its own state.
+  static void Run(const Rig& rig, NormalMode mode, std::span<const CrowdMember> members);
 
  private:
-  explicit SparseBlend(const BlendJob& job);
-  void CollectActiveSets();
-  void Positions();
-  void RestoreNormals(std::span<const glm::vec3> rest, std::span<const glm::vec3> base);
-  void BlendedNormals();
-  void BlendedRecomputedNormals();
-  void Remember();
-
-  const BlendJob& job_;
-  BlendState& state_;
-  const BlendPlan& plan_;
-  glm::vec3* positions_;
-  glm::vec3* normals_;  // null for kNone
-  bool normals_known_;  // the normals buffer holds the last Run's, in this mode
+  static void Prepare(const Rig& rig, NormalMode mode, const CrowdMember& member);
+  static void PositionsTile(const Rig& rig, const CrowdMember& member, std::size_t tile);
+  static void NormalsTile(const Rig& rig, NormalMode mode, const CrowdMember& member, std::size_t tile);
+  static void Finish(const Rig& rig, NormalMode mode, const CrowdMember& member);
 };
 
 }  // namespace facerig

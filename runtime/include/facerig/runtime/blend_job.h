@@ -42,7 +42,7 @@ enum class BlendJobError : std::uint8_t {
   kNormalsTooSmall,      // out_normals.size() != vertex_count() with a normal mode
   kRigHasNoNormalDeltas, // kBlendDeltas on a rig without normal deltas
   kStateForAnotherRig,   // the state's plan was built for another rig
-  kModeNeedsState,       // kBlendRecomputedDeltas without a state
+  kModeNeedsState,       // kBlendRecomputedDeltas without a state (or a crowd member without one)
 };
 
 const char* ToString(BlendJobError error);

@@ -54,9 +54,25 @@ class BlendPlan {
   BitSpan moved(std::size_t shape) const { return moved_[shape]; }
   const std::uint64_t* words(const BitSpan& span) const { return pool_.data() + span.offset; }
 
-  // Shape s's entries as runs; first_delta indexes its position_deltas (and
-  // normal_deltas).
+  // The blend walks the mesh tile by tile, each tile for every character of
+  // a crowd before the next, so that the tile's deltas stay in the cache. No
+  // run crosses a tile boundary.
+  static constexpr std::size_t kTileVertices = 2048;
+  std::size_t tile_count() const { return tile_count_; }
+
+  // Runs bridge gaps of up to kMaxGap vertices with zero deltas (adding +0
+  // leaves a value's bits as they are, except -0.0: entry runs never bridge a
+  // vertex with a -0.0 coordinate), so that there are fewer and longer runs.
+  static constexpr std::uint32_t kMaxGap = 8;
+
+  // Shape s's entries as runs (all, or one tile's); first_delta indexes
+  // position_deltas() (and normal_deltas(), for a rig with normal deltas).
   std::span<const DeltaRun> entry_runs(std::size_t shape) const { return Runs(entry_runs_[shape]); }
+  std::span<const DeltaRun> entry_runs(std::size_t shape, std::size_t tile) const {
+    return Runs(entry_runs_[shape], tile);
+  }
+  std::span<const glm::vec3> position_deltas() const { return position_deltas_; }
+  std::span<const glm::vec3> normal_deltas() const { return normal_deltas_; }
 
   // kBlendRecomputedDeltas. A vertex's recomputed normal is its normalised
   // sum S of triangle normals, which is exactly quadratic in the weights:
@@ -70,10 +86,17 @@ class BlendPlan {
   // its runs index sum_deltas(), quadratic_deltas() and pair_deltas().
   BitSpan blended(std::size_t shape) const { return blended_[shape]; }
   std::span<const DeltaRun> sum_runs(std::size_t shape) const { return Runs(sum_runs_[shape]); }
+  std::span<const DeltaRun> sum_runs(std::size_t shape, std::size_t tile) const { return Runs(sum_runs_[shape], tile); }
   std::span<const DeltaRun> quadratic_runs(std::size_t shape) const { return Runs(quadratic_runs_[shape]); }
+  std::span<const DeltaRun> quadratic_runs(std::size_t shape, std::size_t tile) const {
+    return Runs(quadratic_runs_[shape], tile);
+  }
   // Q_st of shapes s < t (empty where they share no triangle).
   std::span<const DeltaRun> pair_runs(std::size_t s, std::size_t t) const {
     return Runs(pair_runs_[s * rig_->shape_count() + t]);
+  }
+  std::span<const DeltaRun> pair_runs(std::size_t s, std::size_t t, std::size_t tile) const {
+    return Runs(pair_runs_[s * rig_->shape_count() + t], tile);
   }
   std::span<const glm::vec3> sum_deltas() const { return sum_deltas_; }
   std::span<const glm::vec3> quadratic_deltas() const { return quadratic_deltas_; }
@@ -87,24 +110,37 @@ class BlendPlan {
   std::span<const glm::vec3> rest_normals(NormalMode mode) const;
 
  private:
-  // One shape's runs: runs_[first, first + count).
+  // One shape's runs: runs_[first, first + count); those of tile t start at
+  // first + tile_starts_[tile_table + t] (tile_count_ + 1 entries; none when
+  // the list is empty).
   struct RunList {
-    std::uint32_t first = 0, count = 0;
+    std::uint32_t first = 0, count = 0, tile_table = 0;
   };
   std::span<const DeltaRun> Runs(const RunList& list) const { return std::span(runs_).subspan(list.first, list.count); }
-  // Runs over the increasing `vertices`, deltas numbered from `first_delta`.
-  RunList AppendRuns(std::span<const std::uint32_t> vertices, std::uint32_t first_delta);
-  // Runs over `terms`, their values appended to `deltas`.
-  RunList AppendTerms(const VertexTerms& terms, std::vector<glm::vec3>& deltas);
+  std::span<const DeltaRun> Runs(const RunList& list, std::size_t tile) const {
+    if (list.count == 0) return {};
+    const std::uint32_t begin = tile_starts_[list.tile_table + tile], end = tile_starts_[list.tile_table + tile + 1];
+    return std::span(runs_).subspan(list.first + begin, end - begin);
+  }
+  // Runs over the increasing `vertices`, bridging gaps without a vertex in
+  // `unbridgeable` (null: any); deltas numbered from `first_delta`. `slots`
+  // gets each delta's index into `vertices`, or -1 for a bridged gap.
+  RunList AppendRuns(std::span<const std::uint32_t> vertices, std::uint32_t first_delta,
+                     const std::vector<std::uint64_t>* unbridgeable, std::vector<std::int64_t>& slots);
+  // Runs over `terms`, their values appended to `deltas`; the vertices they
+  // cover (bridged gaps too) set in `covered`.
+  RunList AppendTerms(const VertexTerms& terms, std::vector<glm::vec3>& deltas, std::vector<std::uint64_t>& covered);
   // The kBlendRecomputedDeltas terms, and the blended() sets.
   void BuildNormalTerms();
 
   const Rig* rig_ = nullptr;
-  std::size_t vertex_words_ = 0;
+  std::size_t vertex_words_ = 0, tile_count_ = 0;
   std::vector<BitSpan> moved_, blended_;
   std::vector<std::uint64_t> pool_;
   std::vector<RunList> entry_runs_, sum_runs_, quadratic_runs_, pair_runs_;
   std::vector<DeltaRun> runs_;
+  std::vector<std::uint32_t> tile_starts_;
+  std::vector<glm::vec3> position_deltas_, normal_deltas_;
   std::vector<glm::vec3> sum_deltas_, quadratic_deltas_, pair_deltas_, rest_sums_;
   std::vector<glm::vec3> recomputed_rest_normals_, renormalised_rest_normals_;
 };
