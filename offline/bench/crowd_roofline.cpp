@@ -1,21 +1,27 @@
 #include "bench/crowd_roofline.h"
 
 #include <algorithm>
-#include <cstring>
 
 #include "bench/common.h"
 
-double CrowdWork::Bytes() const { return (entries + normal_entries) * (12 + 24) + (moved_vertices + shaded_vertices) * 24; }
+double CrowdWork::Bytes() const { return (entries + normal_entries) * 12 + (moved_vertices + shaded_vertices) * 24; }
 
 CrowdWork CountWork(const facerig::BlendPlan& plan, const std::vector<float>& weights,
                     const facerig::BlendState& state) {
   CrowdWork work;
+  const auto count = [](std::span<const facerig::DeltaRun> runs) {
+    double n = 0.0;
+    for (const facerig::DeltaRun& run : runs) n += run.count;
+    return n;
+  };
   for (std::size_t s = 0; s < weights.size(); ++s) {
     if (weights[s] == 0.0f) continue;
     work.active_shapes += 1.0;
-    for (const facerig::DeltaRun& run : plan.entry_runs(s)) work.entries += run.count;
-    for (const facerig::DeltaRun& run : plan.sum_runs(s)) work.normal_entries += run.count;
-    for (const facerig::DeltaRun& run : plan.quadratic_runs(s)) work.normal_entries += run.count;
+    work.entries += count(plan.entry_runs(s));
+    work.normal_entries += count(plan.sum_runs(s)) + count(plan.quadratic_runs(s));
+    for (std::size_t t = s + 1; t < weights.size(); ++t) {
+      if (weights[t] != 0.0f) work.normal_entries += count(plan.pair_runs(s, t));
+    }
   }
   const facerig::BlendWork blend = state.LastWork();
   work.moved_vertices = static_cast<double>(blend.moved_vertices);
@@ -40,23 +46,24 @@ CrowdWork MedianWork(const std::vector<CrowdWork>& work) {
 }
 
 CrowdRoofline::CrowdRoofline(const CrowdWork& work, std::size_t characters)
-    : entries_(static_cast<std::size_t>(work.entries)),
-      moved_(static_cast<std::size_t>(work.moved_vertices)),
-      normal_entries_(static_cast<std::size_t>(work.normal_entries)),
-      shaded_(static_cast<std::size_t>(work.shaded_vertices)),
-      deltas_(std::max(entries_, normal_entries_), glm::vec3(0.5f)),
-      rest_(std::max(moved_, shaded_), glm::vec3(1.0f)),
-      outputs_(characters, std::vector<glm::vec3>(2 * std::max({entries_, normal_entries_, moved_, shaded_}))) {}
+    : deltas_(static_cast<std::size_t>(work.entries + work.normal_entries), glm::vec3(0.5f)),
+      rest_(static_cast<std::size_t>(work.moved_vertices + work.shaded_vertices), glm::vec3(1.0f)),
+      outputs_(characters, std::vector<glm::vec3>(rest_.size())) {}
 
 void CrowdRoofline::Run(std::size_t character) {
-  float* positions = reinterpret_cast<float*>(outputs_[character].data());
-  float* normals = positions + outputs_[character].size() / 2 * 3;
+  // Four sums, so that the reads need not wait on one another.
   const float* deltas = reinterpret_cast<const float*>(deltas_.data());
-  // The restores, then one pass over the deltas per output, like the job.
-  std::memcpy(positions, rest_.data(), moved_ * sizeof(glm::vec3));
-  for (std::size_t i = 0; i < 3 * entries_; ++i) positions[i] += 0.5f * deltas[i];
-  std::memcpy(normals, rest_.data(), shaded_ * sizeof(glm::vec3));
-  for (std::size_t i = 0; i < 3 * normal_entries_; ++i) normals[i] += 0.5f * deltas[i];
+  const std::size_t floats = 3 * deltas_.size();
+  float sums[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  std::size_t i = 0;
+  for (; i + 4 <= floats; i += 4) {
+    for (std::size_t k = 0; k < 4; ++k) sums[k] += deltas[i + k];
+  }
+  for (; i < floats; ++i) sums[0] += deltas[i];
+  const float offset = 1e-9f * (sums[0] + sums[1] + sums[2] + sums[3]);
+  const float* rest = reinterpret_cast<const float*>(rest_.data());
+  float* out = reinterpret_cast<float*>(outputs_[character].data());
+  for (std::size_t k = 0; k < 3 * rest_.size(); ++k) out[k] = rest[k] + offset;
 }
 
 float CrowdRoofline::Checksum() const {

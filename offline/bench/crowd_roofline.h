@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstddef>
-#include <cstdint>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -14,14 +13,14 @@
 // One character's blend in one frame, as counted from its weights and state.
 struct CrowdWork {
   double active_shapes = 0.0;
-  double entries = 0.0;          // position deltas of the active shapes
+  double entries = 0.0;          // position deltas of the active shapes (bridged gaps included)
   double moved_vertices = 0.0;   // positions not at rest (BlendWork)
-  double normal_entries = 0.0;   // normal sum deltas (dS and Q) of the active shapes
+  double normal_entries = 0.0;   // terms of the normal sums: the shapes' and their pairs'
   double shaded_vertices = 0.0;  // normals not at rest
 
-  // The bytes the job must read and write: per delta the delta (12) and one
-  // position or normal read and written (24); per moved or shaded vertex its
-  // rest value read and written (24). The vertex lists are runs: no indices.
+  // The bytes that must move at least: every delta read once (12), and per
+  // moved or shaded vertex its rest value read and its output written (24).
+  // Adding the deltas into the outputs is cache traffic, not counted.
   double Bytes() const;
 };
 
@@ -30,9 +29,9 @@ CrowdWork CountWork(const facerig::BlendPlan& plan, const std::vector<float>& we
 // The per-field medians over many character-frames.
 CrowdWork MedianWork(const std::vector<CrowdWork>& work);
 
-// Streams exactly CrowdWork::Bytes() sequentially: the shared inputs (as the
-// rig's and plan's deltas are) and each character's own outputs (as its
-// position and normal buffers are).
+// Streams exactly CrowdWork::Bytes() sequentially: the deltas and rest values
+// shared by all characters (as the plan's are), and each character's own
+// outputs (as its position and normal buffers are).
 class CrowdRoofline {
  public:
   CrowdRoofline(const CrowdWork& work, std::size_t characters);
@@ -42,8 +41,6 @@ class CrowdRoofline {
   float Checksum() const;
 
  private:
-  std::size_t entries_, moved_, normal_entries_, shaded_;
   std::vector<glm::vec3> deltas_, rest_;
-  // Per character: its positions then its normals.
-  std::vector<std::vector<glm::vec3>> outputs_;
+  std::vector<std::vector<glm::vec3>> outputs_;  // per character
 };

@@ -93,14 +93,12 @@ TEST_CASE("Player: the blend writes only what moves, normals near the recomputed
     REQUIRE(std::memcmp(animator.positions().data(), positions.data(), positions.size() * sizeof(glm::vec3)) == 0);
     written.push_back(static_cast<double>(animator.last_blend_work().moved_vertices) /
                       static_cast<double>(rig.vertex_count()));
-    if (getenv("CROWD_DEBUG") && (frame == 93 || frame == 48)) { for (std::size_t s = 0; s < rig.shape_count(); ++s) if (animator.weights()[s] != 0) printf("frame %d %s %.3f\n", frame, std::string(rig.shape_name(s)).c_str(), animator.weights()[s]); }
     if (frame % 3 != 0) continue;  // the angles every third frame, the pixels every 30th
     const std::vector<double> crease = CreaseDegrees(rig, positions, normals);
     for (std::size_t v = 0; v < rig.vertex_count(); ++v) {
       const double angle = Degrees(animator.normals()[v], normals[v]);
       all_angles.push_back(angle);
       if (crease[v] <= 30.0) smooth_angles.push_back(angle);
-      if (angle > 1.0 && getenv("CROWD_DEBUG")) printf("f %d v %zu angle %.2f crease %.1f pos %.2f %.2f %.2f\n", frame, v, angle, crease[v], positions[v].x, positions[v].y, positions[v].z);
     }
     if (frame % 30 != 0) continue;
     facerig::player::Image blended, recomputed;
