@@ -43,7 +43,7 @@ extern "C" {
  * fr_abi_version() has the same major (high 16 bits, also the SONAME's
  * number) and an equal or higher minor (low 16 bits). */
 #define FR_ABI_VERSION_MAJOR 0
-#define FR_ABI_VERSION_MINOR 2
+#define FR_ABI_VERSION_MINOR 3
 #define FR_ABI_VERSION ((FR_ABI_VERSION_MAJOR << 16) | FR_ABI_VERSION_MINOR)
 
 typedef enum fr_status {
@@ -176,9 +176,9 @@ typedef enum fr_normal_mode {
   FR_NORMALS_NONE = 0,         /* positions only; `normals` may be NULL */
   FR_NORMALS_BLEND_DELTAS = 1, /* neutral normal + weighted normal deltas, renormalised */
   FR_NORMALS_RECOMPUTE = 2,    /* area-weighted normals of the blended positions */
-  FR_NORMALS_BLEND_RECOMPUTED = 3 /* FR_NORMALS_RECOMPUTE's normals from each shape's precomputed
-                                     change of them: within a degree where the surface is smooth,
-                                     a fraction of the cost; fr_blender_blend only */
+  FR_NORMALS_BLEND_RECOMPUTED = 3 /* FR_NORMALS_RECOMPUTE's normals from each shape's (and pair of
+                                     shapes') precomputed change of them: within a degree, at a
+                                     fraction of the cost; fr_blender_blend only (ABI 0.3) */
 } fr_normal_mode;
 
 /* Per frame: positions = neutral + sum of weight[i] * shape i, over the
@@ -193,12 +193,14 @@ FR_API fr_status fr_rig_blend(const fr_rig* rig, const float* weights, size_t we
                               float* positions, float* normals, size_t vertex_capacity);
 
 /* A blender keeps one character's output buffers between frames and writes
- * only what moved since its last blend into them: the vertices its shapes
- * moved then and now, and (FR_NORMALS_RECOMPUTE) the normals next to them.
- * The results equal fr_rig_blend's bit for bit, in a fraction of the time on
- * a face. Create one per pair of buffers (one per character), on `rig`
- * (which it keeps alive); creating allocates, once. */
+ * only what moved since its last blend into them: the positions its shapes
+ * moved then and now (the same bits as fr_rig_blend's), and with
+ * FR_NORMALS_BLEND_RECOMPUTED the normals they turn. Since ABI 0.3. */
 typedef struct fr_blender fr_blender;
+
+/* One per pair of buffers (one per character), on `rig` (which it keeps
+ * alive); creating allocates, once (the first blender on a rig also builds
+ * what all its blenders share: about half a second for the built-in head). */
 FR_API fr_status fr_blender_create(fr_rig* rig, fr_blender** out_blender);
 
 /* NULL is ignored. */
