@@ -1,32 +1,29 @@
 #include "bench/abi.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
-#include <memory>
 #include <optional>
 #include <string>
-#include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/abi_hosts.h"
 #include "bench/common.h"
 #include "bench/json.h"
-#include "facerig.h"
-#include "facerig/runtime/blend_job.h"
-#include "facerig/runtime/character.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/phoneme_track_file.h"
-#include "facerig/runtime/io/rig_file.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-constexpr int kPeriod = 840;  // frames in the 14 s line
+using facerig::bench::AbiHost;
+using facerig::bench::BestPerFrame;
+using facerig::bench::Costs;
+using facerig::bench::FrameWork;
+using facerig::bench::NativeHost;
+using facerig::bench::Quote;
 
 struct AbiOptions {
   std::string head = FACERIG_DEFAULT_HEAD;
@@ -46,115 +43,6 @@ void AddAbiOptions(CLI::App& app, AbiOptions& options) {
   app.add_option("--mono", options.mono, "mono (empty: skip C#)");
   app.add_option("--json", options.json, "write the results as JSON");
 }
-
-// "a pa ba ma" 14 times: 14 s of speech in espeak-ng en-us names.
-facerig::SpeechLine Line() {
-  facerig::SpeechLine line;
-  line.language.assign("en-us");
-  const char* symbols[] = {"_:", "a#", "p", "A:", "b", "A:", "m", "A:", "_:"};
-  const double durations[] = {0.10, 0.12, 0.04, 0.12, 0.03, 0.12, 0.05, 0.15, 0.27};
-  double start = 0.0;
-  for (int repeat = 0; repeat < 14; ++repeat) {
-    for (int i = 0; i < 9; ++i) {
-      facerig::Phoneme phoneme;
-      phoneme.start = facerig::Seconds(start);
-      phoneme.duration = facerig::Seconds(durations[i]);
-      phoneme.symbol.assign(symbols[i]);
-      line.phonemes.push_back(phoneme);
-      start += durations[i];
-    }
-  }
-  return line;
-}
-
-// Microseconds per frame: the fastest of `repeats` runs of `frames` frames.
-double BestPerFrame(int frames, int repeats, const std::function<void(int)>& frame) {
-  double best = 1e300;
-  for (int r = 0; r < repeats; ++r) {
-    const auto start = Clock::now();
-    for (int i = 0; i < frames; ++i) frame(i);
-    best = std::min(best, std::chrono::duration<double, std::micro>(Clock::now() - start).count() / frames);
-  }
-  return best;
-}
-
-struct Costs {
-  double update_us = 0.0, update_blend_us = 0.0;
-};
-
-// A frame's work for one host: update alone, and update + blend.
-struct FrameWork {
-  std::function<void(int)> update, update_blend;
-};
-
-// The character in C++, as the C++ API's users drive it.
-class NativeHost {
- public:
-  NativeHost(const std::string& head, const facerig::SpeechLine& line)
-      : rig_(facerig::LoadRig(head)),
-        character_rig_(facerig::CharacterRig::Build(rig_)),
-        character_(character_rig_),
-        weights_(rig_.shape_count()),
-        positions_(rig_.vertex_count()) {
-    (void)character_.Speak(line.phonemes, facerig::Seconds(0.0));
-  }
-  FrameWork Work() {
-    const auto update = [this](int i) {
-      (void)character_.Update(facerig::Seconds((i % kPeriod) / 60.0));
-      std::copy(character_.weights().begin(), character_.weights().end(), weights_.begin());  // what a host reads
-    };
-    return {update, [this, update](int i) {
-              update(i);
-              (void)facerig::BlendJob{&rig_, weights_, facerig::NormalMode::kNone, positions_, {}}.Run();
-            }};
-  }
-
- private:
-  facerig::Rig rig_;
-  facerig::CharacterRig character_rig_;
-  facerig::Character character_;
-  std::vector<float> weights_;
-  std::vector<glm::vec3> positions_;
-};
-
-// The same through the C ABI.
-class AbiHost {
- public:
-  AbiHost(const std::string& head, const std::string& track_json) {
-    if (fr_rig_load_file(head.c_str(), &rig_) != FR_OK || fr_rig_get_info(rig_, &info_) != FR_OK ||
-        fr_speech_load_track_bytes(track_json.data(), track_json.size(), &speech_) != FR_OK ||
-        fr_character_create(rig_, nullptr, &character_) != FR_OK ||
-        fr_character_speak(character_, speech_, 0.0) != FR_OK) {
-      throw std::runtime_error(std::string("C ABI: ") + fr_last_error());
-    }
-    weights_.resize(info_.shape_count);
-    positions_.resize(3 * std::size_t{info_.vertex_count});
-  }
-  ~AbiHost() {
-    fr_character_release(character_);
-    fr_speech_release(speech_);
-    fr_rig_release(rig_);
-  }
-  AbiHost(const AbiHost&) = delete;
-  AbiHost& operator=(const AbiHost&) = delete;
-  FrameWork Work() {
-    const auto update = [this](int i) {
-      fr_character_update(character_, (i % kPeriod) / 60.0, weights_.data(), weights_.size());
-    };
-    return {update, [this, update](int i) {
-              update(i);
-              fr_rig_blend(rig_, weights_.data(), weights_.size(), FR_NORMALS_NONE, positions_.data(), nullptr,
-                           info_.vertex_count);
-            }};
-  }
-
- private:
-  fr_rig* rig_ = nullptr;
-  fr_speech* speech_ = nullptr;
-  fr_character* character_ = nullptr;
-  fr_rig_info info_{};
-  std::vector<float> weights_, positions_;
-};
 
 // C++ and the C ABI measured in alternation, so that both see the same
 // machine load; each the fastest of its runs.
@@ -176,24 +64,14 @@ std::pair<Costs, Costs> InProcess(const AbiOptions& options, const facerig::Spee
 
 // Runs a binding's benchmark program; nullopt (with the reason printed) when it fails.
 std::optional<Costs> External(const char* host, const std::string& command) {
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen((command + " 2>&1").c_str(), "r"), pclose);
-  std::string output;
-  char buffer[4096];
-  while (pipe && std::fgets(buffer, sizeof buffer, pipe.get())) output += buffer;
-  const int status = pipe ? pclose(pipe.release()) : -1;
-  const nlohmann::json parsed = nlohmann::json::parse(output, nullptr, false);
-  if (status != 0 || !parsed.is_object() || !parsed.contains("update_us")) {
-    std::fprintf(stderr, "%s: skipped (%s):\n%s\n", host, command.c_str(), output.c_str());
-    return std::nullopt;
-  }
-  return Costs{parsed["update_us"].get<double>(), parsed["update_blend_us"].get<double>()};
+  const std::optional<nlohmann::json> parsed = facerig::bench::RunJsonProgram(host, command, "update_us");
+  if (!parsed) return std::nullopt;
+  return Costs{(*parsed)["update_us"].get<double>(), (*parsed)["update_blend_us"].get<double>()};
 }
-
-std::string Quote(const std::string& text) { return "'" + text + "'"; }
 
 int Run(const AbiOptions& options) {
   try {
-    const facerig::SpeechLine line = Line();
+    const facerig::SpeechLine line = facerig::bench::AbiBenchLine();
     const std::string track_json = facerig::FormatPhonemeTrack(line);
     const std::filesystem::path track = std::filesystem::temp_directory_path() / "facerig_bench_abi_track.json";
     facerig::WriteFileAtomically(track, track_json);

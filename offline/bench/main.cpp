@@ -8,6 +8,7 @@
 
 #if FACERIG_BENCH_ABI
 #include "bench/abi.h"
+#include "bench/web.h"
 #endif
 #include "bench/blend.h"
 #include "bench/build.h"
@@ -44,6 +45,8 @@ const std::vector<Entry>& Benchmarks() {
        RunPhotoBenchmark},
 #if FACERIG_BENCH_ABI
       {"abi", "a character's per-frame update (and blend): C++ vs the C ABI vs Python vs C#", RunAbiBenchmark},
+      {"web", "the WebAssembly module in node vs native: update (and blend) per frame, bytes to load",
+       RunWebBenchmark},
 #endif
 #if FACERIG_BENCH_LIPSYNC
       {"lipsync", "closure, audio-visual lag, smoothness, blinks, cost (needs espeak-ng)", RunLipsyncBenchmark},

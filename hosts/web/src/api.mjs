@@ -131,6 +131,55 @@ export class Facerig {
     });
   }
 
+  /**
+   * Phonemes from audio that arrives in chunks, to push into a character as they become final
+   * (fr_audio_stream). The rough mode: no transcript, any mono audio at `sampleRate` (4-384 kHz).
+   */
+  createRoughStream(sampleRate) {
+    this.check(this.wasm._fr_audio_stream_create_rough(sampleRate, this.scratch));
+    this.refreshViews();
+    return new AudioStream(this, this.u32[this.scratch >> 2], sampleRate);
+  }
+
+  /**
+   * Streaming alignment to a transcript: `reference` is a Speech holding the transcript spoken by a
+   * synthesiser (its audio and exact phonemes, e.g. espeak-ng's in the page). The recording pushed
+   * must have the reference's sample rate; the phonemes come out with the reference's symbols.
+   */
+  createAlignedStream(reference) {
+    this.check(this.wasm._fr_audio_stream_create_aligned(reference.handle, this.scratch));
+    this.refreshViews();
+    return new AudioStream(this, this.u32[this.scratch >> 2], reference.audio().sampleRate);
+  }
+
+  /**
+   * A whole recording (mono Float32Array at the reference's sample rate) aligned to the reference's
+   * transcript: a Speech with the reference's phonemes timed on the recording, and the recording.
+   */
+  alignRecording(reference, samples, sampleRate) {
+    const stream = this.createAlignedStream(reference);
+    try {
+      if (sampleRate !== stream.sampleRate) {
+        throw new FacerigError('FR_ERROR_INVALID_ARGUMENT', `the recording is at ${sampleRate} Hz, the reference at ` +
+                               `${stream.sampleRate} Hz: resample it first`);
+      }
+      const phonemes = stream.pushAll(samples);
+      return this.speechFromPhonemes(phonemes, samples, sampleRate);
+    } finally {
+      stream.release();
+    }
+  }
+
+  /** The rough mode over a whole recording, through the stream (the same phonemes as a live one). */
+  roughPhonemes(samples, sampleRate) {
+    const stream = this.createRoughStream(sampleRate);
+    try {
+      return stream.pushAll(samples);
+    } finally {
+      stream.release();
+    }
+  }
+
   writePhoneme(at, p) {
     this.refreshViews();
     if (!(Number.isFinite(p.start) && Number.isFinite(p.duration ?? 0))) {
@@ -150,6 +199,11 @@ export class Facerig {
       throw new FacerigError('FR_ERROR_INVALID_ARGUMENT', `phoneme ${what} '${text}' is longer than ${NAME_CAPACITY - 1} bytes`);
     }
     this.u8.set(bytes, at);
+  }
+
+  readPhoneme(at) {
+    return { start: this.f64[at >> 3], duration: this.f64[(at >> 3) + 1], symbol: this.readName(at + 16),
+             language: this.readName(at + 32), wordStart: this.i32[(at + 48) >> 2] === 1 };
   }
 
   readName(at) {
@@ -194,6 +248,33 @@ export class Rig {
       facerig.refreshViews();
       return facerig.u32[facerig.scratch >> 2];
     });
+  }
+
+  /**
+   * For a mesh's morph targets (a three.js morphTargetDictionary, name -> index, or an array of
+   * names): {order, unmatched}, order[i] the rig shape of target i (-1: none), matched exactly or
+   * in another spelling (ARKit "mouthSmileLeft", ICT "mouthSmile_L", Oculus "viseme_PP", namespaces
+   * such as "blendShape1."), and the target names no rig shape answers. For a page that drives
+   * several meshes (a head's skin, eyes, teeth) from one character's update().
+   */
+  mapTargets(targets) {
+    const names = Array.isArray(targets) ? targets : dictionaryToNames(targets);
+    if (!this.canonical) {
+      this.canonical = new Map();
+      this.shapeNames.forEach((name, index) => {
+        const key = canonicalShapeName(name);
+        if (!this.canonical.has(key)) this.canonical.set(key, index);
+      });
+    }
+    const order = new Int32Array(names.length);
+    const unmatched = [];
+    names.forEach((name, i) => {
+      let index = this.findShape(name);
+      if (index < 0) index = this.canonical.get(canonicalShapeName(name)) ?? -1;
+      if (index < 0) unmatched.push(name);
+      order[i] = index;
+    });
+    return { order, unmatched };
   }
 
   /**
@@ -287,20 +368,102 @@ export class Speech {
       facerig.check(wasm._fr_speech_phonemes(this.handle, array, count, 0));
       facerig.refreshViews();
       const list = [];
-      for (let i = 0; i < count; ++i) {
-        const at = array + i * PHONEME_SIZE;
-        list.push({ start: facerig.f64[at >> 3], duration: facerig.f64[(at >> 3) + 1],
-                    symbol: facerig.readName(at + 16), language: facerig.readName(at + 32),
-                    wordStart: facerig.i32[(at + 48) >> 2] === 1 });
-      }
+      for (let i = 0; i < count; ++i) list.push(facerig.readPhoneme(array + i * PHONEME_SIZE));
       return list;
     } finally {
       wasm._free(array);
     }
   }
 
+  /** Its audio: {samples: Float32Array (mono, [-1, 1]), sampleRate} (0 samples and rate 0 without). */
+  audio() {
+    const { facerig } = this, { wasm } = facerig;
+    const rate = facerig.scratch + 8;
+    const sizing = wasm._fr_speech_audio(this.handle, 0, 0, facerig.scratch, rate);
+    if (sizing !== 0 && sizing !== 2) facerig.check(sizing);
+    facerig.refreshViews();
+    const count = facerig.u32[facerig.scratch >> 2], sampleRate = facerig.i32[rate >> 2];
+    if (count === 0) return { samples: new Float32Array(0), sampleRate };
+    const pointer = wasm._malloc(count * 4);
+    try {
+      facerig.check(wasm._fr_speech_audio(this.handle, pointer, count, 0, 0));
+      facerig.refreshViews();
+      return { samples: facerig.f32.slice(pointer >> 2, (pointer >> 2) + count), sampleRate };
+    } finally {
+      wasm._free(pointer);
+    }
+  }
+
   release() {
     if (this.handle) this.facerig.wasm._fr_speech_release(this.handle);
+    this.handle = 0;
+  }
+}
+
+const STREAM_READ_CAPACITY = 64;  // phonemes taken per fr_audio_stream_read
+
+/**
+ * An audio stream (fr_audio_stream): push mono chunks as they arrive, read the phonemes made final so
+ * far (times from the stream's first sample), finish at the end of the audio. Not for a real-time
+ * thread: pushing may allocate inside the module.
+ */
+export class AudioStream {
+  constructor(facerig, handle, sampleRate) {
+    this.facerig = facerig;
+    this.handle = handle;
+    this.sampleRate = sampleRate;
+    this.chunkPointer = 0;
+    this.chunkCapacity = 0;
+    this.readPointer = facerig.wasm._malloc(STREAM_READ_CAPACITY * PHONEME_SIZE);
+  }
+
+  /** Mono samples in [-1, 1] (a Float32Array); returns the phonemes that became final. */
+  push(samples) {
+    const { facerig } = this, { wasm } = facerig;
+    if (samples.length > this.chunkCapacity) {
+      if (this.chunkPointer) wasm._free(this.chunkPointer);
+      this.chunkCapacity = samples.length;
+      this.chunkPointer = wasm._malloc(this.chunkCapacity * 4);
+    }
+    facerig.refreshViews();
+    facerig.f32.set(samples, this.chunkPointer >> 2);
+    facerig.check(wasm._fr_audio_stream_push(this.handle, this.chunkPointer, samples.length));
+    return this.read();
+  }
+
+  /** The end of the audio: returns the remaining phonemes. */
+  finish() {
+    this.facerig.check(this.facerig.wasm._fr_audio_stream_finish(this.handle));
+    return this.read();
+  }
+
+  /** The phonemes made final since the last read, [{start, duration, symbol, language, wordStart}]. */
+  read() {
+    const { facerig } = this, { wasm } = facerig, list = [];
+    for (;;) {
+      facerig.check(wasm._fr_audio_stream_read(this.handle, this.readPointer, STREAM_READ_CAPACITY, facerig.scratch));
+      facerig.refreshViews();
+      const written = facerig.u32[facerig.scratch >> 2];
+      for (let i = 0; i < written; ++i) list.push(facerig.readPhoneme(this.readPointer + i * PHONEME_SIZE));
+      if (written < STREAM_READ_CAPACITY) return list;
+    }
+  }
+
+  /** Pushes a whole recording in 50 ms chunks (as it would arrive), finishes; all its phonemes. */
+  pushAll(samples) {
+    const chunk = Math.max(1, Math.round(0.05 * this.sampleRate));
+    const phonemes = [];
+    for (let at = 0; at < samples.length; at += chunk) phonemes.push(...this.push(samples.subarray(at, at + chunk)));
+    phonemes.push(...this.finish());
+    return phonemes;
+  }
+
+  release() {
+    const { wasm } = this.facerig;
+    if (!this.handle) return;
+    wasm._fr_audio_stream_release(this.handle);
+    if (this.chunkPointer) wasm._free(this.chunkPointer);
+    wasm._free(this.readPointer);
     this.handle = 0;
   }
 }
@@ -344,21 +507,9 @@ export class Character {
    * namespaces such as "blendShape1."). Returns the target names no rig shape answers.
    */
   attach(targets) {
-    const names = Array.isArray(targets) ? targets : dictionaryToNames(targets);
-    const canonical = new Map();
-    this.rig.shapeNames.forEach((name, index) => {
-      const key = canonicalShapeName(name);
-      if (!canonical.has(key)) canonical.set(key, index);
-    });
-    this.order = new Int32Array(names.length);
-    const unmatched = [];
-    names.forEach((name, i) => {
-      let index = this.rig.findShape(name);
-      if (index < 0) index = canonical.get(canonicalShapeName(name)) ?? -1;
-      if (index < 0) unmatched.push(name);
-      this.order[i] = index;
-    });
-    this.output = new Float32Array(names.length);
+    const { order, unmatched } = this.rig.mapTargets(targets);
+    this.order = order;
+    this.output = new Float32Array(order.length);
     return unmatched;
   }
 

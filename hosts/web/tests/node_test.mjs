@@ -1,7 +1,8 @@
 // The WebAssembly module in node, without a browser (ctest, label web):
-//   node --no-experimental-fetch node_test.mjs HEAD.glb REFERENCE_FRAME.bin
+//   node --no-experimental-fetch node_test.mjs HEAD.frig REFERENCE_FRAME.bin [HEAD.glb]
 // REFERENCE_FRAME.bin is what the native C consumer (hosts/c/tests/consumer.c)
-// writes: the weights and positions of frame 20 of the same track.
+// writes: the weights and positions of frame 20 of the same track. HEAD.glb,
+// the same head as a GLB, is read through tinygltf and must give the same.
 import { readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { dirname } from 'node:path';
@@ -14,7 +15,7 @@ globalThis.require = createRequire(import.meta.url);
 globalThis.__dirname = dirname(fileURLToPath(new URL('../dist/facerig.mjs', import.meta.url)));
 const { loadFacerig, FacerigError } = await import('../dist/facerig.mjs');
 
-const [headPath, referencePath] = process.argv.slice(2);
+const [headPath, referencePath, glbPath] = process.argv.slice(2);
 let failures = 0;
 function check(condition, what) {
   console.log(`${condition ? 'ok  ' : 'FAIL'} ${what}`);
@@ -162,6 +163,59 @@ expectError(() => character.setEmotion('boredom', 1), 'FR_ERROR_INVALID_ARGUMENT
 expectError(() => character.update(NaN), 'FR_ERROR_INVALID_ARGUMENT', 'non-finite time');
 expectError(() => rig.createCharacter().pushPhoneme({ start: 0, duration: 0.1, symbol: 'p' }), 'FR_ERROR_STATE',
             'a push with no line begun');
+
+// The same head as a GLB (tinygltf, then the runtime's glTF reader): the same
+// shapes and the same weights at frame 20.
+if (glbPath) {
+  const glb = readFileSync(glbPath);
+  const glbRig = facerig.loadRig(glb, 'default_head.glb');
+  check(glbRig.info.vertexCount === rig.info.vertexCount &&
+        glbRig.shapeNames.join() === rig.shapeNames.join(), `GLB head: ${glbRig.info.shapeCount} shapes, as the .frig`);
+  const glbCharacter = glbRig.createCharacter();
+  const glbSpeech = facerig.speechFromTrack(track);
+  glbCharacter.speak(glbSpeech, 0);
+  glbSpeech.release();
+  let glbFrame20 = null;
+  for (let frame = 0; frame <= 20; ++frame) glbFrame20 = glbCharacter.update(frame / 60);
+  const glbDiff = maxDiff(glbFrame20, nativeWeights);
+  check(glbDiff <= 1e-5, `GLB head: frame 20 within 1e-5 of native (max difference ${glbDiff})`);
+  glbCharacter.release();
+  glbRig.release();
+
+  // tinygltf's own messages, built in this module without std::stringstream
+  // (hosts/web/src/tiny_gltf.cpp): text and numbers as a stream writes them.
+  const withJson = (edit) => {
+    const view = new DataView(glb.buffer, glb.byteOffset, glb.byteLength);
+    const jsonLength = view.getUint32(12, true);
+    const json = JSON.parse(new TextDecoder().decode(glb.subarray(20, 20 + jsonLength)));
+    edit(json);
+    const text = new TextEncoder().encode(JSON.stringify(json));
+    const padded = new Uint8Array((text.length + 3) & ~3).fill(0x20);
+    padded.set(text);
+    const rest = glb.subarray(20 + jsonLength);
+    const out = new Uint8Array(20 + padded.length + rest.length);
+    out.set(glb.subarray(0, 20));
+    out.set(padded, 20);
+    out.set(rest, 20 + padded.length);
+    new DataView(out.buffer).setUint32(8, out.length, true);
+    new DataView(out.buffer).setUint32(12, padded.length, true);
+    return out;
+  };
+  const tinygltfMessage = (edit) => {
+    try {
+      facerig.loadRig(withJson(edit), 'bad.glb');
+      return 'no error';
+    } catch (e) {
+      return `${e.status}: ${e.message}`;
+    }
+  };
+  const badType = tinygltfMessage((json) => { json.accessors[0].componentType = 9999; });
+  check(badType === 'FR_ERROR_FORMAT: bad.glb: tinygltf: Invalid `componentType` in accessor. Got 9999', badType);
+  const badLength = tinygltfMessage((json) => { json.buffers[0].byteLength = 1e9; });
+  check(badLength.startsWith('FR_ERROR_FORMAT: bad.glb: tinygltf: Invalid `byteLength\'. Must be equal or less than ' +
+                             'binary size: `byteLength\' = 1000000000, binary size = ') &&
+        /binary size = \d+$/.test(badLength), badLength);
+}
 
 // Per-frame cost of update() (the page's cost per character per frame).
 const frames = 20000;
