@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -152,20 +153,23 @@ CrowdSummary Summarize(const FrameTimes& times, std::size_t count) {
   return s;
 }
 
-// Every configuration's crowd, frame by frame in turn, so that all see the
-// same load; the roofline kernel in turn too. Counts the sparse normals
-// crowd's work after each of its frames (outside the timed part).
+// Every chosen configuration's crowd, frame by frame in turn, so that all see
+// the same load; the roofline kernel in turn too. A first pass counts the
+// sparse normals crowd's work after each of its frames.
 struct CrowdRun {
-  std::vector<FrameTimes> times;  // per configuration
+  std::vector<FrameTimes> times;  // per configuration (empty: not run)
   std::vector<double> roofline_us;  // per frame, all characters
   CrowdWork work;                   // median character-frame
 };
 
 CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& character_rig,
-                   const std::vector<facerig::SpeechLine>& lines, std::size_t count, int frames) {
+                   const std::vector<facerig::SpeechLine>& lines, std::size_t count, int frames, bool normals_only) {
   const facerig::BlendPlan plan = facerig::BlendPlan::Build(rig);
   std::vector<std::vector<Speaker>> crowds;
-  for (const Config& config : kConfigs) crowds.push_back(MakeCrowd(count, character_rig, lines, config.sparse ? &plan : nullptr));
+  for (const Config& config : kConfigs) {
+    const bool chosen = !normals_only || config.normals != facerig::NormalMode::kNone;
+    crowds.push_back(chosen ? MakeCrowd(count, character_rig, lines, config.sparse ? &plan : nullptr) : std::vector<Speaker>{});
+  }
   CrowdRun run;
   run.times.resize(std::size(kConfigs));
   // A first pass counts the work that the roofline is sized to.
@@ -185,7 +189,9 @@ CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& charact
   CrowdRoofline roofline(run.work, count);
   for (int frame = 0; frame < frames; ++frame) {
     const double time = 0.5 + static_cast<double>(frame) / 60.0;
-    for (std::size_t c = 0; c < std::size(kConfigs); ++c) RunFrame(crowds[c], rig, kConfigs[c].normals, time, run.times[c]);
+    for (std::size_t c = 0; c < std::size(kConfigs); ++c) {
+      if (!crowds[c].empty()) RunFrame(crowds[c], rig, kConfigs[c].normals, time, run.times[c]);
+    }
     const auto start = Clock::now();
     for (std::size_t i = 0; i < count; ++i) roofline.Run(i);
     run.roofline_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - start).count());
@@ -194,19 +200,23 @@ CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& charact
   return run;
 }
 
-void PrintTable(const std::vector<CrowdSummary>& summaries) {
+// `summaries` per configuration; null: not run.
+void PrintTable(const std::vector<std::optional<CrowdSummary>>& summaries) {
   std::printf("| blend | frame median / p99 (us) | per character: update / blend / total (us) | characters per 60 fps frame |\n");
   std::printf("|---|---|---|---|\n");
   for (std::size_t c = 0; c < summaries.size(); ++c) {
-    const CrowdSummary& s = summaries[c];
+    if (!summaries[c]) continue;
+    const CrowdSummary& s = *summaries[c];
     std::printf("| %s | %.0f / %.0f | %.2f / %.2f / %.2f | %zu |\n", kConfigs[c].name, s.frame_median, s.frame_p99,
                 s.update_per_character_us, s.blend_per_character_us, s.per_character_us, s.max_characters);
   }
-  std::printf("same run, per character against the whole mesh: positions %.2fx faster; with normals, recomputed %.2fx, "
-              "blended %.2fx faster\n",
-              summaries[kWholePositions].per_character_us / summaries[kSparsePositions].per_character_us,
-              summaries[kWholeNormals].per_character_us / summaries[kSparseRecomputed].per_character_us,
-              summaries[kWholeNormals].per_character_us / summaries[kSparseBlended].per_character_us);
+  const auto speedup = [&](std::size_t before, std::size_t after) {
+    return summaries[before]->per_character_us / summaries[after]->per_character_us;
+  };
+  std::printf("same run, per character against the whole mesh:");
+  if (summaries[kWholePositions]) std::printf(" positions %.2fx faster;", speedup(kWholePositions, kSparsePositions));
+  std::printf(" with normals, recomputed %.2fx, blended %.2fx faster\n", speedup(kWholeNormals, kSparseRecomputed),
+              speedup(kWholeNormals, kSparseBlended));
 }
 
 void PrintRoofline(const CrowdWork& work, double roofline_us, const CrowdSummary& sparse, double update_us) {
@@ -243,11 +253,13 @@ int RunCrowdBenchmark(int argc, char** argv) {
   if (!std::filesystem::exists(rig_path)) rig_path = FACERIG_DEFAULT_ICT_DIR;
   std::string json_path;
   int frames = 240;
+  bool normals_only = false;
   CLI::App app("N characters' update + blend per 60 fps frame on one core: the whole-mesh blend and only what moves",
                "facerig-bench crowd");
   app.add_option("count", count, "characters (default 100)")->check(facerig::cli::InRange(std::size_t{1}, std::size_t{1000000}));
   app.add_option("--rig", rig_path, "the rig (default: the built-in head)");
   app.add_option("--frames", frames, "frames (default 240)")->check(facerig::cli::InRange(10, 1000000));
+  app.add_flag("--normals", normals_only, "only the blends with normals (a lit crowd): leave out positions only");
   app.add_option("--json", json_path, "write the results as JSON");
   if (const std::optional<int> exit_code = facerig::cli::ParseCommandLine(app, argc - 1, argv + 1)) return *exit_code;
 
@@ -262,14 +274,17 @@ int RunCrowdBenchmark(int argc, char** argv) {
   std::vector<facerig::SpeechLine> lines;
   for (const char* text : kLines) lines.push_back(source.Synthesize(text, "en-us"));
 
-  const CrowdRun run = RunCrowds(rig, character_rig, lines, count, frames);
-  std::vector<CrowdSummary> summaries;
-  for (const FrameTimes& times : run.times) summaries.push_back(Summarize(times, count));
+  const CrowdRun run = RunCrowds(rig, character_rig, lines, count, frames, normals_only);
+  std::vector<std::optional<CrowdSummary>> summaries;
+  for (const FrameTimes& times : run.times) {
+    summaries.push_back(times.frame_us.empty() ? std::nullopt : std::optional(Summarize(times, count)));
+  }
+  const CrowdSummary& blended = *summaries[kSparseBlended];
   const double roofline_us = UpperMedian(run.roofline_us) / static_cast<double>(count);
   std::printf("crowd: %zu characters on %s (%zu vertices, %zu shapes), %d frames, one core, each blend in turn\n",
               count, rig_path.c_str(), rig.vertex_count(), rig.shape_count(), frames);
   PrintTable(summaries);
-  PrintRoofline(run.work, roofline_us, summaries[kSparseBlended], summaries[kSparseBlended].update_per_character_us);
+  PrintRoofline(run.work, roofline_us, blended, blended.update_per_character_us);
   if (json_path.empty()) return 0;
   nlohmann::json report = {{"rig", rig_path},
                            {"characters", count},
@@ -281,9 +296,11 @@ int RunCrowdBenchmark(int argc, char** argv) {
                                      {"shaded_vertices", run.work.shaded_vertices},
                                      {"bytes", run.work.Bytes()}}},
                            {"roofline_characters_60fps",
-                            kFrameBudgetUs / (roofline_us + summaries[kSparseBlended].update_per_character_us)},
+                            kFrameBudgetUs / (roofline_us + blended.update_per_character_us)},
                            {"roofline_us_per_character", roofline_us},
-                           {"blend_over_roofline", summaries[kSparseBlended].blend_per_character_us / roofline_us}};
-  for (std::size_t c = 0; c < summaries.size(); ++c) report["blends"].push_back(SummaryJson(kConfigs[c], summaries[c]));
+                           {"blend_over_roofline", blended.blend_per_character_us / roofline_us}};
+  for (std::size_t c = 0; c < summaries.size(); ++c) {
+    if (summaries[c]) report["blends"].push_back(SummaryJson(kConfigs[c], *summaries[c]));
+  }
   return WriteBenchJson(json_path, report);
 }

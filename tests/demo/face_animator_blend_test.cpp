@@ -1,8 +1,8 @@
 // The player's blend on the built-in head over a spoken line: only what
 // moves is written; positions are the whole-mesh blend's bit for bit, normals
 // (blended from each shape's change of the recomputed ones) within a degree of
-// the recomputed ones where the surface is smooth, and the frames the same
-// pixels as with recomputed normals, within a stated tolerance.
+// the recomputed ones where the surface is smooth, the frames the same pixels
+// as with recomputed normals within a stated tolerance, and no allocation.
 #include "face_animator.h"
 
 #include <algorithm>
@@ -18,6 +18,7 @@
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/runtime/blend_job.h"
 #include "facerig/runtime/io/rig_file.h"
+#include "measure/allocation_counter.h"
 #include "media_writer.h"
 
 namespace {
@@ -84,9 +85,14 @@ TEST_CASE("Player: the blend writes only what moves, normals near the recomputed
   std::vector<double> smooth_angles, all_angles, written;
   PixelDifference worst_pixels;
   double worst_mean = 0.0;
+  std::size_t allocations = 0;
   const int frames = static_cast<int>((0.4 + line.audio_duration().count()) * 60.0);
   for (int frame = 0; frame < frames; ++frame) {
-    animator.Update(frame / 60.0);
+    {
+      facerig::test::AllocationCounter counter;
+      animator.Update(frame / 60.0);
+      allocations += counter.count();
+    }
     const facerig::BlendJob whole{&rig, animator.weights(), facerig::NormalMode::kRecompute, positions, normals};
     REQUIRE(whole.Run() == facerig::BlendJobError::kNone);
     INFO("frame " << frame);
@@ -121,6 +127,7 @@ TEST_CASE("Player: the blend writes only what moves, normals near the recomputed
               << ", p99 " << Percentile(smooth_angles, 0.99) << " deg; everywhere: max " << Percentile(all_angles, 1.0)
               << ", p99 " << Percentile(all_angles, 0.99) << " deg; frames at 320x240 against recomputed normals: max "
               << worst_pixels.max << " / 255 in a channel, mean at most " << worst_mean);
+  REQUIRE(allocations == 0);
   REQUIRE(Percentile(smooth_angles, 1.0) <= 1.0);
   REQUIRE(Percentile(all_angles, 0.99) <= 0.5);
   REQUIRE(smooth_share > 0.95);
