@@ -1,5 +1,7 @@
 // The player's blend on the built-in head over a spoken line: only what
-// moves is written; positions are the whole-mesh blend's bit for bit, normals
+// moves is written, yet the buffers hold what a fresh blend state writes
+// everywhere (nothing is left behind); positions are the whole-mesh blend's
+// bit for bit, normals
 // (blended from each shape's change of the recomputed ones) within a degree of
 // the recomputed ones where the surface is smooth, the frames the same pixels
 // as with recomputed normals within a stated tolerance, and no allocation.
@@ -17,6 +19,7 @@
 #include "face_renderer.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/runtime/blend_job.h"
+#include "facerig/runtime/blend_plan.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "measure/allocation_counter.h"
 #include "media_writer.h"
@@ -82,6 +85,8 @@ TEST_CASE("Player: the blend writes only what moves, normals near the recomputed
   facerig::player::FaceRenderer renderer(rig);
   facerig::player::OffscreenTarget target(320, 240);
   std::vector<glm::vec3> positions(rig.vertex_count()), normals(rig.vertex_count());
+  const facerig::BlendPlan plan = facerig::BlendPlan::Build(rig);  // for a fresh state each frame
+  std::vector<glm::vec3> fresh_positions(rig.vertex_count()), fresh_normals(rig.vertex_count());
   std::vector<double> smooth_angles, all_angles, written;
   PixelDifference worst_pixels;
   double worst_mean = 0.0;
@@ -97,6 +102,11 @@ TEST_CASE("Player: the blend writes only what moves, normals near the recomputed
     REQUIRE(whole.Run() == facerig::BlendJobError::kNone);
     INFO("frame " << frame);
     REQUIRE(std::memcmp(animator.positions().data(), positions.data(), positions.size() * sizeof(glm::vec3)) == 0);
+    facerig::BlendState fresh(plan);
+    const facerig::BlendJob from_scratch{&rig, animator.weights(), facerig::NormalMode::kBlendRecomputedDeltas,
+                                         fresh_positions, fresh_normals, &fresh};
+    REQUIRE(from_scratch.Run() == facerig::BlendJobError::kNone);
+    REQUIRE(std::memcmp(animator.normals().data(), fresh_normals.data(), normals.size() * sizeof(glm::vec3)) == 0);
     written.push_back(static_cast<double>(animator.last_blend_work().moved_vertices) /
                       static_cast<double>(rig.vertex_count()));
     if (frame % 3 != 0) continue;  // the angles every third frame, the pixels every 30th
