@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Compares two folders of frames (facerig-player --headless --frames) pixel by pixel.
 
-usage: scripts/compare-frames.py DIR_A DIR_B
+usage: scripts/compare-frames.py DIR_A DIR_B [--picture FILE.png]
 
 Prints, per frame and over all, the largest difference in a colour channel (0-255), the mean
-difference and how many channels differ. Reads 8-bit RGB / RGBA PNGs without interlacing (what
+difference and how many channels differ. --picture writes the frame of DIR_B that differs most (by
+the mean) beside its difference from DIR_A times 64. Reads 8-bit RGB / RGBA PNGs without interlacing (what
 the player writes) with the standard library only. Exit code 1 when the folders hold different
 frame names or sizes, 2 on a bad command line.
 """
@@ -56,7 +57,32 @@ def read_png(path):
     return b"".join(rows), channels, width
 
 
+def write_png(path, rgb, width, height):
+    """8-bit RGB rows, no filtering."""
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    rows = b"".join(b"\0" + rgb[y * width * 3:(y + 1) * width * 3] for y in range(height))
+    with open(path + ".tmp", "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b""))
+    os.replace(path + ".tmp", path)
+
+
+def write_picture(path, a, b, channels, width):
+    """Frame b beside |a - b| * 64 (alpha left out)."""
+    height = len(a) // (width * channels)
+    out = bytearray()
+    for y in range(height):
+        row = range(y * width * channels, (y + 1) * width * channels)
+        out += bytes(b[i] for i in row if i % channels < 3)
+        out += bytes(min(255, 64 * abs(a[i] - b[i])) for i in row if i % channels < 3)
+    write_png(path, bytes(out), 2 * width, height)
+
+
 def main(argv):
+    picture = None
+    if len(argv) == 5 and argv[3] == "--picture":
+        picture, argv = argv[4], argv[:3]
     if len(argv) != 3:
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
         return 2
@@ -64,7 +90,7 @@ def main(argv):
     if names != sorted(n for n in os.listdir(argv[2]) if n.endswith(".png")):
         print("the folders hold different frames", file=sys.stderr)
         return 1
-    worst, total, count, differing_frames = 0, 0, 0, 0
+    worst, total, count, differing_frames, most = 0, 0, 0, 0, (-1.0, None)
     for name in names:
         (a, channels, width), (b, other_channels, other_width) = (read_png(os.path.join(d, name)) for d in argv[1:])
         if len(a) != len(b) or channels != other_channels or width != other_width:
@@ -76,7 +102,12 @@ def main(argv):
         print(f"{name}: max {largest}, mean {sum(diffs) / len(diffs):.5f}, {changed} channels differ")
         worst, total, count = max(worst, largest), total + sum(diffs), count + len(diffs)
         differing_frames += largest > 0
+        most = max(most, (sum(diffs) / len(diffs), name), key=lambda m: m[0])
     print(f"{len(names)} frames, {differing_frames} differ: max {worst} / 255 in a channel, mean {total / count:.5f}")
+    if picture and most[1]:
+        (a, channels, width), (b, _, _) = (read_png(os.path.join(d, most[1])) for d in argv[1:])
+        write_picture(picture, a, b, channels, width)
+        print(f"wrote {picture}: {most[1]} of {argv[2]} beside its difference from {argv[1]} times 64")
     return 0
 
 
