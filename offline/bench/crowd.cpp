@@ -1,6 +1,7 @@
 #include "cli/options.h"
 #include "bench/crowd.h"
 #include "bench/common.h"
+#include "bench/crowd_accuracy.h"
 #include "bench/crowd_roofline.h"
 #include "bench/json.h"
 
@@ -160,7 +161,14 @@ struct CrowdRun {
   std::vector<FrameTimes> times;  // per configuration (empty: not run)
   std::vector<double> roofline_us;  // per frame, all characters
   CrowdWork work;                   // median character-frame
+  double worst_smooth_degrees = 0.0, worst_degrees = 0.0, smooth_share = 0.0;  // NormalAccuracy's
+  std::size_t accuracy_samples = 0;
 };
+
+// The census's first characters (one per line, each with another emotion)
+// every fourth frame: their blended normals against recomputed ones.
+constexpr std::size_t kAccuracyCharacters = std::size(kLines);
+constexpr int kAccuracyEvery = 4;
 
 CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& character_rig,
                    const std::vector<facerig::SpeechLine>& lines, std::size_t count, int frames, bool normals_only) {
@@ -172,18 +180,24 @@ CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& charact
   }
   CrowdRun run;
   run.times.resize(std::size(kConfigs));
-  // A first pass counts the work that the roofline is sized to.
+  // A first pass counts the work that the roofline is sized to, and measures the normals.
   std::vector<CrowdWork> work;
   {
     std::vector<Speaker> census = MakeCrowd(count, character_rig, lines, &plan);
+    NormalAccuracy accuracy(rig);
     FrameTimes ignored;
     for (int frame = 0; frame < frames; ++frame) {
       RunFrame(census, rig, kConfigs[kSparseBlended].normals, 0.5 + frame / 60.0, ignored);
-      for (const Speaker& member : census) {
-        const std::span<const float> w = member.character->weights();
-        work.push_back(CountWork(plan, {w.begin(), w.end()}, *member.state));
+      for (std::size_t i = 0; i < census.size(); ++i) {
+        const std::span<const float> w = census[i].character->weights();
+        work.push_back(CountWork(plan, {w.begin(), w.end()}, *census[i].state));
+        if (i < kAccuracyCharacters && frame % kAccuracyEvery == 0) accuracy.Add(w, census[i].normals);
       }
     }
+    run.worst_smooth_degrees = accuracy.worst_smooth_degrees();
+    run.worst_degrees = accuracy.worst_degrees();
+    run.smooth_share = accuracy.smooth_share();
+    run.accuracy_samples = accuracy.samples();
   }
   run.work = MedianWork(work);
   CrowdRoofline roofline(run.work, count);
@@ -285,6 +299,9 @@ int RunCrowdBenchmark(int argc, char** argv) {
               count, rig_path.c_str(), rig.vertex_count(), rig.shape_count(), frames);
   PrintTable(summaries);
   PrintRoofline(run.work, roofline_us, blended, blended.update_per_character_us);
+  std::printf("blended recomputed normals against recomputed ones (%zu vertex-frames): max %.2f degree where smooth "
+              "(%.1f %% of them), %.2f everywhere; target: 1 degree where smooth\n",
+              run.accuracy_samples, run.worst_smooth_degrees, 100.0 * run.smooth_share, run.worst_degrees);
   if (json_path.empty()) return 0;
   nlohmann::json report = {{"rig", rig_path},
                            {"characters", count},
@@ -298,7 +315,10 @@ int RunCrowdBenchmark(int argc, char** argv) {
                            {"roofline_characters_60fps",
                             kFrameBudgetUs / (roofline_us + blended.update_per_character_us)},
                            {"roofline_us_per_character", roofline_us},
-                           {"blend_over_roofline", blended.blend_per_character_us / roofline_us}};
+                           {"blend_over_roofline", blended.blend_per_character_us / roofline_us},
+                           {"normals_worst_smooth_degrees", run.worst_smooth_degrees},
+                           {"normals_worst_degrees", run.worst_degrees},
+                           {"normals_smooth_share", run.smooth_share}};
   for (std::size_t c = 0; c < summaries.size(); ++c) {
     if (summaries[c]) report["blends"].push_back(SummaryJson(kConfigs[c], *summaries[c]));
   }

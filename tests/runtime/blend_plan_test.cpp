@@ -165,7 +165,7 @@ TEST_CASE("Blended recomputed normals: one shape at any weight, and shapes toget
   const facerig::Rig rig = MakePatchRig();
   const BlendPlan plan = BlendPlan::Build(rig);
   // One shape alone: its normal sums are exactly quadratic in the weight, so
-  // only what the plan left out (under 0.3 degree a shape for weights in
+  // only what the plan left out (under 0.2 degree a shape for weights in
   // [0, 1], more when extrapolating) differs.
   for (float w : {0.3f, 0.7f, 1.0f, 1.6f, -0.4f}) {
     std::vector<float> weights(rig.shape_count(), 0.0f);
@@ -177,7 +177,7 @@ TEST_CASE("Blended recomputed normals: one shape at any weight, and shapes toget
     REQUIRE(WorstDegrees(blended.normals, recomputed.normals) < (w >= 0.0f && w <= 1.0f ? 0.5 : 1.5));
   }
   // Overlapping shapes: their cross term is kept too, so again only what the
-  // plan left out differs (each term under 0.3 degree at weights 1/2).
+  // plan left out differs (each term under 0.2 degree at weights 1/2).
   const std::vector<float> weights = {0.8f, 0.9f, 0.0f, 0.0f, 0.0f, 0.0f};
   const Outputs blended = FromScratch(plan, weights, NormalMode::kBlendRecomputedDeltas);
   const Outputs recomputed = WholeMesh(rig, weights, NormalMode::kRecompute);
