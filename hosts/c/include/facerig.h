@@ -200,7 +200,7 @@ typedef struct fr_blender fr_blender;
 
 /* One per pair of buffers (one per character), on `rig` (which it keeps
  * alive); creating allocates, once (the first blender on a rig also builds
- * what all its blenders share: about half a second for the built-in head). */
+ * what all its blenders share: 0.7 s for the built-in head). */
 FR_API fr_status fr_blender_create(fr_rig* rig, fr_blender** out_blender);
 
 /* NULL is ignored. */
