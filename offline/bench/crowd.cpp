@@ -170,6 +170,30 @@ struct CrowdRun {
 constexpr std::size_t kAccuracyCharacters = std::size(kLines);
 constexpr int kAccuracyEvery = 4;
 
+// A first pass of the lit crowd that writes only what moves: the median
+// character-frame's work, which the roofline is sized to, and the normals
+// of its first characters against recomputed ones.
+void Census(const facerig::Rig& rig, const facerig::BlendPlan& plan, const facerig::CharacterRig& character_rig,
+            const std::vector<facerig::SpeechLine>& lines, std::size_t count, int frames, CrowdRun& run) {
+  std::vector<Speaker> census = MakeCrowd(count, character_rig, lines, &plan);
+  NormalAccuracy accuracy(rig);
+  std::vector<CrowdWork> work;
+  FrameTimes ignored;
+  for (int frame = 0; frame < frames; ++frame) {
+    RunFrame(census, rig, kConfigs[kSparseBlended].normals, 0.5 + frame / 60.0, ignored);
+    for (std::size_t i = 0; i < census.size(); ++i) {
+      const std::span<const float> w = census[i].character->weights();
+      work.push_back(CountWork(plan, {w.begin(), w.end()}, *census[i].state));
+      if (i < kAccuracyCharacters && frame % kAccuracyEvery == 0) accuracy.Add(w, census[i].normals);
+    }
+  }
+  run.work = MedianWork(work);
+  run.worst_smooth_degrees = accuracy.worst_smooth_degrees();
+  run.worst_degrees = accuracy.worst_degrees();
+  run.smooth_share = accuracy.smooth_share();
+  run.accuracy_samples = accuracy.samples();
+}
+
 CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& character_rig,
                    const std::vector<facerig::SpeechLine>& lines, std::size_t count, int frames, bool normals_only) {
   const facerig::BlendPlan plan = facerig::BlendPlan::Build(rig);
@@ -180,26 +204,7 @@ CrowdRun RunCrowds(const facerig::Rig& rig, const facerig::CharacterRig& charact
   }
   CrowdRun run;
   run.times.resize(std::size(kConfigs));
-  // A first pass counts the work that the roofline is sized to, and measures the normals.
-  std::vector<CrowdWork> work;
-  {
-    std::vector<Speaker> census = MakeCrowd(count, character_rig, lines, &plan);
-    NormalAccuracy accuracy(rig);
-    FrameTimes ignored;
-    for (int frame = 0; frame < frames; ++frame) {
-      RunFrame(census, rig, kConfigs[kSparseBlended].normals, 0.5 + frame / 60.0, ignored);
-      for (std::size_t i = 0; i < census.size(); ++i) {
-        const std::span<const float> w = census[i].character->weights();
-        work.push_back(CountWork(plan, {w.begin(), w.end()}, *census[i].state));
-        if (i < kAccuracyCharacters && frame % kAccuracyEvery == 0) accuracy.Add(w, census[i].normals);
-      }
-    }
-    run.worst_smooth_degrees = accuracy.worst_smooth_degrees();
-    run.worst_degrees = accuracy.worst_degrees();
-    run.smooth_share = accuracy.smooth_share();
-    run.accuracy_samples = accuracy.samples();
-  }
-  run.work = MedianWork(work);
+  Census(rig, plan, character_rig, lines, count, frames, run);
   CrowdRoofline roofline(run.work, count);
   for (int frame = 0; frame < frames; ++frame) {
     const double time = 0.5 + static_cast<double>(frame) / 60.0;
