@@ -12,6 +12,7 @@
 
 #include "bench/abi_hosts.h"
 #include "bench/common.h"
+#include "cli/options.h"
 #include "bench/json.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/phoneme_track_file.h"
@@ -37,8 +38,8 @@ struct AbiOptions {
 void AddAbiOptions(CLI::App& app, AbiOptions& options) {
   app.add_option("--rig", options.head, "the rig (default: the built-in head)");
   app.add_option("--frames", options.frames, "frames per run of update (a tenth of them for update + blend)")
-      ->check(CLI::Range(100, 10000000));
-  app.add_option("--repeats", options.repeats, "runs per measurement; the fastest counts")->check(CLI::Range(1, 100));
+      ->check(facerig::cli::InRange(100, 10000000));
+  app.add_option("--repeats", options.repeats, "runs per measurement; the fastest counts")->check(facerig::cli::InRange(1, 100));
   app.add_option("--python", options.python, "Python 3 with numpy (empty: skip Python)");
   app.add_option("--mono", options.mono, "mono (empty: skip C#)");
   app.add_option("--json", options.json, "write the results as JSON");

@@ -13,80 +13,32 @@
 #include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 #include "measure/alignment_scoring.h"
+#include "measure/silence_insertion.h"
 
 namespace {
 
 using facerig::test::Quantile;
 
 constexpr double kLeadSeconds = 1.0, kInnerSeconds = 0.6, kTrailSeconds = 1.0;
-// Room noise under the silence (and the speech): RMS 1e-3, -60 dBFS.
-constexpr float kNoiseRms = 1e-3f;
 
 struct Condition {
   const char* name;
-  double before, inside, after;
+  facerig::test::SilenceLayout layout;
 };
-constexpr Condition kConditions[] = {{"trimmed", 0.0, 0.0, 0.0},
-                                     {"before", kLeadSeconds, 0.0, 0.0},
-                                     {"inside", 0.0, kInnerSeconds, 0.0},
-                                     {"after", 0.0, 0.0, kTrailSeconds},
-                                     {"all three", kLeadSeconds, kInnerSeconds, kTrailSeconds}};
+constexpr Condition kConditions[] = {{"trimmed", {0.0, 0.0, 0.0}},
+                                     {"before", {kLeadSeconds, 0.0, 0.0}},
+                                     {"inside", {0.0, kInnerSeconds, 0.0}},
+                                     {"after", {0.0, 0.0, kTrailSeconds}},
+                                     {"all three", {kLeadSeconds, kInnerSeconds, kTrailSeconds}}};
 
 bool IsPause(const facerig::Phoneme& p) {
   const auto visemes = facerig::LookupPhonemeVisemes("en-us", p.symbol.view());
   return visemes && visemes->count > 0 && visemes->visemes[0] == facerig::Viseme::kSil;
 }
 
-// The word start nearest the middle of the line (not the first word).
-std::size_t MiddleWord(const facerig::SpeechLine& line) {
-  const double middle = 0.5 * line.audio_duration().count();
-  std::size_t best = 0;
-  for (std::size_t i = 1; i < line.phonemes.size(); ++i) {
-    if (!line.phonemes[i].word_start) continue;
-    if (best == 0 || std::abs(line.phonemes[i].start.count() - middle) < std::abs(line.phonemes[best].start.count() - middle)) best = i;
-  }
-  return best;
-}
-
 std::size_t FirstSound(const facerig::SpeechLine& line, std::size_t from) {
   while (from < line.phonemes.size() && IsPause(line.phonemes[from])) ++from;
   return from;
-}
-
-struct Recording {
-  facerig::SpeechLine truth;  // phonemes shifted with the inserted silence
-  facerig::AudioClip clip;
-  std::size_t inner = 0;      // the first phoneme after the inner pause (0: none)
-};
-
-Recording WithSilence(const facerig::SpeechLine& spoken, const Condition& condition, std::mt19937& random) {
-  Recording r;
-  r.truth = spoken;
-  r.truth.audio.clear();
-  const std::vector<float> speech = facerig::PcmToFloat(spoken.audio);
-  const auto samples = [&](double seconds) { return static_cast<std::size_t>(seconds * spoken.sample_rate); };
-  std::size_t cut = speech.size();
-  if (condition.inside > 0.0) {
-    r.inner = MiddleWord(spoken);
-    if (r.inner > 0) cut = samples(spoken.phonemes[r.inner].start.count());
-  }
-  std::vector<float>& out = r.clip.samples;
-  out.assign(samples(condition.before), 0.0f);
-  out.insert(out.end(), speech.begin(), speech.begin() + static_cast<std::ptrdiff_t>(cut));
-  if (cut < speech.size()) out.resize(out.size() + samples(condition.inside), 0.0f);
-  out.insert(out.end(), speech.begin() + static_cast<std::ptrdiff_t>(cut), speech.end());
-  out.resize(out.size() + samples(condition.after), 0.0f);
-  std::normal_distribution<float> noise(0.0f, kNoiseRms);
-  for (float& s : out) s += noise(random);
-  r.clip.sample_rate = spoken.sample_rate;
-  r.clip.channels_in_file = 1;
-  const double inserted = static_cast<double>(samples(condition.inside)) / spoken.sample_rate;
-  for (std::size_t i = 0; i < r.truth.phonemes.size(); ++i) {
-    const double shift = static_cast<double>(samples(condition.before)) / spoken.sample_rate +
-                         (r.inner > 0 && i >= r.inner ? inserted : 0.0);
-    r.truth.phonemes[i].start += facerig::Seconds(shift);
-  }
-  return r;
 }
 
 struct Errors {
@@ -127,7 +79,7 @@ Errors MeasureCondition(const SilenceBenchOptions& options, facerig::PhonemeSour
   std::mt19937 random(7);
   for (const std::string& sentence : options.sentences) {
     const facerig::SpeechLine spoken = recorder.Synthesize(sentence, "en-us");
-    const Recording r = WithSilence(spoken, condition, random);
+    const facerig::test::SilencedRecording r = facerig::test::WithSilence(spoken, condition.layout, random);
     const facerig::RecordingAlignment aligned = align(r.clip, sentence);
     const facerig::test::AlignmentScore score = facerig::test::ScoreAlignment(r.truth, aligned.alignment.line);
     ++errors.lines;

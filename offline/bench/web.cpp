@@ -11,6 +11,7 @@
 
 #include "bench/abi_hosts.h"
 #include "bench/common.h"
+#include "cli/options.h"
 #include "bench/json.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/io/phoneme_track_file.h"
@@ -45,9 +46,9 @@ void AddWebOptions(CLI::App& app, WebOptions& options) {
   app.add_option("--node", options.node, "node 20 or later");
   app.add_option("--dist", options.dist, "the folder holding facerig.mjs + facerig.wasm (scripts/build-web.sh)");
   app.add_option("--frames", options.frames, "frames per run of update (a tenth of them for update + blend)")
-      ->check(CLI::Range(100, 10000000));
+      ->check(facerig::cli::InRange(100, 10000000));
   app.add_option("--repeats", options.repeats, "rounds (each host runs 3 times a round); the fastest run counts")
-      ->check(CLI::Range(1, 100));
+      ->check(facerig::cli::InRange(1, 100));
   app.add_option("--json", options.json, "write the results as JSON");
 }
 

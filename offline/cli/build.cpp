@@ -275,6 +275,10 @@ CommandReport BuildReport(const BuildOptions& options, const BuildInputs& inputs
   report["target_eyes_fitted"] = landmarks.target_eyes_fitted;
   report["registration"] = RegistrationReport(built);
   report["transfer_anchors"] = built.transfer_anchors;
+  // The template had no tongueOut: made from this part of it (null: it had one, or no tongue).
+  report["tongue_out_synthesised_from"] = built.tongue_out_synthesised_from.empty()
+                                              ? nlohmann::json(nullptr)
+                                              : nlohmann::json(built.tongue_out_synthesised_from);
   report["transfer_contacts"] = {{"active", built.transfer_contacts_active}, {"pairs", built.transfer_contacts}};
   // Template lid margins moved onto the target's eye rims before the transfer.
   report["margin_alignment"] = {{"vertices", built.margin_vertices_aligned},
@@ -322,6 +326,10 @@ int BuildAndWrite(const BuildOptions& options) {
   const BuildRigResult built =
       BuildRig(inputs.template_rig, inputs.template_info, std::move(inputs.target), landmarks.pairs, params);
   stages.insert(stages.end(), built.stages.begin(), built.stages.end());
+  if (!built.tongue_out_synthesised_from.empty()) {
+    std::fprintf(stderr, "the template has no tongueOut: made one from its part '%s'\n",
+                 built.tongue_out_synthesised_from.c_str());
+  }
   std::string problem;
   const std::optional<Rig> unnamed = RigBuilder::Build(built.rig, &problem);
   if (!unnamed) throw InvalidInputError("the built rig is invalid: " + problem);

@@ -144,6 +144,12 @@ function check(label, document, report, changes) {
     expect(pp.changedShareOfBox < 0.5 * aa.changedShareOfBox,
            `viseme_PP changes as much as viseme_aa (lips not closed): ${JSON.stringify(pp)}`);
   }
+  // The tongue comes out of the mouth: it changes pixels where jawOpen does.
+  const tongue = changes.tongueOut;
+  if (tongue && jaw.centroid) {
+    expect(tongue.changedShareOfBox > 0.001 && tongue.centroid && Math.abs(tongue.centroid[0] - 0.5) < 0.15 &&
+           Math.abs(tongue.centroid[1] - jaw.centroid[1]) < 0.2, `tongueOut changes nothing at the mouth: ${JSON.stringify(tongue)}`);
+  }
   return failures;
 }
 
@@ -159,13 +165,23 @@ async function runOne(browser, base, index, glb, out) {
   const report = await page.evaluate((url) => window.load(url), `/glb/${index}`);
   const canvas = await page.$('canvas');
   const names = document.meshes?.[0]?.extras?.targetNames ?? [];
-  const poses = { rest: [], jawOpen: ['jawOpen'], blinkLeft: BLINK_NAMES, viseme_aa: ['viseme_aa'], viseme_PP: ['viseme_PP'] };
-  for (const viseme of ['viseme_aa', 'viseme_PP']) if (!names.includes(viseme)) delete poses[viseme];
+  const poses = { rest: [], jawOpen: ['jawOpen'], blinkLeft: BLINK_NAMES, viseme_aa: ['viseme_aa'], viseme_PP: ['viseme_PP'],
+                  tongueOut: ['tongueOut'], viseme_TH: ['viseme_TH'] };
+  for (const shape of ['viseme_aa', 'viseme_PP', 'tongueOut', 'viseme_TH']) if (!names.includes(shape)) delete poses[shape];
   const changes = {};
   for (const [pose, shapeNames] of Object.entries(poses)) {
     await page.evaluate((n) => window.pose(n), shapeNames);
     changes[pose] = await page.evaluate(() => window.changeFromRest());
     await canvas.screenshot({ path: path.join(out, `${glb.label}-${pose}.png`) });
+  }
+  // The mouth up close (4x, about where jawOpen changes the picture): the tongue, the open mouth's inside.
+  const box = report.screenBox, jaw = changes.jawOpen.centroid;
+  for (const pose of ['rest', 'jawOpen', 'tongueOut', 'viseme_TH']) {
+    if (!poses[pose] || !jaw) continue;
+    await page.evaluate((n) => window.pose(n), poses[pose]);
+    await page.evaluate((x, y) => window.closeUp(x, y, 4), box.x0 + jaw[0] * (box.x1 - box.x0),
+                        box.y0 + (jaw[1] - 0.08) * (box.y1 - box.y0));
+    await canvas.screenshot({ path: path.join(out, `${glb.label}-${pose}-mouth.png`) });
   }
   await page.close();
   const failures = check(glb.label, document, report, changes);
@@ -178,7 +194,8 @@ async function runOne(browser, base, index, glb, out) {
               `buffers ${mb(report.uploaded.bufferBytes)} MB; changed share of the model's box: jawOpen ${changes.jawOpen.changedShareOfBox.toFixed(4)}, ` +
               `blink ${changes.blinkLeft.changedShareOfBox.toFixed(4)}` +
               (changes.viseme_aa ? `, viseme_aa ${changes.viseme_aa.changedShareOfBox.toFixed(4)}` : ', no viseme_aa') +
-              (changes.viseme_PP ? `, viseme_PP ${changes.viseme_PP.changedShareOfBox.toFixed(4)}` : ', no viseme_PP'));
+              (changes.viseme_PP ? `, viseme_PP ${changes.viseme_PP.changedShareOfBox.toFixed(4)}` : ', no viseme_PP') +
+              (changes.tongueOut ? `, tongueOut ${changes.tongueOut.changedShareOfBox.toFixed(4)}` : ', no tongueOut'));
   return failures;
 }
 

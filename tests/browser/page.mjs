@@ -133,6 +133,19 @@ window.changeFromRest = () => {
   };
 };
 
+// The current pose rendered `zoom` times closer about the screen point
+// (x, y) in [0, 1] (y down), for a close look at the mouth; pose() renders
+// the whole model again.
+window.closeUp = (x, y, zoom) => {
+  const side = SIZE / zoom;
+  const left = Math.min(Math.max(x * SIZE - side / 2, 0), SIZE - side);
+  const top = Math.min(Math.max(y * SIZE - side / 2, 0), SIZE - side);
+  state.camera.setViewOffset(SIZE, SIZE, left, top, side, side);
+  renderer.render(scene, state.camera);
+  state.camera.clearViewOffset();
+  return true;
+};
+
 window.load = async (url) => {
   const gltf = await new GLTFLoader().loadAsync(url);
   scene.add(gltf.scene);

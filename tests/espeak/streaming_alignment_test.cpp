@@ -161,6 +161,38 @@ TEST_CASE("StreamingAligner: a recording that starts late, with noise, keeps the
   CHECK(bilabials_kept == bilabials);
 }
 
+// A reference that starts with a quiet consonant (/D/ of "The") at its first
+// frame counts as speech from the start; the recording's room noise before
+// its speech must not (it did, through the reference's range down to its
+// digital silence: the first phoneme came out 1 s early).
+TEST_CASE("StreamingAligner: after 1 s of room noise, a line starting with a quiet consonant starts on its speech", "[espeak][align][stream]") {
+  // The same voice for both: its first frame is as quiet as the recording's.
+  EspeakPhonemeSource recorder(AlignmentVoice(175, 50, ""));
+  EspeakPhonemeSource& aligner = recorder;
+  for (const std::string sentence : {"The quick brown fox jumps over the lazy dog.", "The boy bought a big blue ball.",
+                                     "Seven silly swans swam south."}) {
+    INFO(sentence);
+    SpeechLine truth = recorder.Synthesize(sentence, "en-us");
+    const auto lead = static_cast<std::size_t>(truth.sample_rate);
+    std::vector<float> recording(lead, 0.0f);
+    const std::vector<float> speech = PcmToFloat(truth.audio);
+    recording.insert(recording.end(), speech.begin(), speech.end());
+    std::uint32_t state = 777;
+    for (float& x : recording) {
+      state = state * 1664525u + 1013904223u;
+      x += 0.002f * (static_cast<float>(state >> 8) / 16777216.0f - 0.5f);
+    }
+    const StreamedLine streamed = StreamAlign(aligner.Synthesize(sentence, "en-us"), recording, 0.05);
+    const auto first_sound = [](const SpeechLine& line) {
+      for (const Phoneme& p : line.phonemes) {
+        if (p.symbol.view().front() != '_') return p.start.count();
+      }
+      return -1.0;
+    };
+    CHECK(std::abs(first_sound(streamed.line) - (first_sound(truth) + 1.0)) < 0.040);
+  }
+}
+
 TEST_CASE("StreamingAligner: speech from the stream's first samples keeps its first bilabials", "[espeak][align][stream]") {
   EspeakPhonemeSource recorder(AlignmentVoice(175, 50, ""));
   EspeakPhonemeSource aligner(AlignmentVoice(140, 75, "f3"));

@@ -1,5 +1,5 @@
 """(shared data) An ICT-FaceKit identity imported from OBJ: Build Face Shapes with the ICT-FaceKit
-template writes its 66 shapes (51 ARKit, ICT has no tongueOut, and 15 visemes) and a Basis, 67 keys,
+template writes its 67 shapes (all 52 ARKit, tongueOut made from ICT's tongue, and 15 visemes) and a Basis, 68 keys,
 on the object itself: vertex count, UVs, materials, a modifier and the user's own shape key are
 unchanged, and eyeBlinkLeft closes the left eye (seen from the front, the lids come to hide the left iris). Then
 'Peter picked a peck of pickled peppers.' baked at 30 fps closes the lips at every p/b/m.
@@ -45,8 +45,8 @@ assert before["vertices"] == 26719
 assert bpy.ops.facerig.build_shapes(template="ICT", template_folder=ICT) == {"FINISHED"}
 keys = mesh.shape_keys.key_blocks
 facerig_keys = [k.name for k in keys if k.name not in ("Basis", "MyKey")]
-assert len(facerig_keys) == 66 and len(keys) == 68, len(keys)  # + Basis = 67, + the user's own
-assert sum(name.startswith("viseme_") for name in facerig_keys) == 15 and "tongueOut" not in facerig_keys
+assert len(facerig_keys) == 67 and len(keys) == 69, len(keys)  # + Basis = 68, + the user's own
+assert sum(name.startswith("viseme_") for name in facerig_keys) == 15 and "tongueOut" in facerig_keys
 assert len(mesh.vertices) == before["vertices"] and len(mesh.polygons) == before["polygons"]
 assert np.array_equal(uvs(), before["uvs"])
 assert [slot.material.name for slot in face.material_slots] == before["materials"]

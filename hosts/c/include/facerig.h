@@ -274,6 +274,30 @@ FR_API fr_status fr_speech_phonemes(const fr_speech* speech, fr_phoneme* phoneme
 FR_API fr_status fr_speech_audio(const fr_speech* speech, float* samples, size_t capacity, size_t* needed,
                                  int32_t* sample_rate);
 
+/* How well a recording fits the transcript it was aligned to. */
+typedef struct fr_alignment_fit {
+  double confidence; /* 1 - path distance / the reversed recording's: about 0 for other words or noise */
+  double tempo;      /* the recording's speech over the reference's (far from 1: more or fewer words) */
+  int32_t fits;      /* 1 under `facerig align`'s rule: confidence >= 0.06 and tempo within 0.5-2 */
+  int32_t reserved;  /* 0 */
+} fr_alignment_fit;
+
+/* Times a reference line's phonemes on a recording of the same words: the
+ * reference is the transcript as a synthesiser spoke it, with its audio and
+ * exact phonemes (fr_speech_create with, e.g., espeak-ng's output in a web
+ * page); `samples` is the recording, mono in [-1, 1] at the reference's
+ * sample rate. The whole recording at once, as `facerig align` does (the
+ * recording's pauses found and kept free of speech): more exact than an
+ * aligned fr_audio_stream, which must commit as audio arrives.
+ * *out_speech gets the reference's phonemes timed on the recording, and the
+ * recording; *fit (optional) whether the two seem to match: the line is
+ * returned either way, the caller decides. Since ABI 0.3. Errors:
+ * FR_ERROR_INVALID_ARGUMENT (no samples, NaN, a rate other than the
+ * reference's), FR_ERROR_SPEECH (the reference has no audio or no
+ * phonemes, or the recording is over about 20 minutes). Any thread. */
+FR_API fr_status fr_speech_align(const fr_speech* reference, const float* samples, size_t sample_count,
+                                 int32_t sample_rate, fr_alignment_fit* fit, fr_speech** out_speech);
+
 /* ---- Characters ---------------------------------------------------------- */
 
 /* A talking character on a rig: speech -> coarticulated visemes -> weights,

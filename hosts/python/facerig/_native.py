@@ -15,7 +15,7 @@ from ctypes import POINTER, Structure, c_char, c_char_p, c_double, c_float, c_in
 from .errors import ClosedError
 
 ABI_VERSION_MAJOR = 0
-ABI_VERSION_MINOR = 2
+ABI_VERSION_MINOR = 3
 NAME_CAPACITY = 16
 
 status = c_int32  # fr_status
@@ -35,6 +35,10 @@ class PartInfo(Structure):
 class Phoneme(Structure):
     _fields_ = [("start", c_double), ("duration", c_double), ("symbol", c_char * NAME_CAPACITY),
                 ("language", c_char * NAME_CAPACITY), ("word_start", c_int32), ("reserved", c_int32)]
+
+
+class AlignmentFit(Structure):
+    _fields_ = [("confidence", c_double), ("tempo", c_double), ("fits", c_int32), ("reserved", c_int32)]
 
 
 class CharacterOptions(Structure):
@@ -76,6 +80,7 @@ _FUNCTIONS = {
     "fr_speech_create": (status, [P(Phoneme), c_size_t, float_p, c_size_t, c_int32, P(handle)]),
     "fr_speech_from_audio": (status, [float_p, c_size_t, c_int32, P(handle)]),
     "fr_speech_load_audio_file": (status, [c_char_p, P(handle)]),
+    "fr_speech_align": (status, [handle, float_p, c_size_t, c_int32, P(AlignmentFit), P(handle)]),
     "fr_speech_release": (None, [handle]),
     "fr_speech_phonemes": (status, [handle, P(Phoneme), c_size_t, P(c_size_t)]),
     "fr_speech_audio": (status, [handle, float_p, c_size_t, P(c_size_t), P(c_int32)]),

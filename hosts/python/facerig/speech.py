@@ -90,6 +90,19 @@ class Speech(Handle):
         check(_native.lib.fr_speech_load_audio_file(os.fsencode(path), ctypes.byref(pointer_)))
         return cls._wrap(pointer_)
 
+    @classmethod
+    def aligned(cls, reference, samples, sample_rate):
+        """The reference's phonemes (a synthesised rendition of the transcript, with its audio) timed
+        on a recording of the same words at the reference's rate, the whole recording at once.
+        `fit` on the result: (confidence, tempo, fits), fits under `facerig align`'s rule."""
+        samples = float_input(samples, "samples")
+        pointer_, fit = new_handle(), _native.AlignmentFit()
+        check(_native.lib.fr_speech_align(reference, pointer(samples), samples.size, sample_rate,
+                                          ctypes.byref(fit), ctypes.byref(pointer_)))
+        speech = cls._wrap(pointer_)
+        speech.fit = (fit.confidence, fit.tempo, bool(fit.fits))
+        return speech
+
     @property
     def phonemes(self):
         """The timed phonemes, a list of Phoneme."""

@@ -124,6 +124,29 @@ def test_streaming_alignment_times_the_reference_phonemes_on_a_recording():
     assert errors[len(errors) // 2] < 0.02  # median boundary within 20 ms
 
 
+def test_a_whole_recording_aligns_to_a_reference_and_says_whether_they_fit():
+    pytest.importorskip("facerig.tts")
+    from facerig import tts
+    recording = tts.synthesize("Maybe my mom bakes apple pie.", "en-us")
+    samples, rate = recording.audio
+    padded = np.concatenate([np.zeros(rate // 2, np.float32), samples])  # half a second of silence first
+    reference = tts.synthesize("Maybe my mom bakes apple pie.", "en-us")
+    aligned = facerig.Speech.aligned(reference, padded, rate)
+    truth = recording.phonemes
+    assert [p.symbol for p in aligned.phonemes] == [p.symbol for p in truth]
+    errors = sorted(abs(a.start - (b.start + 0.5)) for a, b in zip(aligned.phonemes, truth) if b.symbol[0] != "_")
+    assert errors[len(errors) // 2] < 0.02 and errors[-1] < 0.06
+    confidence, tempo, fits = aligned.fit
+    assert fits and confidence > 0.1 and 0.8 < tempo < 1.25
+    other = tts.synthesize("The quick brown fox jumps over the lazy dog, twice.", "en-us")
+    assert facerig.Speech.aligned(other, padded, rate).fit[0] < confidence / 2
+    noise = (np.random.default_rng(1).normal(size=padded.size) * 0.1).astype(np.float32)
+    _, _, fits = facerig.Speech.aligned(reference, noise, rate).fit
+    assert not fits
+    with pytest.raises(facerig.FacerigError, match="resample it first"):
+        facerig.Speech.aligned(reference, padded, rate // 2)
+
+
 def test_a_recording_and_its_transcript_align():
     pytest.importorskip("facerig.tts")
     from facerig import tts

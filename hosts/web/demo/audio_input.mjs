@@ -1,5 +1,5 @@
 // Audio into phonemes in the page: a recording decoded by the browser and
-// aligned to its transcript (the runtime's streaming aligner against
+// aligned to its transcript (the runtime's whole-recording aligner against
 // espeak-ng's rendition of the transcript), a recording alone or the
 // microphone through the rough streaming mode.
 

@@ -138,6 +138,10 @@ demo.speakRecording = async (bytes, transcript, voice) => {
   const recording = await decodeMono(bytes);
   const speech = transcript === null ? roughSpeech(facerig, recording)
                                      : await alignRecording(facerig, speaker, recording, transcript, voice);
+  if (speech.fit && !speech.fit.fits) {
+    show(`the recording and the transcript do not seem to match (match confidence ${speech.fit.confidence.toFixed(2)}, ` +
+         `speech ${speech.fit.tempo.toFixed(2)} times the transcript's): check the transcript; speaking it anyway`);
+  }
   try {
     return speakAll(speech, play(recording.samples, recording.sampleRate));
   } finally {

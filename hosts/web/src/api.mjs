@@ -154,19 +154,27 @@ export class Facerig {
 
   /**
    * A whole recording (mono Float32Array at the reference's sample rate) aligned to the reference's
-   * transcript: a Speech with the reference's phonemes timed on the recording, and the recording.
+   * transcript at once, as native `facerig align` does (fr_speech_align): a Speech with the
+   * reference's phonemes timed on the recording, and the recording. Its `fit` says whether the two
+   * seem to match: {confidence, tempo, fits} (fits under facerig align's rule; the line is returned
+   * either way).
    */
   alignRecording(reference, samples, sampleRate) {
-    const stream = this.createAlignedStream(reference);
+    const fitSize = 24;  // fr_alignment_fit: 2 doubles, 2 int32
+    const fit = this.wasm._malloc(fitSize);
     try {
-      if (sampleRate !== stream.sampleRate) {
-        throw new FacerigError('FR_ERROR_INVALID_ARGUMENT', `the recording is at ${sampleRate} Hz, the reference at ` +
-                               `${stream.sampleRate} Hz: resample it first`);
-      }
-      const phonemes = stream.pushAll(samples);
-      return this.speechFromPhonemes(phonemes, samples, sampleRate);
+      const speech = this.withBytes(new Uint8Array(samples.buffer, samples.byteOffset, samples.byteLength),
+                                    (pointer) => {
+        this.check(this.wasm._fr_speech_align(reference.handle, pointer, samples.length, sampleRate, fit,
+                                              this.scratch));
+        this.refreshViews();
+        return new Speech(this, this.u32[this.scratch >> 2]);
+      });
+      speech.fit = { confidence: this.f64[fit >> 3], tempo: this.f64[(fit >> 3) + 1],
+                     fits: this.i32[(fit + 16) >> 2] === 1 };
+      return speech;
     } finally {
-      stream.release();
+      this.wasm._free(fit);
     }
   }
 

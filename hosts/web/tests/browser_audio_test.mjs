@@ -46,8 +46,33 @@ async function alignedAgainstNative(page) {
     check(same && shown === '', `${id}: aligned in the page, ${mine.length} phonemes as native's ${native.length}; ` +
           `start difference median ${median(here).toFixed(1)} ms, p90 ${quantile(here, 0.9).toFixed(0)} ms${shown ? `; "${shown}"` : ''}`);
   }
-  check(median(errors) <= 20, `aligned in the page against native facerig align: median ${median(errors).toFixed(1)} ms ` +
-        `over ${errors.length} phoneme starts (p90 ${quantile(errors, 0.9).toFixed(0)} ms, the page's aligner is the streaming one)`);
+  check(median(errors) <= 20 && quantile(errors, 0.9) <= 40,
+        `aligned in the page against native facerig align: median ${median(errors).toFixed(1)} ms, ` +
+        `p90 ${quantile(errors, 0.9).toFixed(0)} ms over ${errors.length} phoneme starts (at most 20 and 40)`);
+}
+
+// A recording opened with another recording's transcript, one that native facerig align refuses
+// (exit 1: they do not seem to match): the page says so, and still speaks it.
+async function mismatchSaid(page) {
+  const list = recordings(args.recordings);
+  for (let i = 0; i < list.length; ++i) {
+    const { wav, id } = list[i], { text } = list[(i + 1) % list.length];
+    const copy = `${args.out}/${id}.wav`;
+    copyFileSync(wav, copy);
+    try {
+      execFileSync(args.facerig, ['align', copy, '--text', text, '-o', `${args.out}/mismatch.json`], { stdio: 'pipe' });
+      continue;  // native takes this pair: try the next
+    } catch (e) {
+      if (e.status !== 1) throw e;
+    }
+    await page.$eval('#text', (box, value) => { box.value = value; }, text);
+    await openFile(page, 'audioFile', copy);
+    const shown = await visibleMessage(page);
+    check(shown.includes('do not seem to match'), `${id} with another line's transcript (native refuses it): the page ` +
+          `says "${shown}"`);
+    return;
+  }
+  check(false, 'no recording with another line\'s transcript is refused by native facerig align');
 }
 
 // librivox's first recording with digital silence of 160, 250 and 400 ms cut into its speech (at
@@ -137,6 +162,7 @@ const { open, close } = await startBrowser(args);
 try {
   const page = await open('?render=off&still');
   await alignedAgainstNative(page);
+  await mismatchSaid(page);
   const paused = pausedRecording(args.recordings);
   await roughFile(page, paused);
   check(page.errors.length === 0, `no console errors or uncaught exceptions${page.errors.length ? ': ' + page.errors.join(' | ') : ''}`);

@@ -15,6 +15,8 @@
 #include "facerig/offline/transfer/displacement_transfer.h"
 #include "facerig/offline/geometry/mesh_components.h"
 #include "facerig/offline/mapping/mouth_sides.h"
+#include "facerig/offline/rigging/tongue_out.h"
+#include "facerig/runtime/shape_names.h"
 #include "facerig/offline/geometry/stats.h"
 #include "geometry/bounding_box.h"
 
@@ -88,6 +90,13 @@ std::vector<OpeningMargin> DescribedMargins(std::vector<OpeningMargin> margins, 
     return !std::binary_search(rims.begin(), rims.end(), margin.vertex);
   });
   return margins;
+}
+
+// Whether the target brings a shape of that ARKit name (any spelling).
+bool TargetHasShape(const RawRig& target, std::string_view arkit_name) {
+  const std::string wanted = CanonicalShapeNameOf(arkit_name).full();
+  return std::any_of(target.shapes.begin(), target.shapes.end(),
+                     [&](const RawBlendShape& shape) { return CanonicalShapeNameOf(shape.name).full() == wanted; });
 }
 
 // Runs the build's stages: reports each through BuildRigParams::progress and
@@ -286,9 +295,17 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
   return result;
 }
 
-BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+BuildRigResult BuildRigOnRegistration(const Rig& given_template, const FaceTemplateInfo& template_info, RawRig target,
                                       NonrigidIcpResult registered, const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();
+  SynthesisedTongueOut tongue_out;
+  // A target with a tongueOut of its own keeps it (the built-in head moves its own tongue better
+  // than ICT's mapped onto it).
+  const std::optional<Rig> with_tongue_out =
+      params.synthesise_tongue_out && !TargetHasShape(target, "tongueOut")
+          ? WithSynthesisedTongueOut(given_template, template_info, &tongue_out)
+          : std::nullopt;
+  const Rig& template_rig = with_tongue_out ? *with_tongue_out : given_template;
   if (template_rig.shape_count() == 0) {
     throw InvalidInputError("the template has no blend shapes to transfer");
   }
@@ -300,6 +317,7 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplat
                                                 ? params.registration.region_vertex_count
                                                 : template_info.region.last + 1;
   BuildRigResult result;
+  if (with_tongue_out) result.tongue_out_synthesised_from = tongue_out.part;
   result.registration = std::move(registered);
   result.timings.registration_seconds = result.registration.timings.total_seconds;
   CheckResidual(result.registration.residual, params);

@@ -171,6 +171,16 @@ void KeepOutOfPauses(const std::vector<Interval>& pauses, std::string_view langu
 // dimension), so that consuming the reference's speech there is no bargain.
 double PauseCost(const AudioFeatures& features) { return std::sqrt(2.0 * static_cast<double>(features.dimension)); }
 
+// The reference's rows on which a pause of the recording is crossed for
+// free: its own silence before and after its speech, and pauses inside it as
+// long as the recording's (a stop closure is quiet too, but crossing there
+// would move the stop's release past the recording's pause).
+std::vector<bool> ReferencePauseRows(const AudioFeatures& ref, const PauseParams& params) {
+  PauseParams edges_any_length = params;
+  edges_any_length.min_edge_seconds = 0.0;
+  return PauseMask(FindPauses(ref.log_energy, ref.hop_seconds(), edges_any_length), ref.frame_count());
+}
+
 // The features (and the pause flags) with their frames in reverse order.
 AudioFeatures Reversed(const AudioFeatures& features) {
   AudioFeatures reversed = features;
@@ -232,7 +242,7 @@ PhonemeAlignment AlignPhonemesToRecording(const SpeechLine& reference, std::span
   const DtwBand band = MakeDtwBand(GuideLine(ref, rec), rec.frame_count(), radius);
   const std::vector<Pause> pauses =
       params.pauses ? FindPauses(rec.log_energy, rec.hop_seconds(), params.pause_params) : std::vector<Pause>{};
-  const DtwPauseColumns pause_columns{PauseMask(pauses, rec.frame_count()), QuietFrames(ref.log_energy, params.pause_params),
+  const DtwPauseColumns pause_columns{PauseMask(pauses, rec.frame_count()), ReferencePauseRows(ref, params.pause_params),
                                       PauseCost(rec)};
   const DtwPauseColumns* crossed = pauses.empty() ? nullptr : &pause_columns;
   const DtwPath path = AlignFeatureSequences(ref, rec, band, params.max_cells, crossed);

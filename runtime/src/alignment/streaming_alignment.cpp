@@ -30,6 +30,11 @@ constexpr std::size_t kOnsetMargin = kDeltaReach;
 constexpr double kOnsetShare = 0.35;
 // Quiet, for pauses: below this share of that range above the floor (as in pauses.h).
 constexpr double kQuietShare = 0.25;
+// A stream's first frame is speech when it is at most this much quieter
+// (natural log of energy, 10 dB) than the reference's first frame, itself
+// speech: the reference's range, which reaches down to its digital silence,
+// would let room noise pass for a quiet first consonant (/D/ of "The").
+constexpr double kSpeechAtStartTolerance = 2.3;
 // Columns after the onset where quiet frames are warped like any other: a
 // line often starts with a quiet voiced closure (/b m/) that is speech.
 constexpr std::size_t kOnsetColumns = 20;
@@ -102,7 +107,8 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   NormalizeReference(params.prior_frames);
   // The warping starts a few frames before the reference's speech; earlier
   // boundaries keep their distance to it.
-  const std::size_t start_row = onset_row_ > kOnsetMargin ? onset_row_ - kOnsetMargin : 0;
+  onset_margin_ = std::min(onset_row_, kOnsetMargin);
+  const std::size_t start_row = onset_row_ - onset_margin_;
   reference_.erase(reference_.begin(), reference_.begin() + static_cast<std::ptrdiff_t>(start_row * dimension_));
   reference_quiet_.erase(reference_quiet_.begin(), reference_quiet_.begin() + static_cast<std::ptrdiff_t>(start_row));
   rows_ -= start_row;
@@ -140,7 +146,7 @@ void StreamingAligner::FindReferenceOnset() {
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
   if (onset_row_ + 1 == rows_) onset_row_ = 0;  // no speech stands out
-  if (onset_row_ == 0) speech_at_start_ = energy[0] - onset_rise_;
+  if (onset_row_ == 0) speech_at_start_ = energy[0] - std::min(onset_rise_, kSpeechAtStartTolerance);
   for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && onset_row_ > 0; ++walked) {
     if (!(energy[onset_row_ - 1] < energy[onset_row_])) break;
     --onset_row_;  // back to where the rise began, as the recording's onset
@@ -203,7 +209,7 @@ void StreamingAligner::ProcessFrame() {
   if (!started_ && (speech_at_start || frame_[0] > std::min(floor_, floor_cap_) + onset_rise_)) {
     started_ = true;
     const std::size_t onset = RisingFrom(raw_frames_ - 1);
-    next_frame_ = column_offset_ = onset > kOnsetMargin ? onset - kOnsetMargin : 0;
+    next_frame_ = column_offset_ = onset > onset_margin_ ? onset - onset_margin_ : 0;
     EmitReady(FrameEnd(), false);  // the boundaries before the onset keep their distance to it
   }
   while (started_ && next_frame_ + kDeltaReach < raw_frames_) AddColumn(next_frame_++);

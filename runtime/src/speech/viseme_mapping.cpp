@@ -11,6 +11,8 @@ struct ArkitEntry {
   Viseme viseme;
   const char* shape;
   float weight;
+  // Used where the rig has it, without a warning where not: the tongue.
+  bool optional = false;
 };
 
 // The built-in ARKit mapping. Values measured on ICT-FaceKit (cm; inner-lip gap
@@ -34,9 +36,11 @@ constexpr ArkitEntry kArkitMapping[] = {
     {Viseme::kTH, "jawOpen", 0.12f},
     {Viseme::kTH, "mouthUpperUp_L", 0.10f},
     {Viseme::kTH, "mouthLowerDown_L", 0.10f},
+    {Viseme::kTH, "tongueOut", 0.45f, true},
     {Viseme::kDD, "jawOpen", 0.15f},
     {Viseme::kDD, "mouthStretch_L", 0.15f},
     {Viseme::kDD, "mouthUpperUp_L", 0.05f},
+    {Viseme::kDD, "tongueOut", 0.10f, true},
     {Viseme::kKK, "jawOpen", 0.20f},
     {Viseme::kKK, "mouthStretch_L", 0.15f},
     {Viseme::kCH, "jawOpen", 0.10f},
@@ -149,7 +153,8 @@ VisemeMappingResult BuildVisemeMapping(const Rig& rig, const VisemeMappingOption
     std::vector<std::string> missing;
     for (const ArkitEntry& e : kArkitMapping) {
       for (const std::string& name : WithRightTwin(e.shape)) {
-        const std::vector<std::size_t> found = FindShapesNotingMissing(rig, name, missing);
+        const std::vector<std::size_t> found =
+            e.optional ? FindShapesByArkitName(rig, name) : FindShapesNotingMissing(rig, name, missing);
         const MappingChannel channel = IsJawShapeName(name) ? MappingChannel::kJaw : MappingChannel::kLip;
         for (std::size_t s : found) builder.Add(e.viseme, s, e.weight, channel);
       }

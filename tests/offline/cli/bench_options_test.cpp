@@ -13,7 +13,9 @@ TEST_CASE("facerig-bench: out-of-range values exit 2 naming the option and the v
         {"crowd 5 --frames 3", "--frames: 3 is outside [10, 1000000]"},
         {"register --faces 0", "--faces: 0 is outside [1, 1000000]"},
         {"transfer --threads 0", "--threads: 0 is outside [1, 1024]"},
-        {"av-sync --fps 0", "--fps: 0 is outside [1, 1000]"}}) {
+        {"av-sync --fps 0", "--fps: 0 is outside [1, 1000]"},
+        {"abi --frames 3", "--frames: 3 is outside [100, 10000000]"},
+        {"web --repeats 0", "--repeats: 0 is outside [1, 100]"}}) {
     INFO(arguments);
     std::string output;
     CHECK(facerig::test::RunShell("'" FACERIG_BENCH_EXE "' " + arguments, &output) == 2);

@@ -90,7 +90,7 @@ TEST_CASE("Landmarks: bad input gives typed errors", "[landmarks]") {
   CHECK_THROWS_AS(LandmarkDetector(params), IoError);
 }
 
-TEST_CASE("Landmarks on random re-meshed ICT faces (shared data)", "[landmarks][shared-data]") {
+TEST_CASE("Landmarks on random re-meshed ICT faces (shared data)", "[landmarks][shared-data][accuracy]") {
   LandmarkDetector& detector = Detector();
   LandmarkParams plain_params;
   plain_params.fit_eyes_to_openings = false;

@@ -339,7 +339,7 @@ Errors MeasureFits(int faces, float yaw_degrees, std::uint64_t seed, const facer
 // landmark vertices' exact projections would reach about 1.1 mm), the shading
 // refinement (the default) reaches it on these renders (numbers from
 // "[.measure]" in the report; these two faces are easier than the average).
-TEST_CASE("Photo fit recovers random ICT identities from renders (shared data)", "[photo_fit][shared-data]") {
+TEST_CASE("Photo fit recovers random ICT identities from renders (shared data)", "[photo_fit][shared-data][accuracy]") {
   facerig::PhotoFitParams landmarks_only;
   landmarks_only.shading = false;
   for (const float yaw : {0.0f, 15.0f}) {

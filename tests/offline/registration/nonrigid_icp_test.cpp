@@ -262,12 +262,12 @@ void RunIctFit(bool remesh, std::uint32_t seed, double units_per_cm, bool detect
   CHECK(eye_error < 0.5);
 }
 
-TEST_CASE("Non-rigid ICP registers ICT onto a random ICT face (shared data)", "[nonrigid_icp][shared-data]") {
+TEST_CASE("Non-rigid ICP registers ICT onto a random ICT face (shared data)", "[nonrigid_icp][shared-data][accuracy]") {
   RunIctFit(false, 21, 1.0, false);
 }
 
 TEST_CASE("Non-rigid ICP registers ICT onto a re-meshed random face in metres, detected landmarks (shared data)",
-          "[nonrigid_icp][shared-data]") {
+          "[nonrigid_icp][shared-data][accuracy]") {
   RunIctFit(true, 22, 0.01, true);
 }
 

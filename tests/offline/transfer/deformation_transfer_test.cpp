@@ -538,7 +538,7 @@ TEST_CASE("TransferRig builds a rig with the template's shapes on the target", "
 }
 
 TEST_CASE("Classic deformation transfer of the ICT rig onto random identities (shared data)",
-          "[deformation_transfer][shared-data]") {
+          "[deformation_transfer][shared-data][accuracy]") {
   const facerig::Rig& rig = facerig::test::IctRig();
   ErrorTable classic_all;
   ErrorTable identity_all;

@@ -118,7 +118,7 @@ std::vector<glm::vec3> Combine(std::span<const glm::vec3> neutral,
 }  // namespace
 
 TEST_CASE("Transferred expressions add no more self-intersections than the template's (shared data)",
-          "[transfer_quality][self_intersection][shared-data]") {
+          "[transfer_quality][self_intersection][shared-data][accuracy]") {
   const facerig::Rig& rig = facerig::test::IctRig();
   const Transfers& data = IctTransfers();
   const Pairs template_neutral = IntersectingPairs(rig.positions());

@@ -56,6 +56,27 @@ TEST_CASE("FindPauses: 0.15 s of quiet at the ends, 0.25 s inside", "[pauses]") 
   CHECK_FALSE(mask.back());
 }
 
+TEST_CASE("FindPauses: the edges are silence up to the speech's rise, over room tone louder than the quietest frames", "[pauses]") {
+  // 0.2 s of silence an editor added (-12), 0.2 s of the recording's room tone
+  // (-9: above the quiet share of the way from -12 to the speech's 0), the
+  // rise, 1 s of speech, the fall, room tone and added silence again.
+  std::vector<float> energy(20, -12.0f);
+  energy.insert(energy.end(), 20, -9.0f);
+  for (const float e : {-6.0f, -3.0f}) energy.push_back(e);
+  energy.insert(energy.end(), 100, 0.0f);
+  for (const float e : {-3.0f, -6.0f}) energy.push_back(e);
+  energy.insert(energy.end(), 20, -9.0f);
+  energy.insert(energy.end(), 20, -12.0f);
+  const std::vector<Pause> pauses = FindPauses(energy, kHop);
+  REQUIRE(pauses.size() == 2);
+  CHECK(pauses[0].first == 0);
+  CHECK(pauses[0].last >= 36);  // the room tone too, up to where the rise begins
+  CHECK(pauses[0].last < 40);
+  CHECK(pauses[1].first > 142);
+  CHECK(pauses[1].first <= 147);
+  CHECK(pauses[1].last == energy.size() - 1);
+}
+
 struct Tones {
   std::vector<float> audio;
   std::vector<double> starts;  // each tone's start

@@ -65,6 +65,21 @@ TEST_CASE("FindShapesByArkitName accepts side and namespace styles", "[viseme_ma
   REQUIRE_FALSE(facerig::IsJawShapeName("mouthSmileLeft"));
 }
 
+TEST_CASE("BuildVisemeMapping: TH and DD put the tongue out where the rig has tongueOut, no warning where not",
+          "[viseme_mapping]") {
+  std::vector<std::string> names = ArkitLeftRightNames();
+  names.push_back("tongueOut");
+  const facerig::Rig rig = NamedRig(names);
+  const facerig::VisemeMappingResult result = facerig::BuildVisemeMapping(rig);
+  REQUIRE(result.warnings.empty());
+  const std::size_t tongue = *rig.FindShape("tongueOut");
+  REQUIRE(HasShape(result.mapping, Viseme::kTH, tongue));
+  REQUIRE(HasShape(result.mapping, Viseme::kDD, tongue));
+  for (Viseme v : {Viseme::kAA, Viseme::kPP, Viseme::kSS, Viseme::kKK}) REQUIRE_FALSE(HasShape(result.mapping, v, tongue));
+  // Without it (ICT-FaceKit itself): the same mapping less the tongue, and no warning.
+  REQUIRE(facerig::BuildVisemeMapping(NamedRig(ArkitLeftRightNames())).warnings.empty());
+}
+
 TEST_CASE("BuildVisemeMapping on an ARKit Left/Right rig finds every shape", "[viseme_mapping]") {
   const facerig::Rig rig = NamedRig(ArkitLeftRightNames());
   const facerig::VisemeMappingResult result = facerig::BuildVisemeMapping(rig);

@@ -71,6 +71,10 @@ struct BuildRigParams {
   // registration fits surfaces, not rims, and a margin left a millimetre off
   // made the stylized head's blink stop short.
   bool align_margins_to_openings = true;
+  // A template without tongueOut but with a tongue part (ICT-FaceKit) gets
+  // one made from its tongue before the transfer (tongue_out.h), unless the
+  // target has a tongueOut of its own, which it keeps.
+  bool synthesise_tongue_out = true;
   // The one progress report of the build: called with the stage's name (the
   // names of BuildRigResult::stages) and its progress (done of total).
   std::function<void(const char* stage, std::size_t done, std::size_t total)> progress;
@@ -120,6 +124,9 @@ struct BuildRigResult {
   // How far the fit moved the template's region from its rigidly aligned
   // shape: mean distance, % of the region's diagonal.
   double deformation_percent = 0.0;
+  // The template part tongueOut was synthesised from; empty when the
+  // template had its own or no tongue.
+  std::string tongue_out_synthesised_from;
   BuildRigTimings timings;
   // Every stage in order: "register", "align margins", "to template frame",
   // "transfer", "to target frame", "map" (BuildRigOnRegistration: the same

@@ -22,6 +22,15 @@ struct PauseParams {
   // Below this loudness range (natural log of energy, ~8.7 dB) nothing
   // stands out as speech: no pauses (noise, or speech without silence).
   double min_range = 2.0;
+  // Loud (speech for sure): above this share of the same way, and at most
+  // loud_depth below the loud end (natural log of energy, ~17 dB: the
+  // quietest frames, e.g. silence an editor or a gate added, must not make a
+  // breath loud). When quiet frames before the first loud frame make an edge
+  // pause, all of it up to where the energy starts rising toward that frame is
+  // the recording's leading silence, even where it is louder than the quiet
+  // share (room tone after the silence); likewise after the last.
+  double loud_share = 0.35;
+  double loud_depth = 4.0;
 };
 
 // Frames [first, last] (inclusive) of one pause.
@@ -33,8 +42,8 @@ struct Pause {
 // in order.
 std::vector<Pause> FindPauses(std::span<const float> log_energy, double hop_seconds, const PauseParams& params = {});
 
-// One flag per frame: quiet (by the rule above, whatever the run's length);
-// none when nothing stands out as speech.
+// One flag per frame: quiet (below the quiet share, whatever the run's
+// length); none when nothing stands out as speech.
 std::vector<bool> QuietFrames(std::span<const float> log_energy, const PauseParams& params = {});
 
 // One flag per frame: inside a pause.

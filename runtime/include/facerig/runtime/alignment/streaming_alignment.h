@@ -137,6 +137,9 @@ class StreamingAligner {
   // Warping starts at the recording's speech onset: column 0 is recording
   // frame column_offset_, row 0 the reference's frame onset_row_ - margin.
   std::size_t onset_row_ = 0, column_offset_ = 0, next_frame_ = 0;
+  // The frames before the onset where the warping starts, the same in both:
+  // kOnsetMargin, or fewer when the reference's speech starts sooner.
+  std::size_t onset_margin_ = 0;
   bool started_ = false;
   double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0, pause_cost_ = 0.0;
   std::size_t pause_frames_ = 0;
