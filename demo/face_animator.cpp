@@ -7,7 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "facerig/runtime/blend_job.h"
-#include "facerig/runtime/rig_builder.h"
+#include "facerig/runtime/shape_names.h"
 
 namespace facerig::player {
 namespace {
@@ -25,11 +25,18 @@ FaceAnimator::FaceAnimator(const Rig& rig, const IdleLifeParams& idle, const Cha
       character_rig_(CharacterRig::Build(rig)),
       character_(character_rig_, WithGaze(params, idle.saccades)),
       weights_(rig.shape_count(), 0.0f),
-      positions_(rig.positions().begin(), rig.positions().end()),
+      positions_(rig.vertex_count()),
       normals_(rig.vertex_count()),
+      blend_plan_(BlendPlan::Build(rig)),
+      blend_state_(blend_plan_),
       up_(rig.up_axis() == UpAxis::kZ ? 2 : 1) {
-  ComputeVertexNormals(positions_, rig.triangles(), normals_);
+  Blend();
   FindMouth();
+}
+
+void FaceAnimator::Blend() {
+  const BlendJob job{rig_, weights_, normal_mode_, positions_, normals_, &blend_state_};
+  job.Run();  // inputs are sized here and weights are finite: cannot fail
 }
 
 void FaceAnimator::FindMouth() {
@@ -92,21 +99,13 @@ void FaceAnimator::Update(double time, FrameTimer* timer) {
   }
   if (timer) timer->Mark(Stage::kUpdate);
 
-  BlendJob job;
-  job.rig = rig_;
-  job.weights = weights_;
-  job.normal_mode = NormalMode::kNone;
-  job.out_positions = positions_;
-  job.Run();  // inputs are sized here and weights are finite: cannot fail
+  Blend();
   if (timer) timer->Mark(Stage::kBlend);
-  ComputeVertexNormals(positions_, rig_->triangles(), normals_);
-  if (timer) timer->Mark(Stage::kNormals);
 }
 
 void FaceAnimator::SetNeutral() {
   std::fill(weights_.begin(), weights_.end(), 0.0f);
-  std::copy(rig_->positions().begin(), rig_->positions().end(), positions_.begin());
-  ComputeVertexNormals(positions_, rig_->triangles(), normals_);
+  Blend();
   head_rotation_ = glm::mat4(1.0f);
 }
 

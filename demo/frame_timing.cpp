@@ -15,7 +15,6 @@ const char* ToString(Stage stage) {
   switch (stage) {
     case Stage::kUpdate: return "update";
     case Stage::kBlend: return "blend";
-    case Stage::kNormals: return "normals";
     case Stage::kUpload: return "upload";
     case Stage::kDraw: return "draw";
   }
@@ -131,7 +130,7 @@ void WriteTimingJson(const std::filesystem::path& path, const TimingSummary& sum
   json per_frame = json::array();
   for (const FrameSample& sample : samples) per_frame.push_back(sample.ms);
   out["per_frame_ms"] = per_frame;
-  out["per_frame_columns"] = {"update", "blend", "normals", "upload", "draw"};
+  out["per_frame_columns"] = {"update", "blend", "upload", "draw"};
   if (timeline) {
     out["timeline"] = {{"frame0_seconds", 0.0},
                        {"fps", timeline->fps},

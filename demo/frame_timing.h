@@ -13,12 +13,11 @@ namespace facerig::player {
 
 enum class Stage : std::size_t {
   kUpdate,   // Character::Update + idle life (speech, emotions, blinks -> weights)
-  kBlend,    // BlendJob positions
-  kNormals,  // area-weighted normals recomputed from the blended positions
+  kBlend,    // BlendJob: positions and recomputed normals, where they moved
   kUpload,   // glBufferSubData of positions + normals
   kDraw,     // GL draw submission (headless: + glFinish, so the GPU work is counted)
 };
-inline constexpr std::size_t kStageCount = 5;
+inline constexpr std::size_t kStageCount = 4;
 const char* ToString(Stage stage);
 
 struct FrameSample {

@@ -49,6 +49,7 @@ void WriteMp4(const PlayerOptions& options, const TemporaryOutputs& outputs, con
 // The --emotion options, and the speech scheduled `options.lead_in` after frame 0.
 void StartAnimation(const PlayerOptions& options, FaceAnimator* animator, HeadlessResult* result) {
   for (const auto& [emotion, intensity] : options.emotions) animator->character().SetEmotion(emotion, intensity);
+  if (options.recomputed_normals) animator->SetNormalMode(NormalMode::kRecompute);
   result->speech_start = options.lead_in;
   if (!result->speech.phonemes.empty()) {
     const CharacterError speak = animator->character().Speak(result->speech.phonemes, Seconds(result->speech_start));

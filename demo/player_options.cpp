@@ -119,6 +119,9 @@ void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::st
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app.add_flag("--still", options.still, "no idle head motion or eye saccades (blinks stay)");
+  app.add_flag("--recomputed-normals", options.recomputed_normals,
+               "recompute every normal from the triangles each frame instead of blending each shape's change of\n"
+               "them (the same picture within a degree, several times the blend's cost)");
   app.add_option("--msaa", options.msaa, "N: anti-aliasing samples: 0, 2, 4 (default) or 8")
       ->check(CLI::IsMember({0, 2, 4, 8}));
   app.add_option("--yaw", options.yaw_degrees,
@@ -129,7 +132,7 @@ void AddPlayerOptions(CLI::App& app, PlayerOptions& options, std::vector<std::st
       ->check(facerig::cli::InRange(-80.0f, 80.0f));
   app.add_option("--size", size, "WxH: frame size in pixels, 16..8192 each (default 640x480; the window's too)");
   app.add_option("--timing", options.timing_json,
-                 "FILE: write per-frame CPU timing (update, blend, normals, upload, draw) as JSON");
+                 "FILE: write per-frame CPU timing (update, blend, upload, draw) as JSON");
   app.add_option("--quit-after", options.quit_after, "S: window: quit after S seconds (default: when closed)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--screenshot", options.screenshot, "FILE.png: window: save the last frame");

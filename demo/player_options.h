@@ -31,6 +31,9 @@ struct PlayerOptions {
   std::filesystem::path track;
   std::vector<std::pair<Emotion, float>> emotions;  // --emotion joy[:0.8]
   bool still = false;         // no idle head motion or saccades (blinks stay)
+  // Every normal recomputed from the triangles each frame (the blend before
+  // kBlendRecomputedDeltas: the same picture, slower), for comparisons.
+  bool recomputed_normals = false;
   bool hud = false;           // headless: draw the HUD into the frames (always on in the window)
   std::filesystem::path timing_json;
   // Window: quit after this many seconds (0: run until closed), saving the

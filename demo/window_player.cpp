@@ -256,6 +256,7 @@ WindowLoop::WindowLoop(const Rig& rig, const PlayerOptions& options, SDL_Window*
                ": type a line, Enter speaks it. Empty line: 1-6 emotions, +/- intensity, space pause") {
   for (const std::string& problem : renderer_.problems()) std::cerr << "warning: " << problem << '\n';
   renderer_.camera().Orbit(options.yaw_degrees, options.pitch_degrees);
+  if (options.recomputed_normals) animator_.SetNormalMode(NormalMode::kRecompute);
   if (!options.say.empty()) worker_.Request(options.say, options.voice);
 }
 

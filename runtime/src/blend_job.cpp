@@ -3,9 +3,10 @@
 #include <cmath>
 #include <cstring>
 
-#include <glm/geometric.hpp>
-
+#include "blend_kernels.h"
+#include "facerig/runtime/blend_plan.h"
 #include "facerig/runtime/rig_builder.h"
+#include "sparse_blend.h"
 
 namespace facerig {
 
@@ -18,6 +19,8 @@ const char* ToString(BlendJobError error) {
     case BlendJobError::kPositionsTooSmall: return "out_positions size differs from the vertex count";
     case BlendJobError::kNormalsTooSmall: return "out_normals size differs from the vertex count";
     case BlendJobError::kRigHasNoNormalDeltas: return "kBlendDeltas on a rig without normal deltas";
+    case BlendJobError::kStateForAnotherRig: return "the blend state's plan was built for another rig";
+    case BlendJobError::kModeNeedsState: return "kBlendRecomputedDeltas needs a blend state";
   }
   return "unknown error";
 }
@@ -35,44 +38,28 @@ BlendJobError BlendJob::Validate() const {
   if (normal_mode == NormalMode::kBlendDeltas && !rig->has_normal_deltas()) {
     return BlendJobError::kRigHasNoNormalDeltas;
   }
+  if (state != nullptr && &state->plan().rig() != rig) return BlendJobError::kStateForAnotherRig;
+  if (normal_mode == NormalMode::kBlendRecomputedDeltas && state == nullptr) return BlendJobError::kModeNeedsState;
   return BlendJobError::kNone;
 }
 
 BlendJobError BlendJob::Run() const {
   if (const BlendJobError error = Validate(); error != BlendJobError::kNone) return error;
+  if (state != nullptr) {
+    const CrowdMember one{weights, out_positions, out_normals, state};
+    SparseBlend::Run(*rig, normal_mode, std::span(&one, 1));
+    return BlendJobError::kNone;
+  }
+  // Every vertex: the neutral, plus the active shapes, then the normals of all.
   const std::span<const glm::vec3> neutral = rig->positions();
   std::memcpy(out_positions.data(), neutral.data(), neutral.size_bytes());
   const bool blend_normals = normal_mode == NormalMode::kBlendDeltas;
   if (blend_normals) {
     std::memcpy(out_normals.data(), rig->normals().data(), rig->normals().size_bytes());
   }
-
-  glm::vec3* positions = out_positions.data();
-  glm::vec3* normals = out_normals.data();
-  for (std::size_t s = 0; s < weights.size(); ++s) {
-    const float w = weights[s];
-    if (w == 0.0f) continue;
-    const BlendShapeView shape = rig->shape(s);
-    const std::uint32_t* indices = shape.vertex_indices.data();
-    const glm::vec3* deltas = shape.position_deltas.data();
-    const std::size_t count = shape.vertex_indices.size();
-    if (blend_normals) {
-      // One pass over the entries for both, so each index is read once.
-      const glm::vec3* normal_deltas = shape.normal_deltas.data();
-      for (std::size_t i = 0; i < count; ++i) {
-        positions[indices[i]] += w * deltas[i];
-        normals[indices[i]] += w * normal_deltas[i];
-      }
-    } else {
-      for (std::size_t i = 0; i < count; ++i) positions[indices[i]] += w * deltas[i];
-    }
-  }
-
+  blend::AddActiveShapes(*rig, weights, out_positions.data(), blend_normals ? out_normals.data() : nullptr);
   if (blend_normals) {
-    for (glm::vec3& n : out_normals) {
-      const float length_sq = glm::dot(n, n);
-      if (length_sq > 0.0f) n *= 1.0f / std::sqrt(length_sq);
-    }
+    for (glm::vec3& n : out_normals) blend::RenormaliseBlended(n);
   } else if (normal_mode == NormalMode::kRecompute) {
     ComputeVertexNormals(out_positions, rig->triangles(), out_normals);
   }

@@ -7,6 +7,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "blend_kernels.h"
+
 namespace facerig {
 namespace {
 
@@ -155,16 +157,12 @@ void ComputeVertexNormals(std::span<const glm::vec3> positions, std::span<const 
                           std::span<glm::vec3> normals) {
   std::fill(normals.begin(), normals.end(), glm::vec3(0.0f));
   for (const Triangle& t : triangles) {
-    // The cross product's length is twice the area: area weighting for free.
-    const glm::vec3 n = glm::cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]);
+    const glm::vec3 n = blend::TriangleNormal(positions.data(), t);
     normals[t[0]] += n;
     normals[t[1]] += n;
     normals[t[2]] += n;
   }
-  for (glm::vec3& n : normals) {
-    const float length_sq = glm::dot(n, n);
-    n = length_sq > 0.0f ? n / std::sqrt(length_sq) : glm::vec3(0.0f, 0.0f, 1.0f);
-  }
+  blend::NormaliseSums(normals.data(), normals.size());
 }
 
 std::optional<Rig> RigBuilder::Build(RawRig raw, std::string* problem) {

@@ -175,7 +175,10 @@ FR_API fr_status fr_rig_triangles(const fr_rig* rig, uint32_t* indices, size_t c
 typedef enum fr_normal_mode {
   FR_NORMALS_NONE = 0,         /* positions only; `normals` may be NULL */
   FR_NORMALS_BLEND_DELTAS = 1, /* neutral normal + weighted normal deltas, renormalised */
-  FR_NORMALS_RECOMPUTE = 2     /* area-weighted normals of the blended positions */
+  FR_NORMALS_RECOMPUTE = 2,    /* area-weighted normals of the blended positions */
+  FR_NORMALS_BLEND_RECOMPUTED = 3 /* FR_NORMALS_RECOMPUTE's normals from each shape's (and pair of
+                                     shapes') precomputed change of them: within a degree, at a
+                                     fraction of the cost; fr_blender_blend only (ABI 0.3) */
 } fr_normal_mode;
 
 /* Per frame: positions = neutral + sum of weight[i] * shape i, over the
@@ -188,6 +191,31 @@ typedef enum fr_normal_mode {
  * into their own buffers. */
 FR_API fr_status fr_rig_blend(const fr_rig* rig, const float* weights, size_t weight_count, fr_normal_mode mode,
                               float* positions, float* normals, size_t vertex_capacity);
+
+/* A blender keeps one character's output buffers between frames and writes
+ * only what moved since its last blend into them: the positions its shapes
+ * moved then and now (the same bits as fr_rig_blend's), and with
+ * FR_NORMALS_BLEND_RECOMPUTED the normals they turn. Since ABI 0.3. */
+typedef struct fr_blender fr_blender;
+
+/* One per pair of buffers (one per character), on `rig` (which it keeps
+ * alive); creating allocates, once (the first blender on a rig also builds
+ * what all its blenders share: 0.7 s for the built-in head). */
+FR_API fr_status fr_blender_create(fr_rig* rig, fr_blender** out_blender);
+
+/* NULL is ignored. */
+FR_API void fr_blender_release(fr_blender* blender);
+
+/* Per frame, as fr_rig_blend on the blender's rig, into the same buffers
+ * each frame (other buffers, or another mode, make that blend write every
+ * vertex). Write into them only through the blender, or call
+ * fr_blender_reset afterwards. Allocates nothing, takes no lock; one thread
+ * at a time per blender. */
+FR_API fr_status fr_blender_blend(fr_blender* blender, const float* weights, size_t weight_count, fr_normal_mode mode,
+                                  float* positions, float* normals, size_t vertex_capacity);
+
+/* Forgets what the buffers hold: the next blend writes every vertex. */
+FR_API fr_status fr_blender_reset(fr_blender* blender);
 
 /* ---- Speech lines -------------------------------------------------------- */
 

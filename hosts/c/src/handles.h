@@ -4,12 +4,14 @@
 
 #include <cstddef>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
 #include "facerig.h"
 #include "facerig/runtime/alignment/streaming_alignment.h"
 #include "facerig/runtime/audio/mouth_stream.h"
+#include "facerig/runtime/blend_plan.h"
 #include "facerig/runtime/character.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/speech/phoneme.h"
@@ -23,14 +25,32 @@ struct LoadedRig {
   LoadedRig(const LoadedRig&) = delete;
   LoadedRig& operator=(const LoadedRig&) = delete;
 
+  // Built by the first blender on this rig (the lock is at creation only).
+  const BlendPlan& blend_plan() const {
+    std::call_once(plan_once, [this] { plan.emplace(BlendPlan::Build(rig)); });
+    return *plan;
+  }
+
   Rig rig;
   CharacterRig characters;
+
+ private:
+  mutable std::once_flag plan_once;
+  mutable std::optional<BlendPlan> plan;
 };
 
 }  // namespace facerig::capi
 
 struct fr_rig {
   std::shared_ptr<const facerig::capi::LoadedRig> data;
+};
+
+struct fr_blender {
+  explicit fr_blender(std::shared_ptr<const facerig::capi::LoadedRig> loaded)
+      : rig(std::move(loaded)), state(rig->blend_plan()) {}
+
+  std::shared_ptr<const facerig::capi::LoadedRig> rig;
+  facerig::BlendState state;
 };
 
 struct fr_speech {

@@ -149,6 +149,7 @@ static void SpeakAndCheckLips(fr_rig* rig, const fr_rig_info* info, const float*
 static void CheckErrors(fr_rig* rig, const fr_rig_info* info, const char* head_path) {
   fr_rig* none = NULL;
   fr_character* character = NULL;
+  fr_blender* blender = NULL;
   fr_phoneme phoneme;
   char name[4];
   size_t needed = 0;
@@ -176,6 +177,17 @@ static void CheckErrors(fr_rig* rig, const fr_rig_info* info, const char* head_p
   CHECK(fr_character_update(character, 0.0, weights, 8) == FR_ERROR_BUFFER_TOO_SMALL);
   CHECK(fr_character_update(character, NAN, weights, 8) != FR_OK);
   CHECK(fr_rig_blend(rig, weights, 8, FR_NORMALS_NONE, weights, NULL, 2) == FR_ERROR_INVALID_ARGUMENT);
+  CHECK(fr_blender_create(NULL, &blender) == FR_ERROR_INVALID_ARGUMENT && blender == NULL);
+  CHECK(fr_blender_create(rig, &blender) == FR_OK);
+  CHECK(fr_blender_blend(blender, weights, 8, FR_NORMALS_NONE, weights, NULL, 2) == FR_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(fr_last_error(), "weight_count") != NULL);
+  CHECK(fr_blender_blend(NULL, weights, 8, FR_NORMALS_NONE, weights, NULL, 2) == FR_ERROR_INVALID_ARGUMENT);
+  CHECK(fr_blender_reset(blender) == FR_OK && fr_blender_reset(NULL) == FR_ERROR_INVALID_ARGUMENT);
+  CHECK(fr_rig_blend(rig, weights, 8, FR_NORMALS_BLEND_RECOMPUTED, weights, weights, 2) == FR_ERROR_INVALID_ARGUMENT);
+  CHECK(strstr(fr_last_error(), "needs a blender") != NULL);
+  CHECK(fr_blender_blend(blender, weights, 8, (fr_normal_mode)4, weights, weights, 2) == FR_ERROR_INVALID_ARGUMENT);
+  fr_blender_release(blender);
+  fr_blender_release(NULL);
   memset(&phoneme, 0, sizeof phoneme);
   strcpy(phoneme.symbol, "p");
   CHECK(fr_character_push_phoneme(character, &phoneme) == FR_ERROR_STATE);

@@ -1,9 +1,12 @@
 // A per-frame update through the C ABI allocates nothing: 10 s at 60 fps of
-// fr_character_update and fr_rig_blend on the built-in head, speaking and
-// with an emotion, counted by the replacement operator new that
-// measure/allocation_counter.cpp puts in this program (libfacerig's own
-// calls to operator new resolve to it).
+// fr_character_update, fr_rig_blend and two blenders' fr_blender_blend (recomputed
+// and blended recomputed normals) on the built-in head, speaking and with an
+// emotion, counted by the replacement operator new that
+// measure/allocation_counter.cpp puts in this program (libfacerig's own calls
+// to operator new resolve to it). The blenders' positions, and the first's
+// normals, equal fr_rig_blend's bit for bit every frame.
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
 #include "facerig.h"
@@ -35,7 +38,17 @@ int main(int argc, char** argv) {
   if (fr_speech_load_track_bytes(kTrack, sizeof kTrack - 1, &speech) != FR_OK) return Fail("track");
   if (fr_character_create(rig, nullptr, &character) != FR_OK) return Fail("character");
   std::vector<float> weights(info.shape_count), positions(3 * info.vertex_count), normals(3 * info.vertex_count);
-  std::size_t frames = 0, allocations = 0;
+  std::vector<float> kept_positions(positions.size()), kept_normals(normals.size());
+  std::vector<float> crowd_positions(positions.size()), crowd_normals(normals.size());
+  fr_blender* blender = nullptr;
+  fr_blender* crowd_blender = nullptr;
+  if (fr_blender_create(rig, &blender) != FR_OK || fr_blender_create(rig, &crowd_blender) != FR_OK) {
+    return Fail("blender");
+  }
+  std::size_t frames = 0, allocations = 0, differing_frames = 0;
+  const auto same = [](const std::vector<float>& a, const std::vector<float>& b) {
+    return std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+  };
   {
     facerig::test::AllocationCounter counter;
     for (int line = 0; line < 5; ++line) {
@@ -48,6 +61,16 @@ int main(int argc, char** argv) {
                          info.vertex_count) != FR_OK) {
           return Fail("blend");
         }
+        if (fr_blender_blend(blender, weights.data(), weights.size(), FR_NORMALS_RECOMPUTE, kept_positions.data(),
+                             kept_normals.data(), info.vertex_count) != FR_OK) {
+          return Fail("blender blend");
+        }
+        differing_frames += !same(positions, kept_positions) || !same(normals, kept_normals);
+        if (fr_blender_blend(crowd_blender, weights.data(), weights.size(), FR_NORMALS_BLEND_RECOMPUTED,
+                             crowd_positions.data(), crowd_normals.data(), info.vertex_count) != FR_OK) {
+          return Fail("blender blend, blended recomputed normals");
+        }
+        differing_frames += !same(positions, crowd_positions);
       }
     }
     allocations = counter.count();
@@ -60,11 +83,14 @@ int main(int argc, char** argv) {
     if (fr_speech_load_track_bytes(kTrack, sizeof kTrack - 1, &another) != FR_OK) return Fail("track");
     load_allocations = counter.count();
   }
-  std::printf("%zu frames (update + blend with normals): %zu allocations; loading a track: %zu\n", frames,
-              allocations, load_allocations);
+  std::printf("%zu frames (update + blend and blender with normals): %zu allocations; loading a track: %zu;"
+              " frames where the blender differs from fr_rig_blend: %zu\n",
+              frames, allocations, load_allocations, differing_frames);
+  fr_blender_release(blender);
+  fr_blender_release(crowd_blender);
   fr_speech_release(another);
   fr_speech_release(speech);
   fr_character_release(character);
   fr_rig_release(rig);
-  return allocations == 0 && load_allocations > 0 ? 0 : 1;
+  return allocations == 0 && load_allocations > 0 && differing_frames == 0 ? 0 : 1;
 }
