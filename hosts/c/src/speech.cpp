@@ -1,10 +1,13 @@
-// Speech lines: phoneme tracks, caller phonemes and audio, the rough mode.
+// Speech lines: phoneme tracks, caller phonemes and audio, the rough mode, a
+// recording aligned to a reference line.
 #include <cmath>
 #include <cstring>
 #include <string>
 
 #include "boundary.h"
+#include "facerig/runtime/alignment/transcript_fit.h"
 #include "facerig/runtime/audio/mouth.h"
+#include "facerig/runtime/io/audio_file.h"
 #include "facerig/runtime/io/phoneme_track_file.h"
 #include "handles.h"
 
@@ -101,6 +104,35 @@ fr_status fr_speech_from_audio(const float* samples, size_t sample_count, int32_
     speech.samples.assign(samples, samples + sample_count);
     speech.sample_rate = sample_rate;
     return Publish(std::move(speech), out_speech);
+  });
+}
+
+fr_status fr_speech_align(const fr_speech* reference, const float* samples, size_t sample_count,
+                          int32_t sample_rate, fr_alignment_fit* fit, fr_speech** out_speech) {
+  return Guard([&] {
+    FR_REQUIRE(out_speech, "out_speech");
+    *out_speech = nullptr;
+    FR_REQUIRE(reference, "reference");
+    FR_REQUIRE(samples, "samples");
+    if (sample_count == 0) return Fail(FR_ERROR_INVALID_ARGUMENT, "the recording has no samples");
+    if (reference->samples.empty()) return Fail(FR_ERROR_SPEECH, "the reference line has no audio to align with");
+    if (sample_rate != reference->sample_rate) {
+      return Fail(FR_ERROR_INVALID_ARGUMENT, {"the recording is at ", std::to_string(sample_rate),
+                                              " Hz, the reference at ", std::to_string(reference->sample_rate),
+                                              " Hz: resample it first"});
+    }
+    if (const fr_status s = CheckAudio(samples, sample_count, sample_rate); s != FR_OK) return s;
+    facerig::SpeechLine line = reference->line;
+    line.sample_rate = reference->sample_rate;
+    line.audio = facerig::FloatToPcm(reference->samples);
+    const std::span<const float> recording(samples, sample_count);
+    facerig::PhonemeAlignment alignment = facerig::AlignPhonemesToRecording(line, recording);
+    if (fit != nullptr) *fit = {alignment.confidence, alignment.tempo, facerig::TranscriptFits(alignment) ? 1 : 0, 0};
+    fr_speech aligned;
+    aligned.line = std::move(alignment.line);
+    aligned.samples.assign(recording.begin(), recording.end());
+    aligned.sample_rate = sample_rate;
+    return Publish(std::move(aligned), out_speech);
   });
 }
 

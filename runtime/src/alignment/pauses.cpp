@@ -40,10 +40,10 @@ bool HasQuietRun(const std::vector<bool>& quiet, std::size_t first, std::size_t 
 // Where the recording starts (ends) with silence, marks quiet everything
 // before the energy's rise toward the first loud frame (after its fall from
 // the last): see PauseParams::loud_share.
-void QuietUpToSpeech(std::span<const float> e, const PauseParams& params, std::size_t edge_frames,
+void QuietUpToSpeech(std::span<const float> e, EnergyRange range, const PauseParams& params, std::size_t edge_frames,
                      std::vector<bool>& quiet) {
   const std::size_t n = e.size();
-  const auto [low, high] = RangeOf(e);
+  const auto [low, high] = range;
   const double loud = std::max(low + params.loud_share * (high - low), high - params.loud_depth);
   std::size_t first = 0;
   while (first < n && e[first] <= loud) ++first;
@@ -60,25 +60,31 @@ void QuietUpToSpeech(std::span<const float> e, const PauseParams& params, std::s
   }
 }
 
-}  // namespace
-
-std::vector<bool> QuietFrames(std::span<const float> log_energy, const PauseParams& params) {
+// QuietFrames with the energies' range already known.
+std::vector<bool> QuietFramesIn(std::span<const float> log_energy, EnergyRange range, const PauseParams& params) {
   std::vector<bool> quiet(log_energy.size(), false);
-  if (log_energy.empty()) return quiet;
-  const auto [low, high] = RangeOf(log_energy);
+  const auto [low, high] = range;
   if (!(high - low >= params.min_range)) return quiet;
   const double threshold = low + params.quiet_share * (high - low);
   for (std::size_t f = 0; f < log_energy.size(); ++f) quiet[f] = log_energy[f] < threshold;
   return quiet;
 }
 
+}  // namespace
+
+std::vector<bool> QuietFrames(std::span<const float> log_energy, const PauseParams& params) {
+  if (log_energy.empty()) return {};
+  return QuietFramesIn(log_energy, RangeOf(log_energy), params);
+}
+
 std::vector<Pause> FindPauses(std::span<const float> log_energy, double hop_seconds, const PauseParams& params) {
   std::vector<Pause> pauses;
   if (log_energy.empty() || !(hop_seconds > 0.0)) return pauses;
-  std::vector<bool> quiet = QuietFrames(log_energy, params);
+  const EnergyRange range = RangeOf(log_energy);
+  std::vector<bool> quiet = QuietFramesIn(log_energy, range, params);
   const auto frames_of = [&](double seconds) { return static_cast<std::size_t>(std::ceil(seconds / hop_seconds - 1e-9)); };
   const std::size_t edge = frames_of(params.min_edge_seconds), inner = frames_of(params.min_inner_seconds);
-  QuietUpToSpeech(log_energy, params, std::max<std::size_t>(edge, 1), quiet);
+  QuietUpToSpeech(log_energy, range, params, std::max<std::size_t>(edge, 1), quiet);
   const std::size_t n = log_energy.size();
   for (std::size_t f = 0; f < n;) {
     if (!quiet[f]) {
