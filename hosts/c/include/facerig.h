@@ -179,6 +179,8 @@ typedef enum fr_normal_mode {
   FR_NORMALS_BLEND_RECOMPUTED = 3 /* FR_NORMALS_RECOMPUTE's normals from each shape's (and pair of
                                      shapes') precomputed change of them: within a degree, at a
                                      fraction of the cost; fr_blender_blend only (ABI 0.3) */
+  FR_NORMALS_FORCE_INT32 = 0x7FFFFFFF /* not a mode: makes every int a value of the type, so that a
+                                         wrong one reaches the library's check (C++ range rules) */
 } fr_normal_mode;
 
 /* Per frame: positions = neutral + sum of weight[i] * shape i, over the
@@ -311,7 +313,8 @@ typedef enum fr_emotion {
   FR_EMOTION_FEAR = 2,
   FR_EMOTION_ANGER = 3,
   FR_EMOTION_SURPRISE = 4,
-  FR_EMOTION_DISGUST = 5
+  FR_EMOTION_DISGUST = 5,
+  FR_EMOTION_FORCE_INT32 = 0x7FFFFFFF /* not an emotion: as FR_NORMALS_FORCE_INT32 */
 } fr_emotion;
 
 /* The Oculus visemes, in fr_character_state.viseme. */
