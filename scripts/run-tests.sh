@@ -11,4 +11,8 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DFACERIG_WARNINGS_AS
 # FACERIG_BUILD_TARGETS (space-separated): build only these (CI's sanitizer
 # stage builds the test binaries, not the benchmark tool).
 cmake --build "$build" -j "$(nproc)" ${FACERIG_BUILD_TARGETS:+--target $FACERIG_BUILD_TARGETS}
+# ctest runs one test per core: CHOLMOD's BLAS and OpenMP threads would then
+# wait for cores the other tests hold (spinning), and a registration test took
+# 36-50 s instead of 5-6 s on a loaded 2-core machine. One thread each.
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1} OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 ctest --test-dir "$build" -j "$(nproc)" --output-on-failure "$@"

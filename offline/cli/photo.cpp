@@ -189,6 +189,9 @@ CommandReport PhotoReport(const PhotoOptions& options, const PhotoRun& run) {
   result["template"] = {{"name", run.photo_template.description},
                         {"built_in", run.photo_template.built_in},
                         {"info", TemplateInfoReport(run.photo_template.info)}};
+  // As in `facerig build`'s report: null when the template had a tongueOut, or no tongue.
+  const std::string& tongue_part = run.photo_template.tongue_out_synthesised_from;
+  result["tongue_out_synthesised_from"] = tongue_part.empty() ? nlohmann::json() : nlohmann::json(tongue_part);
   result["fit"] = FitJson(run.fit);
   result["fit"]["lid_margins_fitted"] = run.made.lid_margins_fitted;
   result["texture"] = TextureJson(run.made, PhotoRigParams{}.texture.size);

@@ -1,11 +1,13 @@
 #include "cli/photo_template.h"
 
+#include <optional>
 #include <system_error>
 #include <utility>
 
 #include "facerig/offline/default_head/default_head.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/offline/photo/rig.h"
+#include "facerig/offline/rigging/tongue_out.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 
@@ -77,6 +79,11 @@ PhotoTemplate LoadPhotoTemplate(const std::string& template_path, const Standard
   }
   // Baked visemes are made again from the fitted head's shapes.
   if (naming.visemes == VisemeTargets::kOculus) loaded.rig = WithoutBakedVisemes(loaded.rig);
+  SynthesisedTongueOut tongue_out;
+  if (std::optional<Rig> with_tongue_out = WithSynthesisedTongueOut(loaded.rig, loaded.info, &tongue_out)) {
+    loaded.rig = std::move(*with_tongue_out);
+    loaded.tongue_out_synthesised_from = tongue_out.part;
+  }
   return loaded;
 }
 

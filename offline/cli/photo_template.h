@@ -26,6 +26,9 @@ struct PhotoTemplate {
   std::string source;       // the file or folder read; empty for a head made in memory
   std::string description;  // for messages: the path, or "the built-in head (...)"
   bool built_in = false;
+  // The template had no tongueOut: made from this part of it (tongue_out.h);
+  // empty when it had one, or no tongue.
+  std::string tongue_out_synthesised_from;
 };
 
 // The built-in head as the player finds it: installed beside the executable
@@ -35,7 +38,8 @@ std::filesystem::path BuiltInHeadPath();
 
 // `template_path` (a rig or a template folder), or the built-in head when it
 // is empty (made in memory when no file of it exists). Viseme targets that
-// `naming` bakes again are dropped (standard_shapes.h).
+// `naming` bakes again are dropped (standard_shapes.h); a template with a
+// tongue but no tongueOut gets one, as `facerig build` gives it.
 // \throw IoError as the readers; InvalidInputError as LoadIdentityMeshes.
 PhotoTemplate LoadPhotoTemplate(const std::string& template_path, const StandardShapesOptions& naming);
 

@@ -481,6 +481,10 @@ TEST_CASE("facerig photo: ICT-FaceKit fitted with its identity modes (shared dat
   CHECK(result["fit"]["identity_modes"] == 20);
   CHECK(result["fit"]["deformed"] == false);
   CheckLandmarksOnTheFace(result["landmarks"]);
+  // ICT has a tongue but no tongueOut: the photo head gets one, as a built rig does.
+  CHECK(result["tongue_out_synthesised_from"] == "gums_and_tongue");
+  CHECK(result["shape_names"]["arkit_present"] == 52);
+  CHECK(result["shape_names"]["arkit_missing"].empty());
   // The eyes got painted textures (ICT's are flat colours).
   CHECK(result["texture"]["eye_materials_painted"].get<int>() > 0);
   const Rig rig = LoadRig(run.out / "head.frig");
