@@ -32,6 +32,15 @@ using namespace landmarks_detail;  // NOLINT: this file's own internal pieces
 
 namespace {
 
+// dlib decodes its face detector from a compressed string on every
+// get_frontal_face_detector() call (a fifth of a second or more): decoded
+// once per process, each user gets a copy (under a millisecond), since
+// detection is not const.
+dlib::frontal_face_detector FrontalFaceDetector() {
+  static const dlib::frontal_face_detector decoded = dlib::get_frontal_face_detector();
+  return decoded;
+}
+
 struct Detection {
   double score = -std::numeric_limits<double>::infinity();
   dlib::rectangle rect;
@@ -121,7 +130,9 @@ void FitEyesToMesh(const Mesh& mesh, float face_height, const LandmarkParams& pa
 
 struct LandmarkDetector::Impl {
   LandmarkParams params;
-  dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
+  // Set after the predictor is read: a photo is searched for its face on
+  // another thread meanwhile, which decodes the detector.
+  dlib::frontal_face_detector detector;
   dlib::shape_predictor predictor;
 
   // The mesh of the current Detect() call, with smooth normals for shading.
@@ -291,6 +302,7 @@ LandmarkDetector::LandmarkDetector(const LandmarkParams& params) : impl_(std::ma
     throw IoError(IoErrorKind::kParse, params.shape_predictor.string(),
                   std::string("not a dlib shape predictor: ") + e.what());
   }
+  impl_->detector = FrontalFaceDetector();
 }
 
 LandmarkDetector::~LandmarkDetector() = default;
@@ -321,7 +333,7 @@ std::vector<ImageFaceBox> LandmarkDetector::DetectFaceBoxes(const RgbImage& imag
 }
 
 std::vector<ImageFaceBox> DetectFrontalFaceBoxes(const RgbImage& image) {
-  thread_local dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
+  thread_local dlib::frontal_face_detector detector = FrontalFaceDetector();
   return FaceBoxes(detector, image);
 }
 
