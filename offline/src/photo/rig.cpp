@@ -3,6 +3,7 @@
 #include "facerig/offline/photo/skin_mask.h"
 #include "facerig/offline/photo/rig.h"
 
+#include <future>
 #include <optional>
 #include <string>
 #include <utility>
@@ -65,7 +66,11 @@ PhotoRig MakePhotoRig(const Rig& template_rig, Mesh surface, const PhotoFit& fit
   surface.corner_normals.clear();  // the template's: not the fitted face's
   ReplacePlaceholderMaterials(surface);
   PhotoRig result;
-  result.eye_materials_painted = PaintEyeTextures(surface);
+  // The eyes are painted on the template's own surface, a copy, on another
+  // core while the skin is baked: painting changes only materials and images,
+  // which are taken back before the skin's are added.
+  Mesh eyes = surface;
+  std::future<std::size_t> eyes_painted = std::async(std::launch::async, [&eyes] { return PaintEyeTextures(eyes); });
   std::vector<glm::vec3> posed = fit.posed_positions, rest = fit.rest_positions;
   if (fit.deformed && landmarks.size() == 68) {
     const LidMarginFit lids = FitLidMarginsToPhoto(surface, landmarks, fit.landmark_vertices, fit.camera, photo.width,
@@ -83,6 +88,9 @@ PhotoRig MakePhotoRig(const Rig& template_rig, Mesh surface, const PhotoFit& fit
       BakePhotoTexture(surface, fit.view, photo, params.texture, result.skin_mask, hair, lighting);
   result.hair_found = hair.found;
   result.hair_colour = hair.colour;
+  result.eye_materials_painted = eyes_painted.get();
+  surface.materials = std::move(eyes.materials);
+  surface.images = std::move(eyes.images);
   ApplyPhotoTexture(surface, texture);
   surface.positions = rest;
   std::string problem;

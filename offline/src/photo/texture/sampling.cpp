@@ -12,11 +12,16 @@
 #include "facerig/runtime/part_roles.h"
 #include "facerig/runtime/rig_builder.h"
 #include "photo/texture/internal.h"
+#include "geometry/parallel_for.h"
 #include "render/uv_raster.h"
 #include "geometry/smooth_step.h"
 
 namespace facerig::photo_texture {
 namespace {
+
+// ProjectPhoto's bands of texel rows, shared out over the cores: more than
+// the cores, as the face fills some bands more than others.
+constexpr std::size_t kProjectionBands = 16;
 
 // Opaque parts only: lashes and the transparent layers over the eyes do not
 // hide the skin behind them. `shows_skin`: per occluder, whether it is skin.
@@ -169,39 +174,10 @@ void TexelCorners(const Mesh& mesh, std::size_t t, int size, glm::dvec2 (&uv)[3]
   }
 }
 
-}  // namespace
-
-glm::ivec2 UvTile(const Mesh& mesh, std::size_t t) {
-  glm::vec2 centre(0.0f);
-  for (int k = 0; k < 3; ++k) centre += mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] / 3.0f;
-  return glm::ivec2(glm::floor(centre));
-}
-
-std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle) {
-  std::vector<std::pair<glm::ivec2, std::size_t>> counts;
-  for (std::size_t t = 0; t < skin_triangle.size(); ++t) {
-    if (!skin_triangle[t]) continue;
-    const glm::ivec2 tile = UvTile(mesh, t);
-    auto found = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == tile; });
-    if (found == counts.end()) counts.emplace_back(tile, 1);
-    else ++found->second;
-  }
-  std::stable_sort(counts.begin(), counts.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-  std::vector<glm::ivec2> tiles;
-  for (const auto& c : counts) tiles.push_back(c.first);
-  if (tiles.empty()) tiles.emplace_back(0, 0);
-  return tiles;
-}
-
-void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
-                  const std::vector<std::uint8_t>& baked, const RasterView& camera,
-                  const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
-                  const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
-                  const PhotoLighting& lighting, TexelLayers& layers) {
-  const PhotoView view(mesh, skin_triangle, camera, photo, mask, hair, params);
-  const PhotoShade shade(lighting, params, view.facing_sign());
-  std::vector<glm::vec3> normals(mesh.vertex_count());
-  ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
+// ProjectPhoto's work on the texel rows [row_begin, row_end).
+void ProjectRows(const Mesh& mesh, const std::vector<std::uint8_t>& baked, const PhotoView& view, const PhotoShade& shade,
+                 const std::vector<glm::vec3>& normals, const MirrorPartners& mirror, const CheekRegion& cheeks,
+                 const HairSource& hair, int row_begin, int row_end, TexelLayers& layers) {
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
     if (!baked[t]) continue;
     const std::array<std::uint32_t, 3> v{mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
@@ -235,8 +211,51 @@ void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triang
       if (layers.scalp[i] > 0.0f) layers.hair_colour[i] = hair.scalp.Vary(hair.colour, point.position);
       layers.side[i] = glm::dot(mirror.plane_normal, point.position) < mirror.plane_offset ? 1 : 0;
       layers.tilt[i] = view.facing_sign() * point.normal.y;
-    });
+    }, row_begin, row_end);
   }
+}
+
+}  // namespace
+
+glm::ivec2 UvTile(const Mesh& mesh, std::size_t t) {
+  glm::vec2 centre(0.0f);
+  for (int k = 0; k < 3; ++k) centre += mesh.corner_uvs[3 * t + static_cast<std::size_t>(k)] / 3.0f;
+  return glm::ivec2(glm::floor(centre));
+}
+
+std::vector<glm::ivec2> SkinUvTiles(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle) {
+  std::vector<std::pair<glm::ivec2, std::size_t>> counts;
+  for (std::size_t t = 0; t < skin_triangle.size(); ++t) {
+    if (!skin_triangle[t]) continue;
+    const glm::ivec2 tile = UvTile(mesh, t);
+    auto found = std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == tile; });
+    if (found == counts.end()) counts.emplace_back(tile, 1);
+    else ++found->second;
+  }
+  std::stable_sort(counts.begin(), counts.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::vector<glm::ivec2> tiles;
+  for (const auto& c : counts) tiles.push_back(c.first);
+  if (tiles.empty()) tiles.emplace_back(0, 0);
+  return tiles;
+}
+
+void ProjectPhoto(const Mesh& mesh, const std::vector<std::uint8_t>& skin_triangle,
+                  const std::vector<std::uint8_t>& baked, const RasterView& camera,
+                  const RgbImage& photo, const PhotoSkinMask& mask, const MirrorPartners& mirror,
+                  const CheekRegion& cheeks, const HairSource& hair, const PhotoTextureParams& params,
+                  const PhotoLighting& lighting, TexelLayers& layers) {
+  const PhotoView view(mesh, skin_triangle, camera, photo, mask, hair, params);
+  const PhotoShade shade(lighting, params, view.facing_sign());
+  std::vector<glm::vec3> normals(mesh.vertex_count());
+  ComputeVertexNormals(mesh.positions, mesh.triangles, normals);
+  // Bands of texel rows on all cores: each band visits the triangles in
+  // order, so where islands overlap the same triangle wins as in one pass.
+  const int bands = static_cast<int>(kProjectionBands);
+  const int band_rows = std::max(1, (layers.size + bands - 1) / bands);
+  ParallelFor(kProjectionBands, 1, [&](std::size_t band) {
+    const int row_begin = static_cast<int>(band) * band_rows;
+    ProjectRows(mesh, baked, view, shade, normals, mirror, cheeks, hair, row_begin, row_begin + band_rows, layers);
+  });
 }
 
 }  // namespace facerig::photo_texture
