@@ -1,0 +1,93 @@
+// The steps of `facerig build`, shared by one target (build.cpp) and a cast
+// of targets built in one run (build_batch.cpp): the template loaded and
+// prepared once (template_preparation.h), then per target its landmarks, the
+// build and its outputs with their report.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/common.h"
+#include "cli/names.h"
+#include "facerig/offline/landmarks/landmarks.h"
+#include "facerig/offline/rigging/rig_build.h"
+#include "facerig/offline/rigging/template_preparation.h"
+
+namespace facerig::cli {
+
+struct BuildOptions {
+  std::string template_path, output, frig, obj_dir, landmarks, report, shape_predictor, template_topology,
+      template_info;
+  // --target as given (several, or folders of targets, with --output-dir);
+  // target_path: the one being built.
+  std::vector<std::string> targets;
+  std::string target_path;
+  std::string output_dir;  // a cast: one output set per target in this folder
+  std::string format = "glb";  // a cast's rigs: glb, gltf or frig
+  BuildMode mode = BuildMode::kClassic;
+  Units units = Units::kUnknown;
+  bool contacts = true;  // DeformationTransferParams::contact_weight left at its default, else 0
+  bool fit_eyes_to_openings = true;  // LandmarkParams::fit_eyes_to_openings
+  StandardShapesOptions naming;
+};
+
+// The library's parameters for these options.
+BuildRigParams BuildParamsOf(const BuildOptions& options);
+
+// dlib's detector, made when first needed (a target or template without
+// landmarks) and kept for every target of the run.
+class SharedLandmarkDetector {
+ public:
+  explicit SharedLandmarkDetector(const BuildOptions& options);
+  LandmarkDetector& Get();
+
+ private:
+  LandmarkParams params_;
+  std::optional<LandmarkDetector> detector_;
+};
+
+// The template as every target of the run builds from it. Not movable: the
+// preparation refers to the rig and the descriptor.
+struct BuildTemplate {
+  BuildTemplate() = default;
+  BuildTemplate(const BuildTemplate&) = delete;
+  BuildTemplate& operator=(const BuildTemplate&) = delete;
+
+  Rig rig;
+  FaceTemplateInfo info;
+  std::optional<TemplatePreparation> prepared;  // PrepareBuildTemplate
+};
+
+// The template rig and its descriptor (--template, --template-info); baked
+// visemes dropped when they are made again (--visemes oculus).
+std::unique_ptr<BuildTemplate> LoadBuildTemplate(const BuildOptions& options);
+
+// The template's landmark vertices (detected on its renders when its
+// descriptor has none) and its preparation (template_preparation.h), with
+// the variant for `target` (null: the variant most targets use) made now.
+void PrepareBuildTemplate(const BuildOptions& options, BuildTemplate& build_template,
+                          SharedLandmarkDetector& detector, const RawRig* target);
+
+// One target built and written: what the batch summary and the final line say.
+struct TargetBuilt {
+  std::size_t vertices = 0, shapes = 0;
+  double residual_mean_percent = 0.0, residual_p95_percent = 0.0;
+};
+
+// Loads options.target_path (its stage "load" into `stages` unless
+// `loaded` is given), finds its landmarks, builds it on the prepared template
+// and writes options.output and the other outputs asked for, the --json
+// report last, as one set; appends each stage's time to `stages`.
+// \throw what loading, detection, the build and the writers throw.
+TargetBuilt BuildTargetAndWrite(const BuildOptions& options, const BuildTemplate& build_template,
+                                SharedLandmarkDetector& detector, std::optional<BuildTarget> loaded,
+                                std::vector<BuildStage>& stages);
+
+// Loads the target as `facerig build` reads it (--units applied).
+BuildTarget LoadTargetOf(const BuildOptions& options);
+
+}  // namespace facerig::cli
