@@ -26,6 +26,7 @@ using facerig::SecondsSince;
 struct CastOptions {
   std::string ict_dir = FACERIG_DEFAULT_ICT_DIR;
   std::string json_path;
+  std::string work_dir;  // empty: a temporary folder, removed
   int faces = 6;
   unsigned seed = 601;  // the build bench's faces
   std::size_t target_vertices = 30000;
@@ -39,6 +40,7 @@ void AddCastOptions(CLI::App& app, CastOptions& o) {
   app.add_option("--target-vertices", o.target_vertices, "vertices of each re-meshed face (default 30000)")
       ->check(facerig::cli::InRange(1000, 10000000));
   app.add_option("--json", o.json_path, "write the results as JSON");
+  app.add_option("--work", o.work_dir, "keep the faces and the rigs in this folder (default: a temporary one)");
 }
 
 // The faces as OBJ files in `folder` (face_SEED.obj) and a flat sheet where
@@ -100,8 +102,12 @@ struct FaceTimes {
 
 int RunCast(const CastOptions& o) {
   try {
-    const fs::path work = fs::temp_directory_path() / "facerig_bench_cast";
-    fs::remove_all(work);
+    const fs::path work = o.work_dir.empty() ? fs::temp_directory_path() / "facerig_bench_cast" : fs::path(o.work_dir);
+    if (o.work_dir.empty()) {
+      fs::remove_all(work);
+    } else if (fs::exists(work) && !fs::is_empty(work)) {
+      throw std::runtime_error("--work " + o.work_dir + " is not empty");
+    }
     for (const char* sub : {"faces", "single", "cast"}) fs::create_directories(work / sub);
     std::printf("making %d random ICT faces of %zu vertices (seeds %u..) and a target without a face...\n", o.faces,
                 o.target_vertices, o.seed);
@@ -110,7 +116,8 @@ int RunCast(const CastOptions& o) {
     std::vector<FaceTimes> faces;
     double single_total = 0.0;
     for (const std::string& name : names) {
-      FaceTimes face{name};
+      FaceTimes face;
+      face.name = name;
       const auto start = Clock::now();
       face.single_exit = RunBuild({"--template", o.ict_dir, "--target", (work / "faces" / (name + ".obj")).string(),
                                    "-o", (work / "single" / (name + ".glb")).string()});
@@ -166,7 +173,7 @@ int RunCast(const CastOptions& o) {
         {"cast_total_seconds", cast_total}, {"cast_exit_code", cast_exit}, {"template_once_seconds", template_once},
         {"built", built}, {"single_seconds_per_built_face", built_single / built},
         {"cast_seconds_per_built_face", built_cast / built}};
-    fs::remove_all(work);
+    if (o.work_dir.empty()) fs::remove_all(work);
     return WriteBenchJson(o.json_path, report);
   } catch (const std::exception& error) {
     return ReportBenchFailure(error);

@@ -86,7 +86,7 @@ int BuildAndWrite(BuildOptions options) {
   std::fprintf(stderr, "template %zu vertices, %zu shapes; target %zu vertices (%.2f s to load)\n",
                build_template->rig.vertex_count(), build_template->rig.shape_count(), target->rig.positions.size(),
                stages.back().seconds);
-  SharedLandmarkDetector detector(options);
+  SharedLandmarkDetector detector(options, false);
   TimeStage(stages, "prepare template", [&] { PrepareBuildTemplate(options, *build_template, detector, &target->rig); });
   BuildTargetAndWrite(options, *build_template, detector, std::move(target), stages);
   return 0;

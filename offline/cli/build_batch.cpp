@@ -86,7 +86,8 @@ void WriteFailureReport(const BuildOptions& options, const std::string& error, d
 // returned), never thrown, but a stop (SIGINT / SIGTERM) ends the run.
 CastEntry BuildCastTarget(const BuildOptions& options, const CastTarget& target, const BuildTemplate& build_template,
                           SharedLandmarkDetector& detector) {
-  CastEntry entry{target};
+  CastEntry entry;
+  entry.target = target;
   BuildOptions one = options;
   one.target_path = target.path;
   one.output = (fs::path(options.output_dir) / (target.name + "." + options.format)).string();
@@ -188,7 +189,7 @@ int BuildCast(const BuildOptions& options) {
   std::fprintf(stderr, "template %zu vertices, %zu shapes (%.2f s to load); %zu targets\n",
                build_template->rig.vertex_count(), build_template->rig.shape_count(),
                template_stages.back().seconds, targets.size());
-  SharedLandmarkDetector detector(options);
+  SharedLandmarkDetector detector(options, true);
   TimeStage(template_stages, "prepare template",
             [&] { PrepareBuildTemplate(options, *build_template, detector, nullptr); });
   std::vector<CastEntry> entries;

@@ -236,7 +236,8 @@ BuildRigParams BuildParamsOf(const BuildOptions& options) {
   return params;
 }
 
-SharedLandmarkDetector::SharedLandmarkDetector(const BuildOptions& options) {
+SharedLandmarkDetector::SharedLandmarkDetector(const BuildOptions& options, bool keep_for_more_targets)
+    : keep_(keep_for_more_targets) {
   if (!options.shape_predictor.empty()) params_.shape_predictor = options.shape_predictor;
   params_.fit_eyes_to_openings = options.fit_eyes_to_openings;
 }
@@ -244,6 +245,10 @@ SharedLandmarkDetector::SharedLandmarkDetector(const BuildOptions& options) {
 LandmarkDetector& SharedLandmarkDetector::Get() {
   if (!detector_) detector_.emplace(params_);
   return *detector_;
+}
+
+void SharedLandmarkDetector::LandmarksFound() {
+  if (!keep_) detector_.reset();
 }
 
 std::unique_ptr<BuildTemplate> LoadBuildTemplate(const BuildOptions& options) {
@@ -280,6 +285,7 @@ TargetBuilt BuildTargetAndWrite(const BuildOptions& options, const BuildTemplate
   if (!loaded) std::fprintf(stderr, "target %zu vertices (%.2f s to load)\n", target_vertices, stages.back().seconds);
   const BuildLandmarks landmarks = TimeStage(
       stages, "landmarks", [&] { return FindBuildLandmarks(options, build_template, target.rig, detector); });
+  detector.LandmarksFound();
 
   const BuildRigResult built = BuildRig(*build_template.prepared, std::move(target), landmarks.pairs,
                                         BuildParamsOf(options));

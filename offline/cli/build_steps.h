@@ -39,14 +39,19 @@ struct BuildOptions {
 BuildRigParams BuildParamsOf(const BuildOptions& options);
 
 // dlib's detector, made when first needed (a target or template without
-// landmarks) and kept for every target of the run.
+// landmarks). A cast keeps it for every target; one target lets it go once
+// its landmarks are found, so that its model (about 85 MB) is not resident
+// while the build peaks.
 class SharedLandmarkDetector {
  public:
-  explicit SharedLandmarkDetector(const BuildOptions& options);
+  SharedLandmarkDetector(const BuildOptions& options, bool keep_for_more_targets);
   LandmarkDetector& Get();
+  // After a target's landmarks: frees the detector unless it is kept.
+  void LandmarksFound();
 
  private:
   LandmarkParams params_;
+  bool keep_;
   std::optional<LandmarkDetector> detector_;
 };
 

@@ -1,5 +1,6 @@
 #include "facerig/offline/openings/margins.h"
 #include "facerig/offline/rigging/rig_build.h"
+#include "facerig/offline/rigging/template_preparation.h"
 
 #include <chrono>
 #include <algorithm>

@@ -22,7 +22,6 @@
 
 #include "facerig/offline/rigging/build_stages.h"
 #include "facerig/offline/rigging/face_template.h"
-#include "facerig/offline/rigging/template_preparation.h"
 #include "facerig/offline/transfer/deformation_transfer.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/registration/nonrigid_icp.h"
@@ -150,16 +149,6 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
 // The same from an existing registration of the template onto target (e.g.
 // to compare modes without registering again).
 BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
-                                      NonrigidIcpResult registered, const BuildRigParams& params = {});
-
-// The same from a template prepared once for many targets
-// (template_preparation.h; made with the same params): the same results, the
-// template's own work not done again.
-BuildRigResult BuildRig(const TemplatePreparation& prepared, RawRig target, const RegistrationLandmarks& landmarks,
-                        const BuildRigParams& params = {});
-BuildRigResult BuildRig(const TemplatePreparation& prepared, BuildTarget target, const RegistrationLandmarks& landmarks,
-                        const BuildRigParams& params = {});
-BuildRigResult BuildRigOnRegistration(const TemplatePreparation& prepared, RawRig target,
                                       NonrigidIcpResult registered, const BuildRigParams& params = {});
 
 // Pairs detected (or read) target landmarks with template vertices.

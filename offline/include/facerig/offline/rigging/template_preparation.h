@@ -18,12 +18,11 @@
 
 #include "facerig/offline/openings/openings.h"
 #include "facerig/offline/rigging/face_template.h"
+#include "facerig/offline/rigging/rig_build.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
 
 namespace facerig {
-
-struct BuildRigParams;
 
 // One variant of the prepared template.
 struct PreparedTemplate {
@@ -64,5 +63,15 @@ class TemplatePreparation {
   const FaceTemplateInfo* info_;
   std::unique_ptr<State> state_;
 };
+
+// BuildRig and BuildRigOnRegistration (rig_build.h) from a template
+// prepared once for many targets, made with the same params: the same
+// results, the template's own work not done again.
+BuildRigResult BuildRig(const TemplatePreparation& prepared, RawRig target, const RegistrationLandmarks& landmarks,
+                        const BuildRigParams& params = {});
+BuildRigResult BuildRig(const TemplatePreparation& prepared, BuildTarget target, const RegistrationLandmarks& landmarks,
+                        const BuildRigParams& params = {});
+BuildRigResult BuildRigOnRegistration(const TemplatePreparation& prepared, RawRig target,
+                                      NonrigidIcpResult registered, const BuildRigParams& params = {});
 
 }  // namespace facerig
