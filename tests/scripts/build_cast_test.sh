@@ -22,7 +22,7 @@ printf 'v 1 2\nf 1 2 3 4\n' >"$work/faces/broken.obj"
 echo "--- first run: 3 faces built, 1 failed (exit 3)"
 status=0; cast || status=$?
 ((status == 3)) || fail "first run exited $status, expected 3 (some failed)"
-[[ $(json "$work/out/cast.json" 'j["built"], j["failed"], j["missing"]') == "(3, 1, 0)" ]] || fail "cast.json counts"
+[[ $(json "$work/out/cast.json" 'j["built"], j["failed"], j["missing"]') == "3 1 0" ]] || fail "cast.json counts"
 [[ $(json "$work/out/cast.json" '[t["status"] for t in j["targets"]]') == "['failed', 'built', 'built', 'built']" ]] ||
   fail "cast.json statuses"
 json "$work/out/cast.json" 'j["targets"][0]["error"]' | grep -q "broken.obj" || fail "the bad face's error names it"
@@ -53,6 +53,6 @@ status=0; cast || status=$?
 [[ $(json "$work/out/identity011.json" 'j["result"]["status"]') == built ]] || fail "identity011 not resumed"
 cmp -s "$work/out/identity000.json" "$work/identity000.first.json" || fail "identity000 was built again"
 cmp -s "$work/out/identity007.json" "$work/identity007.second.json" || fail "identity007 was built again"
-[[ $(json "$work/out/cast.json" 'j["built"], j["failed"], j["missing"]') == "(3, 1, 0)" ]] || fail "final counts"
+[[ $(json "$work/out/cast.json" 'j["built"], j["failed"], j["missing"]') == "3 1 0" ]] || fail "final counts"
 if ls -A "$work/out" | grep -q '^\.facerig-tmp'; then fail "temporaries left: $(ls -A "$work/out")"; fi
 echo "build-cast.sh: all checks passed"
