@@ -87,7 +87,7 @@ int BuildAndWrite(BuildOptions options) {
                build_template->rig.vertex_count(), build_template->rig.shape_count(), target->rig.positions.size(),
                stages.back().seconds);
   SharedLandmarkDetector detector(options, false);
-  TimeStage(stages, "prepare template", [&] { PrepareBuildTemplate(options, *build_template, detector, &target->rig); });
+  TimeStage(stages, "prepare template", [&] { PrepareBuildTemplate(options, *build_template, detector, false); });
   BuildTargetAndWrite(options, *build_template, detector, std::move(target), stages);
   return 0;
 }

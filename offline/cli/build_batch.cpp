@@ -191,7 +191,7 @@ int BuildCast(const BuildOptions& options) {
                template_stages.back().seconds, targets.size());
   SharedLandmarkDetector detector(options, true);
   TimeStage(template_stages, "prepare template",
-            [&] { PrepareBuildTemplate(options, *build_template, detector, nullptr); });
+            [&] { PrepareBuildTemplate(options, *build_template, detector, true); });
   std::vector<CastEntry> entries;
   for (const CastTarget& target : targets) {
     entries.push_back(BuildCastTarget(options, target, *build_template, detector));

@@ -261,14 +261,14 @@ std::unique_ptr<BuildTemplate> LoadBuildTemplate(const BuildOptions& options) {
 }
 
 void PrepareBuildTemplate(const BuildOptions& options, BuildTemplate& build_template,
-                          SharedLandmarkDetector& detector, const RawRig* target) {
+                          SharedLandmarkDetector& detector, bool for_many_targets) {
   if (build_template.info.landmark_vertices.empty()) {
     TemplateLandmarkVertices(build_template.rig, build_template.info, detector.Get());
   }
   PrintTemplateInfo(build_template.info);
   build_template.prepared.emplace(build_template.rig, build_template.info, BuildParamsOf(options));
-  const PreparedTemplate& variant =
-      target ? build_template.prepared->For(*target) : build_template.prepared->For(false);
+  if (!for_many_targets) return;
+  const PreparedTemplate& variant = build_template.prepared->For(false);
   if (!variant.tongue_out_synthesised_from.empty()) {
     std::fprintf(stderr, "the template has no tongueOut: made one from its part '%s'\n",
                  variant.tongue_out_synthesised_from.c_str());
@@ -290,6 +290,10 @@ TargetBuilt BuildTargetAndWrite(const BuildOptions& options, const BuildTemplate
   const BuildRigResult built = BuildRig(*build_template.prepared, std::move(target), landmarks.pairs,
                                         BuildParamsOf(options));
   stages.insert(stages.end(), built.stages.begin(), built.stages.end());
+  if (options.output_dir.empty() && !built.tongue_out_synthesised_from.empty()) {  // a cast said it once
+    std::fprintf(stderr, "the template has no tongueOut: made one from its part '%s'\n",
+                 built.tongue_out_synthesised_from.c_str());
+  }
   std::string problem;
   const std::optional<Rig> unnamed = RigBuilder::Build(built.rig, &problem);
   if (!unnamed) throw InvalidInputError("the built rig is invalid: " + problem);

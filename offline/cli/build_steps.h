@@ -72,10 +72,12 @@ struct BuildTemplate {
 std::unique_ptr<BuildTemplate> LoadBuildTemplate(const BuildOptions& options);
 
 // The template's landmark vertices (detected on its renders when its
-// descriptor has none) and its preparation (template_preparation.h), with
-// the variant for `target` (null: the variant most targets use) made now.
+// descriptor has none) and its preparation (template_preparation.h). A cast
+// (for_many_targets) makes the variant most targets use now; one target's
+// build makes its own after the registration, so that its peak memory does
+// not hold both.
 void PrepareBuildTemplate(const BuildOptions& options, BuildTemplate& build_template,
-                          SharedLandmarkDetector& detector, const RawRig* target);
+                          SharedLandmarkDetector& detector, bool for_many_targets);
 
 // One target built and written: what the batch summary and the final line say.
 struct TargetBuilt {

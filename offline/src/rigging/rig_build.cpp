@@ -286,26 +286,31 @@ BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplat
 BuildRigResult BuildRigOnRegistration(const TemplatePreparation& preparation, RawRig target,
                                       NonrigidIcpResult registered, const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();
-  const PreparedTemplate& prepared = preparation.For(target);
-  const Rig& template_rig = *prepared.rig;
   const FaceTemplateInfo& template_info = preparation.info();
-  if (registered.positions.size() != template_rig.vertex_count()) {
+  if (registered.positions.size() != preparation.template_rig().vertex_count()) {
     throw InvalidInputError("the registration has " + std::to_string(registered.positions.size()) +
-                            " vertices, the template " + std::to_string(template_rig.vertex_count()));
+                            " vertices, the template " + std::to_string(preparation.template_rig().vertex_count()));
   }
   const std::uint32_t region_vertex_count = params.registration.region_vertex_count != 0
                                                 ? params.registration.region_vertex_count
                                                 : template_info.region.last + 1;
   BuildRigResult result;
-  result.tongue_out_synthesised_from = prepared.tongue_out_synthesised_from;
   result.registration = std::move(registered);
   result.timings.registration_seconds = result.registration.timings.total_seconds;
   CheckResidual(result.registration.residual, params);
 
   StageRunner stage(params, result);
+  // The template's variant for this target, made here when it was not
+  // prepared before (one build): after the registration, whose memory is
+  // gone by now, so that the build's peak does not hold it too.
+  const PreparedTemplate* variant = nullptr;
   const MarginStage margins = stage.Run("align margins", [&] {
-    return AlignMargins(prepared, target, params, result);
+    variant = &preparation.For(target);
+    return AlignMargins(*variant, target, params, result);
   });
+  const PreparedTemplate& prepared = *variant;
+  const Rig& template_rig = *prepared.rig;
+  result.tongue_out_synthesised_from = prepared.tongue_out_synthesised_from;
   const std::vector<glm::vec3> fitted_in_template = stage.Run("to template frame", [&] {
     return FitInTemplateFrame(template_rig, region_vertex_count, params, result);
   });
