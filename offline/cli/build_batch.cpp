@@ -84,7 +84,7 @@ void WriteFailureReport(const BuildOptions& options, const std::string& error, d
 
 // Builds one target of the cast; a failure is reported in its report (and
 // returned), never thrown, but a stop (SIGINT / SIGTERM) ends the run.
-CastEntry BuildCastTarget(const BuildOptions& options, const CastTarget& target, const BuildTemplate& build_template,
+CastEntry BuildCastTarget(const BuildOptions& options, const CastTarget& target, BuildTemplate& build_template,
                           SharedLandmarkDetector& detector) {
   CastEntry entry;
   entry.target = target;

@@ -66,8 +66,10 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, const BuildTempla
                                   const RawRig& target, SharedLandmarkDetector& detector) {
   BuildLandmarks found;
   FaceLandmarks target_landmarks;
-  const std::optional<FaceLandmarks> on_template_topology = LandmarksOnTemplateTopology(
-      build_template.rig, build_template.info, target.positions, target.triangles);
+  const std::optional<FaceLandmarks> on_template_topology =
+      build_template.descriptor_has_landmarks
+          ? LandmarksOnTemplateTopology(build_template.rig, build_template.info, target.positions, target.triangles)
+          : std::nullopt;
   if (!options.landmarks.empty()) {
     target_landmarks = ReadLandmarksJson(options.landmarks);
     found.source = options.landmarks;
@@ -257,6 +259,7 @@ std::unique_ptr<BuildTemplate> LoadBuildTemplate(const BuildOptions& options) {
   // Baked visemes are made again from the built shapes: no need to transfer them.
   if (options.naming.visemes == VisemeTargets::kOculus) loaded->rig = WithoutBakedVisemes(loaded->rig);
   loaded->info = ResolveFaceTemplateInfo(loaded->rig, options.template_path, options.template_info);
+  loaded->descriptor_has_landmarks = !loaded->info.landmark_vertices.empty();
   return loaded;
 }
 
@@ -277,7 +280,7 @@ void PrepareBuildTemplate(const BuildOptions& options, BuildTemplate& build_temp
 
 BuildTarget LoadTargetOf(const BuildOptions& options) { return LoadBuildTarget(options.target_path, options.units); }
 
-TargetBuilt BuildTargetAndWrite(const BuildOptions& options, const BuildTemplate& build_template,
+TargetBuilt BuildTargetAndWrite(const BuildOptions& options, BuildTemplate& build_template,
                                 SharedLandmarkDetector& detector, std::optional<BuildTarget> loaded,
                                 std::vector<BuildStage>& stages) {
   BuildTarget target = loaded ? std::move(*loaded) : TimeStage(stages, "load", [&] { return LoadTargetOf(options); });
@@ -293,6 +296,10 @@ TargetBuilt BuildTargetAndWrite(const BuildOptions& options, const BuildTemplate
   if (options.output_dir.empty() && !built.tongue_out_synthesised_from.empty()) {  // a cast said it once
     std::fprintf(stderr, "the template has no tongueOut: made one from its part '%s'\n",
                  built.tongue_out_synthesised_from.c_str());
+  }
+  if (options.output_dir.empty()) {
+    build_template.prepared.reset();
+    build_template.rig = Rig();
   }
   std::string problem;
   const std::optional<Rig> unnamed = RigBuilder::Build(built.rig, &problem);

@@ -64,6 +64,10 @@ struct BuildTemplate {
 
   Rig rig;
   FaceTemplateInfo info;
+  // The descriptor lists the landmark vertices (else they are detected on
+  // the template): only then does a target of the template's topology take
+  // them as its landmarks instead of detection.
+  bool descriptor_has_landmarks = false;
   std::optional<TemplatePreparation> prepared;  // PrepareBuildTemplate
 };
 
@@ -88,9 +92,11 @@ struct TargetBuilt {
 // Loads options.target_path (its stage "load" into `stages` unless
 // `loaded` is given), finds its landmarks, builds it on the prepared template
 // and writes options.output and the other outputs asked for, the --json
-// report last, as one set; appends each stage's time to `stages`.
+// report last, as one set; appends each stage's time to `stages`. One
+// target (no --output-dir): the template's rig and preparation are freed
+// before the writers, so that they do not add to the build's peak memory.
 // \throw what loading, detection, the build and the writers throw.
-TargetBuilt BuildTargetAndWrite(const BuildOptions& options, const BuildTemplate& build_template,
+TargetBuilt BuildTargetAndWrite(const BuildOptions& options, BuildTemplate& build_template,
                                 SharedLandmarkDetector& detector, std::optional<BuildTarget> loaded,
                                 std::vector<BuildStage>& stages);
 
