@@ -93,7 +93,9 @@ TEST_CASE("(shared data) facerig build --output-dir: a cast of ICT identities an
     CHECK(report["result"]["status"] == "built");
     CHECK(report["result"]["landmarks"] == "template topology");
     CHECK(report["result"]["tongue_out_synthesised_from"] == "gums_and_tongue");
-    const fs::path single = folder / (std::string(identity) + "_single.glb");
+    // The same file name: a glTF's node is named after it.
+    fs::create_directories(folder / "single");
+    const fs::path single = folder / "single" / (std::string(identity) + ".glb");
     const test::CommandOutcome one = Build({"--template", ict_frig.string(), "--target",
                                             (faces / (std::string(identity) + ".obj")).string(), "-o", single.string()});
     REQUIRE(one.exit_code == 0);
