@@ -1,9 +1,9 @@
 // The part of a build that depends on the template alone, done once for any
 // number of targets (a cast built from one template: `facerig build` with
-// several targets): the template with its synthesised tongueOut, its lid and
-// lip margins, and what the transfer and the mapping read from its
-// expressions. BuildRig(const TemplatePreparation&, ...) builds one target
-// from it; the results are those of BuildRig on the template itself.
+// several targets): the template with its synthesised tongueOut and its lid
+// and lip margins (the caller resolves its landmark vertices and loads dlib
+// once). BuildRig(const TemplatePreparation&, ...) builds one target from it;
+// the results are byte for byte those of BuildRig on the template itself.
 //
 // Two variants, each prepared when first asked for and then kept: the
 // template with the synthesised tongueOut (most targets), and the template as
