@@ -21,6 +21,7 @@ packages=(
   # brought to the reference's sample rate (libsamplerate, BSD-2)
   libsndfile1-dev libsamplerate0-dev
   pocketsphinx-testdata                            # recorded English + transcripts: bench align/av-sync, av-sync test
+  parallel                                         # scripts/build-cast.sh: a cast's builds over cores and machines
   # facerig-player: SDL2 window + audio; libepoxy loads GL for GLX/SDL and EGL
   # contexts alike, so the windowed and headless paths share one loader;
   # EGL + Mesa (llvmpipe) render headless without a display or GPU.

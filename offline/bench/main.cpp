@@ -12,6 +12,7 @@
 #endif
 #include "bench/blend.h"
 #include "bench/build.h"
+#include "bench/cast.h"
 #include "bench/photo.h"
 #include "bench/register.h"
 #include "bench/transfer.h"
@@ -39,6 +40,7 @@ const std::vector<Entry>& Benchmarks() {
       {"transfer", "deformation transfer / displacement matrices of the ICT rig onto random identities",
        RunTransferBenchmark},
       {"build", "the whole facerig build on re-meshed random ICT faces, each mode", RunBuildBenchmark},
+      {"cast", "a cast of faces built in one facerig build run against one run per face", RunCastBenchmark},
       {"register", "landmarks + registration of the ICT template onto re-meshed random ICT faces",
        RunRegisterBenchmark},
       {"photo", "facerig photo on a 1024 px portrait with ICT-FaceKit, per step, with and without the shading fit",

@@ -14,6 +14,9 @@ namespace facerig::cli {
 // [--obj-dir DIR] [--mode classic|identity|displacement] [--landmarks LM.json]
 // [--json REPORT] [--units mm|cm|m] [--template-topology FIT.frig]
 // [--shape-predictor F] [--no-contacts] [--no-eye-fit]: a rig for a new face.
+// A cast: --template T --target MESH|DIR... --output-dir DIR [--format glb|gltf|frig]
+// [--json SUMMARY] (build_batch.h): many faces in one run, the template's
+// work done once; exit 3 when some targets failed.
 void AddBuildCommand(CLI::App& facerig, CommandBody& body);
 
 // --- cli_photo.cpp ---

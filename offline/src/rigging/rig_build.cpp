@@ -1,5 +1,6 @@
 #include "facerig/offline/openings/margins.h"
 #include "facerig/offline/rigging/rig_build.h"
+#include "facerig/offline/rigging/template_preparation.h"
 
 #include <chrono>
 #include <algorithm>
@@ -15,8 +16,6 @@
 #include "facerig/offline/transfer/displacement_transfer.h"
 #include "facerig/offline/geometry/mesh_components.h"
 #include "facerig/offline/mapping/mouth_sides.h"
-#include "facerig/offline/rigging/tongue_out.h"
-#include "facerig/runtime/shape_names.h"
 #include "facerig/offline/geometry/stats.h"
 #include "geometry/bounding_box.h"
 
@@ -80,25 +79,6 @@ double MeanDeformationPercent(std::span<const glm::vec3> template_positions, std
   return region_vertex_count > 0 && diagonal > 0.0 ? 100.0 * sum / region_vertex_count / diagonal : 0.0;
 }
 
-// The expressions' margins, kept to the descriptor's rims where it lists them.
-std::vector<OpeningMargin> DescribedMargins(std::vector<OpeningMargin> margins, const FaceTemplateInfo& info) {
-  if (!info.eyelid_rim && !info.lip_rim) return margins;
-  std::vector<std::uint32_t> rims = info.eyelid_rim.value_or(std::vector<std::uint32_t>{});
-  if (info.lip_rim) rims.insert(rims.end(), info.lip_rim->begin(), info.lip_rim->end());
-  std::sort(rims.begin(), rims.end());
-  std::erase_if(margins, [&](const OpeningMargin& margin) {
-    return !std::binary_search(rims.begin(), rims.end(), margin.vertex);
-  });
-  return margins;
-}
-
-// Whether the target brings a shape of that ARKit name (any spelling).
-bool TargetHasShape(const RawRig& target, std::string_view arkit_name) {
-  const std::string wanted = CanonicalShapeNameOf(arkit_name).full();
-  return std::any_of(target.shapes.begin(), target.shapes.end(),
-                     [&](const RawBlendShape& shape) { return CanonicalShapeNameOf(shape.name).full() == wanted; });
-}
-
 // Runs the build's stages: reports each through BuildRigParams::progress and
 // records its time in BuildRigResult::stages.
 class StageRunner {
@@ -135,12 +115,13 @@ struct MarginStage {
 
 // The fitted template's lid and lip margins moved onto the target's rims
 // (BuildRigParams::align_margins_to_openings), in result.registration.positions.
-MarginStage AlignMargins(const Rig& template_rig, const FaceTemplateInfo& template_info, const RawRig& target,
-                         const BuildRigParams& params, BuildRigResult& result) {
+MarginStage AlignMargins(const PreparedTemplate& prepared, const RawRig& target, const BuildRigParams& params,
+                         BuildRigResult& result) {
   const auto start = std::chrono::steady_clock::now();
   MarginStage stage;
   if (params.align_margins_to_openings) {
-    stage.margins = DescribedMargins(FindOpeningMargins(template_rig, params.openings), template_info);
+    const Rig& template_rig = *prepared.rig;
+    stage.margins = prepared.margins;
     // Rims of the skin only: the edges of ICT's eye layers are not lid margins.
     const std::vector<Triangle> skin =
         LargePartTriangles(target.positions, target.triangles, params.registration_min_part_area);
@@ -258,19 +239,11 @@ RegistrationLandmarks PairLandmarks(const std::vector<std::uint32_t>& template_v
   return pairs;
 }
 
-BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
-                        const RegistrationLandmarks& landmarks, const BuildRigParams& params) {
+BuildRigResult BuildRig(const TemplatePreparation& prepared, RawRig target, const RegistrationLandmarks& landmarks,
+                        const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();
-  if (template_rig.shape_count() == 0) {
-    throw InvalidInputError("the template has no blend shapes to transfer");
-  }
-  if (template_info.region.last >= template_rig.vertex_count()) {
-    throw InvalidInputError("the template descriptor's region ends at vertex " +
-                            std::to_string(template_info.region.last) + ", the template has " +
-                            std::to_string(template_rig.vertex_count()) + " vertices");
-  }
   NonrigidIcpParams registration = params.registration;
-  if (registration.region_vertex_count == 0) registration.region_vertex_count = template_info.region.last + 1;
+  if (registration.region_vertex_count == 0) registration.region_vertex_count = prepared.region_vertex_count();
   registration.progress = [&](std::size_t done, std::size_t total) {
     if (params.progress) params.progress("register", done, total);
   };
@@ -278,54 +251,66 @@ BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& templat
   std::size_t parts_left_out = 0;
   const std::vector<Triangle> skin = LargePartTriangles(target.positions, target.triangles,
                                                         params.registration_min_part_area, &parts_left_out);
-  NonrigidIcpResult fit = NonrigidIcp(NeutralMesh(template_rig), Mesh{.positions = target.positions, .triangles = skin},
-                                      landmarks, registration);
-  BuildRigResult result =
-      BuildRigOnRegistration(template_rig, template_info, std::move(target), std::move(fit), params);
+  NonrigidIcpResult fit = NonrigidIcp(NeutralMesh(prepared.template_rig()),
+                                      Mesh{.positions = target.positions, .triangles = skin}, landmarks, registration);
+  BuildRigResult result = BuildRigOnRegistration(prepared, std::move(target), std::move(fit), params);
   result.stages.insert(result.stages.begin(), BuildStage{"register", result.timings.registration_seconds});
   result.target_parts_left_out = parts_left_out;
   result.timings.total_seconds = SecondsSince(start);
   return result;
 }
 
-BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, BuildTarget target,
-                        const RegistrationLandmarks& landmarks, const BuildRigParams& params) {
-  BuildRigResult result = BuildRig(template_rig, template_info, std::move(target.rig), landmarks, params);
+BuildRigResult BuildRig(const TemplatePreparation& prepared, BuildTarget target, const RegistrationLandmarks& landmarks,
+                        const BuildRigParams& params) {
+  BuildRigResult result = BuildRig(prepared, std::move(target.rig), landmarks, params);
   result.target_mesh = std::move(target.mesh);
   return result;
 }
 
-BuildRigResult BuildRigOnRegistration(const Rig& given_template, const FaceTemplateInfo& template_info, RawRig target,
+BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+                        const RegistrationLandmarks& landmarks, const BuildRigParams& params) {
+  return BuildRig(TemplatePreparation(template_rig, template_info, params), std::move(target), landmarks, params);
+}
+
+BuildRigResult BuildRig(const Rig& template_rig, const FaceTemplateInfo& template_info, BuildTarget target,
+                        const RegistrationLandmarks& landmarks, const BuildRigParams& params) {
+  return BuildRig(TemplatePreparation(template_rig, template_info, params), std::move(target), landmarks, params);
+}
+
+BuildRigResult BuildRigOnRegistration(const Rig& template_rig, const FaceTemplateInfo& template_info, RawRig target,
+                                      NonrigidIcpResult registered, const BuildRigParams& params) {
+  return BuildRigOnRegistration(TemplatePreparation(template_rig, template_info, params), std::move(target),
+                                std::move(registered), params);
+}
+
+BuildRigResult BuildRigOnRegistration(const TemplatePreparation& preparation, RawRig target,
                                       NonrigidIcpResult registered, const BuildRigParams& params) {
   const auto start = std::chrono::steady_clock::now();
-  SynthesisedTongueOut tongue_out;
-  // A target with a tongueOut of its own keeps it (the built-in head moves its own tongue better
-  // than ICT's mapped onto it).
-  const std::optional<Rig> with_tongue_out =
-      params.synthesise_tongue_out && !TargetHasShape(target, "tongueOut")
-          ? WithSynthesisedTongueOut(given_template, template_info, &tongue_out)
-          : std::nullopt;
-  const Rig& template_rig = with_tongue_out ? *with_tongue_out : given_template;
-  if (template_rig.shape_count() == 0) {
-    throw InvalidInputError("the template has no blend shapes to transfer");
-  }
-  if (registered.positions.size() != template_rig.vertex_count()) {
+  const FaceTemplateInfo& template_info = preparation.info();
+  if (registered.positions.size() != preparation.template_rig().vertex_count()) {
     throw InvalidInputError("the registration has " + std::to_string(registered.positions.size()) +
-                            " vertices, the template " + std::to_string(template_rig.vertex_count()));
+                            " vertices, the template " + std::to_string(preparation.template_rig().vertex_count()));
   }
   const std::uint32_t region_vertex_count = params.registration.region_vertex_count != 0
                                                 ? params.registration.region_vertex_count
                                                 : template_info.region.last + 1;
   BuildRigResult result;
-  if (with_tongue_out) result.tongue_out_synthesised_from = tongue_out.part;
   result.registration = std::move(registered);
   result.timings.registration_seconds = result.registration.timings.total_seconds;
   CheckResidual(result.registration.residual, params);
 
   StageRunner stage(params, result);
+  // The template's variant for this target, made here when it was not
+  // prepared before (one build): after the registration, whose memory is
+  // gone by now, so that the build's peak does not hold it too.
+  const PreparedTemplate* variant = nullptr;
   const MarginStage margins = stage.Run("align margins", [&] {
-    return AlignMargins(template_rig, template_info, target, params, result);
+    variant = &preparation.For(target);
+    return AlignMargins(*variant, target, params, result);
   });
+  const PreparedTemplate& prepared = *variant;
+  const Rig& template_rig = *prepared.rig;
+  result.tongue_out_synthesised_from = prepared.tongue_out_synthesised_from;
   const std::vector<glm::vec3> fitted_in_template = stage.Run("to template frame", [&] {
     return FitInTemplateFrame(template_rig, region_vertex_count, params, result);
   });
