@@ -113,6 +113,24 @@ facerig::Rig MappedWith(const facerig::Rig& ict, const facerig::FaceTemplateInfo
   return facerig::RigBuilder::Build(facerig::MapRigToTarget(fitted_rig, mapping, head)).value();
 }
 
+// The curtain with other shares of MouthSideParams::lower_share (0.8 by
+// default): whether the result hinges on that value.
+nlohmann::json SweepLowerShare(const facerig::Rig& ict, const facerig::FaceTemplateInfo& info,
+                               const facerig::BuildRigResult& built, const facerig::RawRig& head,
+                               const facerig::Rig& own, const facerig::DefaultHeadFeatures& features) {
+  std::printf("\n  %-12s %9s %9s %9s\n", "lower_share", "skin on", "sack on", "worst");
+  nlohmann::json sweep = nlohmann::json::array();
+  for (float share : {0.6f, 0.7f, 0.8f, 0.9f, 1.0f}) {
+    facerig::MouthSideParams params;
+    params.lower_share = share;
+    const facerig::MouthCurtain c = facerig::MeasureMouthCurtain(own, MappedWith(ict, info, built, head, params), features);
+    std::printf("  %-12.2f %9zu %9zu %9.2f\n", share, c.skin_on_jaw, c.sack_on_jaw, c.worst_ratio);
+    sweep.push_back({{"lower_share", share}, {"skin_on_jaw", c.skin_on_jaw}, {"sack_on_jaw", c.sack_on_jaw},
+                     {"worst_ratio", c.worst_ratio}});
+  }
+  return sweep;
+}
+
 int Run(const MouthOptions& options) {
   nlohmann::json report;
   try {
@@ -167,6 +185,7 @@ int Run(const MouthOptions& options) {
     std::printf("  %-50s %8.1f   target <= 10     %s\n", "fold under the lower lip (degrees)", current.fold.degrees,
                 current.fold.degrees <= 10.0f ? "ok" : "MISSED");
     report["summary"] = {{"curtain_vertices", curtain}, {"fold_degrees", current.fold.degrees}};
+    report["lower_share_sweep"] = SweepLowerShare(ict, info, built, head, own, features);
     if (!options.png_dir.empty()) {
       RenderOpenMouth(rig, features, options.png_dir, "this_build", options.png_size);
       RenderOpenMouth(previous, features, options.png_dir, "previous", options.png_size);
