@@ -43,12 +43,14 @@ struct MouthSideParams {
   float zone_behind = 1.2f;  // from the seam's front to the back of the mouth
   float zone_front = 0.1f;   // the lips' outer side in front of the seam
   float rim_front = 0.03f;    // sides only behind the rim (inner lips, mouth sack), not on the outer lips
-  // A zone vertex of a part hanging from the rim takes the side of the lip
-  // its surface leads to, searched this far along it (x the seam's width) (the back of a deep mouth sack);
-  // the lower side only when the lower lip is nearer than this share of the
-  // upper's distance (where a sack's roof and floor meet, both are about as
-  // far: the back of the mouth stays with the skull).
-  // false: every zone vertex by its height (the previous rule).
+  // A zone vertex of a part lying mostly in the zone and hanging from the
+  // rim (a mouth sack) takes the side of the lip its surface leads to
+  // (false: by its height, the previous rule), searched up to chain_reach x
+  // the seam's width along it (the back of a deep sack); the lower side only
+  // when the lower lip is nearer than lower_share of the upper's distance:
+  // where a sack's roof and floor meet, both are about as far, and the back
+  // of the mouth stays with the skull (0.6-0.9 give the same sides on the
+  // built-in head; 1.0 gives the jaw 2 of its palate's vertices).
   bool along_surface = true;
   float chain_reach = 3.0f;
   float lower_share = 0.8f;
