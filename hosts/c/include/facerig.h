@@ -176,7 +176,7 @@ typedef enum fr_normal_mode {
   FR_NORMALS_NONE = 0,         /* positions only; `normals` may be NULL */
   FR_NORMALS_BLEND_DELTAS = 1, /* neutral normal + weighted normal deltas, renormalised */
   FR_NORMALS_RECOMPUTE = 2,    /* area-weighted normals of the blended positions */
-  FR_NORMALS_BLEND_RECOMPUTED = 3,/* FR_NORMALS_RECOMPUTE's normals from each shape's (and pair of
+  FR_NORMALS_BLEND_RECOMPUTED = 3, /* FR_NORMALS_RECOMPUTE's normals from each shape's (and pair of
                                      shapes') precomputed change of them: within a degree, at a
                                      fraction of the cost; fr_blender_blend only (ABI 0.3) */
   FR_NORMALS_FORCE_INT32 = 0x7FFFFFFF /* not a mode: makes every int a value of the type, so that a
