@@ -61,9 +61,11 @@ FaceProportions ProportionsOfLandmarks(const FaceLandmarks& landmarks) {
   return p;
 }
 
-FaceProportions MeasureFaceProportions(LandmarkDetector& detector, const Mesh& mesh) {
+FaceProportions MeasureFaceProportions(LandmarkDetector& detector, const Mesh& mesh, LandmarkSource source) {
   const LandmarkResult result = detector.Detect(mesh);
-  FaceProportions p = ProportionsOfLandmarks(result.landmarks);
+  FaceLandmarks pixels;
+  for (const glm::vec2& pixel : result.detected_pixels) pixels.points.emplace_back(pixel.x, -pixel.y, 0.0f);
+  FaceProportions p = ProportionsOfLandmarks(source == LandmarkSource::kOnSurface ? result.landmarks : pixels);
   p.eyes_fitted = result.eyes_fitted;
   return p;
 }
@@ -89,12 +91,12 @@ ProportionReference SummarizeProportions(std::vector<FaceProportions> faces) {
 }
 
 ProportionReference IctProportionReference(LandmarkDetector& detector, const IctFaceModel& ict, int faces,
-                                           std::uint32_t first_seed) {
+                                           std::uint32_t first_seed, LandmarkSource source) {
   std::vector<FaceProportions> measured;
   for (int i = 0; i < faces; ++i) {
     Mesh face = ict.head_mesh();
     face.positions = RandomIctFace(ict, first_seed + static_cast<std::uint32_t>(i));
-    measured.push_back(MeasureFaceProportions(detector, face));
+    measured.push_back(MeasureFaceProportions(detector, face, source));
   }
   return SummarizeProportions(std::move(measured));
 }

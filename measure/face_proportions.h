@@ -45,9 +45,16 @@ struct FaceProportions {
 
 // The proportions of 68 landmarks (dlib order, 3D, the face towards +Z, +Y up).
 FaceProportions ProportionsOfLandmarks(const FaceLandmarks& landmarks);
+
+// Which points are measured: the detector's result on the surface (the eye
+// points on the lid margins where the eyes are holes), or dlib's own points
+// in the render (no calibration, no eye fitting; the render is front-on
+// within the detector's few degrees of refinement).
+enum class LandmarkSource : std::uint8_t { kOnSurface, kDlibPixels };
 // Detects the landmarks on `mesh` and measures them.
 // \throw LandmarkDetectionError when dlib finds no face.
-FaceProportions MeasureFaceProportions(LandmarkDetector& detector, const Mesh& mesh);
+FaceProportions MeasureFaceProportions(LandmarkDetector& detector, const Mesh& mesh,
+                                       LandmarkSource source = LandmarkSource::kOnSurface);
 
 // Mean and standard deviation (n - 1) of each proportion over reference faces.
 struct ProportionReference {
@@ -61,6 +68,7 @@ ProportionReference SummarizeProportions(std::vector<FaceProportions> faces);
 // ICT-FaceKit random faces (RandomIctFace with seeds first_seed, first_seed + 1, ...;
 // the face and head region, ICT's own topology), measured.
 ProportionReference IctProportionReference(LandmarkDetector& detector, const IctFaceModel& ict, int faces,
-                                           std::uint32_t first_seed);
+                                           std::uint32_t first_seed,
+                                           LandmarkSource source = LandmarkSource::kOnSurface);
 
 }  // namespace facerig::test

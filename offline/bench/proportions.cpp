@@ -30,6 +30,7 @@ struct ProportionsOptions {
   int faces = 20;
   unsigned seed = 3401;  // the test uses other seeds
   double limit_sd = 2.0;
+  bool dlib_pixels = false;
   std::string landmarks_png;
   std::string json_path;
 };
@@ -39,7 +40,10 @@ void AddProportionsOptions(CLI::App& app, ProportionsOptions& options) {
   app.add_option("--ict", options.ict_dir, "the ICT-FaceKit folder (the reference faces)");
   app.add_option("--faces", options.faces, "random ICT identities (default 20)")->check(facerig::cli::InRange(2, 100000));
   app.add_option("--seed", options.seed, "first random seed (default 3401)");
-  app.add_option("--limit", options.limit_sd, "how many reference SDs count as in range (default 2)");
+  app.add_option("--limit", options.limit_sd, "how many reference SDs count as in range (default 2)")
+      ->check(facerig::cli::InRange(0.1, 100.0));
+  app.add_flag("--dlib-pixels", options.dlib_pixels,
+               "measure dlib's own points in the render (no calibration, no eyes on the lid margins)");
   app.add_option("--landmarks-png", options.landmarks_png, "write the head's render with its 68 points (PNG)");
   app.add_option("--json", options.json_path, "write the results as JSON");
 }
@@ -54,19 +58,23 @@ int RunProportions(const ProportionsOptions& options) {
   try {
     const facerig::Rig head = facerig::LoadRigOrTemplateFolder(options.head);
     facerig::LandmarkDetector detector;
-    const facerig::LandmarkResult detected = detector.Detect(facerig::NeutralMesh(head));
-    facerig::test::FaceProportions measured = facerig::test::ProportionsOfLandmarks(detected.landmarks);
-    measured.eyes_fitted = detected.eyes_fitted;
-    if (!options.landmarks_png.empty()) facerig::WritePng(options.landmarks_png, facerig::DrawLandmarks(detected));
+    const auto source = options.dlib_pixels ? facerig::test::LandmarkSource::kDlibPixels
+                                            : facerig::test::LandmarkSource::kOnSurface;
+    const facerig::Mesh head_mesh = facerig::NeutralMesh(head);
+    const facerig::test::FaceProportions measured = facerig::test::MeasureFaceProportions(detector, head_mesh, source);
+    if (!options.landmarks_png.empty()) {
+      facerig::WritePng(options.landmarks_png, facerig::DrawLandmarks(detector.Detect(head_mesh)));
+    }
 
     std::printf("reference: %d ICT-FaceKit random identities (seeds %u-%u), %s\n", options.faces, options.seed,
                 options.seed + static_cast<unsigned>(options.faces) - 1, options.ict_dir.c_str());
     const facerig::test::IctFaceModel ict = facerig::test::LoadIctFaces(options.ict_dir);
     const facerig::test::ProportionReference reference =
-        facerig::test::IctProportionReference(detector, ict, options.faces, options.seed);
+        facerig::test::IctProportionReference(detector, ict, options.faces, options.seed, source);
 
-    std::printf("head: %s (eye distance %.3f, %d eyes on their lid margins)\n\n", options.head.c_str(),
-                measured.eye_distance, measured.eyes_fitted);
+    std::printf("head: %s (eye distance %.3f, %d eyes on their lid margins); points: %s\n\n", options.head.c_str(),
+                measured.eye_distance, measured.eyes_fitted,
+                options.dlib_pixels ? "dlib's own in the render" : "the detector's on the surface");
     std::printf("%-12s %9s %9s %9s %9s %9s %8s  %s\n", "ratio", "ICT mean", "ICT SD", "ICT min", "ICT max", "head",
                 "z", "within");
     nlohmann::json rows = nlohmann::json::object();
@@ -98,6 +106,7 @@ int RunProportions(const ProportionsOptions& options) {
                            {"reference", {{"ict_dir", options.ict_dir}, {"first_seed", options.seed},
                                           {"faces", faces}}},
                            {"limit_sd", options.limit_sd},
+                           {"points", options.dlib_pixels ? "dlib_pixels" : "on_surface"},
                            {"ratios", rows},
                            {"outside", outside}});
   } catch (const std::exception& error) {
