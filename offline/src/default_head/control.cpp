@@ -40,8 +40,8 @@ glm::dvec3 OnLid(double azimuth, double elevation) {
 std::vector<NamedPoint> MidlinePoints() {
   return {
       {"neck_front_rim", {0.0, -18.5, 4.0}},
-      {"menton", {0.0, -11.2, 7.2}},
-      {"chin", {0.0, -9.4, 8.3}},
+      {"menton", {0.0, -11.5, 7.1}},
+      {"chin", {0.0, -9.7, 8.3}},
       {"lip_lower_outer", {0.0, -7.25, 8.6}},
       {"lip_lower_inner", {0.0, -6.3, 8.7}},
       {"lip_upper_inner", {0.0, -6.27, 8.7}},
@@ -62,8 +62,8 @@ std::vector<NamedPoint> LeftPoints() {
       // Eye opening (on the lid sphere) and the lids around it.
       {"eye_inner_L", OnLid(-49.0, -4.0)},
       {"eye_outer_L", OnLid(50.0, 3.0)},
-      {"lid_upper_inner_L", OnLid(-17.0, 17.0)},
-      {"lid_upper_outer_L", OnLid(19.0, 18.0)},
+      {"lid_upper_inner_L", OnLid(-17.0, 19.0)},
+      {"lid_upper_outer_L", OnLid(19.0, 20.0)},
       {"lid_lower_inner_L", OnLid(-17.0, -19.0)},
       {"lid_lower_outer_L", OnLid(19.0, -17.0)},
       {"lid_fold_L", OnLid(2.0, 56.0)},

@@ -67,7 +67,7 @@ double BareHeadField(const glm::dvec3& world, bool ears) {
   f = SmoothMin(f, Ellipsoid(p, {0.0, -2.4, 2.2}, {5.9, 5.6, 5.8}), 2.2);
   f = SmoothMin(f, Ellipsoid(p, {0.0, -5.4, 1.2}, {5.3, 5.0, 6.0}), 2.4);
   // Chin and mouth mound.
-  f = SmoothMin(f, Ellipsoid(p, {0.0, -9.4, 6.7}, {2.5, 1.8, 2.0}), 3.0);
+  f = SmoothMin(f, Ellipsoid(p, {0.0, -9.7, 6.7}, {2.5, 1.8, 2.0}), 3.0);
   f = SmoothMin(f, Ellipsoid(p, {0.0, -5.9, 5.7}, {3.1, 2.6, 2.9}), 1.5);
   // Neck: an elliptic column, open downwards, buried in the head at its top,
   // widening towards the shoulders at its base.

@@ -20,7 +20,7 @@ TEST_CASE("(shared data) Default head: nose, eyes, mouth, lower face and face wi
   LandmarkDetector detector;
   const test::FaceProportions head = test::MeasureFaceProportions(detector, NeutralMesh(test::DefaultHead()));
   CHECK(head.eyes_fitted == 2);  // the eye points on the lid margins, as on the ICT faces
-  const test::ProportionReference ict = test::IctProportionReference(detector, test::IctFaces(), 20, 101);
+  const test::ProportionReference ict = test::IctProportionReference(detector, test::IctFaces(), 60, 101);
   for (test::Proportion which : test::kProportions) {
     const auto i = static_cast<std::size_t>(which);
     const double z = ict.ZScore(which, head[which]);
