@@ -40,13 +40,13 @@ glm::dvec3 OnLid(double azimuth, double elevation) {
 std::vector<NamedPoint> MidlinePoints() {
   return {
       {"neck_front_rim", {0.0, -18.5, 4.0}},
-      {"menton", {0.0, -11.5, 7.1}},
-      {"chin", {0.0, -9.7, 8.3}},
+      {"menton", {0.0, -11.2, 7.2}},
+      {"chin", {0.0, -9.4, 8.3}},
       {"lip_lower_outer", {0.0, -7.25, 8.6}},
       {"lip_lower_inner", {0.0, -6.3, 8.7}},
       {"lip_upper_inner", {0.0, -6.27, 8.7}},
       {"lip_upper_outer", {0.0, -5.45, 8.9}},
-      {"subnasale", {0.0, -4.45, 8.9}},
+      {"subnasale", {0.0, -4.25, 8.9}},
       {"nose_tip", {0.0, -3.3, 10.7}},
       {"nasion", {0.0, 0.9, 7.9}},
       {"forehead", {0.0, 6.5, 7.3}},
@@ -73,7 +73,7 @@ std::vector<NamedPoint> LeftPoints() {
       {"brow_mid_L", {3.4, 2.3, 7.6}},
       {"brow_outer_L", {5.2, 1.6, 6.0}},
       // Nose and cheek.
-      {"nose_wing_L", {1.25, -3.75, 8.9}},
+      {"nose_wing_L", {1.25, -3.6, 8.9}},
       {"cheek_inner_L", {2.6, -2.0, 7.7}},
       {"cheek_bone_L", {5.0, -1.6, 5.8}},
       {"cheek_low_L", {4.4, -5.2, 5.4}},

@@ -67,7 +67,7 @@ double BareHeadField(const glm::dvec3& world, bool ears) {
   f = SmoothMin(f, Ellipsoid(p, {0.0, -2.4, 2.2}, {5.9, 5.6, 5.8}), 2.2);
   f = SmoothMin(f, Ellipsoid(p, {0.0, -5.4, 1.2}, {5.3, 5.0, 6.0}), 2.4);
   // Chin and mouth mound.
-  f = SmoothMin(f, Ellipsoid(p, {0.0, -9.7, 6.7}, {2.5, 1.8, 2.0}), 3.0);
+  f = SmoothMin(f, Ellipsoid(p, {0.0, -9.4, 6.7}, {2.5, 1.8, 2.0}), 3.0);
   f = SmoothMin(f, Ellipsoid(p, {0.0, -5.9, 5.7}, {3.1, 2.6, 2.9}), 1.5);
   // Neck: an elliptic column, open downwards, buried in the head at its top,
   // widening towards the shoulders at its base.
@@ -79,8 +79,8 @@ double BareHeadField(const glm::dvec3& world, bool ears) {
   // Nose: bridge, tip, base and wings, blended softly.
   double nose = Capsule(p, {0.0, 0.7, 7.5}, {0.0, -2.5, 9.45}, 0.62);
   nose = SmoothMin(nose, Ellipsoid(p, {0.0, -3.05, 9.55}, {0.82, 0.78, 0.88}), 1.0);
-  nose = SmoothMin(nose, Ellipsoid(p, {0.0, -3.75, 8.7}, {1.25, 0.55, 0.8}), 0.6);
-  nose = SmoothMin(nose, Ellipsoid(p, {1.0, -3.65, 8.5}, {0.62, 0.58, 0.72}), 0.6);
+  nose = SmoothMin(nose, Ellipsoid(p, {0.0, -3.6, 8.7}, {1.25, 0.55, 0.8}), 0.6);
+  nose = SmoothMin(nose, Ellipsoid(p, {1.0, -3.5, 8.5}, {0.62, 0.58, 0.72}), 0.6);
   f = SmoothMin(f, nose, 0.9);
   // Lips, kept as two rolls so a crease stays between them.
   double lips = Ellipsoid(p, {0.0, -5.78, 8.0}, {2.45, 0.58, 1.25});
