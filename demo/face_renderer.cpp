@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
 #include <span>
 
 #include <epoxy/gl.h>
@@ -16,6 +19,7 @@
 #include "gl_textures.h"
 #include "iris_radial.h"
 #include "mouth_light.h"
+#include "facerig/runtime/shape_names.h"
 
 namespace facerig::player {
 namespace {
@@ -53,6 +57,30 @@ unsigned StaticFloatAttribute(unsigned location, std::span<const float> values) 
   return vbo;
 }
 
+// The bottom of the chin (scene space): the lowest of the vertices jawOpen
+// moves most (the chin is the jaw's farthest point from its hinge); none
+// without a jawOpen that moves something.
+std::optional<glm::vec3> ChinBottom(const Rig& rig, const glm::mat4& rig_to_scene) {
+  const std::vector<std::size_t> jaw = FindShapesByArkitName(rig, "jawOpen");
+  if (jaw.empty()) return std::nullopt;
+  const BlendShapeView shape = rig.shape(jaw.front());
+  std::vector<std::pair<float, std::uint32_t>> moved;
+  for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
+    moved.emplace_back(glm::length(shape.position_deltas[i]), shape.vertex_indices[i]);
+  }
+  if (moved.empty()) return std::nullopt;
+  const std::size_t keep = std::clamp<std::size_t>(moved.size() / 50, 1, 200);
+  std::partial_sort(moved.begin(), moved.begin() + static_cast<std::ptrdiff_t>(keep), moved.end(),
+                    [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (moved.front().first <= 0.0f) return std::nullopt;
+  std::optional<glm::vec3> lowest;
+  for (std::size_t i = 0; i < keep; ++i) {
+    const glm::vec3 p = glm::vec3(rig_to_scene * glm::vec4(rig.positions()[moved[i].second], 1.0f));
+    if (!lowest || p.y < lowest->y) lowest = p;
+  }
+  return lowest;
+}
+
 }  // namespace
 
 struct FaceRenderer::DrawRange {
@@ -72,6 +100,7 @@ FaceRenderer::FaceRenderer(const Rig& rig) : vertex_count_(rig.vertex_count()), 
   const std::vector<float> radial = IrisRadial(rig, rig_to_scene_, procedural_pupil_);
   const std::vector<float> mouth_light = MouthLight(rig, rig_to_scene_);
   FrameVisibleParts(rig);
+  chin_ = ChinBottom(rig, rig_to_scene_);
   ResetCamera();
   CompileShaders();
   CreateBuffers(rig, radial, mouth_light);
@@ -210,6 +239,22 @@ void FaceRenderer::ResetCamera() {
   const float half_fov = glm::radians(camera_.fov_degrees * 0.5f);
   const float frame_height = std::max(0.72f * (scene_hi_.y - scene_lo_.y), 1.1f * (scene_hi_.x - scene_lo_.x));
   camera_.distance = frame_height * 0.5f / std::tan(half_fov) + (scene_hi_.z - scene_lo_.z) * 0.5f;
+  if (!chin_) return;
+  // The whole face with its chin, and room below it for the jaw to open: a
+  // head with a short neck framed by the upper part of its box lost its chin.
+  // Where it would, the frame runs from the top of the head to below the chin
+  // (the view's half height measured at the chin's depth, as perspective
+  // shrinks what is nearer the camera).
+  const float top = scene_hi_.y, span = top - chin_->y;
+  const float bottom = chin_->y - 0.1f * span;
+  const auto visible_below = [&] {
+    const float half_at_chin = (camera_.distance - (chin_->z - camera_.target.z)) * std::tan(half_fov);
+    return camera_.target.y - half_at_chin;
+  };
+  if (span <= 0.0f || visible_below() <= bottom) return;
+  camera_.target.y = 0.5f * (top + 0.03f * span + bottom);
+  const float half = 0.5f * (top + 0.03f * span - bottom);
+  camera_.distance = half / std::tan(half_fov) + (chin_->z - camera_.target.z);
 }
 
 void FaceRenderer::Upload(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -77,7 +78,8 @@ class FaceRenderer {
   const std::vector<std::string>& problems() const { return problems_; }
 
   OrbitCamera& camera() { return camera_; }
-  // Frames the neutral's bounding box from the front.
+  // Frames the neutral's bounding box from the front; with a jawOpen, the
+  // frame reaches below the chin.
   void ResetCamera();
   // Pixel position (x right, y down from the top-left) of a point in rig units.
   glm::vec2 Project(const glm::vec3& rig_point, int width, int height,
@@ -124,6 +126,7 @@ class FaceRenderer {
   glm::mat4 rig_to_scene_{1.0f};
   glm::vec3 scene_center_{0.0f}, scene_lo_{0.0f}, scene_hi_{0.0f};
   glm::vec3 neck_pivot_{0.0f};
+  std::optional<glm::vec3> chin_;  // scene space: the bottom of the chin, when the rig has a jawOpen
   float scene_size_ = 1.0f;
   OrbitCamera camera_;
 

@@ -15,6 +15,7 @@
 #include "bench/cast.h"
 #include "bench/mouth.h"
 #include "bench/photo.h"
+#include "bench/proportions.h"
 #include "bench/register.h"
 #include "bench/transfer.h"
 #include "cli/options.h"
@@ -48,6 +49,8 @@ const std::vector<Entry>& Benchmarks() {
        RunRegisterBenchmark},
       {"photo", "facerig photo on a 1024 px portrait with ICT-FaceKit, per step, with and without the shading fit",
        RunPhotoBenchmark},
+      {"proportions", "the built-in head's face proportions (dlib's 68 points) against ICT-FaceKit's identities",
+       RunProportionsBenchmark},
 #if FACERIG_BENCH_ABI
       {"abi", "a character's per-frame update (and blend): C++ vs the C ABI vs Python vs C#", RunAbiBenchmark},
       {"web", "the WebAssembly module in node vs native: update (and blend) per frame, bytes to load",

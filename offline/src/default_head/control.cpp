@@ -46,7 +46,7 @@ std::vector<NamedPoint> MidlinePoints() {
       {"lip_lower_inner", {0.0, -6.3, 8.7}},
       {"lip_upper_inner", {0.0, -6.27, 8.7}},
       {"lip_upper_outer", {0.0, -5.45, 8.9}},
-      {"subnasale", {0.0, -4.45, 8.9}},
+      {"subnasale", {0.0, -4.25, 8.9}},
       {"nose_tip", {0.0, -3.3, 10.7}},
       {"nasion", {0.0, 0.9, 7.9}},
       {"forehead", {0.0, 6.5, 7.3}},
@@ -62,8 +62,8 @@ std::vector<NamedPoint> LeftPoints() {
       // Eye opening (on the lid sphere) and the lids around it.
       {"eye_inner_L", OnLid(-49.0, -4.0)},
       {"eye_outer_L", OnLid(50.0, 3.0)},
-      {"lid_upper_inner_L", OnLid(-17.0, 17.0)},
-      {"lid_upper_outer_L", OnLid(19.0, 18.0)},
+      {"lid_upper_inner_L", OnLid(-17.0, 19.0)},
+      {"lid_upper_outer_L", OnLid(19.0, 20.0)},
       {"lid_lower_inner_L", OnLid(-17.0, -19.0)},
       {"lid_lower_outer_L", OnLid(19.0, -17.0)},
       {"lid_fold_L", OnLid(2.0, 56.0)},
@@ -73,7 +73,7 @@ std::vector<NamedPoint> LeftPoints() {
       {"brow_mid_L", {3.4, 2.3, 7.6}},
       {"brow_outer_L", {5.2, 1.6, 6.0}},
       // Nose and cheek.
-      {"nose_wing_L", {1.25, -3.75, 8.9}},
+      {"nose_wing_L", {1.25, -3.6, 8.9}},
       {"cheek_inner_L", {2.6, -2.0, 7.7}},
       {"cheek_bone_L", {5.0, -1.6, 5.8}},
       {"cheek_low_L", {4.4, -5.2, 5.4}},

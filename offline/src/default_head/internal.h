@@ -60,11 +60,14 @@ std::vector<double> Apply(const Subdivision& s, const std::vector<double>& contr
 std::vector<glm::dvec3> Apply(const Subdivision& s, const std::vector<glm::dvec3>& control);
 
 // The sculpted head surface: an implicit function (negative inside), star
-// shaped from SurfaceOrigin(); SurfacePoint casts a ray from there.
+// shaped from SurfaceOrigin(); SurfacePoint casts a ray from there. The head
+// is the bare sculpt and the hair's shell over it: the bare sculpt without
+// its ears, grown by HairThickness.
 glm::dvec3 SurfaceOrigin();
 double HeadField(const glm::dvec3& p);
+double BareHeadField(const glm::dvec3& p, bool ears);
 glm::dvec3 SurfacePoint(const glm::dvec3& direction);
-// How far the hair lifts the scalp at a point (cm; 0 off the hair), from the
+// How thick the hair's shell is over a point (cm; 0 off the hair), from the
 // hairline the painted hair follows too (default_head_hair.cpp).
 double HairThickness(const glm::dvec3& p);
 

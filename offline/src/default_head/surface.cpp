@@ -41,7 +41,7 @@ double SmoothMin(double a, double b, double k) {
 double SmoothMax(double a, double b, double k) { return -SmoothMin(-a, -b, k); }
 
 // The left half of the sculpt features that come in pairs, evaluated at |x|.
-double SidedFeatures(double f, const glm::dvec3& p) {
+double SidedFeatures(double f, const glm::dvec3& p, bool ears) {
   const glm::dvec3 eye = Anatomy::EyeCentre(0);
   // Cheek bones, jaw line, brow ridge.
   f = SmoothMin(f, Ellipsoid(p, {4.2, -1.2, 4.7}, {2.4, 1.6, 2.3}), 2.0);
@@ -49,7 +49,7 @@ double SidedFeatures(double f, const glm::dvec3& p) {
   f = SmoothMin(f, Ellipsoid(p, {4.2, -7.9, 1.6}, {1.3, 1.5, 2.6}), 3.0);  // jaw angle
   f = SmoothMin(f, Ellipsoid(p, {3.2, 1.9, 7.0}, {2.3, 0.9, 0.9}), 1.5);
   // Ear: a flattened lobe at the side, enough to read in silhouette.
-  f = SmoothMin(f, Ellipsoid(p, {7.4, -1.3, -1.2}, {0.8, 2.6, 1.45}), 0.5);
+  if (ears) f = SmoothMin(f, Ellipsoid(p, {7.4, -1.3, -1.2}, {0.8, 2.6, 1.45}), 0.5);
   // Eye socket, then the lid skin over the eyeball.
   f = SmoothMax(f, -Ellipsoid(p, {eye.x, eye.y - 0.15, 8.0}, {1.75, 1.05, 1.6}), 0.9);
   f = SmoothMin(f, glm::length(p - eye) - (Anatomy::kEyeRadius + Anatomy::kLidOffset), 0.9);
@@ -60,7 +60,7 @@ double SidedFeatures(double f, const glm::dvec3& p) {
 
 glm::dvec3 SurfaceOrigin() { return {0.0, -2.5, -0.5}; }
 
-double HeadField(const glm::dvec3& world) {
+double BareHeadField(const glm::dvec3& world, bool ears) {
   const glm::dvec3 p{std::abs(world.x), world.y, world.z};  // symmetric sculpt
   // Cranium (slightly boxy, widest above the ears) and the face masses.
   double f = SuperEllipsoid(p, {0.0, 2.6, -1.3}, {7.5, 9.3, 9.4}, 2.4);
@@ -75,18 +75,24 @@ double HeadField(const glm::dvec3& world) {
   const double neck = (std::hypot(p.x / (5.1 * flare), (p.z + 1.3) / 5.5) - 1.0) * 5.1;
   // Cut flat at the base, so rays between the rim's points end there too.
   f = SmoothMin(f, SmoothMax(SmoothMax(neck, p.y + 3.0, 1.0), -(p.y + 17.2), 0.6), 2.8);
-  f = SidedFeatures(f, p);
+  f = SidedFeatures(f, p, ears);
   // Nose: bridge, tip, base and wings, blended softly.
   double nose = Capsule(p, {0.0, 0.7, 7.5}, {0.0, -2.5, 9.45}, 0.62);
   nose = SmoothMin(nose, Ellipsoid(p, {0.0, -3.05, 9.55}, {0.82, 0.78, 0.88}), 1.0);
-  nose = SmoothMin(nose, Ellipsoid(p, {0.0, -3.75, 8.7}, {1.25, 0.55, 0.8}), 0.6);
-  nose = SmoothMin(nose, Ellipsoid(p, {1.0, -3.65, 8.5}, {0.62, 0.58, 0.72}), 0.6);
+  nose = SmoothMin(nose, Ellipsoid(p, {0.0, -3.6, 8.7}, {1.25, 0.55, 0.8}), 0.6);
+  nose = SmoothMin(nose, Ellipsoid(p, {1.0, -3.5, 8.5}, {0.62, 0.58, 0.72}), 0.6);
   f = SmoothMin(f, nose, 0.9);
   // Lips, kept as two rolls so a crease stays between them.
   double lips = Ellipsoid(p, {0.0, -5.78, 8.0}, {2.45, 0.58, 1.25});
   lips = SmoothMin(lips, Ellipsoid(p, {0.0, -6.9, 7.9}, {2.15, 0.72, 1.15}), 0.15);
   f = SmoothMin(f, lips, 0.3);
-  return f - HairThickness(world);
+  return f;
+}
+
+double HeadField(const glm::dvec3& p) {
+  const double bare = BareHeadField(p, true);
+  const double hair = HairThickness(p);
+  return hair > 0.0 ? std::min(bare, BareHeadField(p, false) - hair) : bare;
 }
 
 glm::dvec3 SurfacePoint(const glm::dvec3& direction) {

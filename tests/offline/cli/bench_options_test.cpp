@@ -13,6 +13,7 @@ TEST_CASE("facerig-bench: out-of-range values exit 2 naming the option and the v
         {"crowd 5 --frames 3", "--frames: 3 is outside [10, 1000000]"},
         {"register --faces 0", "--faces: 0 is outside [1, 1000000]"},
         {"cast --faces 0", "--faces: 0 is outside [1, 1000]"},
+        {"proportions --faces 1", "--faces: 1 is outside [2, 100000]"},
         {"transfer --threads 0", "--threads: 0 is outside [1, 1024]"},
         {"av-sync --fps 0", "--fps: 0 is outside [1, 1000]"},
         {"abi --frames 3", "--frames: 3 is outside [100, 10000000]"},

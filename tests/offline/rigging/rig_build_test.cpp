@@ -169,6 +169,19 @@ double MeanPairGap(std::span<const glm::vec3> positions, const std::vector<std::
   return upper.empty() ? 0.0 : sum / static_cast<double>(upper.size());
 }
 
+// The pairs' gap across the opening: each closed pair's offset along its
+// own direction at rest (upper minus lower), mean of the absolute values.
+// A slide along the margin, as ICT's lids make, does not count.
+double MeanPairGapAcross(std::span<const glm::vec3> rest, std::span<const glm::vec3> posed,
+                         const std::vector<std::uint32_t>& upper, const std::vector<std::uint32_t>& lower) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < upper.size(); ++i) {
+    const glm::vec3 across = glm::normalize(rest[upper[i]] - rest[lower[i]]);
+    sum += std::abs(glm::dot(posed[upper[i]] - posed[lower[i]], across));
+  }
+  return upper.empty() ? 0.0 : sum / static_cast<double>(upper.size());
+}
+
 // How far the upper lid's vertices are from the lower lid's polyline, mean
 // over the middle 80% of the upper lid: a closed eye measures 0 even where
 // the lids slide sideways against each other (ICT's blink moves the lower
@@ -301,13 +314,14 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
     const std::vector<glm::vec3> closed = PoseWithShape(*rig, blink);
     const double open_gap = MeanPairGap(neutral, features.upper_lid[eye], features.lower_lid[eye]);
     const double closed_gap = MeanPairGap(closed, features.upper_lid[eye], features.lower_lid[eye]);
+    const double closed_across = MeanPairGapAcross(neutral, closed, features.upper_lid[eye], features.lower_lid[eye]);
     const double other_open = MeanPairGap(neutral, features.upper_lid[1 - eye], features.lower_lid[1 - eye]);
     const double other_after = MeanPairGap(closed, features.upper_lid[1 - eye], features.lower_lid[1 - eye]);
     const double lid_gap = MeanLidGap(closed, features.upper_lid[eye], features.lower_lid[eye]);
     const double roughness = LidRoughness(neutral, closed, features.upper_lid[eye]);
-    std::printf("default head %s: lid gap %.3f -> %.3f cm, upper lid to lower lid %.3f cm (other eye %.3f -> %.3f), "
-                "upper lid roughness %.4f cm\n",
-                blink, open_gap, closed_gap, lid_gap, other_open, other_after, roughness);
+    std::printf("default head %s: lid gap %.3f -> %.3f cm (%.3f across the opening), upper lid to lower lid %.3f cm "
+                "(other eye %.3f -> %.3f), upper lid roughness %.4f cm\n",
+                blink, open_gap, closed_gap, closed_across, lid_gap, other_open, other_after, roughness);
     // Measured: pairs 0.586 -> 0.119-0.127 cm (the lids slide past each
     // other as ICT's do), upper lid to lower lid 0.007-0.011 (1-2% of the
     // opening). Without closing the head's own rims
@@ -315,7 +329,12 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
     // middle; keeping the template's contact offsets: 0.056-0.066; before the
     // margins were aligned onto the rims: 0.137; before the transfer kept the
     // lids' contact: 0.26 (pairs).
-    CHECK(closed_gap < 0.25 * open_gap);
+    // The pairs' whole offset also holds the lids' slide along the margin,
+    // which follows the landmarks dlib finds on the head: 0.13-0.19 cm with
+    // the head's eyes unchanged and only its hair or chin different (issue
+    // 34), one eye against the other up to 0.05 cm on this symmetric head.
+    // Across the opening the lids meet.
+    CHECK(closed_across < 0.25 * open_gap);
     CHECK(lid_gap < 0.04 * open_gap);
     // The closed upper lid's edge is smooth: 0.0043-0.0048 cm, against
     // 0.022-0.024 without OpeningParams::rim_smoothing_radius (a step
