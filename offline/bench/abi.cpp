@@ -24,7 +24,6 @@ using facerig::bench::BestPerFrame;
 using facerig::bench::Costs;
 using facerig::bench::FrameWork;
 using facerig::bench::NativeHost;
-using facerig::bench::Quote;
 
 struct AbiOptions {
   std::string head = FACERIG_DEFAULT_HEAD;
@@ -76,7 +75,7 @@ int Run(const AbiOptions& options) {
     const std::string track_json = facerig::FormatPhonemeTrack(line);
     const std::filesystem::path track = std::filesystem::temp_directory_path() / "facerig_bench_abi_track.json";
     facerig::WriteFileAtomically(track, track_json);
-    const std::string args = " " + Quote(options.head) + " " + Quote(track.string()) + " " +
+    const std::string args = " " + ShellQuote(options.head) + " " + ShellQuote(track.string()) + " " +
                              std::to_string(options.frames) + " " + std::to_string(options.repeats);
     std::vector<std::pair<std::string, std::optional<Costs>>> hosts;
     const auto [native_costs, abi_costs] = InProcess(options, line, track_json);
@@ -84,14 +83,16 @@ int Run(const AbiOptions& options) {
     hosts.emplace_back("C ABI (libfacerig)", abi_costs);
     if (!options.python.empty()) {
       hosts.emplace_back("Python (ctypes + numpy)",
-                         External("Python", "FACERIG_LIBRARY_DIR=" + Quote(FACERIG_BENCH_LIB_DIR) + " PYTHONPATH=" +
-                                                Quote(FACERIG_BENCH_PYTHON_DIR) + " " + Quote(options.python) + " " +
-                                                Quote(FACERIG_BENCH_PYTHON_DIR "/benchmarks/abi_frames.py") + args));
+                         External("Python", "FACERIG_LIBRARY_DIR=" + ShellQuote(FACERIG_BENCH_LIB_DIR) +
+                                                " PYTHONPATH=" + ShellQuote(FACERIG_BENCH_PYTHON_DIR) + " " +
+                                                ShellQuote(options.python) + " " +
+                                                ShellQuote(FACERIG_BENCH_PYTHON_DIR "/benchmarks/abi_frames.py") + args));
     }
     if (!options.mono.empty()) {
       hosts.emplace_back("C# (Mono, P/Invoke)",
-                         External("C#", "LD_LIBRARY_PATH=" + Quote(FACERIG_BENCH_LIB_DIR) + " " + Quote(options.mono) +
-                                            " " + Quote(FACERIG_BENCH_CSHARP_DIR "/AbiBench.exe") + args));
+                         External("C#", "LD_LIBRARY_PATH=" + ShellQuote(FACERIG_BENCH_LIB_DIR) + " " +
+                                            ShellQuote(options.mono) + " " +
+                                            ShellQuote(FACERIG_BENCH_CSHARP_DIR "/AbiBench.exe") + args));
     }
     std::filesystem::remove(track);
 

@@ -104,6 +104,4 @@ std::optional<nlohmann::json> RunJsonProgram(const char* host, const std::string
   return parsed;
 }
 
-std::string Quote(const std::string& text) { return "'" + text + "'"; }
-
 }  // namespace facerig::bench

@@ -71,7 +71,4 @@ class AbiHost {
 // nullopt (with the reason printed) when it fails or lacks `required`.
 std::optional<nlohmann::json> RunJsonProgram(const char* host, const std::string& command, const char* required);
 
-// `text` in single quotes for the shell.
-std::string Quote(const std::string& text);
-
 }  // namespace facerig::bench

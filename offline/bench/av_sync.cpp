@@ -53,15 +53,9 @@ void AddAvSyncOptions(CLI::App& app, AvSyncOptions& o) {
   app.add_option("--json", o.json_path, "write the results as JSON");
 }
 
-std::string Quote(const fs::path& path) {
-  std::string quoted = "'";
-  for (char c : path.string()) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 // Runs `command` through the shell, its output appended to `log`.
 void Run(const std::string& command, const fs::path& log) {
-  if (std::system(("{ " + command + "; } >>" + Quote(log) + " 2>&1").c_str()) != 0) {
+  if (std::system(("{ " + command + "; } >>" + ShellQuote(log) + " 2>&1").c_str()) != 0) {
     throw std::runtime_error("failed (see " + log.string() + "): " + command);
   }
 }
@@ -98,8 +92,8 @@ Measured Measure(const fs::path& frames_dir, const fs::path& wav, double fps) {
 // ffprobe's start time and duration of each stream of `mp4`.
 nlohmann::json Probe(const fs::path& mp4, const fs::path& folder) {
   const fs::path out = folder / "probe.csv";
-  Run("ffprobe -v error -show_entries stream=codec_type,start_time,duration -of csv=p=0 " + Quote(mp4) + " >" +
-          Quote(out),
+  Run("ffprobe -v error -show_entries stream=codec_type,start_time,duration -of csv=p=0 " + ShellQuote(mp4) + " >" +
+          ShellQuote(out),
       folder / "log.txt");
   nlohmann::json streams = nlohmann::json::object();
   std::istringstream in(facerig::ReadInputText(out, 1 << 16));
@@ -125,15 +119,15 @@ PlayerOutput PlayAndMux(const AvSyncOptions& o, const BenchRecording& r, const f
   fs::create_directories(folder / "decoded");
   const fs::path log = folder / "log.txt";
   const std::string fps = std::to_string(o.fps);
-  Run(Quote(o.player) + " --headless --still --track " + Quote(track) + " --audio " + Quote(r.wav) + " --frames " +
-          Quote(folder / "frames") + " --wav " + Quote(folder / "player.wav") + " --fps " + fps + " --size " +
-          std::to_string(o.width) + "x" + std::to_string(o.height) + " --lead-in " + std::to_string(kLeadIn),
+  Run(ShellQuote(o.player) + " --headless --still --track " + ShellQuote(track) + " --audio " + ShellQuote(r.wav) +
+          " --frames " + ShellQuote(folder / "frames") + " --wav " + ShellQuote(folder / "player.wav") + " --fps " + fps +
+          " --size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " --lead-in " + std::to_string(kLeadIn),
       log);
-  Run("cd " + Quote(folder / "frames") + " && ffmpeg -loglevel error -y -framerate " + fps +
+  Run("cd " + ShellQuote(folder / "frames") + " && ffmpeg -loglevel error -y -framerate " + fps +
           " -i frame_%05d.png -i ../player.wav -c:v libx264 -pix_fmt yuv420p -c:a aac ../out.mp4",
       log);
-  Run("ffmpeg -loglevel error -y -i " + Quote(folder / "out.mp4") + " " + Quote(folder / "decoded" / "f_%05d.png") +
-          " -vn " + Quote(folder / "decoded.wav"),
+  Run("ffmpeg -loglevel error -y -i " + ShellQuote(folder / "out.mp4") + " " +
+          ShellQuote(folder / "decoded" / "f_%05d.png") + " -vn " + ShellQuote(folder / "decoded.wav"),
       log);
   return {Measure(folder / "frames", folder / "player.wav", o.fps),
           Measure(folder / "decoded", folder / "decoded.wav", o.fps), Probe(folder / "out.mp4", folder)};

@@ -248,8 +248,7 @@ void MeasureFace(facerig::LandmarkDetector& detector, const BuildInputs& inputs,
   facerig::test::RegistrationTargetOptions options;
   options.seed = settings.seed + static_cast<unsigned>(f);
   options.target_vertex_count = settings.target_vertices;
-  static constexpr double kUnits[3] = {10.0, 1.0, 0.01};
-  options.units_per_cm = kUnits[f % 3];
+  options.units_per_cm = kUnitCycle[f % 3];
   const facerig::test::RegistrationTarget target = facerig::test::MakeRegistrationTarget(model, options);
   facerig::RawRig target_rig;
   target_rig.positions = target.positions;

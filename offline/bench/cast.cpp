@@ -52,8 +52,7 @@ std::vector<std::string> WriteTargets(const CastOptions& o, const fs::path& fold
     facerig::test::RegistrationTargetOptions options;
     options.seed = o.seed + static_cast<unsigned>(f);
     options.target_vertex_count = o.target_vertices;
-    static constexpr double kUnits[3] = {10.0, 1.0, 0.01};
-    options.units_per_cm = kUnits[f % 3];
+    options.units_per_cm = kUnitCycle[f % 3];
     const facerig::test::RegistrationTarget target = facerig::test::MakeRegistrationTarget(model, options);
     names.push_back("face_" + std::to_string(options.seed));
     facerig::WriteObj(folder / (names.back() + ".obj"), target.positions, {}, {}, target.triangles, {});

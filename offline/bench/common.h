@@ -1,5 +1,6 @@
 // Small helpers the facerig-bench benchmarks share: the command line, the
-// failure message, the middle of a sample and process CPU time.
+// failure message, the middle of a sample, process CPU time, shell quoting
+// and the units of the re-meshed test faces.
 #pragma once
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <ctime>
 #include <exception>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "cli/options.h"
@@ -41,3 +43,15 @@ inline double UpperMedian(std::vector<double> values) {
 inline double CpuSecondsSince(std::clock_t start) {
   return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
 }
+
+// `text` in single quotes for the shell (a quote inside closes, escapes and reopens).
+inline std::string ShellQuote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// Target units per centimetre of the re-meshed faces the register, build and
+// cast benchmarks make: face f gets kUnitCycle[f % 3] (millimetres,
+// centimetres, metres).
+inline constexpr double kUnitCycle[3] = {10.0, 1.0, 0.01};

@@ -43,8 +43,6 @@ double Max(const std::vector<double>& values) {
   return values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
 }
 
-// Target units per centimetre, cycling millimetres, centimetres, metres.
-constexpr double kUnits[3] = {10.0, 1.0, 0.01};
 const char* UnitName(double units_per_cm) {
   return units_per_cm > 5.0 ? "mm" : (units_per_cm > 0.5 ? "cm" : "m");
 }
@@ -334,7 +332,7 @@ int BenchmarkRegistration(const RegisterOptions& settings) {
     for (int f = 0; f < settings.faces; ++f) {
       facerig::test::RegistrationTargetOptions options;
       options.seed = settings.seed + static_cast<unsigned>(f);
-      options.units_per_cm = kUnits[f % 3];
+      options.units_per_cm = kUnitCycle[f % 3];
       options.max_rotation_degrees = 25.0;
       options.target_vertex_count = settings.target_vertices;
       MeasureFace(detector, ict, params, options, measures);

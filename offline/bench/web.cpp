@@ -23,7 +23,6 @@ using facerig::bench::BestPerFrame;
 using facerig::bench::Costs;
 using facerig::bench::FrameWork;
 using facerig::bench::NativeHost;
-using facerig::bench::Quote;
 
 // The goals of issue 31: update in WebAssembly at most 2x native, and the
 // module a page loads (.wasm + .mjs, gzipped) at most 300 kB.
@@ -65,10 +64,10 @@ struct WasmRun {
 // A round of hosts/web/benchmarks/abi_frames.mjs in node (its own process:
 // loading the module and the rig are not timed).
 std::optional<WasmRun> RunWasm(const WebOptions& options, const std::filesystem::path& track) {
-  const std::string command = Quote(options.node) + " --no-experimental-fetch " +
-                              Quote(FACERIG_BENCH_WEB_DIR "/benchmarks/abi_frames.mjs") + " " + Quote(options.head) +
-                              " " + Quote(track.string()) + " " + std::to_string(options.frames) + " " +
-                              std::to_string(kRunsPerRound) + " " + Quote(options.dist);
+  const std::string command = ShellQuote(options.node) + " --no-experimental-fetch " +
+                              ShellQuote(FACERIG_BENCH_WEB_DIR "/benchmarks/abi_frames.mjs") + " " +
+                              ShellQuote(options.head) + " " + ShellQuote(track.string()) + " " + std::to_string(options.frames) + " " +
+                              std::to_string(kRunsPerRound) + " " + ShellQuote(options.dist);
   const std::optional<nlohmann::json> parsed = facerig::bench::RunJsonProgram("WebAssembly", command, "update_us");
   if (!parsed) return std::nullopt;
   const nlohmann::json& p = *parsed;

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "finite_range.h"
+
 namespace facerig {
 
 namespace {
-
-bool InRange(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
 
 // Bounds for the measured callback period: a device that skipped a second
 // must not let the clock run a second past its last report.

@@ -10,12 +10,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "default_head/albedo.h"
+#include "default_head/angles.h"
 
 namespace facerig::default_head {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-double Radians(double degrees) { return degrees * kPi / 180.0; }
 
 // A polyline through skin points, drawn anti-aliased into an 8-bit mask.
 void DrawPolyline(const SkinCanvas& canvas, cv::Mat& mask, const std::vector<glm::dvec3>& points, int thickness) {

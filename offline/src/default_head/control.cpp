@@ -17,6 +17,7 @@
 #include <glm/geometric.hpp>
 
 #include "default_head/internal.h"
+#include "default_head/angles.h"
 
 namespace facerig::default_head {
 namespace {
@@ -25,8 +26,6 @@ struct NamedPoint {
   const char* name;
   glm::dvec3 position;  // near the surface: only its direction from the origin matters
 };
-
-double Radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
 
 // A point on the skin over the left eyeball, at azimuth (towards +X) and
 // elevation in degrees about the eye centre.

@@ -16,11 +16,10 @@
 #include "default_head/albedo.h"
 #include "geometry/piecewise_linear.h"
 #include "geometry/value_noise.h"
+#include "default_head/angles.h"
 
 namespace facerig::default_head {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Height (cm) of the hairline by azimuth about the vertical axis (degrees
 // from the front): a rounded forehead line, a little higher over the temples'

@@ -8,11 +8,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "default_head/albedo.h"
+#include "default_head/angles.h"
 
 namespace facerig::default_head {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Linear RGB from 8-bit sRGB, as glTF's base colour factor wants it.
 glm::vec4 Linear(int r, int g, int b) {

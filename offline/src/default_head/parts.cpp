@@ -10,12 +10,10 @@
 #include <glm/geometric.hpp>
 
 #include "default_head/internal.h"
+#include "default_head/angles.h"
 
 namespace facerig::default_head {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-
 
 // Quads between two rows of equal length (closed around when `wrap`);
 // (a_i, b_i) -> triangles facing the side given by the row order.
@@ -72,7 +70,6 @@ void AddEyeZone(HeadGeometry& head, int side, double from, double to, int rings,
     }
   }
 }
-
 
 }  // namespace
 

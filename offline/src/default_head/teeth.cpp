@@ -12,11 +12,10 @@
 #include <opencv2/core.hpp>
 
 #include "default_head/albedo.h"
+#include "default_head/angles.h"
 
 namespace facerig::default_head {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Relative widths of the teeth from the midline back (incisors, canine,
 // premolars, molars), as real crowns are proportioned.

@@ -13,11 +13,10 @@
 #include <glm/geometric.hpp>
 
 #include "default_head/internal.h"
+#include "default_head/angles.h"
 
 namespace facerig::default_head {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Radial texel density along the polar angle: a floor, a bump over the face
 // (polar angles of about 40 to 130 degrees from the crown) and a small one

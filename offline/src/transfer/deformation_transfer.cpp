@@ -162,8 +162,8 @@ Eigen::Matrix2d PrepareTriangle(const Mat32& source_edges, double mean_edge2, co
                                 DeformationTransferData::Impl::TriangleData& d, bool& clamped) {
   d.source_degenerate = GramRatio(source_edges) < params.min_gram_ratio;
   if (!d.source_degenerate) {
-    d.source_frame_inverse = Frame(source_edges, params.scaled_normal).inverse();
-    d.identity_gradient = Frame(d.target_edges, params.scaled_normal) * d.source_frame_inverse;
+    d.source_frame_inverse = TriangleFrame(source_edges, params.scaled_normal).inverse();
+    d.identity_gradient = TriangleFrame(d.target_edges, params.scaled_normal) * d.source_frame_inverse;
     d.source_degenerate = !d.source_frame_inverse.allFinite() || !d.identity_gradient.allFinite();
   }
   if (d.source_degenerate) {

@@ -43,7 +43,7 @@ inline Mat32 Edges(std::span<const glm::vec3> positions, const Triangle& t) {
 
 // Local frame [e1 e2 n] of Pawaskar et al.'s eq. 1; with scaled_normal the normal is
 // Sumner & Popovic's 4th vertex offset (e1 x e2) / sqrt(|e1 x e2|).
-inline Eigen::Matrix3d Frame(const Mat32& edges, bool scaled_normal) {
+inline Eigen::Matrix3d TriangleFrame(const Mat32& edges, bool scaled_normal) {
   Eigen::Matrix3d frame;
   frame.leftCols<2>() = edges;
   const Eigen::Vector3d cross = edges.col(0).cross(edges.col(1));
@@ -138,7 +138,7 @@ struct DeformationTransferData::Impl {
     }
     if (mode == TransferMode::kClassic) {
       const Eigen::Matrix3d gradient =
-          Frame(expression_edges, scaled_normal) * d.source_frame_inverse;
+          TriangleFrame(expression_edges, scaled_normal) * d.source_frame_inverse;
       return gradient * d.target_edges;
     }
     return d.identity_gradient * expression_edges;

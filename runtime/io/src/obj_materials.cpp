@@ -20,11 +20,6 @@ bool IsMissing(const std::filesystem::path& path) {
   return ::stat(path.c_str(), &status) != 0 && errno == ENOENT;
 }
 
-bool IsInside(const std::filesystem::path& path, const std::filesystem::path& folder) {
-  const std::filesystem::path relative = path.lexically_relative(folder);
-  return !relative.empty() && *relative.begin() != "..";
-}
-
 class ObjMaterialReader {
  public:
   ObjMaterialReader(const std::filesystem::path& obj_path, Mesh* mesh, std::vector<std::string>* warnings)
@@ -95,7 +90,7 @@ class ObjMaterialReader {
     } catch (const IoError& error) {
       throw IoError(error.kind(), error.path(), error.message(), map.line);
     }
-    if (!IsInside(path, obj_folder_)) {
+    if (!IsInsideFolder(path, obj_folder_)) {
       return refuse(IoError(IoErrorKind::kOpenFailed, "", "leads outside the OBJ's folder"));
     }
     if (const auto known = images_.find(path); known != images_.end()) return known->second;

@@ -12,6 +12,8 @@
 #include <cstring>
 #include <system_error>
 
+#include "facerig/runtime/files/input_file.h"
+
 namespace facerig {
 namespace {
 
@@ -39,11 +41,6 @@ std::string FinalFileName(std::string_view file_name) {
 }
 
 namespace {
-
-bool IsInside(const fs::path& inner, const fs::path& outer) {
-  const fs::path relative = inner.lexically_relative(outer);
-  return !relative.empty() && *relative.begin() != "..";
-}
 
 // A temporary left by a process that no longer runs (or a name without a process id).
 bool IsStale(const std::string& name) {
@@ -186,7 +183,8 @@ const OutputSet::Entry* OutputSet::FolderHolding(const Entry& entry) const {
     if (other.final_path == entry.final_path) throw std::runtime_error(entry.given.string() + " is given twice");
     if (other.kind == Kind::kFolder && entry.kind == Kind::kFile && entry.final_path.parent_path() == other.final_path) {
       holder = &other;  // a file directly inside a folder output: written inside its temporary
-    } else if (IsInside(entry.final_path, other.final_path) || IsInside(other.final_path, entry.final_path)) {
+    } else if (IsInsideFolder(entry.final_path, other.final_path) ||
+               IsInsideFolder(other.final_path, entry.final_path)) {
       throw std::runtime_error("the outputs " + other.given.string() + " and " + entry.given.string() +
                                " are inside one another (a file may go directly inside a folder output, no deeper)");
     }

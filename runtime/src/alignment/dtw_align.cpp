@@ -9,7 +9,7 @@
 namespace facerig {
 namespace {
 
-enum Step : std::uint8_t { kDiagonal, kFromAbove, kFromLeft };
+enum class DtwStep : std::uint8_t { kDiagonal, kFromAbove, kFromLeft };
 
 float Distance(std::span<const float> a, std::span<const float> b) {
   float sum = 0.0f;
@@ -36,7 +36,7 @@ void CheckInputs(const AudioFeatures& rows, const AudioFeatures& columns, const 
 }
 
 // Walks the recorded steps back from the last cell.
-DtwPath TracePath(const DtwBand& band, const std::vector<std::size_t>& row_offset, const std::vector<Step>& steps) {
+DtwPath TracePath(const DtwBand& band, const std::vector<std::size_t>& row_offset, const std::vector<DtwStep>& steps) {
   const std::size_t n = band.first.size();
   DtwPath path;
   path.first_column.assign(n, 0);
@@ -46,13 +46,13 @@ DtwPath TracePath(const DtwBand& band, const std::vector<std::size_t>& row_offse
   for (;;) {
     path.first_column[i] = j;
     if (i == 0 && j == 0) break;
-    const Step step = steps[row_offset[i] + (j - band.first[i])];
-    if (step == kFromLeft) {
+    const DtwStep step = steps[row_offset[i] + (j - band.first[i])];
+    if (step == DtwStep::kFromLeft) {
       --j;
       continue;
     }
     --i;
-    if (step == kDiagonal) --j;
+    if (step == DtwStep::kDiagonal) --j;
     path.last_column[i] = j;
   }
   return path;
@@ -115,7 +115,7 @@ DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& co
   const std::size_t n = rows.frame_count();
   std::vector<std::size_t> row_offset(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) row_offset[i + 1] = row_offset[i] + band.last[i] - band.first[i] + 1;
-  std::vector<Step> steps(row_offset[n]);
+  std::vector<DtwStep> steps(row_offset[n]);
   constexpr double kUnreachable = std::numeric_limits<double>::infinity();
   std::vector<double> previous, current;
   for (std::size_t i = 0; i < n; ++i) {
@@ -136,10 +136,10 @@ DtwPath AlignFeatureSequences(const AudioFeatures& rows, const AudioFeatures& co
       const double diagonal = j > 0 ? above(j - 1) + 2.0 * d : kUnreachable;
       const double vertical = above(j) + d;
       const double horizontal = k > 0 ? current[k - 1] + d : kUnreachable;
-      Step step = kDiagonal;
+      DtwStep step = DtwStep::kDiagonal;
       double best = diagonal;
-      if (vertical < best) step = kFromAbove, best = vertical;
-      if (horizontal < best) step = kFromLeft, best = horizontal;
+      if (vertical < best) step = DtwStep::kFromAbove, best = vertical;
+      if (horizontal < best) step = DtwStep::kFromLeft, best = horizontal;
       current[k] = best;
       steps[row_offset[i] + k] = step;
     }

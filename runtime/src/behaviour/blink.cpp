@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "finite_range.h"
+
 namespace facerig {
 
 // --- Pcg32 -------------------------------------------------------------------
@@ -80,8 +82,6 @@ double MeanGapFor(const BlinkParams& p, double rate_per_min) {
   const double q = p.double_blink_probability;
   return (1.0 + q) * (60.0 / rate_per_min - mean_blink) - q * mean_double_gap;
 }
-
-bool InRange(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
 
 // Rest gaps need room beyond the refractory minimum; talking gaps are scaled
 // by the clock speed, so they only need to be positive.

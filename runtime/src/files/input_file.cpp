@@ -94,12 +94,12 @@ Buffer ReadWhole(const std::filesystem::path& path, std::uint64_t max_bytes) {
   return buffer;
 }
 
-bool IsInside(const std::filesystem::path& path, const std::filesystem::path& folder) {
+}  // namespace
+
+bool IsInsideFolder(const std::filesystem::path& path, const std::filesystem::path& folder) {
   const std::filesystem::path relative = path.lexically_relative(folder);
   return !relative.empty() && *relative.begin() != "..";
 }
-
-}  // namespace
 
 std::vector<std::byte> ReadInputFile(const std::filesystem::path& path, std::uint64_t max_bytes) {
   return ReadWhole<std::vector<std::byte>>(path, max_bytes);
@@ -123,14 +123,14 @@ std::filesystem::path ResolveInsideFolder(const std::filesystem::path& file, std
   std::filesystem::path folder = std::filesystem::absolute(file, error).parent_path();
   if (error) return fail("cannot be resolved: " + error.message());
   const std::filesystem::path lexical = (folder / named).lexically_normal();
-  if (!IsInside(lexical, folder.lexically_normal())) {
+  if (!IsInsideFolder(lexical, folder.lexically_normal())) {
     return fail("leads outside the file's folder (through '..')");
   }
   folder = std::filesystem::weakly_canonical(folder, error);
   std::filesystem::path target;
   if (!error) target = std::filesystem::weakly_canonical(folder / named, error);
   if (error) return fail("cannot be resolved: " + error.message());
-  if (!IsInside(target, folder)) return fail("leads outside the file's folder (through a symbolic link)");
+  if (!IsInsideFolder(target, folder)) return fail("leads outside the file's folder (through a symbolic link)");
   return target;
 }
 

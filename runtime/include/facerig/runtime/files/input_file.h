@@ -45,6 +45,10 @@ std::string ReadInputText(const std::filesystem::path& path, std::uint64_t max_b
 std::filesystem::path ResolveInsideFolder(const std::filesystem::path& file, std::string_view reference,
                                           std::string_view field);
 
+// Whether `path` lies inside `folder` (lexically: neither is resolved, so
+// both must be in the same form, e.g. both normalised).
+bool IsInsideFolder(const std::filesystem::path& path, const std::filesystem::path& folder);
+
 // Throws IoError(kParse) naming `path` (with the byte offset) when the JSON
 // `text` nests objects and arrays deeper than `max_depth`. Brackets inside
 // strings do not count; the text need not be valid JSON.

@@ -1,0 +1,11 @@
+// The range check every parameter validation of the runtime uses.
+#pragma once
+
+#include <cmath>
+
+namespace facerig {
+
+// Whether x is a finite number in [lo, hi] (NaN and infinities are not).
+inline bool InRange(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
+
+}  // namespace facerig
