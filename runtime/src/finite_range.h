@@ -1,4 +1,4 @@
-// The range check every parameter validation of the runtime uses.
+// The range check the runtime's parameter validations (audio clock, blinks) share.
 #pragma once
 
 #include <cmath>
