@@ -26,7 +26,7 @@ using facerig::player::Image;
 using facerig::player::PlayerOptions;
 using facerig::test::RunShell;
 
-constexpr int kWidth = 160, kHeight = 120;
+constexpr int kFrameWidth = 160, kFrameHeight = 120;
 constexpr double kFps = 15.0;
 
 // Mean absolute channel difference (0..255) over a box (clipped to the image).
@@ -67,8 +67,8 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   options.frames_dir = out / "frames";
   options.wav = out / "hello.wav";
   options.fps = kFps;
-  options.width = kWidth;
-  options.height = kHeight;
+  options.width = kFrameWidth;
+  options.height = kFrameHeight;
   options.still = true;  // no head motion or saccades: the mouth region changes only by speech
   std::ostringstream log;
   const HeadlessResult result = facerig::player::RunHeadless(rig, options, log);
@@ -92,11 +92,11 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   CHECK(std::equal(speech.audio.begin(), speech.audio.end(), wav.begin() + static_cast<std::ptrdiff_t>(lead_in)));
 
   // The first frame is the neutral face.
-  const Image neutral = facerig::player::RenderNeutral(rig, kWidth, kHeight);
+  const Image neutral = facerig::player::RenderNeutral(rig, kFrameWidth, kFrameHeight);
   const Image first = facerig::player::ReadPng(result.frames.front());
-  REQUIRE(first.width == kWidth);
-  REQUIRE(first.height == kHeight);
-  CHECK(MeanDifference(first, neutral, 0, 0, kWidth, kHeight) < 0.25);
+  REQUIRE(first.width == kFrameWidth);
+  REQUIRE(first.height == kFrameHeight);
+  CHECK(MeanDifference(first, neutral, 0, 0, kFrameWidth, kFrameHeight) < 0.25);
 
   // The mouth region (around the projected mouth centre) moves while the
   // audio is voiced and is back at rest after it.
@@ -105,9 +105,9 @@ void CheckHelloWorld(const std::filesystem::path& rig_path, const std::string& n
   const int r = std::max(4, static_cast<int>(std::ceil(result.mouth_radius_pixels)));
   INFO("mouth at " << mx << "," << my << " radius " << r << " px");
   REQUIRE(mx > 0);
-  REQUIRE(mx < kWidth);
-  REQUIRE(my > kHeight / 3);
-  REQUIRE(my < kHeight);
+  REQUIRE(mx < kFrameWidth);
+  REQUIRE(my > kFrameHeight / 3);
+  REQUIRE(my < kFrameHeight);
   double peak_rms = 0.0;
   for (double t = 0.0; t < speech.audio_duration().count(); t += 0.01) {
     peak_rms = std::max(peak_rms, Rms(speech, t, t + 0.02));
@@ -235,8 +235,8 @@ TEST_CASE("Player: --yaw turns the camera about the head", "[demo]") {
     options.frames_dir = std::filesystem::path(FACERIG_TEST_OUTPUT_DIR) / "player_yaw" / std::to_string(static_cast<int>(yaw));
     options.fps = 10.0;
     options.duration = 0.1;
-    options.width = kWidth;
-    options.height = kHeight;
+    options.width = kFrameWidth;
+    options.height = kFrameHeight;
     options.still = true;
     options.yaw_degrees = yaw;
     std::ostringstream log;
@@ -248,7 +248,7 @@ TEST_CASE("Player: --yaw turns the camera about the head", "[demo]") {
   INFO("mouth at " << front.x << " from the front, " << left.x << " at yaw 40, " << right.x << " at yaw -40");
   // Seen from the face's left, the mouth (in front of the head's centre) moves
   // towards the picture's left; from its right, towards the right; symmetrically.
-  CHECK(left.x < front.x - 0.05f * kWidth);
-  CHECK(right.x > front.x + 0.05f * kWidth);
-  CHECK(std::abs((front.x - left.x) - (right.x - front.x)) < 0.02f * kWidth);
+  CHECK(left.x < front.x - 0.05f * kFrameWidth);
+  CHECK(right.x > front.x + 0.05f * kFrameWidth);
+  CHECK(std::abs((front.x - left.x) - (right.x - front.x)) < 0.02f * kFrameWidth);
 }

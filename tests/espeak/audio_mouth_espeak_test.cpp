@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "corpus.h"
 #include "facerig/espeak/espeak_phoneme_source.h"
 #include "facerig/runtime/audio/mouth.h"
 #include "facerig/runtime/audio/mouth_stream.h"
@@ -23,15 +24,7 @@ namespace fs = std::filesystem;
 
 constexpr double kHop = 0.010;
 
-std::vector<std::string> Corpus(const std::string& voice) {
-  const std::string file = voice == "en-us" || voice == "en" ? "en" : voice;
-  std::ifstream in(fs::path(FACERIG_SOURCE_DIR) / "data" / "corpus" / (file + ".txt"));
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty()) lines.push_back(line);
-  }
-  return lines;
-}
+using test::Corpus;
 
 // The viseme shown at the centre of each 10 ms frame of a track (sil where no key).
 std::vector<Viseme> FrameVisemes(const std::vector<Phoneme>& phonemes, double duration) {
@@ -49,7 +42,7 @@ std::vector<Viseme> FrameVisemes(const std::vector<Phoneme>& phonemes, double du
 
 bool IsClosed(Viseme v) { return v == Viseme::kSil || v == Viseme::kPP; }
 
-bool IsPause(const Phoneme& p) { return p.symbol.view().front() == '_' || p.symbol.view() == "||"; }
+using test::IsPause;
 
 struct Agreement {
   std::size_t frames = 0;

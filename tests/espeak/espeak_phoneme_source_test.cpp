@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "corpus.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
 #include "support/test_meshes.h"
 
@@ -28,18 +29,9 @@ const std::vector<std::string>& TestVoices() {
   return voices;
 }
 
-// data/corpus/<voice>.txt, one sentence per line; the English voices share en.txt.
-std::vector<std::string> Corpus(const std::string& voice) {
-  const std::string file = voice == "en-us" || voice == "en" ? "en" : voice;
-  std::ifstream in(fs::path(FACERIG_SOURCE_DIR) / "data" / "corpus" / (file + ".txt"));
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty()) lines.push_back(line);
-  }
-  return lines;
-}
+using test::Corpus;
 
-bool IsPause(const Phoneme& p) { return p.symbol.view().front() == '_' || p.symbol.view() == "||"; }
+using test::IsPause;
 
 // Structural checks every synthesized line must pass.
 void CheckLine(const SpeechLine& line) {

@@ -62,4 +62,13 @@ std::size_t CountOccurrences(const std::string& text, const std::string& part) {
   return count;
 }
 
+bool NoTemporaryFilesIn(const std::filesystem::path& dir) {
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().filename().string().find(".tmp") != std::string::npos) return false;
+  }
+  return true;
+}
+
+bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
 }  // namespace facerig::test

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -25,6 +26,12 @@ std::string CaptureOutput(std::FILE* stream, const std::string& name, const std:
 // Runs `command` through the shell, appends its stdout and stderr to *output;
 // returns its exit code (-1 when it did not exit normally).
 int RunShell(const std::string& command, std::string* output);
+
+// Whether no file in `dir` is a writer's temporary (a name with ".tmp" in it).
+bool NoTemporaryFilesIn(const std::filesystem::path& dir);
+
+// Whether `part` occurs in `text`.
+bool Contains(const std::string& text, const std::string& part);
 
 // How many times `part` occurs in `text` (overlaps counted): a warning printed once is 1.
 std::size_t CountOccurrences(const std::string& text, const std::string& part);

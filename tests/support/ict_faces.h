@@ -16,6 +16,11 @@ inline const IctFaceModel& IctFaces() {
   static const IctFaceModel model = LoadIctFaces(IctDir());
   return model;
 }
+// ICT-FaceKit's template description (landmark vertices, parts), once per process.
+inline const FaceTemplateInfo& IctTemplateInfo() {
+  static const FaceTemplateInfo info = LoadIctTemplateInfo(IctRig());
+  return info;
+}
 inline std::vector<glm::vec3> RandomIctFace(std::uint32_t seed, double sigma = 1.0) {
   return RandomIctFace(IctFaces(), seed, sigma);
 }

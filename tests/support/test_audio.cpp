@@ -40,6 +40,10 @@ void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> s
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+std::vector<float> Silence(double seconds, int sample_rate) {
+  return std::vector<float>(static_cast<std::size_t>(seconds * sample_rate));
+}
+
 std::vector<float> Sine(double hz, double seconds, int sample_rate, float amplitude) {
   std::vector<float> out(static_cast<std::size_t>(std::lround(seconds * sample_rate)));
   for (std::size_t i = 0; i < out.size(); ++i) {

@@ -15,6 +15,12 @@ std::string WavBytes(std::span<const std::int16_t> samples, int sample_rate, int
 void WriteWav(const std::filesystem::path& path, std::span<const std::int16_t> samples, int sample_rate,
               int channels = 1);
 
+// The sample rate of most test signals (the aligner's and the rough mode's usual input).
+inline constexpr int kSpeechRate = 16000;
+
+// `seconds` of silence.
+std::vector<float> Silence(double seconds, int sample_rate = kSpeechRate);
+
 // `seconds` of a sine at `hz`, amplitude `amplitude` (of full scale).
 std::vector<float> Sine(double hz, double seconds, int sample_rate, float amplitude = 0.5f);
 

@@ -186,4 +186,11 @@ bool RigsEqual(const Rig& a, const Rig& b, float tolerance, std::string* differe
   return true;
 }
 
+std::vector<glm::vec3> DenseDeltas(const Rig& rig, std::size_t shape) {
+  std::vector<glm::vec3> deltas(rig.vertex_count(), glm::vec3(0.0f));
+  const BlendShapeView view = rig.shape(shape);
+  for (std::size_t i = 0; i < view.vertex_indices.size(); ++i) deltas[view.vertex_indices[i]] = view.position_deltas[i];
+  return deltas;
+}
+
 }  // namespace facerig::test

@@ -15,6 +15,9 @@
 
 namespace facerig::test {
 
+// A shape's position delta at every vertex of the rig (zero where the sparse shape has none).
+std::vector<glm::vec3> DenseDeltas(const Rig& rig, std::size_t shape);
+
 // An n x n vertex grid in the XY plane (unit spacing), two parts ("left",
 // "right" halves of the triangles), UVs, and `shape_count` sparse shapes, each
 // moving a different subset of vertices (deterministic). With normal deltas

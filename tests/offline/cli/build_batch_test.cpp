@@ -2,6 +2,7 @@
 // The good targets are built exactly as single builds of them; the bad ones
 // are reported (their report and the summary) and skipped, and the exit code
 // says so.
+#include "build_command.h"
 #include "cli/app.h"
 
 #include <filesystem>
@@ -24,11 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-test::CommandOutcome Build(const std::vector<std::string>& arguments) {
-  std::vector<std::string> all{"build"};
-  all.insert(all.end(), arguments.begin(), arguments.end());
-  return test::RunCommand(cli::RunFacerig, all);
-}
+using test::RunBuildCommand;
 
 std::string FileBytes(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
@@ -56,7 +53,7 @@ TEST_CASE("(shared data) facerig build --output-dir: a cast of ICT identities an
   WriteObj(faces / "sheet.obj", sheet.positions, {}, {}, sheet.triangles, {});
 
   const fs::path cast = folder / "cast";
-  const test::CommandOutcome outcome = Build({"--template", ict_frig.string(), "--target", faces.string(),
+  const test::CommandOutcome outcome = RunBuildCommand({"--template", ict_frig.string(), "--target", faces.string(),
                                               "--output-dir", cast.string(), "--json", (folder / "summary.json").string()});
   INFO(outcome.error_output);
   CHECK(outcome.exit_code == 3);  // some failed
@@ -96,7 +93,7 @@ TEST_CASE("(shared data) facerig build --output-dir: a cast of ICT identities an
     // The same file name: a glTF's node is named after it.
     fs::create_directories(folder / "single");
     const fs::path single = folder / "single" / (std::string(identity) + ".glb");
-    const test::CommandOutcome one = Build({"--template", ict_frig.string(), "--target",
+    const test::CommandOutcome one = RunBuildCommand({"--template", ict_frig.string(), "--target",
                                             (faces / (std::string(identity) + ".obj")).string(), "-o", single.string()});
     REQUIRE(one.exit_code == 0);
     const std::string cast_bytes = FileBytes(cast / (std::string(identity) + ".glb"));
@@ -114,24 +111,24 @@ TEST_CASE("facerig build: a cast's command line: -o or --output-dir, one target 
   const fs::path folder = test::FreshOutputFolder("cli_build_cast_usage");
   const std::string head = FACERIG_DEFAULT_HEAD;
   const std::string dir = (folder / "cast").string();
-  const test::CommandOutcome two = Build({"--template", head, "--target", head, head, "-o", (folder / "a.glb").string()});
+  const test::CommandOutcome two = RunBuildCommand({"--template", head, "--target", head, head, "-o", (folder / "a.glb").string()});
   CHECK(two.exit_code == 2);
   CHECK(two.error_output.find("--output-dir") != std::string::npos);
   for (const char* single : {"-o", "--frig", "--landmarks", "--template-topology", "--obj-dir"}) {
     INFO(single);
     const test::CommandOutcome mixed =
-        Build({"--template", head, "--target", head, "--output-dir", dir, single, (folder / "x").string()});
+        RunBuildCommand({"--template", head, "--target", head, "--output-dir", dir, single, (folder / "x").string()});
     CHECK(mixed.exit_code == 2);
     CHECK(mixed.error_output.find(std::string(single) + ": names one target's file") != std::string::npos);
   }
-  CHECK(Build({"--template", head, "--target", head, "-o", (folder / "a.glb").string(), "--format", "frig"}).exit_code ==
+  CHECK(RunBuildCommand({"--template", head, "--target", head, "-o", (folder / "a.glb").string(), "--format", "frig"}).exit_code ==
         2);
-  CHECK(Build({"--template", head, "--target", head, "--output-dir", dir, "--format", "obj"}).exit_code == 2);
+  CHECK(RunBuildCommand({"--template", head, "--target", head, "--output-dir", dir, "--format", "obj"}).exit_code == 2);
   // Two targets of one name would write the same files: refused before any work.
   fs::create_directory(folder / "a");
   fs::create_directory(folder / "b");
   for (const char* sub : {"a", "b"}) std::ofstream(folder / sub / "face.obj") << "v 0 0 0\n";
-  const test::CommandOutcome same = Build({"--template", head, "--target", (folder / "a" / "face.obj").string(),
+  const test::CommandOutcome same = RunBuildCommand({"--template", head, "--target", (folder / "a" / "face.obj").string(),
                                            (folder / "b" / "face.obj").string(), "--output-dir", dir});
   CHECK(same.exit_code == 1);
   CHECK(same.error_output.find("two targets are named 'face'") != std::string::npos);

@@ -1,6 +1,7 @@
 // `facerig build`, run in-process: outputs on the target's own topology (GLB
 // accepted by the Khronos validator, .frig, an OBJ per shape), the report,
 // and clear errors with nothing written on bad input.
+#include "build_command.h"
 #include "cli/app.h"
 
 #include <algorithm>
@@ -45,11 +46,7 @@ void WriteTrueLandmarks(const fs::path& path, const test::RegistrationTarget& ta
   WriteLandmarksJson(path, landmarks);
 }
 
-test::CommandOutcome Build(const std::vector<std::string>& arguments) {
-  std::vector<std::string> all{"build"};
-  all.insert(all.end(), arguments.begin(), arguments.end());
-  return test::RunCommand(cli::RunFacerig, all);
-}
+using test::RunBuildCommand;
 
 fs::path DefaultHead() { return FACERIG_DEFAULT_HEAD; }
 
@@ -103,7 +100,7 @@ TEST_CASE("(shared data) facerig build: a re-meshed ICT face in millimetres gets
   SaveRig(ict_frig, test::IctRig());
 
   const test::CommandOutcome outcome =
-      Build({"--template", ict_frig.string(), "--target", (folder / "target.obj").string(), "-o",
+      RunBuildCommand({"--template", ict_frig.string(), "--target", (folder / "target.obj").string(), "-o",
              (folder / "face.glb").string(), "--frig", (folder / "face.frig").string(), "--obj-dir",
              (folder / "shapes").string(), "--landmarks", (folder / "landmarks.json").string(), "--json",
              (folder / "report.json").string(), "--template-topology", (folder / "fit.frig").string()});
@@ -205,7 +202,7 @@ TEST_CASE("(shared data) facerig build: a skinned glTF target keeps its skin, no
   SaveRig(ict_frig, test::IctRig());
 
   const test::CommandOutcome outcome =
-      Build({"--template", ict_frig.string(), "--target", (folder / "character.glb").string(), "-o",
+      RunBuildCommand({"--template", ict_frig.string(), "--target", (folder / "character.glb").string(), "-o",
              (folder / "character_rig.glb").string(), "--landmarks", (folder / "landmarks.json").string()});
   INFO(outcome.error_output);
   REQUIRE(outcome.exit_code == 0);
@@ -246,7 +243,7 @@ TEST_CASE("facerig build: --no-contacts and --no-eye-fit turn off contacts and e
                                        (folder / (name + ".frig")).string(), "--json",
                                        (folder / (name + ".json")).string()};
     arguments.insert(arguments.end(), switches.begin(), switches.end());
-    const test::CommandOutcome outcome = Build(arguments);
+    const test::CommandOutcome outcome = RunBuildCommand(arguments);
     INFO(outcome.error_output);
     REQUIRE(outcome.exit_code == 0);
     std::ifstream file(folder / (name + ".json"));
@@ -280,7 +277,7 @@ TEST_CASE("facerig build: an OBJ target's UVs and materials reach the GLB", "[cl
     std::ofstream obj(folder / "head.obj", std::ios::binary);
     obj << TexturedObj(head);
   }
-  const test::CommandOutcome outcome = Build({"--template", DefaultHead().string(), "--target",
+  const test::CommandOutcome outcome = RunBuildCommand({"--template", DefaultHead().string(), "--target",
                                               (folder / "head.obj").string(), "-o", (folder / "head.glb").string(),
                                               "--frig", (folder / "head.frig").string()});
   INFO(outcome.error_output);
@@ -335,34 +332,34 @@ TEST_CASE("facerig build: bad command lines and bad input fail clearly and write
   const std::string out = (folder / "out.glb").string();
 
   SECTION("usage") {
-    CHECK(Build({}).exit_code == 2);
-    CHECK(Build({"--template", head, "--target", head}).exit_code == 2);  // no -o
-    const test::CommandOutcome mode = Build({"--template", head, "--target", head, "-o", out, "--mode", "magic"});
+    CHECK(RunBuildCommand({}).exit_code == 2);
+    CHECK(RunBuildCommand({"--template", head, "--target", head}).exit_code == 2);  // no -o
+    const test::CommandOutcome mode = RunBuildCommand({"--template", head, "--target", head, "-o", out, "--mode", "magic"});
     CHECK(mode.exit_code == 2);
     CHECK(mode.error_output.find("'magic'") != std::string::npos);
-    CHECK(Build({"--template", head, "--target", head, "-o", out, "--units", "inches"}).exit_code == 2);
+    CHECK(RunBuildCommand({"--template", head, "--target", head, "-o", out, "--units", "inches"}).exit_code == 2);
     // An unknown switch is named, wherever it is (last, it is not taken for an option missing its value).
     for (const std::vector<std::string>& arguments :
          {std::vector<std::string>{"--template", head, "--no-contact", "--target", head, "-o", out},
           std::vector<std::string>{"--template", head, "--target", head, "-o", out, "--no-contact"}}) {
-      const test::CommandOutcome unknown = Build(arguments);
+      const test::CommandOutcome unknown = RunBuildCommand(arguments);
       CHECK(unknown.exit_code == 2);
       CHECK(unknown.error_output.find("not expected: --no-contact\n") != std::string::npos);
       CHECK(unknown.error_output.find("facerig build --help") != std::string::npos);  // where the usage is
     }
-    const test::CommandOutcome no_value = Build({"--template", head, "--target", head, "-o", out, "--json"});
+    const test::CommandOutcome no_value = RunBuildCommand({"--template", head, "--target", head, "-o", out, "--json"});
     CHECK(no_value.exit_code == 2);
     CHECK(no_value.error_output.find("--json: 1 required TEXT missing") != std::string::npos);
   }
   SECTION("a missing target names the file") {
     const test::CommandOutcome outcome =
-        Build({"--template", head, "--target", (folder / "missing.obj").string(), "-o", out});
+        RunBuildCommand({"--template", head, "--target", (folder / "missing.obj").string(), "-o", out});
     CHECK(outcome.exit_code == 1);
     CHECK(outcome.error_output.find("missing.obj") != std::string::npos);
   }
   SECTION("an unwritable output fails before any work") {
     const test::CommandOutcome outcome =
-        Build({"--template", head, "--target", head, "-o", (folder / "no" / "such" / "dir" / "out.glb").string()});
+        RunBuildCommand({"--template", head, "--target", head, "-o", (folder / "no" / "such" / "dir" / "out.glb").string()});
     CHECK(outcome.exit_code == 1);
     CHECK(outcome.error_output.find("cannot write " + (folder / "no" / "such" / "dir" / "out.glb").string() +
                                     ": the folder " + (folder / "no" / "such" / "dir").string() + " does not exist") !=
@@ -372,7 +369,7 @@ TEST_CASE("facerig build: bad command lines and bad input fail clearly and write
   SECTION("a target where no face is found suggests a landmark file") {
     const RawRig sheet = RigBuilder::ToRaw(test::MakeGridRig(30, 0));
     WriteObj(folder / "plain.obj", sheet.positions, {}, {}, sheet.triangles, {});
-    const test::CommandOutcome outcome = Build({"--template", head, "--target", (folder / "plain.obj").string(), "-o", out});
+    const test::CommandOutcome outcome = RunBuildCommand({"--template", head, "--target", (folder / "plain.obj").string(), "-o", out});
     INFO(outcome.error_output);
     CHECK(outcome.exit_code == 1);
     CHECK(outcome.error_output.find("--landmarks") != std::string::npos);
@@ -390,7 +387,7 @@ TEST_CASE("facerig build: bad command lines and bad input fail clearly and write
     }
     WriteLandmarksJson(folder / "sheet_landmarks.json", landmarks);
     const test::CommandOutcome outcome =
-        Build({"--template", head, "--target", (folder / "sheet.obj").string(), "-o", out, "--landmarks",
+        RunBuildCommand({"--template", head, "--target", (folder / "sheet.obj").string(), "-o", out, "--landmarks",
                (folder / "sheet_landmarks.json").string()});
     INFO(outcome.error_output);
     CHECK(outcome.exit_code == 1);

@@ -38,13 +38,7 @@ Printed Convert(const std::vector<std::string>& arguments) {
   return printed;
 }
 
-// The shape's delta at every vertex (zero where the sparse shape has none).
-std::vector<glm::vec3> DenseDeltas(const Rig& rig, std::size_t s) {
-  std::vector<glm::vec3> dense(rig.vertex_count(), glm::vec3(0.0f));
-  const BlendShapeView shape = rig.shape(s);
-  for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) dense[shape.vertex_indices[i]] = shape.position_deltas[i];
-  return dense;
-}
+using test::DenseDeltas;
 
 }  // namespace
 

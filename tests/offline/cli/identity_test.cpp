@@ -41,14 +41,7 @@ Rig BentGrid(float amount, int shape_count = 3) {
   return std::move(*rig);
 }
 
-// The dense shape deltas of one rig shape.
-std::vector<glm::vec3> DenseDeltas(const Rig& rig, std::size_t shape) {
-  std::vector<glm::vec3> deltas(rig.vertex_count(), glm::vec3(0.0f));
-  const BlendShapeView view = rig.shape(shape);
-  for (std::size_t i = 0; i < view.vertex_indices.size(); ++i)
-    deltas[view.vertex_indices[i]] = view.position_deltas[i];
-  return deltas;
-}
+using test::DenseDeltas;
 
 }  // namespace
 

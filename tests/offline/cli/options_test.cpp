@@ -36,7 +36,7 @@ Outcome RunWithStdout(const std::vector<std::string>& arguments) {
   return {outcome.exit_code, output, outcome.error_output};
 }
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::Contains;
 
 }  // namespace
 

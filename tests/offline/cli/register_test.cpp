@@ -39,7 +39,7 @@ test::CommandOutcome Register(const std::vector<std::string>& arguments) {
   return test::RunCommand(cli::RunFacerig, all);
 }
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::Contains;
 
 // Nothing at `path`, not even the temporary file of an atomic write.
 bool NothingWritten(const fs::path& path) {

@@ -12,19 +12,19 @@
 
 namespace {
 
-constexpr std::uint32_t kColumns = 5;  // x = 0..4
-// Rows of kColumns vertices: lower margin, skin below it, upper margin, skin above it.
+constexpr std::uint32_t kEyeColumns = 5;  // x = 0..4
+// Rows of kEyeColumns vertices: lower margin, skin below it, upper margin, skin above it.
 constexpr std::uint32_t kLowerMargin = 0;
 constexpr std::uint32_t kBelow = 1;
 constexpr std::uint32_t kUpperMargin = 2;
 constexpr std::uint32_t kAbove = 3;
 
-std::uint32_t Vertex(std::uint32_t row, std::uint32_t column) { return row * kColumns + column; }
+std::uint32_t EyeVertex(std::uint32_t row, std::uint32_t column) { return row * kEyeColumns + column; }
 
 std::vector<glm::vec3> OpenEye() {
   std::vector<glm::vec3> positions;
   for (const float y : {0.0f, -1.0f, 1.0f, 2.0f}) {
-    for (std::uint32_t x = 0; x < kColumns; ++x) positions.emplace_back(static_cast<float>(x), y, 0.0f);
+    for (std::uint32_t x = 0; x < kEyeColumns; ++x) positions.emplace_back(static_cast<float>(x), y, 0.0f);
   }
   return positions;
 }
@@ -32,9 +32,9 @@ std::vector<glm::vec3> OpenEye() {
 std::vector<facerig::Triangle> EyeTriangles() {
   std::vector<facerig::Triangle> triangles;
   for (const auto& [margin, skin] : {std::pair{kLowerMargin, kBelow}, std::pair{kUpperMargin, kAbove}}) {
-    for (std::uint32_t x = 0; x + 1 < kColumns; ++x) {
-      triangles.push_back({Vertex(margin, x), Vertex(skin, x), Vertex(skin, x + 1)});
-      triangles.push_back({Vertex(margin, x), Vertex(skin, x + 1), Vertex(margin, x + 1)});
+    for (std::uint32_t x = 0; x + 1 < kEyeColumns; ++x) {
+      triangles.push_back({EyeVertex(margin, x), EyeVertex(skin, x), EyeVertex(skin, x + 1)});
+      triangles.push_back({EyeVertex(margin, x), EyeVertex(skin, x + 1), EyeVertex(margin, x + 1)});
     }
   }
   return triangles;
@@ -43,8 +43,8 @@ std::vector<facerig::Triangle> EyeTriangles() {
 // The upper margin at height y, each vertex slid along x as given.
 std::vector<glm::vec3> UpperMarginAt(float y, const std::vector<float>& slide) {
   std::vector<glm::vec3> positions = OpenEye();
-  for (std::uint32_t x = 0; x < kColumns; ++x) {
-    positions[Vertex(kUpperMargin, x)] = {static_cast<float>(x) + slide[x], y, 0.0f};
+  for (std::uint32_t x = 0; x < kEyeColumns; ++x) {
+    positions[EyeVertex(kUpperMargin, x)] = {static_cast<float>(x) + slide[x], y, 0.0f};
   }
   return positions;
 }
@@ -59,10 +59,10 @@ TEST_CASE("Eyelid gap: the lids meet as curves though the lid slides", "[deforma
   const std::vector<glm::vec3> blink = UpperMarginAt(0.0f, slide);
   const facerig::OpeningMargins margins =
       facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, EyeTriangles()), blink, 0, neutral.size());
-  CHECK(margins.upper == std::vector<std::uint32_t>{Vertex(kUpperMargin, 0), Vertex(kUpperMargin, 2),
-                                                    Vertex(kUpperMargin, 4)});
-  CHECK(margins.lower == std::vector<std::uint32_t>{Vertex(kLowerMargin, 0), Vertex(kLowerMargin, 2),
-                                                    Vertex(kLowerMargin, 4)});
+  CHECK(margins.upper == std::vector<std::uint32_t>{EyeVertex(kUpperMargin, 0), EyeVertex(kUpperMargin, 2),
+                                                    EyeVertex(kUpperMargin, 4)});
+  CHECK(margins.lower == std::vector<std::uint32_t>{EyeVertex(kLowerMargin, 0), EyeVertex(kLowerMargin, 2),
+                                                    EyeVertex(kLowerMargin, 4)});
   // The whole lower margin row, not only the partners.
   CHECK(margins.lower_margin == std::vector<std::uint32_t>{0, 1, 2, 3, 4});
   CHECK(margins.width == Approx(4.0));
@@ -103,7 +103,7 @@ TEST_CASE("Eyelid margins: invalid inputs", "[deformation_transfer]") {
                   facerig::MeshInputError);
   // The lids meet at one vertex only: no lower margin to measure along.
   std::vector<glm::vec3> pinch = neutral;
-  pinch[Vertex(kUpperMargin, 2)].y = 0.0f;
+  pinch[EyeVertex(kUpperMargin, 2)].y = 0.0f;
   CHECK_THROWS_AS(facerig::FindEyelidMargins(facerig::test::MeshOf(neutral, triangles), pinch, 0, neutral.size()),
                   facerig::MeshInputError);
   // The lower margin's vertices are joined by no edge.

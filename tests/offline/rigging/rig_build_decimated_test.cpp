@@ -29,10 +29,6 @@ constexpr std::array<const char*, 2> kBlinks = {"eyeBlink_L", "eyeBlink_R"};
 // ICT's eyeball vertices (both eyes).
 constexpr std::uint32_t kFirstEyeballVertex = 21451, kLastEyeballVertex = 24590;
 
-const FaceTemplateInfo& IctInfo() {
-  static const FaceTemplateInfo info = test::LoadIctTemplateInfo(test::IctRig());
-  return info;
-}
 
 // An ICT identity at full resolution or decimated: vertex i of `mesh` is ICT vertex original_vertex[i].
 struct IctTarget {
@@ -108,17 +104,17 @@ BlinkMeasure MeasureBlink(const IctTarget& target, const RawRig& built, const ch
 RegistrationLandmarks UserLandmarks(const RawRig& target) {
   const Rig& ict = test::IctRig();
   if (const std::optional<FaceLandmarks> on_topology =
-          LandmarksOnTemplateTopology(ict, IctInfo(), target.positions, target.triangles)) {
-    return PairLandmarks(IctInfo().landmark_vertices, *on_topology);
+          LandmarksOnTemplateTopology(ict, test::IctTemplateInfo(), target.positions, target.triangles)) {
+    return PairLandmarks(test::IctTemplateInfo().landmark_vertices, *on_topology);
   }
   LandmarkDetector detector;
   const LandmarkResult detected = detector.Detect(NeutralMesh(target));
-  return PairLandmarks(IctInfo().landmark_vertices, detected.landmarks);
+  return PairLandmarks(test::IctTemplateInfo().landmark_vertices, detected.landmarks);
 }
 
 std::array<BlinkMeasure, 2> BuildAndMeasureBlinks(const IctTarget& target) {
   const RawRig raw = ToRawRig(target.mesh);
-  const BuildRigResult built = BuildRig(test::IctRig(), IctInfo(), raw, UserLandmarks(raw));
+  const BuildRigResult built = BuildRig(test::IctRig(), test::IctTemplateInfo(), raw, UserLandmarks(raw));
   return {MeasureBlink(target, built.rig, kBlinks[0]), MeasureBlink(target, built.rig, kBlinks[1])};
 }
 

@@ -31,10 +31,6 @@ RawRig TargetRig(const test::RegistrationTarget& target) {
 }
 
 // The shipped ICT descriptor (region, landmarks), read once.
-const FaceTemplateInfo& IctInfo() {
-  static const FaceTemplateInfo info = test::LoadIctTemplateInfo(test::IctRig());
-  return info;
-}
 
 RegistrationLandmarks TrueLandmarks(const test::RegistrationTarget& target) {
   FaceLandmarks landmarks;
@@ -43,7 +39,7 @@ RegistrationLandmarks TrueLandmarks(const test::RegistrationTarget& target) {
     landmarks.indices.push_back(i);
     landmarks.confidence.push_back(i < 17 ? 0.2f : 1.0f);  // jaw points follow the silhouette
   }
-  return PairLandmarks(IctInfo().landmark_vertices, landmarks);
+  return PairLandmarks(test::IctTemplateInfo().landmark_vertices, landmarks);
 }
 
 // The largest length ratio of any edge of `triangles` between the neutral and
@@ -72,7 +68,7 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
   options.seed = 3;
   const test::RegistrationTarget target = test::MakeRegistrationTarget(options);
 
-  const BuildRigResult registered = BuildRig(ict, IctInfo(), TargetRig(target), TrueLandmarks(target));
+  const BuildRigResult registered = BuildRig(ict, test::IctTemplateInfo(), TargetRig(target), TrueLandmarks(target));
   {
     // The inner parts (eyeballs, teeth, mouth socket, lashes) follow the fitted
     // skin: count skin x inner crossings of the fit against the true face's.
@@ -83,7 +79,7 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
       std::size_t count = 0;
       auto skin = [&](std::uint32_t t) {
         const Triangle& tri = ict.triangles()[t];
-        const std::uint32_t head = IctInfo().region.last + 1;
+        const std::uint32_t head = test::IctTemplateInfo().region.last + 1;
         return tri[0] < head && tri[1] < head && tri[2] < head;
       };
       for (const auto& [a, b] : found.pairs) count += skin(a) != skin(b) ? 1 : 0;
@@ -103,7 +99,7 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
     // seam's height, are left to the plain search.
     const MouthSides sides = FindMouthSides(ict, registered.registration.positions,
                                             registered.registration.rigid.Inverse(), target.positions,
-                                            target.triangles, IctInfo().region.last + 1);
+                                            target.triangles, test::IctTemplateInfo().region.last + 1);
     REQUIRE(sides.target_vertex.size() == target.positions.size());
     const ClosestPointQuery truth(facerig::test::MeshOf(target.true_ict_positions, ict.triangles()));
     std::size_t sided = 0, wrong_side = 0;
@@ -126,7 +122,7 @@ TEST_CASE("(shared data) build: a re-meshed, rotated, rescaled random ICT face g
     BuildRigParams params;
     params.mode = mode;
     // One registration, three transfers.
-    const BuildRigResult built = BuildRigOnRegistration(ict, IctInfo(), TargetRig(target), registered.registration, params);
+    const BuildRigResult built = BuildRigOnRegistration(ict, test::IctTemplateInfo(), TargetRig(target), registered.registration, params);
     std::string problem;
     const std::optional<Rig> rig = RigBuilder::Build(built.rig, &problem);
     REQUIRE(rig.has_value());
@@ -299,10 +295,10 @@ TEST_CASE("(shared data) build: onto ICT-topology faces, blinks stretch the lids
     const RawRig target = ToRawRig(face);
     // No detection: a target on the template's topology has its landmark vertices.
     const std::optional<FaceLandmarks> landmarks =
-        LandmarksOnTemplateTopology(ict, IctInfo(), target.positions, target.triangles);
+        LandmarksOnTemplateTopology(ict, test::IctTemplateInfo(), target.positions, target.triangles);
     REQUIRE(landmarks.has_value());
     const BuildRigResult built =
-        BuildRig(ict, IctInfo(), target, PairLandmarks(IctInfo().landmark_vertices, *landmarks));
+        BuildRig(ict, test::IctTemplateInfo(), target, PairLandmarks(test::IctTemplateInfo().landmark_vertices, *landmarks));
     for (const char* name : {"eyeBlink_L", "eyeBlink_R"}) {
       const auto shape = std::find_if(built.rig.shapes.begin(), built.rig.shapes.end(),
                                       [&](const RawBlendShape& s) { return s.name == name; });
@@ -352,7 +348,7 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
   const LandmarkResult detected = detector.Detect(facerig::test::MeshOf(head.positions, head.triangles));
   CHECK(detected.eyes_fitted == 2);
   const BuildRigResult built =
-      BuildRig(ict, IctInfo(), head, PairLandmarks(IctInfo().landmark_vertices, detected.landmarks));
+      BuildRig(ict, test::IctTemplateInfo(), head, PairLandmarks(test::IctTemplateInfo().landmark_vertices, detected.landmarks));
   // The fitted template's lid margins went onto the head's eye rims (both
   // eyes, upper and lower: ICT's blinks give 28 margin vertices per eye).
   std::printf("default head: %zu template margin vertices aligned onto the eye rims, mean move %.3f cm\n",

@@ -18,7 +18,7 @@
 namespace facerig {
 namespace {
 
-constexpr int kRate = 16000;
+using test::kSpeechRate;
 constexpr double kHop = 0.01;
 
 // Log energies: `quiet` frames at -10, loud ones at 0, in runs of the given lengths.
@@ -88,12 +88,12 @@ Tones Render(const std::vector<double>& hz, const std::vector<double>& seconds, 
              double trail, float amplitude) {
   Tones tones;
   for (std::size_t i = 0; i < hz.size(); ++i) {
-    tones.audio.resize(tones.audio.size() + static_cast<std::size_t>(gap_before[i] * kRate), 0.0f);
-    tones.starts.push_back(static_cast<double>(tones.audio.size()) / kRate);
-    const std::vector<float> tone = test::Sine(hz[i], seconds[i], kRate, amplitude);
+    tones.audio.resize(tones.audio.size() + static_cast<std::size_t>(gap_before[i] * kSpeechRate), 0.0f);
+    tones.starts.push_back(static_cast<double>(tones.audio.size()) / kSpeechRate);
+    const std::vector<float> tone = test::Sine(hz[i], seconds[i], kSpeechRate, amplitude);
     tones.audio.insert(tones.audio.end(), tone.begin(), tone.end());
   }
-  tones.audio.resize(tones.audio.size() + static_cast<std::size_t>(trail * kRate), 0.0f);
+  tones.audio.resize(tones.audio.size() + static_cast<std::size_t>(trail * kSpeechRate), 0.0f);
   std::uint32_t state = 99;
   for (float& v : tones.audio) {
     state = state * 1664525u + 1013904223u;
@@ -123,7 +123,7 @@ SpeechLine Reference() {
   gaps[0] = kReferenceEdge;
   const Tones tones = Render(kHz, kReferenceSeconds, gaps, kReferenceEdge, 0.5f);
   SpeechLine reference;
-  reference.sample_rate = kRate;
+  reference.sample_rate = kSpeechRate;
   reference.audio = FloatToPcm(tones.audio);
   reference.phonemes.push_back(Timed(0.0, kReferenceEdge, "_"));
   for (std::size_t i = 0; i < kHz.size(); ++i) {

@@ -15,7 +15,7 @@
 namespace facerig {
 namespace {
 
-constexpr int kRate = 16000;
+using test::kSpeechRate;
 
 struct Segment {
   double hz;  // 0: silence
@@ -25,9 +25,9 @@ struct Segment {
 std::vector<float> Render(const std::vector<Segment>& segments, float amplitude, double* starts) {
   std::vector<float> audio;
   for (std::size_t s = 0; s < segments.size(); ++s) {
-    starts[s] = static_cast<double>(audio.size()) / kRate;
-    const std::vector<float> tone = segments[s].hz > 0.0 ? test::Sine(segments[s].hz, segments[s].seconds, kRate, amplitude)
-                                                         : std::vector<float>(static_cast<std::size_t>(segments[s].seconds * kRate), 0.0f);
+    starts[s] = static_cast<double>(audio.size()) / kSpeechRate;
+    const std::vector<float> tone = segments[s].hz > 0.0 ? test::Sine(segments[s].hz, segments[s].seconds, kSpeechRate, amplitude)
+                                                         : std::vector<float>(static_cast<std::size_t>(segments[s].seconds * kSpeechRate), 0.0f);
     audio.insert(audio.end(), tone.begin(), tone.end());
   }
   return audio;
@@ -44,7 +44,7 @@ TEST_CASE("AlignPhonemesToRecording: tone boundaries land within 20 ms", "[phone
   }
   double reference_starts[8], recording_starts[8];
   SpeechLine reference;
-  reference.sample_rate = kRate;
+  reference.sample_rate = kSpeechRate;
   reference.audio = FloatToPcm(Render(reference_segments, 0.5f, reference_starts));
   for (int s = 0; s < 8; ++s) {
     Phoneme p;
@@ -72,13 +72,13 @@ TEST_CASE("AlignPhonemesToRecording: tone boundaries land within 20 ms", "[phone
     CHECK(p.duration.count() >= 0.0);
     previous = p.start.count();
   }
-  CHECK(previous <= static_cast<double>(recording.size()) / kRate);
+  CHECK(previous <= static_cast<double>(recording.size()) / kSpeechRate);
 }
 
 TEST_CASE("AlignPhonemesToRecording: invalid inputs are AlignmentErrors", "[phoneme_alignment]") {
   SpeechLine reference;
-  reference.sample_rate = kRate;
-  const std::vector<float> recording = test::Sine(440.0, 0.5, kRate);
+  reference.sample_rate = kSpeechRate;
+  const std::vector<float> recording = test::Sine(440.0, 0.5, kSpeechRate);
   CHECK_THROWS_AS(AlignPhonemesToRecording(reference, recording), AlignmentError);  // no audio
   reference.audio = FloatToPcm(recording);
   CHECK_THROWS_AS(AlignPhonemesToRecording(reference, recording), AlignmentError);  // no phonemes

@@ -9,15 +9,18 @@
 
 #include <catch2/catch.hpp>
 
+#include "support/test_audio.h"
+
 namespace facerig {
 namespace {
 
-constexpr int kRate = 16000;
+using test::kSpeechRate;
+using test::Silence;
 
 // A vowel-like buzz (120 Hz pulses, -6 dB per octave) through one formant
 // resonator, or high-passed noise for a fricative; peak 0.5.
 std::vector<float> Sound(double seconds, double formant_hz, bool noise) {
-  std::vector<float> out(static_cast<std::size_t>(seconds * kRate));
+  std::vector<float> out(static_cast<std::size_t>(seconds * kSpeechRate));
   std::uint32_t state = 3;
   float source = 0.0f;
   for (std::size_t i = 0; i < out.size(); ++i) {
@@ -25,7 +28,7 @@ std::vector<float> Sound(double seconds, double formant_hz, bool noise) {
     if (noise) {
       out[i] = float(state >> 8) / float(1u << 24) - 0.5f;
     } else {
-      out[i] = source = (i % (kRate / 120) == 0 ? 1.0f : 0.0f) + 0.97f * source;
+      out[i] = source = (i % (kSpeechRate / 120) == 0 ? 1.0f : 0.0f) + 0.97f * source;
     }
   }
   if (noise) {
@@ -33,8 +36,8 @@ std::vector<float> Sound(double seconds, double formant_hz, bool noise) {
       for (std::size_t i = out.size() - 1; i > 0; --i) out[i] -= out[i - 1];
     }
   } else {
-    const double r = std::exp(-std::numbers::pi * 80.0 / kRate);
-    const double a1 = 2.0 * r * std::cos(2.0 * std::numbers::pi * formant_hz / kRate), a2 = -r * r;
+    const double r = std::exp(-std::numbers::pi * 80.0 / kSpeechRate);
+    const double a1 = 2.0 * r * std::cos(2.0 * std::numbers::pi * formant_hz / kSpeechRate), a2 = -r * r;
     double y1 = 0.0, y2 = 0.0;
     for (float& x : out) {
       const double y = (1.0 - a1 - a2) * x + a1 * y1 + a2 * y2;
@@ -49,7 +52,6 @@ std::vector<float> Sound(double seconds, double formant_hz, bool noise) {
   return out;
 }
 
-std::vector<float> Silence(double seconds) { return std::vector<float>(static_cast<std::size_t>(seconds * kRate)); }
 
 std::vector<float> TestLine() {
   std::vector<float> line;
@@ -78,7 +80,7 @@ std::vector<Phoneme> Stream(RoughMouthStream& stream, const std::vector<float>& 
     const std::size_t n = std::min(chunk, audio.size() - at);
     stream.Push(std::span<const float>(audio).subspan(at, n), out);
     // Bounded look-ahead: the phonemes so far reach back to within latency() of the audio.
-    const double pushed = double(at + n) / kRate;
+    const double pushed = double(at + n) / kSpeechRate;
     const double covered = out.empty() ? 0.0 : out.back().start.count() + out.back().duration.count();
     CHECK(covered >= pushed - stream.latency() - 1e-9);
     CHECK(covered <= pushed + 1e-9);
@@ -89,10 +91,10 @@ std::vector<Phoneme> Stream(RoughMouthStream& stream, const std::vector<float>& 
 
 TEST_CASE("audio mouth stream: same segments as the whole buffer, bounded look-ahead", "[audio_mouth]") {
   const std::vector<float> audio = TestLine();
-  const std::optional<SpeechLine> whole = RoughMouthFromAudio(audio, kRate);
+  const std::optional<SpeechLine> whole = RoughMouthFromAudio(audio, kSpeechRate);
   REQUIRE(whole);
   REQUIRE(Collapsed(whole->phonemes) == "_ a b a s _ a _ ");
-  RoughMouthStream stream(kRate);
+  RoughMouthStream stream(kSpeechRate);
   REQUIRE(stream.valid());
   CHECK(stream.latency() <= 0.3);
   for (const std::size_t chunk : {std::size_t{1}, std::size_t{37}, std::size_t{160}, std::size_t{4096}, audio.size()}) {
@@ -107,7 +109,7 @@ TEST_CASE("audio mouth stream: same segments as the whole buffer, bounded look-a
       CHECK(streamed[i].start.count() + streamed[i].duration.count() ==
             Approx(streamed[i + 1].start.count()));
     }
-    CHECK(streamed.back().start.count() + streamed.back().duration.count() == Approx(double(audio.size()) / kRate));
+    CHECK(streamed.back().start.count() + streamed.back().duration.count() == Approx(double(audio.size()) / kSpeechRate));
   }
 }
 
@@ -115,7 +117,7 @@ TEST_CASE("audio mouth stream: int16 input and invalid streams", "[audio_mouth]"
   const std::vector<float> audio = TestLine();
   std::vector<std::int16_t> pcm(audio.size());
   for (std::size_t i = 0; i < audio.size(); ++i) pcm[i] = static_cast<std::int16_t>(std::lround(audio[i] * 32767.0f));
-  RoughMouthStream stream(kRate);
+  RoughMouthStream stream(kSpeechRate);
   std::vector<Phoneme> out;
   stream.Push(pcm, out);
   stream.Finish(out);

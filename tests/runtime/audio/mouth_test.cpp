@@ -11,11 +11,14 @@
 
 #include "facerig/runtime/io/phoneme_track_file.h"
 #include "facerig/runtime/speech/phoneme_visemes.h"
+#include "support/test_audio.h"
 
 namespace facerig {
 namespace {
 
-constexpr int kRate = 22050;
+constexpr int kVoiceRate = 22050;  // espeak-ng's
+
+std::vector<float> Quiet(double seconds) { return test::Silence(seconds, kVoiceRate); }
 
 struct Formant {
   double hz;
@@ -26,14 +29,14 @@ struct Formant {
 // source and lip radiation: a one-pole low-pass) through a cascade of two-pole formant
 // resonators, peak 0.5.
 std::vector<float> Buzz(double seconds, std::initializer_list<Formant> formants) {
-  std::vector<float> out(static_cast<std::size_t>(seconds * kRate));
-  const auto period = static_cast<std::size_t>(kRate / 120.0);
+  std::vector<float> out(static_cast<std::size_t>(seconds * kVoiceRate));
+  const auto period = static_cast<std::size_t>(kVoiceRate / 120.0);
   for (std::size_t i = 0; i < out.size(); i += period) out[i] = 1.0f;
   float source = 0.0f;
   for (float& x : out) x = source = x + 0.97f * source;
   for (const Formant& f : formants) {
-    const double r = std::exp(-std::numbers::pi * f.bandwidth / kRate);
-    const double a1 = 2.0 * r * std::cos(2.0 * std::numbers::pi * f.hz / kRate);
+    const double r = std::exp(-std::numbers::pi * f.bandwidth / kVoiceRate);
+    const double a1 = 2.0 * r * std::cos(2.0 * std::numbers::pi * f.hz / kVoiceRate);
     const double a2 = -r * r;
     double y1 = 0.0, y2 = 0.0;
     for (float& x : out) {
@@ -51,7 +54,7 @@ std::vector<float> Buzz(double seconds, std::initializer_list<Formant> formants)
 
 // White noise, high-passed by three first differences (+18 dB/octave), peak 0.3.
 std::vector<float> Hiss(double seconds) {
-  std::vector<float> out(static_cast<std::size_t>(seconds * kRate) + 3);
+  std::vector<float> out(static_cast<std::size_t>(seconds * kVoiceRate) + 3);
   std::uint32_t state = 7;
   for (float& x : out) {
     state = state * 1664525u + 1013904223u;
@@ -67,7 +70,6 @@ std::vector<float> Hiss(double seconds) {
   return out;
 }
 
-std::vector<float> Silence(double seconds) { return std::vector<float>(static_cast<std::size_t>(seconds * kRate)); }
 
 std::vector<float> Join(std::initializer_list<std::vector<float>> parts) {
   std::vector<float> out;
@@ -99,22 +101,22 @@ void CheckContiguous(const SpeechLine& line, double duration) {
 }
 
 SpeechLine Rough(const std::vector<float>& audio) {
-  const std::optional<SpeechLine> line = RoughMouthFromAudio(audio, kRate);
+  const std::optional<SpeechLine> line = RoughMouthFromAudio(audio, kVoiceRate);
   REQUIRE(line);
-  CheckContiguous(*line, double(audio.size()) / kRate);
+  CheckContiguous(*line, double(audio.size()) / kVoiceRate);
   return *line;
 }
 
 TEST_CASE("audio mouth: silence rests, one sound class each", "[audio_mouth]") {
-  CHECK(Symbols(Rough(Silence(1.0))) == "_ ");
-  CHECK(Symbols(Rough(Join({Silence(0.3), Buzz(0.4, kOpenVowel), Silence(0.3)}))) == "_ a _ ");
-  CHECK(Symbols(Rough(Join({Silence(0.3), Buzz(0.4, kFrontVowel), Silence(0.3)}))) == "_ i _ ");
-  CHECK(Symbols(Rough(Join({Silence(0.3), Buzz(0.4, kRoundedVowel), Silence(0.3)}))) == "_ o _ ");
-  CHECK(Symbols(Rough(Join({Silence(0.3), Hiss(0.3), Silence(0.3)}))) == "_ s _ ");
+  CHECK(Symbols(Rough(Quiet(1.0))) == "_ ");
+  CHECK(Symbols(Rough(Join({Quiet(0.3), Buzz(0.4, kOpenVowel), Quiet(0.3)}))) == "_ a _ ");
+  CHECK(Symbols(Rough(Join({Quiet(0.3), Buzz(0.4, kFrontVowel), Quiet(0.3)}))) == "_ i _ ");
+  CHECK(Symbols(Rough(Join({Quiet(0.3), Buzz(0.4, kRoundedVowel), Quiet(0.3)}))) == "_ o _ ");
+  CHECK(Symbols(Rough(Join({Quiet(0.3), Hiss(0.3), Quiet(0.3)}))) == "_ s _ ");
 }
 
 TEST_CASE("audio mouth: timing of a sound between silences", "[audio_mouth]") {
-  const SpeechLine line = Rough(Join({Silence(0.3), Buzz(0.4, kOpenVowel), Silence(0.3)}));
+  const SpeechLine line = Rough(Join({Quiet(0.3), Buzz(0.4, kOpenVowel), Quiet(0.3)}));
   REQUIRE(line.phonemes.size() == 3);
   // Within two hops (smoothing and the analysis window blur the edges).
   CHECK(line.phonemes[1].start.count() == Approx(0.3).margin(0.02));
@@ -127,25 +129,25 @@ TEST_CASE("audio mouth: timing of a sound between silences", "[audio_mouth]") {
 
 TEST_CASE("audio mouth: short gaps close the lips, long ones rest, blips vanish", "[audio_mouth]") {
   const auto open = [] { return Buzz(0.3, kOpenVowel); };
-  CHECK(Symbols(Rough(Join({Silence(0.2), open(), Silence(0.08), open(), Silence(0.2)}))) ==
+  CHECK(Symbols(Rough(Join({Quiet(0.2), open(), Quiet(0.08), open(), Quiet(0.2)}))) ==
         "_ a b a _ ");
-  CHECK(Symbols(Rough(Join({Silence(0.2), open(), Silence(0.4), open(), Silence(0.2)}))) ==
+  CHECK(Symbols(Rough(Join({Quiet(0.2), open(), Quiet(0.4), open(), Quiet(0.2)}))) ==
         "_ a _ a _ ");
   // Shorter than the 50 ms minimum segment: merged into the sound around it.
-  CHECK(Symbols(Rough(Join({Silence(0.2), open(), Silence(0.015), open(), Silence(0.2)}))) ==
+  CHECK(Symbols(Rough(Join({Quiet(0.2), open(), Quiet(0.015), open(), Quiet(0.2)}))) ==
         "_ a _ ");
   // A click of sound inside silence is merged into the silence.
-  std::vector<float> click = Silence(1.0);
+  std::vector<float> click = Quiet(1.0);
   const std::vector<float> blip = Buzz(0.02, kOpenVowel);
-  std::copy(blip.begin(), blip.end(), click.begin() + kRate / 2);
+  std::copy(blip.begin(), blip.end(), click.begin() + kVoiceRate / 2);
   CHECK(Symbols(Rough(click)) == "_ ");
   // Speech from the first sample: no leading rest.
-  CHECK(Symbols(Rough(Join({Buzz(0.3, kFrontVowel), Hiss(0.2), Buzz(0.3, kOpenVowel), Silence(0.3)}))) ==
+  CHECK(Symbols(Rough(Join({Buzz(0.3, kFrontVowel), Hiss(0.2), Buzz(0.3, kOpenVowel), Quiet(0.3)}))) ==
         "i s a _ ");
 }
 
 TEST_CASE("audio mouth: steady noise alone keeps the mouth at rest", "[audio_mouth]") {
-  std::vector<float> noise(kRate);
+  std::vector<float> noise(kVoiceRate);
   std::uint32_t state = 5;
   for (float& x : noise) {
     state = state * 1664525u + 1013904223u;
@@ -156,7 +158,7 @@ TEST_CASE("audio mouth: steady noise alone keeps the mouth at rest", "[audio_mou
 
 TEST_CASE("audio mouth: the classes survive a quiet recording with a noise floor", "[audio_mouth]") {
   std::vector<float> audio =
-      Join({Silence(0.3), Buzz(0.3, kOpenVowel), Silence(0.08), Buzz(0.3, kFrontVowel), Silence(0.3)});
+      Join({Quiet(0.3), Buzz(0.3, kOpenVowel), Quiet(0.08), Buzz(0.3, kFrontVowel), Quiet(0.3)});
   std::uint32_t state = 99;
   for (float& x : audio) {
     state = state * 1664525u + 1013904223u;
@@ -166,7 +168,7 @@ TEST_CASE("audio mouth: the classes survive a quiet recording with a noise floor
   // int16 input gives the same track.
   std::vector<std::int16_t> pcm(audio.size());
   for (std::size_t i = 0; i < audio.size(); ++i) pcm[i] = static_cast<std::int16_t>(std::lround(audio[i] * 32767.0f));
-  const std::optional<SpeechLine> from_pcm = RoughMouthFromAudio(pcm, kRate);
+  const std::optional<SpeechLine> from_pcm = RoughMouthFromAudio(pcm, kVoiceRate);
   REQUIRE(from_pcm);
   CHECK(Symbols(*from_pcm) == "_ a b i _ ");
 }
@@ -196,7 +198,7 @@ TEST_CASE("audio mouth: the track round-trips through a phoneme-track file", "[a
   AudioMouthParams params;
   params.language = LanguageName("en-us");
   const std::optional<SpeechLine> line =
-      RoughMouthFromAudio(Join({Silence(0.2), Buzz(0.3, kOpenVowel), Silence(0.2)}), kRate, params);
+      RoughMouthFromAudio(Join({Quiet(0.2), Buzz(0.3, kOpenVowel), Quiet(0.2)}), kVoiceRate, params);
   REQUIRE(line);
   CHECK(line->language.view() == "en-us");
   const PhonemeTrack track = ParsePhonemeTrack(FormatPhonemeTrack(*line));
@@ -215,8 +217,8 @@ TEST_CASE("audio mouth: invalid inputs", "[audio_mouth]") {
   CHECK_FALSE(RoughMouthFromAudio(audio, kMouthMaxSampleRate + 1));
   AudioMouthParams params;
   params.analysis.hop = -0.01;
-  CHECK_FALSE(RoughMouthFromAudio(audio, kRate, params));
-  const std::optional<SpeechLine> empty = RoughMouthFromAudio(std::span<const float>(), kRate);
+  CHECK_FALSE(RoughMouthFromAudio(audio, kVoiceRate, params));
+  const std::optional<SpeechLine> empty = RoughMouthFromAudio(std::span<const float>(), kVoiceRate);
   REQUIRE(empty);
   CHECK(empty->phonemes.empty());
   CHECK(ClassifyMouthFrames({}).empty());

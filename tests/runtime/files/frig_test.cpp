@@ -40,7 +40,7 @@ Rig MakeReferenceRig() { return test::MakeGridRig(4, 3, true); }
 
 Bytes ReferenceBytes() { return ReadFileBytes(ReferencePath()); }
 
-IoError ReadError(const fs::path& path) {
+IoError FrigReadError(const fs::path& path) {
   try {
     static_cast<void>(ReadFrig(path));
   } catch (const IoError& error) {
@@ -208,17 +208,17 @@ TEST_CASE("Malformed .frig files are refused with the right error", "[frig]") {
   Bytes bytes = reference;
 
   SECTION("missing file") {
-    CHECK(ReadError(test::OutputPath("no_such_file.frig")).kind() == IoErrorKind::kOpenFailed);
+    CHECK(FrigReadError(test::OutputPath("no_such_file.frig")).kind() == IoErrorKind::kOpenFailed);
   }
   SECTION("empty file") {
     const fs::path path = test::OutputPath("empty.frig");
     WriteFileAtomically(path, std::string_view());
-    CHECK(ReadError(path).kind() == IoErrorKind::kEmpty);
+    CHECK(FrigReadError(path).kind() == IoErrorKind::kEmpty);
   }
   SECTION("10 bytes") {
     const fs::path path = test::OutputPath("ten_bytes.frig");
     WriteFileAtomically(path, std::span(reference).first(10));
-    CHECK(ReadError(path).kind() == IoErrorKind::kTruncated);
+    CHECK(FrigReadError(path).kind() == IoErrorKind::kTruncated);
   }
   SECTION("wrong magic") {
     bytes[0] = std::byte{'G'};

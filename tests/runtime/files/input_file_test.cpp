@@ -14,6 +14,7 @@
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/shape_mapping_files.h"
 #include "facerig/runtime/io/phoneme_track_file.h"
+#include "support/command_runner.h"
 #include "support/hostile_files.h"
 #include "support/test_meshes.h"
 
@@ -33,7 +34,7 @@ IoError ErrorOf(const std::function<void()>& read) {
   throw;  // unreachable
 }
 
-bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::Contains;
 
 std::string Nested(int depth) { return std::string(depth, '[') + std::string(depth, ']'); }
 

@@ -19,6 +19,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/rig_builder.h"
+#include "support/command_runner.h"
 #include "support/base64.h"
 #include "support/gltf_validator.h"
 #include "support/test_meshes.h"
@@ -156,12 +157,7 @@ std::string ToString(std::optional<IoErrorKind> kind) {
     REQUIRE(kind_ == std::optional<IoErrorKind>(expected_kind));     \
   } while (false)
 
-bool NoTemporaryFilesIn(const fs::path& dir) {
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().filename().string().find(".tmp-") != std::string::npos) return false;
-  }
-  return true;
-}
+using test::NoTemporaryFilesIn;
 
 // A small rig with what the grid lacks: mm units, Z up, three parts, names
 // that need escaping and a shape with no entries. (No normal deltas: RawRig

@@ -12,6 +12,7 @@
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/gltf.h"
 #include "facerig/runtime/rig_builder.h"
+#include "support/command_runner.h"
 #include "support/gltf_validator.h"
 #include "support/skinned_gltf.h"
 #include "support/test_meshes.h"
@@ -134,12 +135,7 @@ void RequireSkinnedCharacterKept(const fs::path& source, const fs::path& output,
   }
 }
 
-bool NoTemporaryFilesIn(const fs::path& dir) {
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().filename().string().find(".tmp") != std::string::npos) return false;
-  }
-  return true;
-}
+using test::NoTemporaryFilesIn;
 
 }  // namespace
 

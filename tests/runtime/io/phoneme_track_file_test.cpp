@@ -32,13 +32,13 @@ SpeechLine SampleLine() {
   return line;
 }
 
-// Expects ParsePhonemeTrack(json) to throw IoError of `kind` whose message
+// Expects ParsePhonemeTrack(text) to throw IoError of `kind` whose message
 // contains `pointer` and whose line is `line` (0: do not check).
-void ExpectError(const std::string& json, IoErrorKind kind, const std::string& pointer,
+void ExpectError(const std::string& text, IoErrorKind kind, const std::string& pointer,
                  std::int64_t line = 0) {
-  INFO(json);
+  INFO(text);
   try {
-    ParsePhonemeTrack(json, "track.json");
+    ParsePhonemeTrack(text, "track.json");
     FAIL("no error");
   } catch (const IoError& e) {
     INFO(e.what());
