@@ -4,8 +4,9 @@
 #include <string>
 
 #include <epoxy/gl.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "facerig/offline/io/image_codec.h"
 
 namespace facerig::player {
 namespace {
@@ -75,9 +76,8 @@ bool DecodeRgba(const EncodedImage& image, cv::Mat* rgba, std::string* problem) 
   if (image.bytes.empty()) return fail("no bytes");
   cv::Mat decoded;
   try {
-    const cv::Mat bytes(1, static_cast<int>(image.bytes.size()), CV_8U, const_cast<std::uint8_t*>(image.bytes.data()));
-    decoded = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
+    decoded = DecodeImageBytes(image.bytes, DecodedChannels::kBgra);
+  } catch (const std::exception& e) {
     return fail(std::string("cannot decode (") + e.what() + ")");
   }
   if (decoded.empty()) return fail(std::string("cannot decode its ") + (image.format == ImageFormat::kPng ? "PNG" : "JPEG") + " bytes");

@@ -7,10 +7,11 @@
 #include <string>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "facerig/offline/render/png_encode.h"
+#include "facerig/offline/io/image_codec.h"
+#include "facerig/runtime/files/image_file.h"
 #include "output_set.h"
 
 namespace facerig::player {
@@ -92,8 +93,12 @@ void WritePng(const std::filesystem::path& path, const Image& image) {
 }
 
 Image ReadPng(const std::filesystem::path& path) {
-  const cv::Mat bgr = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (bgr.empty()) throw std::runtime_error("cannot read PNG " + path.string());
+  cv::Mat bgr;
+  try {
+    bgr = DecodeImageBytes(ReadImageFile(path).bytes, DecodedChannels::kBgr);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot read PNG " + path.string() + ": " + e.what());
+  }
   Image image;
   image.width = bgr.cols;
   image.height = bgr.rows;

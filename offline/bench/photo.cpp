@@ -10,13 +10,16 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "bench/common.h"
 #include "bench/json.h"
 #include "cli/app.h"
 #include "facerig/runtime/error.h"
+#include "facerig/offline/error.h"
+#include "facerig/offline/io/image_codec.h"
+#include "facerig/runtime/files/atomic_file.h"
+#include "facerig/runtime/files/image_file.h"
 
 namespace {
 
@@ -44,15 +47,18 @@ void AddPhotoBenchOptions(CLI::App& app, PhotoBenchOptions& o) {
 
 // The portrait resized to `size` on its longer side, as a PNG in `folder`.
 fs::path ResizedPhoto(const fs::path& photo, int size, const fs::path& folder) {
-  const cv::Mat image = cv::imread(photo.string(), cv::IMREAD_COLOR);
-  if (image.empty()) throw facerig::IoError(facerig::IoErrorKind::kOpenFailed, photo.string(), "not a readable image");
+  cv::Mat image;
+  try {
+    image = facerig::DecodeImageBytes(facerig::ReadImageFile(photo).bytes, facerig::DecodedChannels::kBgr);
+  } catch (const facerig::InvalidInputError& error) {
+    throw facerig::IoError(facerig::IoErrorKind::kParse, photo.string(), error.what());
+  }
   const double scale = static_cast<double>(size) / std::max(image.cols, image.rows);
   cv::Mat resized;
   cv::resize(image, resized, cv::Size(), scale, scale, scale > 1.0 ? cv::INTER_CUBIC : cv::INTER_AREA);
   const fs::path path = folder / ("photo_" + std::to_string(size) + ".png");
-  if (!cv::imwrite(path.string(), resized)) {
-    throw facerig::IoError(facerig::IoErrorKind::kWriteFailed, path.string(), "cannot be written");
-  }
+  const std::vector<std::uint8_t> png = facerig::EncodePngBytes(resized);
+  facerig::WriteFileAtomically(path, std::as_bytes(std::span(png)));
   return path;
 }
 

@@ -9,13 +9,14 @@
 #include "render/uv_raster.h"
 #include "facerig/offline/default_head/default_head.h"
 #include "facerig/offline/render/png_encode.h"
+#include "facerig/offline/error.h"
+#include "facerig/offline/io/image_codec.h"
 
 #include <algorithm>
 #include <cmath>
 #include <span>
 
 #include <glm/geometric.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace facerig::default_head {
@@ -209,9 +210,12 @@ EncodedImage PaintSkinAlbedo(const HeadGeometry& head, const std::vector<glm::ve
 namespace facerig {
 
 RgbImage DecodeImage(const EncodedImage& image) {
-  const cv::Mat bytes(1, static_cast<int>(image.bytes.size()), CV_8U, const_cast<std::uint8_t*>(image.bytes.data()));
-  const cv::Mat bgr = image.bytes.empty() ? cv::Mat() : cv::imdecode(bytes, cv::IMREAD_COLOR);
-  if (bgr.empty()) throw std::runtime_error("DecodeImage: '" + image.name + "' does not decode");
+  cv::Mat bgr;
+  try {
+    bgr = DecodeImageBytes(image.bytes, DecodedChannels::kBgr);
+  } catch (const InvalidInputError& error) {
+    throw std::runtime_error("DecodeImage: '" + image.name + "' does not decode: " + error.what());
+  }
   RgbImage rgb;
   rgb.width = bgr.cols;
   rgb.height = bgr.rows;

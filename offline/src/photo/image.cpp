@@ -5,10 +5,10 @@
 #include <cmath>
 #include <string>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/io/image_codec.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/files/image_file.h"
 
@@ -17,18 +17,14 @@ namespace {
 
 std::string SizeText(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
 
-// 8-bit BGR, whatever the file held: IMREAD_COLOR converts grey, palette and
-// 16-bit images, drops alpha and applies a JPEG's EXIF orientation.
+// 8-bit BGR, whatever the file held: grey, palette and 16-bit images
+// converted, alpha dropped, a JPEG's EXIF orientation applied.
 cv::Mat DecodeBgr(const EncodedImage& encoded, const std::string& path) {
-  const cv::Mat bytes(1, static_cast<int>(encoded.bytes.size()), CV_8U, const_cast<std::uint8_t*>(encoded.bytes.data()));
-  cv::Mat bgr;
   try {
-    bgr = cv::imdecode(bytes, cv::IMREAD_COLOR);
-  } catch (const cv::Exception& error) {
-    throw IoError(IoErrorKind::kParse, path, std::string("the image data does not decode: ") + error.what());
+    return DecodeImageBytes(encoded.bytes, DecodedChannels::kBgr);
+  } catch (const InvalidInputError& error) {
+    throw IoError(IoErrorKind::kParse, path, error.what());
   }
-  if (bgr.empty()) throw IoError(IoErrorKind::kParse, path, "the image data does not decode");
-  return bgr;
 }
 
 // INTER_AREA averages the pixels each output pixel covers: no aliasing.

@@ -4,10 +4,10 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "facerig/offline/error.h"
+#include "facerig/offline/io/image_codec.h"
 
 namespace facerig {
 
@@ -20,17 +20,13 @@ EncodedImage EncodePng(std::span<const std::uint8_t> pixels, int width, int heig
   const cv::Mat rgb(height, width, channels == 4 ? CV_8UC4 : CV_8UC3, const_cast<std::uint8_t*>(pixels.data()));
   cv::Mat bgr;  // OpenCV's channel order
   cv::cvtColor(rgb, bgr, channels == 4 ? cv::COLOR_RGBA2BGRA : cv::COLOR_RGB2BGR);
-  std::vector<int> params;
-  if (compression) params = {cv::IMWRITE_PNG_COMPRESSION, *compression};
   EncodedImage image{.name = std::move(name), .format = ImageFormat::kPng, .width = static_cast<std::uint32_t>(width),
                      .height = static_cast<std::uint32_t>(height)};
-  bool encoded = false;
   try {
-    encoded = cv::imencode(".png", bgr, image.bytes, params);
-  } catch (const cv::Exception& error) {
-    throw InvalidInputError(std::string("PNG encoding failed: ") + error.what(), image.name);
+    image.bytes = EncodePngBytes(bgr, compression);
+  } catch (const InvalidInputError& error) {
+    throw InvalidInputError(error.what(), image.name);
   }
-  if (!encoded) throw InvalidInputError("PNG encoding failed", image.name);
   return image;
 }
 

@@ -1,15 +1,17 @@
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/offline/error.h"
+#include "facerig/offline/io/image_codec.h"
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace facerig {
@@ -271,9 +273,11 @@ void WritePng(const std::filesystem::path& path, const RgbImage& image) {
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   // Highest zlib effort: previews are committed, so smaller is better.
-  if (!cv::imwrite(path.string(), bgr, {cv::IMWRITE_PNG_COMPRESSION, 9})) {
-    throw std::runtime_error("WritePng: cannot write " + path.string());
-  }
+  const std::vector<std::uint8_t> png = EncodePngBytes(bgr, 9);
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  file.close();
+  if (!file) throw std::runtime_error("WritePng: cannot write " + path.string());
 }
 
 }  // namespace facerig

@@ -20,10 +20,10 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cli/app.h"
+#include "facerig/offline/io/image_codec.h"
 #include "facerig/runtime/io/obj.h"
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/mesh.h"
@@ -67,14 +67,11 @@ void CheckTextured(const Rig& rig, const Mesh& source, const std::vector<std::ui
 
 // --- pixels: the written images decoded and sampled ---
 
-// RGBA, 8 bits a channel; the test fails on bytes OpenCV cannot decode.
+// RGBA, 8 bits a channel; the test fails on bytes that do not decode.
 cv::Mat DecodeRgba(std::span<const std::uint8_t> bytes) {
-  const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8U, const_cast<std::uint8_t*>(bytes.data()));
-  const cv::Mat decoded = cv::imdecode(encoded, cv::IMREAD_UNCHANGED);
-  REQUIRE(!decoded.empty());
-  REQUIRE(decoded.depth() == CV_8U);
+  const cv::Mat decoded = DecodeImageBytes(bytes, DecodedChannels::kBgra);
   cv::Mat rgba;
-  cv::cvtColor(decoded, rgba, decoded.channels() == 4 ? cv::COLOR_BGRA2RGBA : cv::COLOR_BGR2RGBA);
+  cv::cvtColor(decoded, rgba, cv::COLOR_BGRA2RGBA);
   return rgba;
 }
 
