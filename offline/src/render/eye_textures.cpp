@@ -20,6 +20,7 @@
 #include "render/uv_raster.h"
 #include "geometry/smooth_step.h"
 #include "geometry/bounding_box.h"
+#include "render/unit_byte.h"
 
 namespace facerig {
 namespace {
@@ -308,8 +309,6 @@ void GrowPainted(Canvas& canvas, int rings) {
     }
   }
 }
-
-std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
 
 // sRGB colour (and linear alpha, when `with_alpha`) as an 8-bit PNG.
 EncodedImage EncodeCanvas(const Canvas& canvas, const std::string& name, bool with_alpha) {

@@ -10,6 +10,7 @@
 #include "facerig/offline/error.h"
 #include "facerig/runtime/part_roles.h"
 #include "photo/texture/internal.h"
+#include "render/unit_byte.h"
 
 namespace facerig {
 namespace {
@@ -81,8 +82,6 @@ TexelLayers EmptyLayers(int size) {
           std::vector<std::uint8_t>(count, 0), std::vector<float>(count, 0.0f), std::vector<glm::vec3>(count),
           std::vector<float>(count, 0.0f), std::vector<float>(count, 0.0f), std::vector<float>(count, 0.0f)};
 }
-
-std::uint8_t ToByte(float unit) { return static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(unit, 0.0f, 1.0f))); }
 
 RgbImage ToImage(int size, const std::vector<glm::vec3>& colours) {
   RgbImage image{size, size, std::vector<std::uint8_t>(3 * colours.size())};
