@@ -75,18 +75,26 @@ Seam SeamOf(const OpeningMargins& lips, std::span<const glm::vec3> fitted_in_tem
 // the jaw's motion is about a rigid turn (fitted to the lower lip's), so a
 // vertex far back (the tongue, near the hinge) moves less than the lower lip
 // yet with the jaw. A vertex moving more than half what the jaw's turn would
-// move it (at least a tenth of the lower lip's motion) is on the jaw.
+// move it (at least a tenth of the lower lip's motion) is on the jaw. Beyond
+// the face region (ICT-FaceKit: head and neck, mouth socket, gums and tongue,
+// teeth) so is one moving over a third of the lower lip's motion: the turn, fitted to the lip alone,
+// is poorly known that far back, and ICT-FaceKit's tongue root (moving half
+// as much as its lip) passed for still, so the back of a mouth sack's palate
+// took it and followed the jaw.
 std::vector<MouthSide> TriangleSides(const Rig& template_rig, std::span<const glm::vec3> open,
-                                     const OpeningMargins& lips) {
+                                     const OpeningMargins& lips, std::uint32_t region_vertex_count) {
   const std::span<const glm::vec3> neutral = template_rig.positions();
   const SimilarityTransform jaw = FitRigid(neutral, open, lips.lower);
   std::vector<float> lower_lip_motion;
   for (std::uint32_t v : lips.lower) lower_lip_motion.push_back(glm::length(open[v] - neutral[v]));
-  const float floor = 0.1f * Median(std::move(lower_lip_motion));
+  const float lip_motion = Median(std::move(lower_lip_motion));
+  const float floor = 0.1f * lip_motion;
   std::vector<std::uint8_t> on_jaw(neutral.size());
   for (std::size_t v = 0; v < neutral.size(); ++v) {
     const float turned = std::max(floor, glm::length(jaw.Apply(neutral[v]) - neutral[v]));
-    on_jaw[v] = glm::length(open[v] - neutral[v]) > 0.5f * turned ? 1 : 0;
+    const float moved = glm::length(open[v] - neutral[v]);
+    const bool inside_mouth = v >= region_vertex_count;
+    on_jaw[v] = moved > 0.5f * turned || (inside_mouth && moved > lip_motion / 3.0f) ? 1 : 0;
   }
   std::vector<MouthSide> sides;
   sides.reserve(template_rig.triangles().size());
@@ -260,7 +268,7 @@ MouthSides FindMouthSides(const Rig& template_rig, std::span<const glm::vec3> fi
   // template's, a few millimetres off: its lips would search the wrong side
   // (an ICT-like face's expressions measured worse), so no sides.
   if (!UseTargetRims(target_in_template, target_triangles, seam, chain_side)) return sides;
-  sides.template_triangle = TriangleSides(template_rig, *open, lips);
+  sides.template_triangle = TriangleSides(template_rig, *open, lips, region_vertex_count);
   sides.target_vertex.resize(target_positions.size());
   std::vector<MouthSide> by_height(target_positions.size());
   for (std::size_t v = 0; v < target_positions.size(); ++v) by_height[v] = SideInZone(target_in_template[v], seam, params);
