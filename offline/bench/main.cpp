@@ -13,6 +13,7 @@
 #include "bench/blend.h"
 #include "bench/build.h"
 #include "bench/cast.h"
+#include "bench/mouth.h"
 #include "bench/photo.h"
 #include "bench/proportions.h"
 #include "bench/register.h"
@@ -42,6 +43,8 @@ const std::vector<Entry>& Benchmarks() {
        RunTransferBenchmark},
       {"build", "the whole facerig build on re-meshed random ICT faces, each mode", RunBuildBenchmark},
       {"cast", "a cast of faces built in one facerig build run against one run per face", RunCastBenchmark},
+      {"mouth", "ICT-FaceKit's shapes on the built-in head: the opened mouth's curtain and fold under the lower lip",
+       RunMouthBenchmark},
       {"register", "landmarks + registration of the ICT template onto re-meshed random ICT faces",
        RunRegisterBenchmark},
       {"photo", "facerig photo on a 1024 px portrait with ICT-FaceKit, per step, with and without the shading fit",

@@ -13,6 +13,8 @@
 #include "facerig/offline/error.h"
 #include "facerig/offline/geometry/stats.h"
 #include "facerig/runtime/shape_names.h"
+#include "facerig/offline/geometry/mesh_components.h"
+#include "geometry/mesh_edges.h"
 
 namespace facerig {
 namespace {
@@ -73,18 +75,26 @@ Seam SeamOf(const OpeningMargins& lips, std::span<const glm::vec3> fitted_in_tem
 // the jaw's motion is about a rigid turn (fitted to the lower lip's), so a
 // vertex far back (the tongue, near the hinge) moves less than the lower lip
 // yet with the jaw. A vertex moving more than half what the jaw's turn would
-// move it (at least a tenth of the lower lip's motion) is on the jaw.
+// move it (at least a tenth of the lower lip's motion) is on the jaw. Beyond
+// the face region (ICT-FaceKit: head and neck, mouth socket, gums and tongue,
+// teeth) so is one moving over a third of the lower lip's motion: the turn, fitted to the lip alone,
+// is poorly known that far back, and ICT-FaceKit's tongue root (moving half
+// as much as its lip) passed for still, so the back of a mouth sack's palate
+// took it and followed the jaw.
 std::vector<MouthSide> TriangleSides(const Rig& template_rig, std::span<const glm::vec3> open,
-                                     const OpeningMargins& lips) {
+                                     const OpeningMargins& lips, std::uint32_t region_vertex_count) {
   const std::span<const glm::vec3> neutral = template_rig.positions();
   const SimilarityTransform jaw = FitRigid(neutral, open, lips.lower);
   std::vector<float> lower_lip_motion;
   for (std::uint32_t v : lips.lower) lower_lip_motion.push_back(glm::length(open[v] - neutral[v]));
-  const float floor = 0.1f * Median(std::move(lower_lip_motion));
+  const float lip_motion = Median(std::move(lower_lip_motion));
+  const float floor = 0.1f * lip_motion;
   std::vector<std::uint8_t> on_jaw(neutral.size());
   for (std::size_t v = 0; v < neutral.size(); ++v) {
     const float turned = std::max(floor, glm::length(jaw.Apply(neutral[v]) - neutral[v]));
-    on_jaw[v] = glm::length(open[v] - neutral[v]) > 0.5f * turned ? 1 : 0;
+    const float moved = glm::length(open[v] - neutral[v]);
+    const bool inside_mouth = v >= region_vertex_count;
+    on_jaw[v] = moved > 0.5f * turned || (inside_mouth && moved > lip_motion / 3.0f) ? 1 : 0;
   }
   std::vector<MouthSide> sides;
   sides.reserve(template_rig.triangles().size());
@@ -159,6 +169,63 @@ bool UseTargetRims(std::span<const glm::vec3> in_template, std::span<const Trian
   return true;
 }
 
+// Per target vertex, how far along its own surface (mesh edges) the nearest
+// vertex of each rim chain lies: [0] the upper, [1] the lower; infinity
+// beyond `reach` or on parts not attached to the rim (its tongue, teeth).
+std::array<std::vector<float>, 2> ChainDistances(std::span<const glm::vec3> positions,
+                                                 std::span<const Triangle> triangles,
+                                                 std::span<const MouthSide> chain_side, float reach) {
+  std::vector<std::uint32_t> begin, neighbours;
+  VertexNeighbours(positions.size(), triangles, begin, neighbours);
+  std::array<std::vector<float>, 2> distances;
+  for (MouthSide side : {MouthSide::kUpper, MouthSide::kLower}) {
+    std::vector<std::uint32_t> chain;
+    for (std::uint32_t v = 0; v < chain_side.size(); ++v) {
+      if (chain_side[v] == side) chain.push_back(v);
+    }
+    const std::vector<float> reaches(chain.size(), reach);
+    std::vector<float>& distance = distances[side == MouthSide::kUpper ? 0 : 1];
+    distance.assign(positions.size(), std::numeric_limits<float>::infinity());
+    for (const EdgeReach& at : VerticesWithinReach(positions, begin, neighbours, chain, reaches)) {
+      distance[at.vertex] = at.distance;
+    }
+  }
+  return distances;
+}
+
+// Per target vertex: 1 when its connected part lies mostly in the mouth zone
+// (a mouth sack, a lining of the lips), 0 on the face's skin. On the skin,
+// the way round a mouth corner makes the chin about as near the upper lip as
+// the lower (within 20 %), so there the height decides.
+std::vector<std::uint8_t> PartsInsideMouth(std::span<const Triangle> triangles, std::span<const MouthSide> by_height) {
+  std::vector<std::uint32_t> part;
+  const std::size_t parts = ConnectedComponents(by_height.size(), triangles, part);
+  std::vector<std::size_t> in_zone(parts, 0), total(parts, 0);
+  for (std::size_t v = 0; v < by_height.size(); ++v) {
+    ++total[part[v]];
+    in_zone[part[v]] += by_height[v] != MouthSide::kEither ? 1 : 0;
+  }
+  std::vector<std::uint8_t> inside(by_height.size());
+  for (std::size_t v = 0; v < by_height.size(); ++v) inside[v] = 2 * in_zone[part[v]] >= total[part[v]] ? 1 : 0;
+  return inside;
+}
+
+// Which side a vertex inside the mouth zone belongs to: the lip its own
+// surface leads to (the inner side of a lip, the mouth sack's roof or floor
+// hanging from it), else (a part of its own, as a tongue) its height. The
+// seam's height alone fails deep in the mouth: a few degrees between the
+// template's frame and the target's put the back of the head's mouth sack,
+// where roof and floor meet at the seam's height, below it, and the
+// palate's back wall followed the jaw. Where the two lips are about equally
+// far (that meeting line), the vertex stays with the skull.
+MouthSide SideByChains(std::size_t v, const std::array<std::vector<float>, 2>& chain_distance,
+                       MouthSide by_height, const MouthSideParams& params) {
+  if (!params.along_surface) return by_height;
+  const float up = chain_distance[0][v], down = chain_distance[1][v];
+  if (std::isinf(up) && std::isinf(down)) return by_height;
+  return down < params.lower_share * up ? MouthSide::kLower : MouthSide::kUpper;
+}
+
 MouthSide SideInZone(glm::vec3 p, const Seam& seam, const MouthSideParams& params) {
   const float w = seam.width;
   if (std::abs(p.x - seam.centre_x) > 0.5f * w) return MouthSide::kEither;
@@ -201,11 +268,21 @@ MouthSides FindMouthSides(const Rig& template_rig, std::span<const glm::vec3> fi
   // template's, a few millimetres off: its lips would search the wrong side
   // (an ICT-like face's expressions measured worse), so no sides.
   if (!UseTargetRims(target_in_template, target_triangles, seam, chain_side)) return sides;
-  sides.template_triangle = TriangleSides(template_rig, *open, lips);
+  sides.template_triangle = TriangleSides(template_rig, *open, lips, region_vertex_count);
   sides.target_vertex.resize(target_positions.size());
+  std::vector<MouthSide> by_height(target_positions.size());
+  for (std::size_t v = 0; v < target_positions.size(); ++v) by_height[v] = SideInZone(target_in_template[v], seam, params);
+  const std::vector<std::uint8_t> inside = PartsInsideMouth(target_triangles, by_height);
+  const std::array<std::vector<float>, 2> chain_distance =
+      params.along_surface
+          ? ChainDistances(target_in_template, target_triangles, chain_side, params.chain_reach * seam.width)
+          : std::array<std::vector<float>, 2>{};
   for (std::size_t v = 0; v < target_positions.size(); ++v) {
-    sides.target_vertex[v] = chain_side[v] != MouthSide::kEither ? chain_side[v]
-                                                                  : SideInZone(target_in_template[v], seam, params);
+    if (chain_side[v] != MouthSide::kEither || by_height[v] == MouthSide::kEither || !inside[v]) {
+      sides.target_vertex[v] = chain_side[v] != MouthSide::kEither ? chain_side[v] : by_height[v];
+    } else {
+      sides.target_vertex[v] = SideByChains(v, chain_distance, by_height[v], params);
+    }
     sides.upper_vertices += sides.target_vertex[v] == MouthSide::kUpper ? 1 : 0;
     sides.lower_vertices += sides.target_vertex[v] == MouthSide::kLower ? 1 : 0;
   }

@@ -17,6 +17,7 @@
 #include "facerig/offline/mapping/mouth_sides.h"
 #include "facerig/offline/geometry/self_intersection.h"
 #include "facerig/runtime/io/obj.h"
+#include "measure/mouth_interior.h"
 #include "support/ict_faces.h"
 #include "support/test_meshes.h"
 
@@ -214,64 +215,6 @@ double LidRoughness(std::span<const glm::vec3> neutral, std::span<const glm::vec
   return lid.size() < 3 ? 0.0 : sum / static_cast<double>(lid.size() - 2);
 }
 
-std::vector<glm::vec3> ApplyShape(const Rig& rig, std::string_view name) {
-  std::vector<glm::vec3> positions(rig.positions().begin(), rig.positions().end());
-  const BlendShapeView shape = rig.shape(rig.FindShape(name).value());
-  for (std::size_t i = 0; i < shape.vertex_indices.size(); ++i) {
-    positions[shape.vertex_indices[i]] += shape.position_deltas[i];
-  }
-  return positions;
-}
-
-float MedianMotion(std::span<const glm::vec3> neutral, std::span<const glm::vec3> moved,
-                   const std::vector<std::uint32_t>& vertices) {
-  std::vector<float> motion;
-  for (std::uint32_t v : vertices) motion.push_back(glm::length(moved[v] - neutral[v]));
-  std::nth_element(motion.begin(), motion.begin() + static_cast<std::ptrdiff_t>(motion.size() / 2), motion.end());
-  return motion[motion.size() / 2];
-}
-
-// The curtain: vertices above the head's lip seam and between its mouth
-// corners that its own jawOpen leaves (less than a tenth of its lower lip's
-// motion: the upper lip, the palate of its mouth sack) but that the built
-// jawOpen moves by more than half as much as its lower lip; its skin and its
-// mouth sack ("mouth_inner") counted, not its tongue and teeth.
-struct UpperMouthOnJaw {
-  std::size_t skin = 0;      // the upper lip (mostly its inner side)
-  std::size_t interior = 0;  // the mouth sack's palate
-  std::size_t upper_vertices = 0;
-};
-
-UpperMouthOnJaw CountUpperMouthOnJaw(const Rig& head, const Rig& built, const DefaultHeadFeatures& features) {
-  const std::span<const glm::vec3> neutral = head.positions();
-  const std::vector<glm::vec3> own_open = ApplyShape(head, "jawOpen");
-  const std::vector<glm::vec3> built_open = ApplyShape(built, "jawOpen");
-  const float own_lower_lip = MedianMotion(neutral, own_open, features.lower_lip);
-  const float built_lower_lip = MedianMotion(neutral, built_open, features.lower_lip);
-  const glm::vec3 corner_a = neutral[features.mouth_corners[0]], corner_b = neutral[features.mouth_corners[1]];
-  const float seam_y = 0.5f * (corner_a.y + corner_b.y);
-  const float half_width = 0.5f * std::abs(corner_a.x - corner_b.x);
-  const float centre_x = 0.5f * (corner_a.x + corner_b.x);
-  std::vector<std::uint8_t> in_sack(neutral.size(), 0);
-  for (const Part& part : head.parts()) {
-    if (part.name != "mouth_inner") continue;
-    for (std::uint32_t t = part.first_triangle; t < part.first_triangle + part.triangle_count; ++t) {
-      for (std::uint32_t v : head.triangles()[t]) in_sack[v] = 1;
-    }
-  }
-  UpperMouthOnJaw count;
-  for (std::uint32_t v = 0; v < neutral.size(); ++v) {
-    const glm::vec3 p = neutral[v];
-    if (p.y < seam_y || std::abs(p.x - centre_x) > half_width) continue;
-    if (!(glm::length(own_open[v] - p) < 0.1f * own_lower_lip)) continue;
-    ++count.upper_vertices;
-    if (!(glm::length(built_open[v] - p) > 0.5f * built_lower_lip)) continue;
-    if (v < features.skin_vertex_count) ++count.skin;
-    if (in_sack[v]) ++count.interior;
-  }
-  return count;
-}
-
 // +1 when the template's shape moves vertices on the +x side of the face.
 float SideOfShape(const Rig& rig, std::string_view name) {
   const BlendShapeView shape = rig.shape(rig.FindShape(name).value());
@@ -364,7 +307,7 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
   const std::span<const glm::vec3> neutral = rig->positions();
   for (const char* blink : {"eyeBlink_L", "eyeBlink_R"}) {
     const std::size_t eye = (SideOfShape(ict, blink) > 0.0f) == (features.eye_centres[0].x > 0.0f) ? 0 : 1;
-    const std::vector<glm::vec3> closed = ApplyShape(*rig, blink);
+    const std::vector<glm::vec3> closed = PoseWithShape(*rig, blink);
     const double open_gap = MeanPairGap(neutral, features.upper_lid[eye], features.lower_lid[eye]);
     const double closed_gap = MeanPairGap(closed, features.upper_lid[eye], features.lower_lid[eye]);
     const double closed_across = MeanPairGapAcross(neutral, closed, features.upper_lid[eye], features.lower_lid[eye]);
@@ -395,24 +338,29 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
     CHECK(roughness < 0.01);
     CHECK(other_after > 0.9 * other_open);
   }
-  const std::vector<glm::vec3> jaw_open = ApplyShape(*rig, "jawOpen");
+  const std::vector<glm::vec3> jaw_open = PoseWithShape(*rig, "jawOpen");
   const double lips_rest = MeanPairGap(neutral, features.upper_lip, features.lower_lip);
   const double lips_open = MeanPairGap(jaw_open, features.upper_lip, features.lower_lip);
   std::printf("default head jawOpen: lip gap %.3f -> %.3f cm\n", lips_rest, lips_open);
   CHECK(lips_open > lips_rest + 1.0);  // centimetres: ICT's jawOpen opens the lips by ~2 cm
-  // No curtain across the opened mouth: the upper lip and the palate stay
-  // with the head (the mapping searches each side of the mouth only on the
-  // template's same side); without it they took ICT's lower lip and tongue.
-  const UpperMouthOnJaw on_jaw = CountUpperMouthOnJaw(own_rig, *rig, features);
-  std::printf("default head jawOpen: %zu upper-lip and %zu palate vertices of %zu above the lip seam follow the jaw "
-              "(mouth sides: %zu upper, %zu lower vertices)\n",
-              on_jaw.skin, on_jaw.interior, on_jaw.upper_vertices, built.mapping.mouth_upper_vertices,
-              built.mapping.mouth_lower_vertices);
-  CHECK(on_jaw.upper_vertices > 100);
-  CHECK(on_jaw.skin == 0);
-  // Half the palate still follows the jaw: its sack's sides beyond the lip
-  // corners, and vertices whose nearest upper template triangle is far.
-  CHECK(on_jaw.interior < 50);
+  // No curtain across the opened mouth: the upper lip, its inner side and
+  // the palate stay with the head (each side of the mouth searches only the
+  // template's same side, a vertex inside the mouth the side of the lip its
+  // surface leads to); without sides they took ICT's lower lip and tongue,
+  // with sides by height alone the back of the mouth sack (where its roof
+  // and floor meet) took ICT's tongue and pulled the palate's back wall down.
+  const MouthCurtain curtain = MeasureMouthCurtain(own_rig, *rig, features);
+  const LipFold fold = MeasureLipFold(*rig, features);
+  std::printf("default head jawOpen: %zu upper-lip and %zu palate vertices of %zu in the upper mouth follow the jaw "
+              "(worst %.2f of the lower lip's motion; mouth sides: %zu upper, %zu lower vertices); fold under the "
+              "lower lip %.1f degrees (its own jawOpen: %.1f)\n",
+              curtain.skin_on_jaw, curtain.sack_on_jaw, curtain.upper_vertices, curtain.worst_ratio,
+              built.mapping.mouth_upper_vertices, built.mapping.mouth_lower_vertices, fold.degrees,
+              MeasureLipFold(own_rig, features).degrees);
+  CHECK(curtain.upper_vertices > 100);
+  CHECK(curtain.skin_on_jaw == 0);
+  CHECK(curtain.sack_on_jaw == 0);
+  CHECK(curtain.worst_ratio < 0.5f);
   // The same mapping without the mouth's sides hangs the curtain.
   const std::optional<Rig> fitted_rig = RigBuilder::Build(built.fitted_rig);
   REQUIRE(fitted_rig.has_value());
@@ -423,15 +371,15 @@ TEST_CASE("(shared data) build: the ICT template onto the built-in default head,
   const TopologyMapping unsided = ComputeTopologyMapping(fitted_template, NeutralMesh(head), mapping_params);
   const std::optional<Rig> curtained = RigBuilder::Build(MapRigToTarget(*fitted_rig, unsided, head));
   REQUIRE(curtained.has_value());
-  const UpperMouthOnJaw unsided_on_jaw = CountUpperMouthOnJaw(own_rig, *curtained, features);
+  const MouthCurtain unsided_curtain = MeasureMouthCurtain(own_rig, *curtained, features);
   std::printf("default head jawOpen without mouth sides: %zu upper-lip and %zu palate vertices follow the jaw\n",
-              unsided_on_jaw.skin, unsided_on_jaw.interior);
-  CHECK(unsided_on_jaw.skin + unsided_on_jaw.interior > 20);
+              unsided_curtain.skin_on_jaw, unsided_curtain.sack_on_jaw);
+  CHECK(unsided_curtain.skin_on_jaw + unsided_curtain.sack_on_jaw > 20);
 
   for (const char* smile : {"mouthSmile_L", "mouthSmile_R"}) {
     const std::size_t corner =
         (SideOfShape(ict, smile) > 0.0f) == (neutral[features.mouth_corners[0]].x > 0.0f) ? 0 : 1;
-    const std::vector<glm::vec3> smiling = ApplyShape(*rig, smile);
+    const std::vector<glm::vec3> smiling = PoseWithShape(*rig, smile);
     const glm::vec3 moved = smiling[features.mouth_corners[corner]] - neutral[features.mouth_corners[corner]];
     const glm::vec3 other =
         smiling[features.mouth_corners[1 - corner]] - neutral[features.mouth_corners[1 - corner]];

@@ -27,8 +27,10 @@ struct MouthSides {
   // (the template has no jawOpen or mouthClose, its lips meet nowhere, or
   // the target's mouth is not a hole in its mesh).
   std::vector<MouthSide> template_triangle;
-  // Per target vertex: above or below the lip seam inside the mouth zone,
-  // kEither outside it.
+  // Per target vertex inside the mouth zone: on a part lying mostly in the
+  // zone and hanging from the rim (a mouth sack), the side of the lip its
+  // own surface leads to (the rim's chains); elsewhere (the face's skin, a
+  // tongue) above or below the lip seam; kEither outside the zone.
   std::vector<MouthSide> target_vertex;
   std::size_t upper_vertices = 0;
   std::size_t lower_vertices = 0;
@@ -41,6 +43,17 @@ struct MouthSideParams {
   float zone_behind = 1.2f;  // from the seam's front to the back of the mouth
   float zone_front = 0.1f;   // the lips' outer side in front of the seam
   float rim_front = 0.03f;    // sides only behind the rim (inner lips, mouth sack), not on the outer lips
+  // A zone vertex of a part lying mostly in the zone and hanging from the
+  // rim (a mouth sack) takes the side of the lip its surface leads to
+  // (false: by its height, the previous rule), searched up to chain_reach x
+  // the seam's width along it (the back of a deep sack); the lower side only
+  // when the lower lip is nearer than lower_share of the upper's distance:
+  // where a sack's roof and floor meet, both are about as far, and the back
+  // of the mouth stays with the skull (0.6-0.9 give the same sides on the
+  // built-in head; 1.0 gives the jaw 2 of its palate's vertices).
+  bool along_surface = true;
+  float chain_reach = 3.0f;
+  float lower_share = 0.8f;
 };
 
 // template_rig: the template (its frame: y up, x across the face, z
