@@ -285,3 +285,47 @@ TEST_CASE("Topology mapping: a vertex on one side of the mouth searches only the
   CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(fitted_template, target, {}, {}, sides),
                     Catch::Contains("mouth sides"));
 }
+
+TEST_CASE("Topology mapping: template triangles the fit stretched several-fold take no target vertex",
+          "[topology_mapping]") {
+  const facerig::Mesh rest = TwoQuadSheet(glm::vec3(0.0f));
+  // The fit pulled the lower quad's bottom row down to y = -4: four times its height.
+  facerig::Mesh fitted_template = rest;
+  for (std::uint32_t v : {0u, 1u}) fitted_template.positions[v].y = -4.0f;
+  const std::vector<float> stretches =
+      facerig::TriangleStretches(rest.positions, fitted_template.positions, rest.triangles);
+  REQUIRE(stretches.size() == 4);
+  CHECK(stretches[0] == Approx(4.0f));
+  CHECK(stretches[1] == Approx(4.0f));
+  CHECK(stretches[2] == Approx(1.0f));
+  CHECK(stretches[3] == Approx(1.0f));
+
+  // The target lies on the fitted template: its stretched quad's vertices
+  // take the stretched triangles without the guard, the sound quad's with it.
+  const facerig::Mesh& target = fitted_template;
+  facerig::TopologyMappingParams off;
+  off.max_fit_stretch = 0.0f;
+  const facerig::TopologyMapping unguarded =
+      facerig::ComputeTopologyMapping(fitted_template, target, off, {}, {}, rest.positions);
+  const facerig::TopologyMapping guarded =
+      facerig::ComputeTopologyMapping(fitted_template, target, {}, {}, {}, rest.positions);
+  for (std::uint32_t v : {0u, 1u}) {
+    INFO("target vertex " << v);
+    CHECK(unguarded.triangle[v] < 2);
+    CHECK(guarded.triangle[v] >= 2);
+  }
+  // A threshold above the stretch leaves it be.
+  facerig::TopologyMappingParams loose;
+  loose.max_fit_stretch = 5.0f;
+  CHECK(facerig::ComputeTopologyMapping(fitted_template, target, loose, {}, {}, rest.positions).triangle[0] < 2);
+
+  for (float bad : {0.5f, -1.0f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    facerig::TopologyMappingParams params;
+    params.max_fit_stretch = bad;
+    CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(fitted_template, target, params, {}, {}, rest.positions),
+                      Catch::Contains("max_fit_stretch"));
+  }
+  const std::vector<glm::vec3> short_rest(rest.positions.begin(), rest.positions.end() - 1);
+  CHECK_THROWS_WITH(facerig::ComputeTopologyMapping(fitted_template, target, {}, {}, {}, short_rest),
+                    Catch::Contains("rest shape has 5 vertices"));
+}
