@@ -104,9 +104,7 @@ LandmarkMask LidPointsOffSkin(const Mesh& mesh, std::span<const Triangle> skin, 
 
 // Where an eye is a hole in the mesh, its corners follow the hole, and lid
 // points the detector put inside the hole go onto its margins; lid points off
-// the skin with no margin to go to are reported and kept: lowering their
-// confidence by a tuned factor fixed one face and broke another, so the rig
-// build guards against what they pull instead (the mapping's max_fit_stretch).
+// the skin with no margin to go to are distrusted.
 void FitEyesToMesh(const Mesh& mesh, float face_height, const LandmarkParams& params, LandmarkResult& result) {
   // Holes in the skin only: ICT's eye layers have edges around the eye too.
   const std::vector<Triangle> skin = LargePartTriangles(mesh.positions, mesh.triangles, kSkinPartAreaFraction);
@@ -123,11 +121,8 @@ void FitEyesToMesh(const Mesh& mesh, float face_height, const LandmarkParams& pa
   }
   for (const std::size_t k : kLidPoints) {
     if (!off_skin[k]) continue;
-    if (on_margin[k]) {
-      landmarks.confidence[k] *= params.snapped_confidence_factor;
-    } else {
-      result.off_skin_lid_points.push_back(static_cast<std::uint32_t>(k));
-    }
+    landmarks.confidence[k] *=
+        on_margin[k] ? params.snapped_confidence_factor : params.off_skin_lid_confidence_factor;
   }
 }
 

@@ -6,7 +6,6 @@
 #include <map>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <string>
 
 #include <glm/common.hpp>
@@ -111,10 +110,6 @@ std::vector<glm::vec3> QueryPoints(std::span<const glm::vec3> positions, std::sp
 void CheckParams(const TopologyMappingParams& params) {
   if (!(params.full_weight_distance >= 0.0f) || !(params.zero_weight_distance > params.full_weight_distance)) {
     throw InvalidInputError("topology mapping: zero_weight_distance must exceed full_weight_distance >= 0");
-  }
-  if (!(params.max_fit_stretch == 0.0f || params.max_fit_stretch >= 1.0f) || !std::isfinite(params.max_fit_stretch)) {
-    throw InvalidInputError("topology mapping: max_fit_stretch must be 0 (no guard) or finite and >= 1, not " +
-                            std::to_string(params.max_fit_stretch));
   }
   if (!(params.facing_reach >= 0.0f) || !std::isfinite(params.facing_reach)) {
     throw InvalidInputError("topology mapping: facing_reach must be finite and >= 0, not " +
@@ -229,15 +224,13 @@ std::vector<std::uint32_t> ChooseTemplateParts(const PartVotes& votes, std::size
 
 // The chosen template parts' triangles on one side of the mouth (all of
 // them for kEither), with their indices in the template.
-// left_out: per template triangle, 1 when the search must not take it (empty: none).
 PartSurface MakePartSurface(std::span<const glm::vec3> fitted_template, std::span<const Triangle> template_triangles,
                             std::span<const std::uint32_t> template_part_of_vertex,
                             const std::vector<std::uint32_t>& chosen, MouthSide side,
-                            std::span<const MouthSide> triangle_sides, std::span<const std::uint8_t> left_out) {
+                            std::span<const MouthSide> triangle_sides) {
   PartSurface surface;
   std::vector<Triangle> subset;
   for (std::size_t t = 0; t < template_triangles.size(); ++t) {
-    if (!left_out.empty() && left_out[t]) continue;
     const bool on_side = side == MouthSide::kEither || triangle_sides[t] == side;
     if (on_side && std::binary_search(chosen.begin(), chosen.end(), template_part_of_vertex[template_triangles[t][0]])) {
       subset.push_back(template_triangles[t]);
@@ -254,7 +247,7 @@ PartSurface MakePartSurface(std::span<const glm::vec3> fitted_template, std::spa
 PartSurfaces BuildPartSurfaces(std::span<const glm::vec3> fitted_template, std::span<const Triangle> template_triangles,
                                std::span<const std::uint32_t> template_part_of_vertex, const PartVotes& votes,
                                float min_part_vote, std::span<const std::uint8_t> sides_of_part,
-                               std::span<const MouthSide> triangle_sides, std::span<const std::uint8_t> left_out) {
+                               std::span<const MouthSide> triangle_sides) {
   const std::size_t target_parts = votes.target_to_template.size();
   PartSurfaces result;
   result.surface_of_part.assign(target_parts, {nullptr, nullptr, nullptr});
@@ -267,7 +260,7 @@ PartSurfaces BuildPartSurfaces(std::span<const glm::vec3> fitted_template, std::
       auto [it, inserted] = result.surfaces.try_emplace({chosen, side});
       if (inserted) {
         it->second = MakePartSurface(fitted_template, template_triangles, template_part_of_vertex, chosen, side,
-                                     triangle_sides, left_out);
+                                     triangle_sides);
       }
       // A side with none of the chosen parts' triangles searches them all.
       if (it->second.query) result.surface_of_part[part][s] = &it->second;
@@ -322,7 +315,6 @@ TargetSearchView MakeTargetSearchView(std::span<const glm::vec3> positions, std:
 // Everything the per-vertex mapping reads, in absolute distances.
 struct VertexMapper {
   const ClosestPointQuery& whole;  // the whole fitted template
-  const PartSurface& searchable;   // all of it but the triangles left out (max_fit_stretch)
   std::span<const glm::vec3> fitted_template;
   std::span<const Triangle> template_triangles;
   const std::vector<TemplateRimEdge>& rim_edges;
@@ -348,12 +340,7 @@ struct VertexMapper {
       snapped = true;
       return on_rim;
     }
-    if (!surface) {
-      if (!searchable.query) return whole.Find(target.positions[v]);
-      ClosestPointHit plain = searchable.query->Find(target.positions[v]);
-      plain.triangle = static_cast<std::int32_t>(searchable.template_triangle[static_cast<std::size_t>(plain.triangle)]);
-      return plain;
-    }
+    if (!surface) return whole.Find(target.positions[v]);
     ClosestPointHit facing =
         surface->query->FindFacing(target.queries[v], target.normals[v], params.min_normal_dot, zero);
     // Within facing_reach of the vertex it is near enough whatever the plain nearest is.
@@ -387,56 +374,10 @@ void RecordHit(TopologyMapping& mapping, std::size_t v, const ClosestPointHit& h
 
 }  // namespace
 
-std::vector<float> TriangleStretches(std::span<const glm::vec3> rest, std::span<const glm::vec3> fitted,
-                                     std::span<const Triangle> triangles) {
-  std::vector<float> stretches(triangles.size(), 1.0f);
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const Triangle& tri = triangles[t];
-    const glm::vec3 r1 = rest[tri[1]] - rest[tri[0]], r2 = rest[tri[2]] - rest[tri[0]];
-    const glm::vec3 f1 = fitted[tri[1]] - fitted[tri[0]], f2 = fitted[tri[2]] - fitted[tri[0]];
-    // The rest triangle in 2D coordinates of its own plane: (|r1|, 0), (a, b).
-    const float length1 = glm::length(r1);
-    const float doubled_area = glm::length(glm::cross(r1, r2));
-    if (!(length1 > 0.0f) || !(doubled_area > 1e-6f * length1 * length1)) continue;
-    const float a = glm::dot(r2, r1) / length1, b = doubled_area / length1;
-    // The map's columns: the images of the plane's two unit axes.
-    const glm::vec3 along = f1 / length1;
-    const glm::vec3 across = (f2 - a * along) / b;
-    // Largest singular value: the root of the largest eigenvalue of the 2x2 Gram matrix.
-    const double p = glm::dot(along, along), q = glm::dot(along, across), r = glm::dot(across, across);
-    const double largest = 0.5 * (p + r) + std::sqrt(0.25 * (p - r) * (p - r) + q * q);
-    stretches[t] = static_cast<float>(std::sqrt(largest));
-  }
-  return stretches;
-}
-
-namespace {
-
-// Per template triangle: 1 where the fit stretched it beyond params.max_fit_stretch; empty when none is.
-std::vector<std::uint8_t> OverstretchedTriangles(std::span<const glm::vec3> rest, std::span<const glm::vec3> fitted,
-                                                 std::span<const Triangle> triangles, float max_fit_stretch) {
-  if (rest.empty() || max_fit_stretch == 0.0f) return {};
-  if (rest.size() != fitted.size()) {
-    throw InvalidInputError("topology mapping: the template's rest shape has " + std::to_string(rest.size()) +
-                            " vertices, the fitted template " + std::to_string(fitted.size()));
-  }
-  const std::vector<float> stretches = TriangleStretches(rest, fitted, triangles);
-  std::vector<std::uint8_t> left_out(triangles.size(), 0);
-  bool any = false;
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    left_out[t] = stretches[t] > max_fit_stretch ? 1 : 0;
-    any = any || left_out[t];
-  }
-  if (!any) left_out.clear();
-  return left_out;
-}
-
-}  // namespace
-
 TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const Mesh& target_mesh,
                                        const TopologyMappingParams& params,
                                        std::span<const MarginDirection> template_margins,
-                                       const MouthSides& mouth_sides, std::span<const glm::vec3> template_rest) {
+                                       const MouthSides& mouth_sides) {
   const std::span<const glm::vec3> fitted_template = fitted_template_mesh.positions;
   const std::span<const Triangle> template_triangles = fitted_template_mesh.triangles;
   const std::span<const glm::vec3> target_positions = target_mesh.positions;
@@ -463,23 +404,14 @@ TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template_mesh, const M
   CheckMouthSides(mouth_sides, template_triangles.size(), target_positions.size());
   const std::vector<std::uint8_t> sides_of_part =
       SidesOfParts(target_part_of_vertex, target_parts, mouth_sides.target_vertex);
-  const std::vector<std::uint8_t> left_out =
-      OverstretchedTriangles(template_rest, fitted_template, template_triangles, params.max_fit_stretch);
   const PartSurfaces surfaces = BuildPartSurfaces(fitted_template, template_triangles, template_part_of_vertex, votes,
-                                                  params.min_part_vote, sides_of_part, mouth_sides.template_triangle,
-                                                  left_out);
-  std::vector<std::uint32_t> all_parts(template_parts);
-  std::iota(all_parts.begin(), all_parts.end(), 0u);
-  const PartSurface searchable =
-      left_out.empty() ? PartSurface{}
-                       : MakePartSurface(fitted_template, template_triangles, template_part_of_vertex, all_parts,
-                                         MouthSide::kEither, mouth_sides.template_triangle, left_out);
+                                                  params.min_part_vote, sides_of_part, mouth_sides.template_triangle);
 
   const TargetSearchView target =
       MakeTargetSearchView(target_positions, target_triangles, params.openings.boundary_inset * diagonal);
   CheckTemplateMargins(template_margins, fitted_template.size());
   const std::vector<TemplateRimEdge> rim_edges = TemplateRimEdges(template_triangles, template_margins);
-  const VertexMapper mapper{whole, searchable, fitted_template, template_triangles, rim_edges, target, params,
+  const VertexMapper mapper{whole, fitted_template, template_triangles, rim_edges, target, params,
                             params.openings.rim_snap_distance * diagonal, params.facing_reach * diagonal, zero};
 
   const std::size_t n = target_positions.size();

@@ -196,13 +196,7 @@ void MapOntoTarget(const Rig& template_rig, RawRig fitted, const MarginStage& ma
   const MouthSides mouth_sides = FindMouthSides(template_rig, result.registration.positions,
                                                 result.registration.rigid.Inverse(), target.positions,
                                                 target.triangles, region_vertex_count);
-  // The template's own shape where the fit put it, for the guard against triangles it overstretched.
-  std::vector<glm::vec3> template_rest(template_rig.vertex_count());
-  for (std::size_t v = 0; v < template_rest.size(); ++v) {
-    template_rest[v] = result.registration.rigid.Apply(template_rig.positions()[v]);
-  }
-  result.mapping =
-      ComputeTopologyMapping(fitted_template, NeutralMesh(target), mapping_params, rims, mouth_sides, template_rest);
+  result.mapping = ComputeTopologyMapping(fitted_template, NeutralMesh(target), mapping_params, rims, mouth_sides);
   result.rig = MapRigToTarget(*fitted_rig, result.mapping, std::move(target));
   result.fitted_rig = std::move(fitted);
 }

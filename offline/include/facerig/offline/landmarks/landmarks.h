@@ -80,14 +80,13 @@ struct LandmarkParams {
   // A lid point (dlib 37, 38, 40, 41, 43, 44, 46, 47) that lies farther than
   // off_skin_distance_fraction of the face height from the skin (the large
   // parts) landed on the eyeball or tear film seen through the opening: the
-  // detector put the lid where the eye is. Where the eye is a hole in the
-  // skin the point goes onto the hole's margin (with fit_eyes_to_openings,
-  // confidence x snapped_confidence_factor); where it is not (a closed
-  // socket), it stays as detected and is reported in
-  // LandmarkResult::off_skin_lid_points: the rig build's mapping guards
-  // against the fold such a point can pull into the template's lid
-  // (TopologyMappingParams::max_fit_stretch).
+  // detector put the lid where the eye is, and pulling the template's lid
+  // there would drag it across the opening onto the other lid. Where the eye
+  // is a hole in the skin the point goes onto the hole's margin (with
+  // fit_eyes_to_openings, confidence x snapped_confidence_factor); where it
+  // is not, its confidence is multiplied by off_skin_lid_confidence_factor.
   float off_skin_distance_fraction = 0.002f;
+  float off_skin_lid_confidence_factor = 0.05f;
 };
 
 struct LandmarkResult {
@@ -101,9 +100,6 @@ struct LandmarkResult {
   int snapped = 0;  // landmarks moved off a hole or a back face
   int corrected = 0;  // eye corners moved by the PCA correction
   int eyes_fitted = 0;  // eyes put on the mesh's eye openings (fit_eyes_to_openings)
-  // Lid points off the skin with no hole margin to go to (dlib indices,
-  // LandmarkParams::off_skin_distance_fraction): kept as detected.
-  std::vector<std::uint32_t> off_skin_lid_points;
   double seconds = 0.0;
 };
 

@@ -55,14 +55,6 @@ struct TopologyMappingParams {
   // normal is off (a fold of slivers on a decimated mesh) must not jump to
   // another sheet of its part centimetres away.
   float facing_reach = 0.005f;
-  // A guard against a fit gone wrong in one place (a lid landmark the
-  // detector put on the eyeball drags the template's lid across the eye, and
-  // the layers behind it fold): template triangles the fit stretched more
-  // than this many times in some direction, against the template's own
-  // shape, are left out of the search, so that no target vertex takes their
-  // motion. Natural fits stretch the lids and tear film well under 2x;
-  // 0: no guard (docs/building-rigs.md, "Blinks on built rigs").
-  float max_fit_stretch = 3.0f;
   // The rims of the target's openings: the inset of boundary vertices, their
   // snapping onto the template's margins, smoothing along them and closing
   // (boundary_inset, rim_*; BuildRig sets these from BuildRigParams::openings).
@@ -96,23 +88,13 @@ struct TopologyMapping {
 // across the opening (MarginDirections), by increasing vertex, or empty;
 // mouth_sides: per template triangle and target vertex (FindMouthSides), or
 // empty: a target vertex on one side of the mouth searches only the
-// template's triangles on that side;
-// template_rest: the template's own shape in the fitted template's frame
-// (the registration's similarity applied), for the guard against triangles
-// the fit overstretched (TopologyMappingParams::max_fit_stretch), or empty.
+// template's triangles on that side.
 // \throw InvalidInputError on empty meshes, indices out of range, NaN,
 // mouth sides of other sizes.
 TopologyMapping ComputeTopologyMapping(const Mesh& fitted_template, const Mesh& target,
                                        const TopologyMappingParams& params = {},
                                        std::span<const MarginDirection> template_margins = {},
-                                       const MouthSides& mouth_sides = {},
-                                       std::span<const glm::vec3> template_rest = {});
-
-// Per triangle: its largest stretch from `rest` to `fitted` (the largest
-// singular value of the linear map between the two triangles, in their
-// planes); 1 for a triangle degenerate at rest.
-std::vector<float> TriangleStretches(std::span<const glm::vec3> rest, std::span<const glm::vec3> fitted,
-                                     std::span<const Triangle> triangles);
+                                       const MouthSides& mouth_sides = {});
 
 // Per-vertex template values (deltas: #template vertices) -> per target vertex
 // (weight * barycentric interpolation, then smoothed along the rims).
