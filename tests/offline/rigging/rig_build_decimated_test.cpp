@@ -150,7 +150,7 @@ void PrintBlinks(const char* identity, const char* topology, const IctTarget& ta
 constexpr double kDecimatedFraction = 0.35;
 
 const TemplatePreparation& IctPreparation() {
-  static const TemplatePreparation prepared(test::IctRig(), IctInfo(), BuildRigParams{});
+  static const TemplatePreparation prepared(test::IctRig(), test::IctTemplateInfo(), BuildRigParams{});
   return prepared;
 }
 
@@ -184,7 +184,7 @@ LidDetection DetectLids(const RawRig& target) {
 
 float WorstRatioWithFactor(const IctTarget& target, const RawRig& raw, const LidDetection& lids, float factor) {
   const BuildRigResult built =
-      BuildRig(IctPreparation(), raw, PairLandmarks(IctInfo().landmark_vertices, lids.WithFactor(factor)));
+      BuildRig(IctPreparation(), raw, PairLandmarks(test::IctTemplateInfo().landmark_vertices, lids.WithFactor(factor)));
   return WorstRatio(MeasureBlinks(target, built));
 }
 
