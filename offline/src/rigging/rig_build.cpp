@@ -13,9 +13,12 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "facerig/offline/transfer/deformation_transfer.h"
 #include "facerig/offline/transfer/displacement_transfer.h"
 #include "facerig/offline/geometry/mesh_components.h"
 #include "facerig/offline/mapping/mouth_sides.h"
+#include "facerig/offline/mapping/topology_mapping.h"
+#include "facerig/offline/registration/nonrigid_icp.h"
 #include "facerig/offline/geometry/stats.h"
 #include "geometry/bounding_box.h"
 

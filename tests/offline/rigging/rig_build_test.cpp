@@ -15,6 +15,7 @@
 #include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/offline/mapping/mouth_sides.h"
+#include "facerig/offline/mapping/topology_mapping.h"
 #include "facerig/offline/geometry/self_intersection.h"
 #include "facerig/runtime/io/obj.h"
 #include "measure/mouth_interior.h"

@@ -25,21 +25,13 @@
 #include <glm/vec3.hpp>
 
 #include "facerig/offline/landmarks/dlib68.h"
+#include "facerig/offline/landmarks/face_landmarks.h"
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {
 
 inline constexpr std::size_t kDlibLandmarkCount = dlib68::kCount;
-
-// 3D landmarks with a confidence in [0, 1] each. `indices` names each point's
-// dlib landmark (0..67): a detected set has all 68 in order; a manual file may
-// hold only a handful.
-struct FaceLandmarks {
-  std::vector<glm::vec3> points;
-  std::vector<float> confidence;
-  std::vector<std::uint32_t> indices;
-};
 
 struct LandmarkParams {
   std::filesystem::path shape_predictor = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat";

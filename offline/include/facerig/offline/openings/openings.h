@@ -28,8 +28,6 @@
 
 #include <glm/vec3.hpp>
 
-#include "facerig/runtime/mesh.h"
-
 namespace facerig {
 
 enum class OpeningKind : std::uint8_t { kEye = 0, kMouth };

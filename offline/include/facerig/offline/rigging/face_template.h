@@ -10,10 +10,11 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
-#include "facerig/offline/landmarks/landmarks.h"
+#include "facerig/offline/landmarks/face_landmarks.h"
 #include "facerig/runtime/rig.h"
 
 namespace facerig {

@@ -20,14 +20,16 @@
 #include <string_view>
 #include <vector>
 
+// Each stage's own types only, not its algorithm's header: a caller that
+// builds a rig compiles none of the stages' declarations.
+#include "facerig/offline/error.h"
+#include "facerig/offline/landmarks/face_landmarks.h"
+#include "facerig/offline/mapping/topology_mapping_types.h"
+#include "facerig/offline/openings/openings.h"
+#include "facerig/offline/registration/nonrigid_icp_types.h"
 #include "facerig/offline/rigging/build_stages.h"
 #include "facerig/offline/rigging/face_template.h"
-#include "facerig/offline/transfer/deformation_transfer.h"
-#include "facerig/offline/landmarks/landmarks.h"
-#include "facerig/offline/registration/nonrigid_icp.h"
-#include "facerig/offline/openings/openings.h"
-#include "facerig/offline/error.h"
-#include "facerig/offline/mapping/topology_mapping.h"
+#include "facerig/offline/transfer/deformation_transfer_types.h"
 #include "facerig/runtime/mesh.h"
 #include "facerig/runtime/rig.h"
 #include "facerig/runtime/rig_builder.h"
