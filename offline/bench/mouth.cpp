@@ -19,6 +19,7 @@
 #include "facerig/offline/default_head/default_head.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/offline/landmarks/landmarks.h"
+#include "facerig/offline/mapping/topology_mapping.h"
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/offline/rigging/face_template.h"
 #include "facerig/offline/rigging/rig_build.h"
