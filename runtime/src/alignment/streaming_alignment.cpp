@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "facerig/runtime/alignment/dtw_align.h"
+#include "facerig/runtime/alignment/pauses.h"
 #include "audio/deltas.h"
 #include "audio/feature_statistics.h"
 #include "audio/percentile.h"
@@ -35,9 +36,6 @@ constexpr double kQuietShare = 0.25;
 // speech: the reference's range, which reaches down to its digital silence,
 // would let room noise pass for a quiet first consonant (/D/ of "The").
 constexpr double kSpeechAtStartTolerance = 2.3;
-// Columns after the onset where quiet frames are warped like any other: a
-// line often starts with a quiet voiced closure (/b m/) that is speech.
-constexpr std::size_t kOnsetColumns = 20;
 // Latency the release snap (streaming_release.cpp) may add: waiting for a
 // bilabial's end and moving its start earlier.
 constexpr double kReleaseLatency = 0.050;
@@ -110,7 +108,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   onset_margin_ = std::min(onset_row_, kOnsetMargin);
   const std::size_t start_row = onset_row_ - onset_margin_;
   reference_.erase(reference_.begin(), reference_.begin() + static_cast<std::ptrdiff_t>(start_row * dimension_));
-  reference_quiet_.erase(reference_quiet_.begin(), reference_quiet_.begin() + static_cast<std::ptrdiff_t>(start_row));
+  reference_pause_.erase(reference_pause_.begin(), reference_pause_.begin() + static_cast<std::ptrdiff_t>(start_row));
   rows_ -= start_row;
   width_ = std::min(2 * radius_ + 1, rows_);
   for (const Phoneme& phoneme : reference.phonemes) {
@@ -119,6 +117,11 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   }
   raw_history_.assign(kHistory * dimension_, 0.0f);
   energy_ring_.assign(std::max(lag_ + kHistory + kEnergyMargin, pause_frames_ + kHistory), 0.0f);
+  if (pause_frames_ > 0) {
+    saved_lows_.assign(pause_frames_ + 1, 0);
+    saved_costs_.assign(saved_lows_.size() * width_, kInfinity);
+    saved_runs_.assign(saved_lows_.size() * width_, 0);
+  }
   frame_.resize(dimension_);
   column_features_.resize(dimension_);
   previous_cost_.assign(width_, kInfinity);
@@ -140,8 +143,14 @@ void StreamingAligner::FindReferenceOnset() {
   const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   onset_rise_ = kOnsetShare * (high - low);
   quiet_rise_ = kQuietShare * (high - low);
-  reference_quiet_.resize(rows_);
-  for (std::size_t f = 0; f < rows_; ++f) reference_quiet_[f] = energy[f] < low + quiet_rise_ ? 1 : 0;
+  // Its own pauses, crossed for free by the recording's (as offline, where a
+  // stop closure crossed that way moved the stop past the recording's pause).
+  PauseParams edges_any_length;
+  edges_any_length.quiet_share = kQuietShare;
+  edges_any_length.min_edge_seconds = 0.0;
+  const std::vector<bool> pause_rows = PauseMask(
+      FindPauses(energy, static_cast<double>(cepstra_.hop_samples()) / sample_rate_, edges_any_length), rows_);
+  reference_pause_.assign(pause_rows.begin(), pause_rows.end());
   floor_cap_ = 0.5 * (low + high);
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
@@ -244,11 +253,15 @@ void StreamingAligner::AddColumn(std::size_t frame) {
     const double mean = sums_[d] / count_, variance = std::max(0.0, squares_[d] / count_ - mean * mean);
     column_features_[d] = variance > 1e-12 ? static_cast<float>((v - mean) / std::sqrt(variance)) : 0.0f;
   }
-  if (columns_ > 0 && InPause(frame)) {
-    HoldColumn();
+  const bool pause = columns_ > 0 && InPause(frame);
+  if (pause && !in_pause_) RewindIntoPause(frame);
+  in_pause_ = pause;
+  if (pause) {
+    FillPauseColumn();
   } else {
-    FillColumn(column_features_, pause_frames_ > 0 && columns_ >= kOnsetColumns && Quiet(frame));
+    FillColumn(column_features_);
   }
+  SaveColumn();
   if (columns_ > lag_) {
     Backtrack(BestRow(), lag_ + 1);
     CommitColumn(columns_ - 1 - lag_, path_low_.back(), path_high_.back());
@@ -256,7 +269,7 @@ void StreamingAligner::AddColumn(std::size_t frame) {
   }
 }
 
-void StreamingAligner::FillColumn(std::span<const float> x, bool quiet) {
+void StreamingAligner::FillColumn(std::span<const float> x) {
   const std::size_t j = columns_;
   if (j > 0) {
     const auto centre = static_cast<std::ptrdiff_t>(BestRow()) + 1;
@@ -279,16 +292,13 @@ void StreamingAligner::FillColumn(std::span<const float> x, bool quiet) {
       const double diff = static_cast<double>(reference_[row * dimension_ + k]) - x[k];
       d += diff * diff;
     }
-    d = quiet ? (reference_quiet_[row] ? 0.0 : pause_cost_) : std::sqrt(d);
+    d = std::sqrt(d);
     double best = kInfinity;
     std::uint8_t step = kStart;
     if (j == 0 && row == 0) best = d;
-    // A quiet recording frame advances the path only into the reference's
-    // own quiet frames; on speech it waits for the recording's.
-    const bool may_advance = !quiet || reference_quiet_[row];
-    const bool may_climb = may_advance && c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
+    const bool may_climb = c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
     const double candidates[3] = {j > 0 ? previous(row) + d : kInfinity,
-                                  may_advance && j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
+                                  j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
                                   may_climb ? cost_[c - 1] + d : kInfinity};
     for (std::uint8_t s = 0; s < 3; ++s) {
       if (candidates[s] < best) {
@@ -318,19 +328,61 @@ bool StreamingAligner::InPause(std::size_t frame) const {
   return true;
 }
 
-// A column of a pause: the path waits on its rows (horizontal steps at a
-// fixed cost, the same on every row) and the band stays where it is.
-void StreamingAligner::HoldColumn() {
+// A column of a pause: the path waits on its row at a fixed cost, the same
+// on every row of speech, or moves freely through the reference's own
+// pauses; the band stays where it is.
+void StreamingAligner::FillPauseColumn() {
   std::swap(previous_cost_, cost_);
   previous_low_ = low_;
   const std::size_t slot = columns_ % (lag_ + 1);
   step_lows_[slot] = low_;
   for (std::size_t c = 0; c < width_; ++c) {
-    cost_[c] = previous_cost_[c] + pause_cost_;
-    steps_[slot * width_ + c] = kHorizontal;
+    const bool free = reference_pause_[low_ + c] != 0;
+    const double d = free ? 0.0 : pause_cost_;
+    const double candidates[3] = {previous_cost_[c] + d, free && c > 0 ? previous_cost_[c - 1] + d : kInfinity,
+                                  free && c > 0 ? cost_[c - 1] + d : kInfinity};
+    double best = kInfinity;
+    std::uint8_t step = kStart;
+    for (std::uint8_t s = 0; s < 3; ++s) {
+      if (candidates[s] < best) {
+        best = candidates[s];
+        step = static_cast<std::uint8_t>(kHorizontal + s);
+      }
+    }
+    cost_[c] = best;
+    steps_[slot * width_ + c] = step;
     vertical_run_[c] = 0;
   }
   ++columns_;
+}
+
+// The newest column's costs, band and vertical runs, for RewindIntoPause.
+void StreamingAligner::SaveColumn() {
+  if (pause_frames_ == 0) return;
+  const std::size_t slot = (columns_ - 1) % saved_lows_.size();
+  std::copy(cost_.begin(), cost_.end(), saved_costs_.begin() + static_cast<std::ptrdiff_t>(slot * width_));
+  std::copy(vertical_run_.begin(), vertical_run_.end(), saved_runs_.begin() + static_cast<std::ptrdiff_t>(slot * width_));
+  saved_lows_[slot] = low_;
+}
+
+// Recording frame `frame` makes its quiet run a pause: the run's columns
+// not committed yet (all but those before the warping's first) are warped
+// again as a pause's, from the state before its first.
+void StreamingAligner::RewindIntoPause(std::size_t frame) {
+  const std::size_t run_frame = frame + 1 - pause_frames_;
+  const std::size_t run_column = run_frame > column_offset_ ? run_frame - column_offset_ : 0;
+  const std::size_t first = std::max<std::size_t>({run_column, committed_columns_, 1});
+  const std::size_t end = columns_;
+  if (first >= end) return;
+  const std::size_t slot = (first - 1) % saved_lows_.size();
+  std::copy_n(saved_costs_.begin() + static_cast<std::ptrdiff_t>(slot * width_), width_, cost_.begin());
+  std::copy_n(saved_runs_.begin() + static_cast<std::ptrdiff_t>(slot * width_), width_, vertical_run_.begin());
+  low_ = saved_lows_[slot];
+  columns_ = first;
+  while (columns_ < end) {
+    FillPauseColumn();
+    SaveColumn();
+  }
 }
 
 std::size_t StreamingAligner::BestRow() const {

@@ -52,17 +52,18 @@ struct StreamingAlignmentParams {
   // Weight, in frames, of the reference's feature statistics in the running
   // normalisation of the recording's.
   double prior_frames = 100.0;
-  // Pauses: a quiet recording frame (below a quarter of the reference's
-  // loudness range above the recording's floor) matches the reference's quiet
-  // frames at no cost and its speech at a fixed one, as offline; once quiet
-  // for pause_seconds, the warping stops until the recording is loud again,
-  // so that no phoneme is stretched across the pause. false: quiet frames
-  // after the onset are warped like speech. Off by default: on, it places a
-  // phrase after an inner pause far better (facerig-bench align --sections
-  // silence) but widens the boundary errors' p90 on trimmed speech and lost
-  // the first /b/ of a line that starts in a quiet voiced closure (the
-  // espeak tests' "Bees make honey ..."), which a talking face shows.
-  bool pauses = false;
+  // Pauses: once the recording has been quiet (below a quarter of the
+  // reference's loudness range above the recording's floor) for
+  // pause_seconds, its quiet frames, from the first one on, are crossed as
+  // offline: the path waits on its row at a fixed cost, or moves freely
+  // through the reference's own pauses (silence at its ends, inner pauses
+  // of at least 0.25 s), so that no phoneme is stretched across the pause.
+  // The quiet frames before that were warped like speech while they could
+  // be a stop closure; they are warped again as a pause, which the
+  // look-ahead allows as it is longer than pause_seconds. Shorter quiet runs
+  // (closures) are warped like speech. false: every frame after the onset
+  // is warped like speech.
+  bool pauses = true;
   double pause_seconds = 0.15;
 };
 
@@ -97,8 +98,10 @@ class StreamingAligner {
   void ProcessFrame();
   std::size_t RisingFrom(std::size_t frame) const;
   void AddColumn(std::size_t frame);
-  void FillColumn(std::span<const float> x, bool quiet);
-  void HoldColumn();
+  void FillColumn(std::span<const float> x);
+  void FillPauseColumn();
+  void SaveColumn();
+  void RewindIntoPause(std::size_t frame);
   bool Quiet(std::size_t frame) const;
   bool InPause(std::size_t frame) const;
   std::size_t BestRow() const;
@@ -126,7 +129,7 @@ class StreamingAligner {
   int sample_rate_ = 0;
   std::size_t dimension_ = 0, rows_ = 0, width_ = 0, lag_ = 0, radius_ = 0;
   std::vector<float> reference_;                    // rows_ x dimension_, normalised
-  std::vector<std::uint8_t> reference_quiet_;       // per row: quiet (for pauses)
+  std::vector<std::uint8_t> reference_pause_;       // per row: in one of the reference's pauses
   std::vector<double> boundary_rows_;               // each phoneme's start on the reference's frame axis
   std::vector<double> sums_, squares_;              // running statistics of the recording's raw features
   double count_ = 0.0;
@@ -143,6 +146,12 @@ class StreamingAligner {
   bool started_ = false;
   double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0, pause_cost_ = 0.0;
   std::size_t pause_frames_ = 0;
+  bool in_pause_ = false;                           // the newest column is a pause's
+  // The last pause_frames_ + 1 columns' costs, band and vertical runs, by
+  // column in a ring: a pause found late is warped again from its start.
+  std::vector<double> saved_costs_;
+  std::vector<std::uint8_t> saved_runs_;
+  std::vector<std::size_t> saved_lows_;
   // A first recording frame louder than this is speech (infinite: the reference starts quiet).
   double speech_at_start_ = std::numeric_limits<double>::infinity();
   double floor_ = std::numeric_limits<double>::infinity();
