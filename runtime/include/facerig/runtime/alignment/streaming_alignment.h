@@ -93,6 +93,7 @@ class StreamingAligner {
 
  private:
   void FindReferenceOnset();
+  void FindReferencePauses(const SpeechLine& reference);
   void NormalizeReference(double prior_frames);
   double FrameEnd() const;  // the audio time the newest frame needed
   void ProcessFrame();
@@ -100,15 +101,17 @@ class StreamingAligner {
   void AddColumn(std::size_t frame);
   void FillColumn(std::span<const float> x);
   void FillPauseColumn();
+  void StartPause();
   void SaveColumn();
   void RewindIntoPause(std::size_t frame);
   bool Quiet(std::size_t frame) const;
   bool InPause(std::size_t frame) const;
   std::size_t BestRow() const;
-  void Backtrack(std::size_t from_row, std::size_t columns);
+  void Backtrack(std::size_t from_column, std::size_t from_row, std::size_t columns);
   void CommitColumn(std::size_t column, std::size_t lowest_row, std::size_t highest_row);
   void EmitReady(double decided_at, bool at_end);
   std::optional<double> BoundaryTime(std::size_t index, bool at_end) const;
+  std::optional<double> OutOfPause(double start, bool at_end, bool after) const;
   double ColumnTime(double column) const;
   // The release snap of bilabials (streaming_release.cpp).
   void FindReferenceReleases(const SpeechLine& reference);
@@ -129,7 +132,8 @@ class StreamingAligner {
   int sample_rate_ = 0;
   std::size_t dimension_ = 0, rows_ = 0, width_ = 0, lag_ = 0, radius_ = 0;
   std::vector<float> reference_;                    // rows_ x dimension_, normalised
-  std::vector<std::uint8_t> reference_pause_;       // per row: in one of the reference's pauses
+  std::vector<std::uint8_t> reference_pause_;       // per row: in one of the reference's pauses or pause phonemes
+  std::vector<std::uint8_t> pause_phonemes_;        // per phoneme: a pause phoneme (may lie in a pause)
   std::vector<double> boundary_rows_;               // each phoneme's start on the reference's frame axis
   std::vector<double> sums_, squares_;              // running statistics of the recording's raw features
   double count_ = 0.0;
@@ -144,14 +148,21 @@ class StreamingAligner {
   // kOnsetMargin, or fewer when the reference's speech starts sooner.
   std::size_t onset_margin_ = 0;
   bool started_ = false;
-  double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0, pause_cost_ = 0.0;
+  double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0;
   std::size_t pause_frames_ = 0;
   bool in_pause_ = false;                           // the newest column is a pause's
+  static constexpr std::size_t kNoPause = std::numeric_limits<std::size_t>::max();
+  // The latest pause's first column and the first after it (kNoPause: none yet, or not ended).
+  std::size_t pause_first_column_ = kNoPause, pause_end_column_ = kNoPause;
+  // The row the path waits on in the latest pause, and the last one it may cross to.
+  std::size_t pause_row_ = 0, pause_top_row_ = 0;
+  std::size_t pause_phoneme_ = kNoPause;            // the phoneme the path had barely begun when it began
   // The last pause_frames_ + 1 columns' costs, band and vertical runs, by
   // column in a ring: a pause found late is warped again from its start.
   std::vector<double> saved_costs_;
   std::vector<std::uint8_t> saved_runs_;
-  std::vector<std::size_t> saved_lows_;
+  std::vector<std::size_t> saved_lows_, saved_best_;
+  std::size_t quiet_run_ = 0;                       // quiet frames up to the newest column
   // A first recording frame louder than this is speech (infinite: the reference starts quiet).
   double speech_at_start_ = std::numeric_limits<double>::infinity();
   double floor_ = std::numeric_limits<double>::infinity();
