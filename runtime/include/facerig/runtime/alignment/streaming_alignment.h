@@ -54,15 +54,16 @@ struct StreamingAlignmentParams {
   double prior_frames = 100.0;
   // Pauses: once the recording has been quiet (below a quarter of the
   // reference's loudness range above the recording's floor) for
-  // pause_seconds, its quiet frames, from the first one on, are crossed as
-  // offline: the path waits on its row at a fixed cost, or moves freely
-  // through the reference's own pauses (silence at its ends, inner pauses
-  // of at least 0.25 s), so that no phoneme is stretched across the pause.
-  // The quiet frames before that were warped like speech while they could
-  // be a stop closure; they are warped again as a pause, which the
-  // look-ahead allows as it is longer than pause_seconds. Shorter quiet runs
-  // (closures) are warped like speech. false: every frame after the onset
-  // is warped like speech.
+  // pause_seconds, its quiet run, from its first frame on, is a pause: the
+  // path waits on its row (or crosses the reference's own pause or pause
+  // phoneme that follows it, one row per frame), and a phoneme that starts
+  // inside the pause, or that the path had barely begun (less than half of
+  // its rows), starts at the pause's end, as offline. Until the run is that
+  // long it may be a stop closure and is warped like speech, but the path
+  // committed meanwhile is the one that led to its first frame; the run is
+  // then warped again as a pause, which the look-ahead allows (pause_seconds
+  // must fit in it). false: every frame after the onset is warped like
+  // speech (a pause's silence is matched to the next words).
   bool pauses = true;
   double pause_seconds = 0.15;
 };
