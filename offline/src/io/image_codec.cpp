@@ -35,8 +35,4 @@ cv::Mat DecodeImageBytes(std::span<const std::uint8_t> bytes, DecodedChannels ch
   throw InvalidInputError("the image is neither PNG nor JPEG");
 }
 
-std::vector<std::uint8_t> EncodePngBytes(const cv::Mat& bgr, std::optional<int> compression) {
-  return codec::EncodePng(bgr, compression);
-}
-
 }  // namespace facerig

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -12,7 +11,6 @@ namespace facerig::codec {
 
 cv::Mat DecodePng(std::span<const std::uint8_t> bytes);   // 8-bit BGRA
 cv::Mat DecodeJpeg(std::span<const std::uint8_t> bytes);  // 8-bit BGR, EXIF orientation applied
-std::vector<std::uint8_t> EncodePng(const cv::Mat& bgr_or_bgra, std::optional<int> compression);
 
 // The orientation (1-8) an EXIF APP1 segment ("Exif\0\0", a TIFF header,
 // IFD0) gives in its tag 0x0112; 0 when it has none or does not parse.

@@ -1,6 +1,7 @@
 // PNG through libpng 1.6's simplified API to read (it reports errors in the
 // image struct, no longjmp) and its full API to write (the simplified writer
 // has no compression level).
+#include "facerig/offline/io/image_codec.h"
 #include "io/image_codec_internal.h"
 
 #include <csetjmp>
@@ -89,7 +90,11 @@ bool WriteRows(PngWriteState& state, const cv::Mat& image, std::optional<int> co
 
 }  // namespace
 
-std::vector<std::uint8_t> EncodePng(const cv::Mat& image, std::optional<int> compression) {
+}  // namespace facerig::codec
+
+namespace facerig {
+
+std::vector<std::uint8_t> EncodePngBytes(const cv::Mat& image, std::optional<int> compression) {
   if (image.depth() != CV_8U || (image.channels() != 3 && image.channels() != 4) || image.empty()) {
     throw InvalidInputError("PNG encoding takes an 8-bit BGR or BGRA image");
   }
@@ -98,11 +103,11 @@ std::vector<std::uint8_t> EncodePng(const cv::Mat& image, std::optional<int> com
   // The worst case of zlib's stored blocks: the write callback never has to grow the vector.
   const std::size_t raw = (image.total() * image.elemSize() + static_cast<std::size_t>(image.rows)) * 102 / 100;
   bytes.reserve(raw + 4096);
-  PngWriteState state{.out = &bytes, .jump = {}, .message = {}};
-  if (!WriteRows(state, image, compression)) {
+  codec::PngWriteState state{.out = &bytes, .jump = {}, .message = {}};
+  if (!codec::WriteRows(state, image, compression)) {
     throw InvalidInputError(std::string("PNG encoding failed: ") + state.message);
   }
   return bytes;
 }
 
-}  // namespace facerig::codec
+}  // namespace facerig
