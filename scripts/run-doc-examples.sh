@@ -106,8 +106,10 @@ for file in "${files[@]}"; do
     where="${file#"$repo"/}:$line"
     echo "==> $where: $command"
     commands_run=$((commands_run + 1))
+    started=$SECONDS
     (cd "$root" && timeout "$timeout_seconds" bash -o pipefail -c "$command") > "$work/$name/last.log" 2>&1
     status=$?
+    echo "    ($((SECONDS - started)) s)"
     if ((status != 0)); then
       tail -n 30 "$work/$name/last.log" | sed 's/^/    /'
       echo "FAILED (exit $status): $where" >&2

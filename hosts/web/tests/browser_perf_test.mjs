@@ -1,11 +1,11 @@
 // Numbers of the demo page in headless Chromium, software GL (ctest, labels
-// web and browser): frame time with 1, 10 and 50 heads drawn, time to first
+// web and browser): frame time with 1, 10 and 50 heads drawn (--heads), time to first
 // speech after Enter, the bytes espeak-ng fetches for en-us alone, and a run
 // that speaks line after line while the WebAssembly memories and the JS heap
 // (after a forced garbage collection; its JavaScript values from heap
 // snapshots, without the code V8 compiles meanwhile) are sampled: they must
 // stay flat.
-//   node browser_perf_test.mjs --chromium /usr/bin/chromium --out DIR [--heap-seconds 120]
+//   node browser_perf_test.mjs --chromium /usr/bin/chromium --out DIR [--heads 1,10,50] [--heap-seconds 120]
 // ctest runs the heap part for 15 s; docs/web.md gives a 2-minute run.
 // Writes DIR/web_page_numbers.json.
 import { readdirSync, readFileSync, writeFileSync } from 'node:fs';

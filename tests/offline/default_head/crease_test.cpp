@@ -35,12 +35,12 @@ Fold CheekFold(const facerig::Rig& rig, const facerig::DefaultHeadFeatures& feat
       edge_triangles[{std::min(a, b), std::max(a, b)}].push_back(t);
     }
   }
-  auto normal = [&](std::uint32_t t, auto positions) {
+  auto normal = [&](std::uint32_t t, const auto& positions) {
     const facerig::Triangle& tri = rig.triangles()[t];
     const glm::dvec3 a = positions[tri[0]], b = positions[tri[1]], c = positions[tri[2]];
     return glm::normalize(glm::cross(b - a, c - a));
   };
-  auto dihedral = [&](const std::vector<std::uint32_t>& t, auto positions) {
+  auto dihedral = [&](const std::vector<std::uint32_t>& t, const auto& positions) {
     const double cosine = std::clamp(glm::dot(normal(t[0], positions), normal(t[1], positions)), -1.0, 1.0);
     return std::acos(cosine) * 180.0 / 3.14159265358979;
   };
