@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "audio/percentile.h"
+#include "facerig/runtime/speech/phoneme_visemes.h"
 
 namespace facerig {
 
@@ -106,6 +107,12 @@ std::vector<bool> PauseMask(std::span<const Pause> pauses, std::size_t frames) {
     for (std::size_t f = pause.first; f <= pause.last && f < frames; ++f) mask[f] = true;
   }
   return mask;
+}
+
+bool IsPausePhoneme(const Phoneme& phoneme, std::string_view line_language) {
+  const auto visemes = LookupPhonemeVisemes(phoneme.language.empty() ? line_language : phoneme.language.view(),
+                                            phoneme.symbol.view());
+  return visemes && visemes->count > 0 && visemes->visemes[0] == Viseme::kSil;
 }
 
 }  // namespace facerig

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "facerig/runtime/alignment/release_landmark.h"
-#include "facerig/runtime/speech/phoneme_visemes.h"
 #include "audio/percentile.h"
 
 namespace facerig {
@@ -115,13 +114,6 @@ void SnapBilabialsToReleases(const SpeechLine& reference, const DtwPath& path, c
     phonemes[i].start = Seconds(start);
     phonemes[i].duration = Seconds(end - start);
   }
-}
-
-// A pause phoneme of the reference (silence viseme): it may lie in a pause.
-bool IsPausePhoneme(const Phoneme& phoneme, std::string_view line_language) {
-  const auto visemes = LookupPhonemeVisemes(phoneme.language.empty() ? line_language : phoneme.language.view(),
-                                            phoneme.symbol.view());
-  return visemes && visemes->count > 0 && visemes->visemes[0] == Viseme::kSil;
 }
 
 struct Interval {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "facerig/runtime/alignment/dtw_align.h"
+#include "facerig/runtime/alignment/pauses.h"
 #include "audio/deltas.h"
 #include "audio/feature_statistics.h"
 #include "audio/percentile.h"
@@ -35,9 +36,6 @@ constexpr double kQuietShare = 0.25;
 // speech: the reference's range, which reaches down to its digital silence,
 // would let room noise pass for a quiet first consonant (/D/ of "The").
 constexpr double kSpeechAtStartTolerance = 2.3;
-// Columns after the onset where quiet frames are warped like any other: a
-// line often starts with a quiet voiced closure (/b m/) that is speech.
-constexpr std::size_t kOnsetColumns = 20;
 // Latency the release snap (streaming_release.cpp) may add: waiting for a
 // bilabial's end and moving its start earlier.
 constexpr double kReleaseLatency = 0.050;
@@ -47,6 +45,8 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Consecutive vertical steps (reference frames on one recording frame) the
 // path may take: a longer climb skips speech the recording has not reached.
 constexpr std::uint8_t kMaxVerticalRun = 10;
+// A pause starting this many rows before the reference's own pause crosses it.
+constexpr std::size_t kPauseReach = 3;
 // A diagonal step costs this many times its cell (a horizontal or vertical
 // one, once): below the symmetric 2, the path keeps moving through the
 // reference instead of waiting on a row and catching up late, which a path
@@ -99,10 +99,10 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   rows_ = reference_.size() / dimension_;
   radius_ = static_cast<std::size_t>(std::ceil(params.band_radius_seconds / hop));
   pause_frames_ = params.pauses ? static_cast<std::size_t>(std::max(1.0, std::ceil(params.pause_seconds / hop - 1e-9))) : 0;
-  // The expected distance of two unrelated normalised frames: waiting in a
-  // pause favours no row of the reference.
-  pause_cost_ = std::sqrt(static_cast<double>(2 * 2 * cepstra_.cepstra()));
+  // A pause is warped again from its first frame, which must not be committed yet.
+  if (pause_frames_ > lag_) throw std::invalid_argument("StreamingAligner: pause_seconds longer than the look-ahead");
   FindReferenceOnset();
+  FindReferencePauses(reference);
   FindReferenceReleases(reference);
   NormalizeReference(params.prior_frames);
   // The warping starts a few frames before the reference's speech; earlier
@@ -110,7 +110,7 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   onset_margin_ = std::min(onset_row_, kOnsetMargin);
   const std::size_t start_row = onset_row_ - onset_margin_;
   reference_.erase(reference_.begin(), reference_.begin() + static_cast<std::ptrdiff_t>(start_row * dimension_));
-  reference_quiet_.erase(reference_quiet_.begin(), reference_quiet_.begin() + static_cast<std::ptrdiff_t>(start_row));
+  reference_pause_.erase(reference_pause_.begin(), reference_pause_.begin() + static_cast<std::ptrdiff_t>(start_row));
   rows_ -= start_row;
   width_ = std::min(2 * radius_ + 1, rows_);
   for (const Phoneme& phoneme : reference.phonemes) {
@@ -119,6 +119,12 @@ StreamingAligner::StreamingAligner(const SpeechLine& reference, const StreamingA
   }
   raw_history_.assign(kHistory * dimension_, 0.0f);
   energy_ring_.assign(std::max(lag_ + kHistory + kEnergyMargin, pause_frames_ + kHistory), 0.0f);
+  if (pause_frames_ > 0) {
+    saved_lows_.assign(pause_frames_ + 1, 0);
+    saved_best_.assign(pause_frames_ + 1, 0);
+    saved_costs_.assign(saved_lows_.size() * width_, kInfinity);
+    saved_runs_.assign(saved_lows_.size() * width_, 0);
+  }
   frame_.resize(dimension_);
   column_features_.resize(dimension_);
   previous_cost_.assign(width_, kInfinity);
@@ -140,8 +146,6 @@ void StreamingAligner::FindReferenceOnset() {
   const double low = detail::PercentileInPlace(sorted, 0.05), high = detail::PercentileInPlace(sorted, 0.95);
   onset_rise_ = kOnsetShare * (high - low);
   quiet_rise_ = kQuietShare * (high - low);
-  reference_quiet_.resize(rows_);
-  for (std::size_t f = 0; f < rows_; ++f) reference_quiet_[f] = energy[f] < low + quiet_rise_ ? 1 : 0;
   floor_cap_ = 0.5 * (low + high);
   onset_row_ = 0;
   while (onset_row_ + 1 < rows_ && energy[onset_row_] < low + onset_rise_) ++onset_row_;
@@ -150,6 +154,30 @@ void StreamingAligner::FindReferenceOnset() {
   for (std::size_t walked = 0; walked < kMaxOnsetWalkBack && onset_row_ > 0; ++walked) {
     if (!(energy[onset_row_ - 1] < energy[onset_row_])) break;
     --onset_row_;  // back to where the rise began, as the recording's onset
+  }
+}
+
+// The reference's rows on which the recording's pauses are crossed for free:
+// its own pauses (as offline, where crossing on a stop closure moved the
+// stop past the recording's pause) and its pause phonemes.
+void StreamingAligner::FindReferencePauses(const SpeechLine& reference) {
+  std::vector<float> energy(rows_);
+  for (std::size_t f = 0; f < rows_; ++f) energy[f] = reference_[f * dimension_];
+  PauseParams edges_any_length;
+  edges_any_length.quiet_share = kQuietShare;
+  edges_any_length.min_edge_seconds = 0.0;
+  const double hop = static_cast<double>(cepstra_.hop_samples()) / sample_rate_;
+  const std::vector<bool> pause_rows = PauseMask(FindPauses(energy, hop, edges_any_length), rows_);
+  reference_pause_.assign(pause_rows.begin(), pause_rows.end());
+  const double half_window = 0.5 * cepstra_.window_samples() / sample_rate_;
+  pause_phonemes_.clear();
+  for (const Phoneme& phoneme : reference.phonemes) {
+    pause_phonemes_.push_back(IsPausePhoneme(phoneme, reference.language.view()) ? 1 : 0);
+    if (!pause_phonemes_.back()) continue;
+    const auto row_at = [&](double seconds) { return std::max(0.0, std::ceil((seconds - half_window) / hop)); };
+    const auto first = static_cast<std::size_t>(row_at(phoneme.start.count()));
+    const auto end = std::min(rows_, static_cast<std::size_t>(row_at((phoneme.start + phoneme.duration).count())));
+    for (std::size_t f = first; f < end; ++f) reference_pause_[f] = 1;
   }
 }
 
@@ -244,19 +272,35 @@ void StreamingAligner::AddColumn(std::size_t frame) {
     const double mean = sums_[d] / count_, variance = std::max(0.0, squares_[d] / count_ - mean * mean);
     column_features_[d] = variance > 1e-12 ? static_cast<float>((v - mean) / std::sqrt(variance)) : 0.0f;
   }
-  if (columns_ > 0 && InPause(frame)) {
-    HoldColumn();
-  } else {
-    FillColumn(column_features_, pause_frames_ > 0 && columns_ >= kOnsetColumns && Quiet(frame));
+  const bool pause = columns_ > 0 && InPause(frame);
+  if (pause && !in_pause_) {
+    pause_first_column_ = columns_;
+    RewindIntoPause(frame);
+    pause_end_column_ = std::numeric_limits<std::size_t>::max();
+  } else if (!pause && in_pause_) {
+    pause_end_column_ = columns_;
   }
+  in_pause_ = pause;
+  if (pause) {
+    FillPauseColumn();
+  } else {
+    FillColumn(column_features_);
+  }
+  SaveColumn();
+  quiet_run_ = pause_frames_ > 0 && Quiet(frame) ? quiet_run_ + 1 : 0;
   if (columns_ > lag_) {
-    Backtrack(BestRow(), lag_ + 1);
-    CommitColumn(columns_ - 1 - lag_, path_low_.back(), path_high_.back());
+    // While the newest frames may begin a pause, the path is the one that
+    // led to the frame before them: warped as speech, silence pulls it ahead.
+    const std::size_t commit = columns_ - 1 - lag_;
+    const bool may_begin_pause = !in_pause_ && quiet_run_ > 0 && quiet_run_ <= pause_frames_ && quiet_run_ < columns_;
+    const std::size_t from = may_begin_pause ? columns_ - 1 - quiet_run_ : columns_ - 1;
+    Backtrack(from, may_begin_pause ? saved_best_[from % saved_best_.size()] : BestRow(), from - commit + 1);
+    CommitColumn(commit, path_low_.back(), path_high_.back());
     EmitReady(FrameEnd(), false);
   }
 }
 
-void StreamingAligner::FillColumn(std::span<const float> x, bool quiet) {
+void StreamingAligner::FillColumn(std::span<const float> x) {
   const std::size_t j = columns_;
   if (j > 0) {
     const auto centre = static_cast<std::ptrdiff_t>(BestRow()) + 1;
@@ -279,16 +323,13 @@ void StreamingAligner::FillColumn(std::span<const float> x, bool quiet) {
       const double diff = static_cast<double>(reference_[row * dimension_ + k]) - x[k];
       d += diff * diff;
     }
-    d = quiet ? (reference_quiet_[row] ? 0.0 : pause_cost_) : std::sqrt(d);
+    d = std::sqrt(d);
     double best = kInfinity;
     std::uint8_t step = kStart;
     if (j == 0 && row == 0) best = d;
-    // A quiet recording frame advances the path only into the reference's
-    // own quiet frames; on speech it waits for the recording's.
-    const bool may_advance = !quiet || reference_quiet_[row];
-    const bool may_climb = may_advance && c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
+    const bool may_climb = c > 0 && vertical_run_[c - 1] < kMaxVerticalRun;
     const double candidates[3] = {j > 0 ? previous(row) + d : kInfinity,
-                                  may_advance && j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
+                                  j > 0 && row > 0 ? previous(row - 1) + kDiagonalWeight * d : kInfinity,
                                   may_climb ? cost_[c - 1] + d : kInfinity};
     for (std::uint8_t s = 0; s < 3; ++s) {
       if (candidates[s] < best) {
@@ -318,19 +359,81 @@ bool StreamingAligner::InPause(std::size_t frame) const {
   return true;
 }
 
-// A column of a pause: the path waits on its rows (horizontal steps at a
-// fixed cost, the same on every row) and the band stays where it is.
-void StreamingAligner::HoldColumn() {
+// A column of a pause: every path waits on its row at its own mean cost per
+// step (the rows' ranking in BestRow holds, so the pause neither pulls the
+// path ahead nor holds it back), except that the path's row moves on at no
+// cost, one row per column, through the reference's pause that follows it.
+// The band stays where it is.
+void StreamingAligner::FillPauseColumn() {
   std::swap(previous_cost_, cost_);
   previous_low_ = low_;
   const std::size_t slot = columns_ % (lag_ + 1);
   step_lows_[slot] = low_;
+  const auto column = static_cast<double>(columns_);
   for (std::size_t c = 0; c < width_; ++c) {
-    cost_[c] = previous_cost_[c] + pause_cost_;
-    steps_[slot * width_ + c] = kHorizontal;
+    const double held = previous_cost_[c] * (1.0 + 1.0 / (static_cast<double>(low_ + c) + column + 1.0));
+    const std::size_t row = low_ + c;
+    const bool crossing = row > pause_row_ && row <= pause_top_row_ && c > 0;
+    const bool moves = crossing && previous_cost_[c - 1] < held;
+    cost_[c] = moves ? previous_cost_[c - 1] : held;
+    steps_[slot * width_ + c] = moves ? kDiagonal : kHorizontal;
     vertical_run_[c] = 0;
   }
   ++columns_;
+}
+
+// The rows a pause starting now crosses: from the path's row (the best) on
+// through the reference's pause rows that follow it within kPauseReach rows.
+void StreamingAligner::StartPause() {
+  pause_row_ = pause_top_row_ = BestRow();
+  // The phoneme the path is in: one it has barely begun (less than half of
+  // its rows) is spoken after the pause, and starts at its end.
+  const double middle = static_cast<double>(pause_row_) + 0.5;
+  const auto next = std::upper_bound(boundary_rows_.begin(), boundary_rows_.end(), middle);
+  pause_phoneme_ = kNoPause;
+  if (next != boundary_rows_.begin() && next != boundary_rows_.end() && middle - *(next - 1) < 0.5 * (*next - *(next - 1))) {
+    pause_phoneme_ = static_cast<std::size_t>(next - boundary_rows_.begin()) - 1;
+  }
+  const std::size_t top = low_ + width_ - 1;
+  std::size_t row = pause_row_;
+  while (row < top && row < pause_row_ + kPauseReach && !reference_pause_[row + 1]) ++row;
+  if (row == top || !reference_pause_[row + 1]) return;
+  while (row < top && reference_pause_[row + 1]) ++row;
+  pause_top_row_ = row;
+}
+
+// The newest column's costs, band and vertical runs, for RewindIntoPause.
+void StreamingAligner::SaveColumn() {
+  if (pause_frames_ == 0) return;
+  const std::size_t slot = (columns_ - 1) % saved_lows_.size();
+  std::copy(cost_.begin(), cost_.end(), saved_costs_.begin() + static_cast<std::ptrdiff_t>(slot * width_));
+  std::copy(vertical_run_.begin(), vertical_run_.end(), saved_runs_.begin() + static_cast<std::ptrdiff_t>(slot * width_));
+  saved_lows_[slot] = low_;
+  saved_best_[slot] = BestRow();
+}
+
+// Recording frame `frame` makes its quiet run a pause: the run's columns
+// not committed yet (all but those before the warping's first) are warped
+// again as a pause's, from the state before its first.
+void StreamingAligner::RewindIntoPause(std::size_t frame) {
+  const std::size_t run_frame = frame + 1 - pause_frames_;
+  const std::size_t run_column = run_frame > column_offset_ ? run_frame - column_offset_ : 0;
+  const std::size_t first = std::max<std::size_t>({run_column, committed_columns_, 1});
+  const std::size_t end = columns_;
+  if (first >= end) {
+    StartPause();
+    return;
+  }
+  const std::size_t slot = (first - 1) % saved_lows_.size();
+  std::copy_n(saved_costs_.begin() + static_cast<std::ptrdiff_t>(slot * width_), width_, cost_.begin());
+  std::copy_n(saved_runs_.begin() + static_cast<std::ptrdiff_t>(slot * width_), width_, vertical_run_.begin());
+  low_ = saved_lows_[slot];
+  pause_first_column_ = columns_ = first;
+  StartPause();
+  while (columns_ < end) {
+    FillPauseColumn();
+    SaveColumn();
+  }
 }
 
 std::size_t StreamingAligner::BestRow() const {
@@ -347,12 +450,12 @@ std::size_t StreamingAligner::BestRow() const {
   return best;
 }
 
-// The path from (from_row, newest column) back over `columns` columns: its
-// lowest and highest row in each, newest first.
-void StreamingAligner::Backtrack(std::size_t from_row, std::size_t columns) {
+// The path from (from_row, from_column) back over `columns` columns (all
+// within the look-ahead): its lowest and highest row in each, newest first.
+void StreamingAligner::Backtrack(std::size_t from_column, std::size_t from_row, std::size_t columns) {
   path_low_.clear();
   path_high_.clear();
-  std::size_t column = columns_ - 1, row = from_row, high = row;
+  std::size_t column = from_column, row = from_row, high = row;
   while (true) {
     const std::size_t slot = column % (lag_ + 1);
     const std::uint8_t step = steps_[slot * width_ + (row - step_lows_[slot])];
@@ -431,10 +534,25 @@ void StreamingAligner::EmitReady(double decided_at, bool at_end) {
       if (!snapped) return;
       start = *snapped;
     }
+    if (!pause_phonemes_[next_phoneme_]) {
+      const std::optional<double> outside = OutOfPause(start, at_end, next_phoneme_ == pause_phoneme_);
+      if (!outside) return;
+      start = *outside;
+    }
     start = std::max(start, decided_at - look_ahead_seconds());
     last_start_ = std::clamp(start, last_start_, std::max(last_start_, pushed_seconds_));
     emitted_.push_back({next_phoneme_, Seconds(last_start_), decided_at});
   }
+}
+
+// A phoneme (not a pause phoneme) starting at `start` seconds, kept out of
+// the latest pause as offline: one that starts inside (or `after`, spoken
+// after it) starts at its end; nullopt while that end is not known.
+std::optional<double> StreamingAligner::OutOfPause(double start, bool at_end, bool after) const {
+  if (pause_first_column_ == kNoPause) return start;
+  if (!after && start < ColumnTime(static_cast<double>(pause_first_column_) - 0.5)) return start;
+  if (pause_end_column_ == kNoPause) return at_end ? std::optional<double>(start) : std::nullopt;
+  return std::max(start, ColumnTime(static_cast<double>(pause_end_column_) - 0.5));
 }
 
 std::span<const StreamedBoundary> StreamingAligner::Finish() {
@@ -452,7 +570,7 @@ std::span<const StreamedBoundary> StreamingAligner::Finish() {
   while (next_frame_ < raw_frames_) AddColumn(next_frame_++);
   if (columns_ > committed_columns_) {
     const bool end_in_band = low_ + width_ == rows_ && std::isfinite(cost_[width_ - 1]);
-    Backtrack(end_in_band ? rows_ - 1 : BestRow(), columns_ - committed_columns_);
+    Backtrack(columns_ - 1, end_in_band ? rows_ - 1 : BestRow(), columns_ - committed_columns_);
     for (std::size_t i = path_low_.size(); i-- > 0;) CommitColumn(committed_columns_, path_low_[i], path_high_[i]);
   }
   const std::size_t last = columns_ > 0 ? columns_ - 1 : 0;

@@ -160,9 +160,7 @@ TEST_CASE("AlignPhonemesToRecording: no phoneme is stretched into silence before
 TEST_CASE("StreamingAligner: the warping waits while the recording is quiet", "[pauses][stream]") {
   const SpeechLine reference = Reference();
   const Tones recording = Recording();
-  StreamingAlignmentParams params;
-  params.pauses = true;  // off by default (streaming_alignment.h)
-  StreamingAligner aligner(reference, params);
+  StreamingAligner aligner(reference);  // pauses on by default
   std::vector<double> starts(kHz.size() + 2, -1.0);
   const auto take = [&](std::span<const StreamedBoundary> boundaries) {
     for (const StreamedBoundary& b : boundaries) starts[b.phoneme] = b.start.count();

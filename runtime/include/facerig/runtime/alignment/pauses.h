@@ -6,7 +6,10 @@
 
 #include <cstddef>
 #include <span>
+#include <string_view>
 #include <vector>
+
+#include "facerig/runtime/speech/phoneme.h"
 
 namespace facerig {
 
@@ -48,5 +51,9 @@ std::vector<bool> QuietFrames(std::span<const float> log_energy, const PausePara
 
 // One flag per frame: inside a pause.
 std::vector<bool> PauseMask(std::span<const Pause> pauses, std::size_t frames);
+
+// A pause phoneme (silence viseme) of a line in `line_language`: the only
+// kind that may lie in a pause.
+bool IsPausePhoneme(const Phoneme& phoneme, std::string_view line_language);
 
 }  // namespace facerig

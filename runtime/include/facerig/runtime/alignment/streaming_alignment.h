@@ -52,17 +52,19 @@ struct StreamingAlignmentParams {
   // Weight, in frames, of the reference's feature statistics in the running
   // normalisation of the recording's.
   double prior_frames = 100.0;
-  // Pauses: a quiet recording frame (below a quarter of the reference's
-  // loudness range above the recording's floor) matches the reference's quiet
-  // frames at no cost and its speech at a fixed one, as offline; once quiet
-  // for pause_seconds, the warping stops until the recording is loud again,
-  // so that no phoneme is stretched across the pause. false: quiet frames
-  // after the onset are warped like speech. Off by default: on, it places a
-  // phrase after an inner pause far better (facerig-bench align --sections
-  // silence) but widens the boundary errors' p90 on trimmed speech and lost
-  // the first /b/ of a line that starts in a quiet voiced closure (the
-  // espeak tests' "Bees make honey ..."), which a talking face shows.
-  bool pauses = false;
+  // Pauses: once the recording has been quiet (below a quarter of the
+  // reference's loudness range above the recording's floor) for
+  // pause_seconds, its quiet run, from its first frame on, is a pause: the
+  // path waits on its row (or crosses the reference's own pause or pause
+  // phoneme that follows it, one row per frame), and a phoneme that starts
+  // inside the pause, or that the path had barely begun (less than half of
+  // its rows), starts at the pause's end, as offline. Until the run is that
+  // long it may be a stop closure and is warped like speech, but the path
+  // committed meanwhile is the one that led to its first frame; the run is
+  // then warped again as a pause, which the look-ahead allows (pause_seconds
+  // must fit in it). false: every frame after the onset is warped like
+  // speech (a pause's silence is matched to the next words).
+  bool pauses = true;
   double pause_seconds = 0.15;
 };
 
@@ -92,20 +94,25 @@ class StreamingAligner {
 
  private:
   void FindReferenceOnset();
+  void FindReferencePauses(const SpeechLine& reference);
   void NormalizeReference(double prior_frames);
   double FrameEnd() const;  // the audio time the newest frame needed
   void ProcessFrame();
   std::size_t RisingFrom(std::size_t frame) const;
   void AddColumn(std::size_t frame);
-  void FillColumn(std::span<const float> x, bool quiet);
-  void HoldColumn();
+  void FillColumn(std::span<const float> x);
+  void FillPauseColumn();
+  void StartPause();
+  void SaveColumn();
+  void RewindIntoPause(std::size_t frame);
   bool Quiet(std::size_t frame) const;
   bool InPause(std::size_t frame) const;
   std::size_t BestRow() const;
-  void Backtrack(std::size_t from_row, std::size_t columns);
+  void Backtrack(std::size_t from_column, std::size_t from_row, std::size_t columns);
   void CommitColumn(std::size_t column, std::size_t lowest_row, std::size_t highest_row);
   void EmitReady(double decided_at, bool at_end);
   std::optional<double> BoundaryTime(std::size_t index, bool at_end) const;
+  std::optional<double> OutOfPause(double start, bool at_end, bool after) const;
   double ColumnTime(double column) const;
   // The release snap of bilabials (streaming_release.cpp).
   void FindReferenceReleases(const SpeechLine& reference);
@@ -126,7 +133,8 @@ class StreamingAligner {
   int sample_rate_ = 0;
   std::size_t dimension_ = 0, rows_ = 0, width_ = 0, lag_ = 0, radius_ = 0;
   std::vector<float> reference_;                    // rows_ x dimension_, normalised
-  std::vector<std::uint8_t> reference_quiet_;       // per row: quiet (for pauses)
+  std::vector<std::uint8_t> reference_pause_;       // per row: in one of the reference's pauses or pause phonemes
+  std::vector<std::uint8_t> pause_phonemes_;        // per phoneme: a pause phoneme (may lie in a pause)
   std::vector<double> boundary_rows_;               // each phoneme's start on the reference's frame axis
   std::vector<double> sums_, squares_;              // running statistics of the recording's raw features
   double count_ = 0.0;
@@ -141,8 +149,21 @@ class StreamingAligner {
   // kOnsetMargin, or fewer when the reference's speech starts sooner.
   std::size_t onset_margin_ = 0;
   bool started_ = false;
-  double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0, pause_cost_ = 0.0;
+  double onset_rise_ = 0.0, floor_cap_ = 0.0, quiet_rise_ = 0.0;
   std::size_t pause_frames_ = 0;
+  bool in_pause_ = false;                           // the newest column is a pause's
+  static constexpr std::size_t kNoPause = std::numeric_limits<std::size_t>::max();
+  // The latest pause's first column and the first after it (kNoPause: none yet, or not ended).
+  std::size_t pause_first_column_ = kNoPause, pause_end_column_ = kNoPause;
+  // The row the path waits on in the latest pause, and the last one it may cross to.
+  std::size_t pause_row_ = 0, pause_top_row_ = 0;
+  std::size_t pause_phoneme_ = kNoPause;            // the phoneme the path had barely begun when it began
+  // The last pause_frames_ + 1 columns' costs, band and vertical runs, by
+  // column in a ring: a pause found late is warped again from its start.
+  std::vector<double> saved_costs_;
+  std::vector<std::uint8_t> saved_runs_;
+  std::vector<std::size_t> saved_lows_, saved_best_;
+  std::size_t quiet_run_ = 0;                       // quiet frames up to the newest column
   // A first recording frame louder than this is speech (infinite: the reference starts quiet).
   double speech_at_start_ = std::numeric_limits<double>::infinity();
   double floor_ = std::numeric_limits<double>::infinity();
