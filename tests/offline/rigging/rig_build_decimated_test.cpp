@@ -182,10 +182,22 @@ LidDetection DetectLids(const RawRig& target) {
   return lids;
 }
 
-float WorstRatioWithFactor(const IctTarget& target, const RawRig& raw, const LidDetection& lids, float factor) {
+// The worse lid's ratio to the face's own blink, and the built blinks' worst
+// edge stretch itself (known without the face's own blink).
+struct LidOutcome {
+  float worst_ratio = 0.0f;
+  float built_stretch = 0.0f;
+};
+
+LidOutcome LidOutcomeWithFactor(const IctTarget& target, const RawRig& raw, const LidDetection& lids, float factor) {
   const BuildRigResult built =
       BuildRig(IctPreparation(), raw, PairLandmarks(test::IctTemplateInfo().landmark_vertices, lids.WithFactor(factor)));
-  return WorstRatio(MeasureBlinks(target, built));
+  const std::array<BlinkMeasure, 2> blinks = MeasureBlinks(target, built);
+  return {WorstRatio(blinks), std::max(blinks[0].stretch, blinks[1].stretch)};
+}
+
+float WorstRatioWithFactor(const IctTarget& target, const RawRig& raw, const LidDetection& lids, float factor) {
+  return LidOutcomeWithFactor(target, raw, lids, factor).worst_ratio;
 }
 
 }  // namespace
@@ -293,6 +305,38 @@ TEST_CASE("(shared data) build: the off-skin lid confidence sweep on every ICT i
     rows.push_back(row);
     std::ofstream(test::OutputPath("lid_sweep.json")) << rows.dump(1) << "\n";
   }
+}
+
+// A rule without a constant, measured (docs/benchmarks.md): build with the
+// off-skin lid points trusted and without them, and keep the build whose
+// blinks stretch the face's edges least (the built rig alone decides). Prints
+// both builds and the kept one per identity; FACERIG_ICT_IDENTITIES limits it.
+TEST_CASE("(shared data) build: off-skin lid points trusted or dropped, the build whose blinks stretch least kept, on "
+          "every ICT identity decimated",
+          "[shared-data][.measure-lids]") {
+  std::vector<int> identities;
+  if (const char* named = std::getenv("FACERIG_ICT_IDENTITIES")) {
+    std::stringstream list(named);
+    for (std::string item; std::getline(list, item, ',');) identities.push_back(std::stoi(item));
+  } else {
+    for (int n = 0; n < 20; ++n) identities.push_back(n);
+  }
+  std::printf("identity | dropped: ratio (built stretch) | trusted: ratio (built stretch) | kept ratio\n");
+  float worst_kept = 0.0f;
+  for (const int n : identities) {
+    const std::string identity = IdentityName(n);
+    const IctTarget target = DecimatedTarget(ReadObj(test::IctDir() / (identity + ".obj")), kDecimatedFraction);
+    const RawRig raw = ToRawRig(target.mesh);
+    const LidDetection lids = DetectLids(raw);
+    const LidOutcome dropped = LidOutcomeWithFactor(target, raw, lids, 0.0f);
+    const LidOutcome trusted = LidOutcomeWithFactor(target, raw, lids, 1.0f);
+    const LidOutcome& kept = trusted.built_stretch < dropped.built_stretch ? trusted : dropped;
+    worst_kept = std::max(worst_kept, kept.worst_ratio);
+    std::printf("%s | %.2f (%.2f) | %.2f (%.2f) | %.2f\n", identity.c_str(), dropped.worst_ratio, dropped.built_stretch,
+                trusted.worst_ratio, trusted.built_stretch, kept.worst_ratio);
+    std::fflush(stdout);
+  }
+  CHECK(worst_kept <= 1.3f);
 }
 
 }  // namespace facerig
