@@ -258,9 +258,9 @@ TEST_CASE("StreamingAligner: after a 0.6 s pause inside the line, the next phras
   CHECK(median <= 0.020);
   CHECK(p90 <= 0.050);
   // Not all: espeak-ng's output depends on what it synthesized before (its
-  // noise), and after some other tests in one process the release snap puts
-  // the second /p/ of "peppers" 6 ms before its true start, with pauses on or
-  // off alike. The pauses must not lose a closure of their own.
+  // noise), and after some other tests in one process the warping path ends
+  // the second /p/ of "peppers" 6 ms before the true one starts, with pauses
+  // on or off alike. The pauses must not lose a closure of their own.
   CHECK(bilabials_kept >= bilabials_kept_off);
   CHECK(bilabials_kept + 1 >= bilabials);
 }
