@@ -156,6 +156,19 @@ const TemplatePreparation& IctPreparation() {
 
 std::string IdentityName(int n) { return "identity" + std::string(n < 10 ? "00" : "0") + std::to_string(n); }
 
+// The identities the hidden lid measures run on: FACERIG_ICT_IDENTITIES
+// ("7,16"), else all twenty.
+std::vector<int> IdentitiesToMeasure() {
+  std::vector<int> identities;
+  if (const char* named = std::getenv("FACERIG_ICT_IDENTITIES")) {
+    std::stringstream list(named);
+    for (std::string item; std::getline(list, item, ',');) identities.push_back(std::stoi(item));
+  } else {
+    for (int n = 0; n < 20; ++n) identities.push_back(n);
+  }
+  return identities;
+}
+
 // Detected landmarks with the lid points found off the skin (no hole margin
 // to go to) keeping `factor` of their confidence: detected with the factor 1
 // and 0, the points whose confidence differs are those.
@@ -275,13 +288,7 @@ TEST_CASE("(shared data) build: lid points the detector put on the eyeballs of a
 // hidden, run by name; FACERIG_ICT_IDENTITIES ("7,16") limits it.
 TEST_CASE("(shared data) build: the off-skin lid confidence sweep on every ICT identity decimated",
           "[shared-data][.measure-lids]") {
-  std::vector<int> identities;
-  if (const char* named = std::getenv("FACERIG_ICT_IDENTITIES")) {
-    std::stringstream list(named);
-    for (std::string item; std::getline(list, item, ',');) identities.push_back(std::stoi(item));
-  } else {
-    for (int n = 0; n < 20; ++n) identities.push_back(n);
-  }
+  const std::vector<int> identities = IdentitiesToMeasure();
   const std::array<float, 5> factors = {0.0f, 0.05f, 0.1f, 0.5f, 1.0f};
   nlohmann::json rows = nlohmann::json::array();
   std::printf("identity | off-skin lid points | worst stretch / own at factor 0 / 0.05 / 0.1 / 0.5 / 1\n");
@@ -314,13 +321,7 @@ TEST_CASE("(shared data) build: the off-skin lid confidence sweep on every ICT i
 TEST_CASE("(shared data) build: off-skin lid points trusted or dropped, the build whose blinks stretch least kept, on "
           "every ICT identity decimated",
           "[shared-data][.measure-lids]") {
-  std::vector<int> identities;
-  if (const char* named = std::getenv("FACERIG_ICT_IDENTITIES")) {
-    std::stringstream list(named);
-    for (std::string item; std::getline(list, item, ',');) identities.push_back(std::stoi(item));
-  } else {
-    for (int n = 0; n < 20; ++n) identities.push_back(n);
-  }
+  const std::vector<int> identities = IdentitiesToMeasure();
   std::printf("identity | dropped: ratio (built stretch) | trusted: ratio (built stretch) | kept ratio\n");
   float worst_kept = 0.0f;
   for (const int n : identities) {
