@@ -125,6 +125,10 @@ TEST_CASE("StreamingAligner: chunking does not change the result, bad references
   StreamingAlignmentParams params;
   params.look_ahead_seconds = 0.02;
   CHECK_THROWS_AS(StreamingAligner(reference, params), std::invalid_argument);
+  // A pause is warped again from its first frame, which the look-ahead must still hold.
+  StreamingAlignmentParams long_pause;
+  long_pause.pause_seconds = 1.0;
+  CHECK_THROWS_AS(StreamingAligner(reference, long_pause), std::invalid_argument);
   // No audio at all: every boundary still comes out, at the start.
   StreamingAligner nothing(reference);
   CHECK(nothing.Finish().size() == reference.phonemes.size());
