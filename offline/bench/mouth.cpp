@@ -22,6 +22,7 @@
 #include "facerig/offline/mapping/topology_mapping.h"
 #include "facerig/offline/render/rasterizer.h"
 #include "facerig/offline/rigging/face_template.h"
+#include "facerig/offline/rigging/lid_choice.h"
 #include "facerig/offline/rigging/rig_build.h"
 #include "facerig/runtime/blend_job.h"
 #include "facerig/offline/mapping/mouth_sides.h"
@@ -143,8 +144,9 @@ int Run(const MouthOptions& options) {
     head.shapes.clear();  // only the template's shapes
     facerig::LandmarkDetector detector;
     const facerig::LandmarkResult detected = detector.Detect(facerig::NeutralMesh(head));
-    const facerig::BuildRigResult built =
-        facerig::BuildRig(ict, info, head, facerig::PairLandmarks(info.landmark_vertices, detected.landmarks));
+    const facerig::BuildRigResult built = facerig::BuildRigChoosingLids(
+        facerig::TemplatePreparation(ict, info, {}), facerig::BuildTarget{.rig = head, .mesh = {}},
+        info.landmark_vertices, detected.landmarks, detected.doubtful_lids, {});
     const facerig::Rig rig = facerig::RigBuilder::Build(built.rig).value();
     const facerig::Rig unsided = MappedWith(ict, info, built, head, std::nullopt);
     facerig::MouthSideParams by_height;

@@ -1,5 +1,7 @@
 #include "cli/build_steps.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <span>
@@ -12,6 +14,7 @@
 #include "facerig/offline/io/build_target.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/offline/render/eye_textures.h"
+#include "facerig/offline/rigging/lid_choice.h"
 #include "facerig/runtime/ascii_case.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/io/gltf_with_morph_targets.h"
@@ -57,6 +60,8 @@ void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::pa
 
 struct BuildLandmarks {
   RegistrationLandmarks pairs;
+  FaceLandmarks target;                  // the target's own, paired in `pairs`
+  DoubtfulLidPoints doubtful_lids;       // detected: LandmarkResult's
   std::string source;          // the --landmarks file, "detected" or "template topology"
   int target_eyes_fitted = 0;  // detected eyes put on the target's eye openings
 };
@@ -83,8 +88,10 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, const BuildTempla
     LandmarkResult detected = detector.Get().Detect(NeutralMesh(target));
     target_landmarks = std::move(detected.landmarks);
     found.target_eyes_fitted = detected.eyes_fitted;
+    found.doubtful_lids = std::move(detected.doubtful_lids);
   }
   found.pairs = PairLandmarks(build_template.info.landmark_vertices, target_landmarks);
+  found.target = std::move(target_landmarks);
   return found;
 }
 
@@ -162,7 +169,18 @@ struct BuildFacts {
   std::size_t target_vertices = 0;
   const BuildLandmarks& landmarks;
   const BuildRigResult& built;
+  const LidChoice& lids;
 };
+
+// Doubtful lid landmarks: which, and which of the two builds was kept (null: no second build).
+nlohmann::json LidChoiceReport(const DoubtfulLidPoints& doubtful, const LidChoice& lids) {
+  const nlohmann::json points = IndicesOf(doubtful.points);
+  if (!lids.tried) return {{"points", points}, {"kept", nullptr}};
+  return {{"points", points},
+          {"kept", lids.trusted ? "trusted" : "dropped"},
+          {"blink_stretch_trusted", lids.trusted_stretch},
+          {"blink_stretch_dropped", lids.dropped_stretch}};
+}
 
 CommandReport BuildReport(const BuildOptions& options, const BuildFacts& facts, const Rig& rig,
                           const StandardShapesReport& names, std::span<const BuildStage> stages) {
@@ -190,6 +208,7 @@ CommandReport BuildReport(const BuildOptions& options, const BuildFacts& facts, 
   report["landmarks"] = facts.landmarks.source;
   report["options"] = {{"contacts", options.contacts}, {"eye_fit", options.fit_eyes_to_openings}};
   report["target_eyes_fitted"] = facts.landmarks.target_eyes_fitted;
+  report["doubtful_lid_landmarks"] = LidChoiceReport(facts.landmarks.doubtful_lids, facts.lids);
   report["registration"] = RegistrationReport(built);
   report["transfer_anchors"] = built.transfer_anchors;
   // The template had no tongueOut: made from this part of it (null: it had one, or no tongue).
@@ -210,6 +229,7 @@ CommandReport BuildReport(const BuildOptions& options, const BuildFacts& facts, 
                       {"register", built.timings.registration_seconds},
                       {"transfer", built.timings.transfer_seconds},
                       {"map", built.timings.mapping_seconds},
+                      {"lid_choice", StageSeconds(stages, "lid choice")},
                       {"write", StageSeconds(stages, "write")},
                       {"total", TotalSeconds(stages)}};
   return envelope;
@@ -290,9 +310,20 @@ TargetBuilt BuildTargetAndWrite(const BuildOptions& options, BuildTemplate& buil
       stages, "landmarks", [&] { return FindBuildLandmarks(options, build_template, target.rig, detector); });
   detector.LandmarksFound();
 
-  const BuildRigResult built = BuildRig(*build_template.prepared, std::move(target), landmarks.pairs,
-                                        BuildParamsOf(options));
+  LidChoice lids;
+  const auto build_start = std::chrono::steady_clock::now();
+  const BuildRigResult built = BuildRigChoosingLids(*build_template.prepared, target,
+                                                    build_template.info.landmark_vertices, landmarks.target,
+                                                    landmarks.doubtful_lids, BuildParamsOf(options), &lids);
   stages.insert(stages.end(), built.stages.begin(), built.stages.end());
+  if (lids.tried) {  // the other build ran beside this one: the time spent waiting for it
+    stages.push_back({"lid choice", std::max(0.0, SecondsSince(build_start) - built.timings.total_seconds)});
+    std::fprintf(stderr, "%zu lid landmarks lay on the eye, not the skin: built with them and without, kept the "
+                 "build %s them (its blinks stretch an edge %.2fx, the other %.2fx)\n",
+                 landmarks.doubtful_lids.points.count(), lids.trusted ? "with" : "without",
+                 lids.trusted ? lids.trusted_stretch : lids.dropped_stretch,
+                 lids.trusted ? lids.dropped_stretch : lids.trusted_stretch);
+  }
   if (options.output_dir.empty() && !built.tongue_out_synthesised_from.empty()) {  // a cast said it once
     std::fprintf(stderr, "the template has no tongueOut: made one from its part '%s'\n",
                  built.tongue_out_synthesised_from.c_str());
@@ -306,7 +337,7 @@ TargetBuilt BuildTargetAndWrite(const BuildOptions& options, BuildTemplate& buil
   if (!unnamed) throw InvalidInputError("the built rig is invalid: " + problem);
   StandardShapesReport names;
   const std::optional<Rig> rig = NameShapesForWriting(*unnamed, options.naming, &names);
-  WriteBuildSet(options, {build_template.info, target_vertices, landmarks, built}, *rig, names, stages);
+  WriteBuildSet(options, {build_template.info, target_vertices, landmarks, built, lids}, *rig, names, stages);
 
   const ResidualStats& residual = built.registration.residual;
   std::printf("wrote %s: %zu vertices (the target's), %zu shapes, mode %s, units %s; registration residual mean "

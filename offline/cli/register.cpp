@@ -52,6 +52,8 @@ CommandReport LandmarksReport(const LandmarksOptions& options, const RawRig& mes
   report.result = {{"vertices", mesh.positions.size()},
                    {"views_tried", result.views_tried},
                    {"eyes_fitted_to_openings", result.eyes_fitted},
+                   // Lid points on the eye, not the skin: confidence 0 in the landmarks file.
+                   {"doubtful_lid_points", IndicesOf(result.doubtful_lids.points)},
                    {"snapped", result.snapped},
                    {"detector_score", result.detector_score}};
   return report;

@@ -104,7 +104,7 @@ LandmarkMask LidPointsOffSkin(const Mesh& mesh, std::span<const Triangle> skin, 
 
 // Where an eye is a hole in the mesh, its corners follow the hole, and lid
 // points the detector put inside the hole go onto its margins; lid points off
-// the skin with no margin to go to are distrusted.
+// the skin with no margin to go to are doubtful (LandmarkResult).
 void FitEyesToMesh(const Mesh& mesh, float face_height, const LandmarkParams& params, LandmarkResult& result) {
   // Holes in the skin only: ICT's eye layers have edges around the eye too.
   const std::vector<Triangle> skin = LargePartTriangles(mesh.positions, mesh.triangles, kSkinPartAreaFraction);
@@ -119,10 +119,16 @@ void FitEyesToMesh(const Mesh& mesh, float face_height, const LandmarkParams& pa
   if (params.correct_eye_corners && result.eyes_fitted < 2) {
     result.corrected = CorrectEyeCorners(mesh.positions, mesh.triangles, landmarks.points);
   }
+  result.doubtful_lids.confidence.assign(landmarks.confidence.size(), 0.0f);
   for (const std::size_t k : kLidPoints) {
     if (!off_skin[k]) continue;
-    landmarks.confidence[k] *=
-        on_margin[k] ? params.snapped_confidence_factor : params.off_skin_lid_confidence_factor;
+    if (on_margin[k]) {
+      landmarks.confidence[k] *= params.snapped_confidence_factor;
+    } else {
+      result.doubtful_lids.points[k] = true;
+      result.doubtful_lids.confidence[k] = landmarks.confidence[k];
+      landmarks.confidence[k] = 0.0f;
+    }
   }
 }
 

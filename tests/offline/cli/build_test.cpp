@@ -22,6 +22,7 @@
 #include "facerig/runtime/io/rig_file.h"
 #include "facerig/runtime/shape_names.h"
 #include "support/command_runner.h"
+#include "support/decimate.h"
 #include "support/gltf_validator.h"
 #include "support/ict_faces.h"
 #include "support/skinned_gltf.h"
@@ -253,6 +254,9 @@ TEST_CASE("facerig build: --no-contacts and --no-eye-fit turn off contacts and e
   CHECK(defaults["options"]["contacts"] == true);
   CHECK(defaults["options"]["eye_fit"] == true);
   CHECK(defaults["target_eyes_fitted"] == 2);
+  // Its eyes are holes: every lid point on a margin, none doubtful, one build.
+  CHECK(defaults["doubtful_lid_landmarks"]["points"].empty());
+  CHECK(defaults["doubtful_lid_landmarks"]["kept"].is_null());
   CHECK(defaults["transfer_contacts"]["active"] == true);
   CHECK(defaults["transfer_contacts"]["pairs"].get<int>() > 0);
   // Its lid margins (the blinks' contacts) lie on its own eye rims already.
@@ -267,6 +271,31 @@ TEST_CASE("facerig build: --no-contacts and --no-eye-fit turn off contacts and e
   CHECK(off["transfer_contacts"]["active"] == false);
   CHECK(off["transfer_contacts"]["pairs"] == 0);
   CHECK(LoadRig(folder / "off.frig").shape_count() == LoadRig(folder / "defaults.frig").shape_count());
+}
+
+TEST_CASE("(shared data) facerig build: lid points detected on the eyeballs of a decimated ICT face are reported, "
+          "and the build without them kept",
+          "[shared-data][cli]") {
+  // identity007 decimated: its sockets are closed, dlib puts the lower lids
+  // on the eyeballs, and trusting them tears the blink (lid_choice.h).
+  const fs::path folder = test::FreshOutputFolder("cli_build_lids");
+  const Mesh face = ReadObj(test::IctDir() / "identity007.obj");
+  const Mesh target = test::Decimate(face, 0.35).mesh;
+  WriteObj(folder / "target.obj", target.positions, {}, {}, target.triangles, {});
+  const test::CommandOutcome outcome =
+      RunBuildCommand({"--template", test::IctDir().string(), "--target", (folder / "target.obj").string(), "-o",
+                       (folder / "face.frig").string(), "--json", (folder / "report.json").string()});
+  INFO(outcome.error_output);
+  REQUIRE(outcome.exit_code == 0);
+  CHECK(outcome.error_output.find("lid landmarks lay on the eye, not the skin") != std::string::npos);
+  std::ifstream file(folder / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(file)["result"];
+  const nlohmann::json& lids = report["doubtful_lid_landmarks"];
+  CHECK(lids["points"] == std::vector<int>{40, 41, 46, 47});  // the lower lids
+  CHECK(lids["kept"] == "dropped");
+  CHECK(lids["blink_stretch_trusted"].get<double>() > 2.0 * lids["blink_stretch_dropped"].get<double>());
+  const auto stages = report["stages"];
+  CHECK(std::any_of(stages.begin(), stages.end(), [](const nlohmann::json& s) { return s["name"] == "lid choice"; }));
 }
 
 TEST_CASE("facerig build: an OBJ target's UVs and materials reach the GLB", "[cli]") {

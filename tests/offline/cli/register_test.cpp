@@ -208,6 +208,11 @@ TEST_CASE("facerig landmarks on a re-meshed ICT face: 68 points near the truth, 
   CHECK(json["timings"]["detect"].get<double>() > 0.0);
   CHECK(json["timings"]["load_model"].get<double>() > 0.0);
   CHECK(json["result"]["views_tried"].get<int>() >= 2);
+  // Lid points on the eye, not the skin: listed, and left out of the file (confidence 0).
+  REQUIRE(json["result"]["doubtful_lid_points"].is_array());
+  for (const nlohmann::json& k : json["result"]["doubtful_lid_points"]) {
+    CHECK(landmarks.confidence.at(k.get<std::size_t>()) == 0.0f);
+  }
 }
 
 TEST_CASE("facerig register with a landmark file and --template-info: the template's vertices on the target, in its "

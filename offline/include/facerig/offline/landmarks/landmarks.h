@@ -76,9 +76,8 @@ struct LandmarkParams {
   // there would drag it across the opening onto the other lid. Where the eye
   // is a hole in the skin the point goes onto the hole's margin (with
   // fit_eyes_to_openings, confidence x snapped_confidence_factor); where it
-  // is not, its confidence is multiplied by off_skin_lid_confidence_factor.
+  // is not, it is doubtful (LandmarkResult::doubtful_lids).
   float off_skin_distance_fraction = 0.002f;
-  float off_skin_lid_confidence_factor = 0.05f;
 };
 
 struct LandmarkResult {
@@ -92,6 +91,7 @@ struct LandmarkResult {
   int snapped = 0;  // landmarks moved off a hole or a back face
   int corrected = 0;  // eye corners moved by the PCA correction
   int eyes_fitted = 0;  // eyes put on the mesh's eye openings (fit_eyes_to_openings)
+  DoubtfulLidPoints doubtful_lids;  // left out of `landmarks`
   double seconds = 0.0;
 };
 

@@ -2,13 +2,13 @@
 // put onto the lid margins where an eye is a hole in the mesh.
 #pragma once
 
-#include <bitset>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "facerig/offline/landmarks/face_landmarks.h"
 #include "facerig/runtime/mesh.h"
 
 namespace facerig {
@@ -28,9 +28,6 @@ std::vector<std::vector<std::uint32_t>> BoundaryLoops(std::span<const glm::vec3>
 // 0.3 eye widths. Returns how many moved.
 int CorrectEyeCorners(std::span<const glm::vec3> positions, std::span<const Triangle> triangles,
                       std::vector<glm::vec3>& points);
-
-// Which of the 68 landmarks (bit k: dlib point k).
-using LandmarkMask = std::bitset<68>;
 
 struct EyeOpeningFit {
   int eyes = 0;  // eyes fitted to an opening
