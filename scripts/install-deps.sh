@@ -16,6 +16,7 @@ packages=(
   libcli11-dev                                     # tools: one option parser (facerig, facerig-bench, player)
   libopencv-dev libdlib-dev libdlib-data           # offline: images, renders, the 68-point landmarks
   libpng-dev libjpeg62-turbo-dev                   # offline: PNG and JPEG bytes (io/image_codec.h)
+  libxxhash-dev                                    # offline: the template cache's content key (BSD-2)
   opencv-data                                      # offline: the photo's second face detector (Haar cascade)
   libespeak-ng-dev espeak-ng-data                  # facerig::espeak (phoneme source)
   # runtime_io: recordings to align (WAV/FLAC/Ogg... via libsndfile, LGPL-2.1)

@@ -275,7 +275,7 @@ void SharedLandmarkDetector::LandmarksFound() {
 
 std::unique_ptr<BuildTemplate> LoadBuildTemplate(const BuildOptions& options) {
   auto loaded = std::make_unique<BuildTemplate>();
-  loaded->rig = LoadRigOrTemplateFolder(options.template_path);
+  loaded->rig = LoadTemplateRig(options.template_path);
   // Baked visemes are made again from the built shapes: no need to transfer them.
   if (options.naming.visemes == VisemeTargets::kOculus) loaded->rig = WithoutBakedVisemes(loaded->rig);
   loaded->info = ResolveFaceTemplateInfo(loaded->rig, options.template_path, options.template_info);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "facerig/runtime/error.h"
+#include "facerig/offline/io/template_cache.h"
 #include "facerig/offline/io/template_folder.h"
 
 namespace facerig::cli {
@@ -29,6 +30,31 @@ RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units) {
   RawRig raw = RigBuilder::ToRaw(LoadRigOrTemplateFolder(path, options));
   if (units != Units::kUnknown) raw.units = units;
   return raw;
+}
+
+Rig LoadTemplateRig(const std::filesystem::path& path, TemplateImportReport* report) {
+  if (!std::filesystem::is_directory(path)) return LoadRigOrTemplateFolder(path);
+  TemplateImportOptions options;
+  options.cache_folder = DefaultTemplateCacheFolder();
+  TemplateImportReport imported;
+  Rig rig = ImportTemplateFolder(path, options, &imported);
+  switch (imported.cache) {
+    case TemplateCacheUse::kRead:
+      std::fprintf(stderr, "template %s: read from the cache (%s)\n", path.c_str(), options.cache_folder.c_str());
+      break;
+    case TemplateCacheUse::kStored:
+      std::fprintf(stderr, "template %s: imported, kept in the cache (%s)\n", path.c_str(),
+                   options.cache_folder.c_str());
+      break;
+    case TemplateCacheUse::kNotStored:
+      std::fprintf(stderr, "template %s: imported; not kept in the cache: %s\n", path.c_str(),
+                   imported.cache_problem.c_str());
+      break;
+    case TemplateCacheUse::kOff:
+      break;
+  }
+  if (report) *report = imported;
+  return rig;
 }
 
 void WriteOutputSet(const std::function<void(OutputSet& set)>& write) {

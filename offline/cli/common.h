@@ -14,6 +14,7 @@
 
 #include "cli/options.h"  // SecondsSince
 #include "cli/report.h"
+#include "facerig/offline/io/template_folder.h"
 #include "facerig/offline/landmarks/landmarks.h"
 #include "facerig/runtime/io/output_set.h"
 #include "facerig/runtime/rig_builder.h"
@@ -49,6 +50,11 @@ CLI::Option* AddShapePredictorOption(CLI::App& app, LandmarkParams& params);
 // or any rig format LoadRig reads (.frig, .glb, .gltf, a template folder).
 // `units` overrides the file's units when not kUnknown.
 RawRig LoadMeshForEditing(const std::filesystem::path& path, Units units = Units::kUnknown);
+
+// A template rig (a file, or a folder of OBJs imported through the cache in
+// DefaultTemplateCacheFolder(), template_cache.h; a line on stderr says
+// whether the cache was used). `report`, when given, gets the folder's import report.
+Rig LoadTemplateRig(const std::filesystem::path& path, TemplateImportReport* report = nullptr);
 
 // Writes a command's outputs as one set (output_set.h): `write` adds each to
 // `set` and writes it under the temporary name Add() returns; then all are

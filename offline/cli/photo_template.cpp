@@ -4,6 +4,7 @@
 #include <system_error>
 #include <utility>
 
+#include "cli/common.h"
 #include "facerig/offline/default_head/default_head.h"
 #include "facerig/offline/io/template_folder.h"
 #include "facerig/offline/photo/rig.h"
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 PhotoTemplate FromTemplateFolder(const fs::path& folder) {
   PhotoTemplate loaded;
   TemplateImportReport report;
-  loaded.rig = ImportTemplateFolder(folder, {}, &report);
+  loaded.rig = LoadTemplateRig(folder, &report);
   loaded.surface = GroupedByPart(ReadObj(report.neutral_path));
   loaded.identities = LoadIdentityMeshes(folder, loaded.rig.vertex_count());
   return loaded;

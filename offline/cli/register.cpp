@@ -160,7 +160,7 @@ int RunRegister(const RegisterOptions& options) {
   try {
     CheckWritable({options.output, options.report_path});
     const auto start = std::chrono::steady_clock::now();
-    const Rig rig = LoadRigOrTemplateFolder(options.template_path);
+    const Rig rig = LoadTemplateRig(options.template_path);
     const RawRig target = LoadMeshForEditing(options.target_path);
     const double load_seconds = SecondsSince(start);
     std::fprintf(stderr, "template %zu vertices, target %zu vertices (%.2f s to load)\n", rig.vertex_count(),

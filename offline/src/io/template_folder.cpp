@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <exception>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "facerig/offline/io/template_cache.h"
 #include "facerig/runtime/error.h"
 #include "facerig/runtime/files/atomic_file.h"
 #include "facerig/runtime/files/input_file.h"
@@ -178,11 +180,10 @@ Units GuessHeadUnits(float bounding_diagonal) {
   return Units::kUnknown;
 }
 
-Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& options,
-                         TemplateImportReport* report) {
-  if (!fs::is_directory(folder)) {
-    throw IoError(IoErrorKind::kOpenFailed, folder.string(), "not a directory");
-  }
+namespace {
+
+// The import itself, without the cache.
+Rig ImportFolder(const fs::path& folder, const TemplateImportOptions& options, TemplateImportReport* report) {
   const std::string neutral_name = FindNeutral(folder, options);
   const fs::path neutral_path = folder / neutral_name;
   const Mesh neutral = ReadObj(neutral_path);
@@ -217,6 +218,37 @@ Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& op
   if (!rig) throw IoError(IoErrorKind::kInvalidRig, folder.string(), problem);
   if (report) *report = local;
   return std::move(*rig);
+}
+
+}  // namespace
+
+Rig ImportTemplateFolder(const fs::path& folder, const TemplateImportOptions& options,
+                         TemplateImportReport* report) {
+  if (!fs::is_directory(folder)) {
+    throw IoError(IoErrorKind::kOpenFailed, folder.string(), "not a directory");
+  }
+  TemplateImportReport local;
+  const std::optional<std::string> key =
+      options.cache_folder.empty() ? std::nullopt : TemplateCacheKey(folder, options);
+  if (key) {
+    if (std::optional<Rig> cached = ReadCachedTemplate(options.cache_folder, *key, folder, &local)) {
+      local.cache = TemplateCacheUse::kRead;
+      if (report) *report = local;
+      return std::move(*cached);
+    }
+  }
+  Rig rig = ImportFolder(folder, options, &local);
+  if (key) {
+    try {
+      StoreCachedTemplate(options.cache_folder, *key, folder, rig, local);
+      local.cache = TemplateCacheUse::kStored;
+    } catch (const std::exception& error) {  // the import stands; only the next run is slower
+      local.cache = TemplateCacheUse::kNotStored;
+      local.cache_problem = error.what();
+    }
+  }
+  if (report) *report = local;
+  return rig;
 }
 
 Rig LoadRigOrTemplateFolder(const fs::path& path, const TemplateImportOptions& options) {

@@ -63,11 +63,11 @@ void WriteSphere(const fs::path& path) {
 
 fs::path DefaultHead() { return FACERIG_DEFAULT_HEAD; }
 
-// The ICT template as the cached .frig of the tests (support/test_meshes.h):
-// loads in ~0.1 s instead of importing 54 OBJs.
+// The ICT template folder: imported once (test::IctRig), then read by the
+// command from the tests' template cache (catch_main.cpp) in ~0.1 s.
 fs::path IctTemplate() {
   (void)test::IctRig();
-  return test::OutputPath("ict_import_cache.frig");
+  return test::IctDir();
 }
 
 // Re-meshed random ICT face (44,786 vertices), written as OBJ.

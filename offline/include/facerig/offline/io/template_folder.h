@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -34,6 +35,16 @@ struct TemplateImportOptions {
   // kUnknown: guessed from the head's size (a head is ~0.25 m tall).
   Units units = Units::kUnknown;
   UpAxis up_axis = UpAxis::kY;
+  // Where imports are kept between runs (template_cache.h); empty: none.
+  // The tools use DefaultTemplateCacheFolder().
+  std::filesystem::path cache_folder;
+};
+
+enum class TemplateCacheUse : std::uint8_t {
+  kOff = 0,    // no cache_folder, or the folder's files could not be hashed
+  kRead,       // the import was read from the cache
+  kStored,     // imported, and kept in the cache
+  kNotStored,  // imported; the cache could not be written (cache_problem)
 };
 
 struct TemplateImportReport {
@@ -45,6 +56,8 @@ struct TemplateImportReport {
   Units units = Units::kUnknown;
   bool units_guessed = false;
   std::size_t uv_seam_vertices = 0;
+  TemplateCacheUse cache = TemplateCacheUse::kOff;
+  std::string cache_problem;
 };
 
 // Throws IoError: kTopologyMismatch naming the offending expression file,
