@@ -59,14 +59,13 @@ void SaveBuiltRig(const std::filesystem::path& target, const std::filesystem::pa
 }
 
 struct BuildLandmarks {
-  RegistrationLandmarks pairs;
-  FaceLandmarks target;                  // the target's own, paired in `pairs`
-  DoubtfulLidPoints doubtful_lids;       // detected: LandmarkResult's
+  FaceLandmarks target;             // the target's own (paired by BuildRigChoosingLids)
+  DoubtfulLidPoints doubtful_lids;  // detected: LandmarkResult's
   std::string source;          // the --landmarks file, "detected" or "template topology"
   int target_eyes_fitted = 0;  // detected eyes put on the target's eye openings
 };
 
-// The target's landmarks (read or detected) paired with the template's.
+// The target's landmarks: read, on the template's topology, or detected.
 BuildLandmarks FindBuildLandmarks(const BuildOptions& options, const BuildTemplate& build_template,
                                   const RawRig& target, SharedLandmarkDetector& detector) {
   BuildLandmarks found;
@@ -90,7 +89,6 @@ BuildLandmarks FindBuildLandmarks(const BuildOptions& options, const BuildTempla
     found.target_eyes_fitted = detected.eyes_fitted;
     found.doubtful_lids = std::move(detected.doubtful_lids);
   }
-  found.pairs = PairLandmarks(build_template.info.landmark_vertices, target_landmarks);
   found.target = std::move(target_landmarks);
   return found;
 }
